@@ -1,0 +1,126 @@
+//! The three solution methods of the forward problem and their common entry point.
+//!
+//! | method | discretisation | order | thesis |
+//! |---|---|---|---|
+//! | [`Method::Fdm`] | central FDM [3.25, 3.27], Newton on the tridiagonal Jacobian | 2 | ch. 4 (its method) |
+//! | [`Method::Rk4`] | RK4 shooting from the loaded end, exact Newton derivatives | 4 | ch. 4 (comparison) |
+//! | [`Method::Accurate`] | adaptive DOP853 shooting from the loaded end | 8 | — |
+
+pub(crate) mod fdm;
+pub(crate) mod shooting;
+
+use crate::error::{ModelError, Result};
+use crate::scene::Scene;
+use crate::solution::Solution;
+use serde::{Deserialize, Serialize};
+
+/// A solution method of the forward problem.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub enum Method {
+    /// Adaptive high-order shooting (DOP853) from the loaded end; `tol` is the integrator's
+    /// relative and absolute tolerance, `samples` the number of elastica intervals returned.
+    Accurate {
+        /// Integrator tolerance (default 1e-12).
+        tol: f64,
+        /// Output intervals along the whisker (default 100).
+        samples: usize,
+    },
+    /// Fixed-step RK4 shooting with step `1/n`.
+    Rk4 {
+        /// Steps per unit length.
+        n: usize,
+    },
+    /// Finite differences with `n` intervals per unit length (the thesis's method).
+    Fdm {
+        /// Grid intervals per unit length.
+        n: usize,
+    },
+}
+
+impl Default for Method {
+    fn default() -> Self {
+        Method::accurate()
+    }
+}
+
+/// The thesis's grid: h = 0.01.
+pub const DEFAULT_INTERVALS: usize = 100;
+
+impl Method {
+    /// `accurate` with tolerance 1e-12 and 100 output intervals.
+    pub fn accurate() -> Self {
+        Method::Accurate {
+            tol: 1e-12,
+            samples: DEFAULT_INTERVALS,
+        }
+    }
+
+    /// The method's name as used by the CLI (`accurate`, `rk4`, `fdm`).
+    pub fn name(&self) -> &'static str {
+        match self {
+            Method::Accurate { .. } => "accurate",
+            Method::Rk4 { .. } => "rk4",
+            Method::Fdm { .. } => "fdm",
+        }
+    }
+
+    /// Grid intervals (fixed-step methods) or output intervals (`accurate`).
+    pub fn intervals(&self) -> usize {
+        match *self {
+            Method::Accurate { samples, .. } => samples,
+            Method::Rk4 { n } | Method::Fdm { n } => n,
+        }
+    }
+
+    /// A method by name with an optional number of intervals (default 100).
+    pub fn from_name(name: &str, n: Option<usize>) -> Option<Method> {
+        let n = n.unwrap_or(DEFAULT_INTERVALS);
+        match name {
+            "accurate" => Some(Method::Accurate {
+                tol: 1e-12,
+                samples: n,
+            }),
+            "rk4" => Some(Method::Rk4 { n }),
+            "fdm" => Some(Method::Fdm { n }),
+            _ => None,
+        }
+    }
+
+    fn validate(&self) -> Result<()> {
+        let n = self.intervals();
+        if n < 4 {
+            return Err(ModelError::InvalidParameter {
+                name: "n",
+                value: n as f64,
+                reason: "at least 4 grid intervals are needed",
+            });
+        }
+        if let Method::Accurate { tol, .. } = *self {
+            if !(tol > 0.0 && tol < 1.0) {
+                return Err(ModelError::InvalidParameter {
+                    name: "tol",
+                    value: tol,
+                    reason: "the integrator tolerance must be in (0, 1)",
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Solves a scene with a method: the elastica [3.25] with its boundary conditions
+/// [3.21, 3.22], load continuation where the direct solve fails.
+pub fn solve(scene: &Scene, method: &Method) -> Result<Solution> {
+    scene.validate()?;
+    method.validate()?;
+    match *method {
+        Method::Accurate { tol, samples } => shooting::solve(
+            scene,
+            &crate::shot::Integration::adaptive(tol),
+            samples,
+            "accurate",
+        ),
+        Method::Rk4 { n } => shooting::solve(scene, &crate::shot::Integration::Rk4 { n }, n, "rk4"),
+        Method::Fdm { n } => fdm::solve(scene, n),
+    }
+}

@@ -1,0 +1,301 @@
+//! Shooting from the loaded end (methods `rk4` and `accurate`): a scalar Newton iteration on
+//! the tip angle `phi1` with the exact derivative from the variational equations, load
+//! continuation when the direct iteration fails, then the elastica from the final shot.
+
+use crate::equations::Sensitivities;
+use crate::error::{ModelError, Result};
+use crate::loads::Loads;
+use crate::scene::Scene;
+use crate::shot::{shoot, shoot_path, Integration, Shot, ShotPath};
+use crate::solution::{BaseObservables, Elastica, EndState, Solution, SolveStats};
+use crate::whisker::Whisker;
+use bvp_solvers::continuation::Continuation;
+use bvp_solvers::integrator::{OdeSystem, Rk4};
+
+/// Converged tip angle with its shot.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct TipSolve {
+    pub phi1: f64,
+    pub shot: Shot,
+    pub iterations: usize,
+    pub residual: f64,
+    pub evaluations: usize,
+}
+
+const MAX_NEWTON: usize = 40;
+const MAX_STEP: f64 = 0.5;
+
+/// Newton on `R(phi1) = phi(0) - pi/2 - m(0)/k` [3.21, 3.22] from `guess`.
+pub(crate) fn newton_tip_angle(
+    whisker: &Whisker,
+    loads: &Loads,
+    integration: &Integration,
+    guess: f64,
+    method: &'static str,
+) -> Result<TipSolve> {
+    let c = whisker.support.compliance();
+    let mut p = guess;
+    let mut evaluations = 0;
+    let mut last_r = f64::INFINITY;
+    for it in 0..MAX_NEWTON {
+        let shot = shoot(whisker, loads, p, Sensitivities::TipAngle, integration)?;
+        evaluations += shot.evaluations;
+        let r = whisker.support.residual(shot.phi0, shot.m0);
+        let dr = shot.sens[0][0] - c * shot.sens[0][1];
+        last_r = r.abs();
+        let scale = 1.0 + shot.m0.abs() * c;
+        if r.abs() <= 1e-13 * scale {
+            return Ok(TipSolve {
+                phi1: p,
+                shot,
+                iterations: it,
+                residual: r.abs(),
+                evaluations,
+            });
+        }
+        if !(dr.is_finite() && dr != 0.0) {
+            break;
+        }
+        let step = (-r / dr).clamp(-MAX_STEP, MAX_STEP);
+        p += step;
+        if step.abs() <= 4.0 * f64::EPSILON * p.abs().max(1.0) {
+            // Converged to rounding: the residual cannot drop further.
+            let shot = shoot(whisker, loads, p, Sensitivities::None, integration)?;
+            let r = whisker.support.residual(shot.phi0, shot.m0);
+            if r.abs() <= 1e-9 * scale {
+                return Ok(TipSolve {
+                    phi1: p,
+                    shot,
+                    iterations: it + 1,
+                    residual: r.abs(),
+                    evaluations: evaluations + shot.evaluations,
+                });
+            }
+            last_r = r.abs();
+            break;
+        }
+    }
+    Err(ModelError::NoConvergence {
+        method,
+        load_scale: 1.0,
+        iterations: MAX_NEWTON,
+        residual: last_r,
+    })
+}
+
+/// Tip angle of the unloaded whisker, the exact solution at zero load.
+fn unloaded_tip_angle(whisker: &Whisker, s1: f64) -> f64 {
+    whisker.phi_unloaded(s1)
+}
+
+/// Direct Newton from the unloaded tip angle; on failure, load continuation in a scale
+/// factor lambda in [0, 1] on f and q, each step warm-started from the last.
+pub(crate) fn solve_tip_angle(
+    whisker: &Whisker,
+    loads: &Loads,
+    integration: &Integration,
+    guess: Option<f64>,
+    method: &'static str,
+) -> Result<(TipSolve, usize)> {
+    let start = guess.unwrap_or_else(|| unloaded_tip_angle(whisker, loads.s1));
+    match newton_tip_angle(whisker, loads, integration, start, method) {
+        Ok(t) => return Ok((t, 0)),
+        Err(ModelError::Solver { .. }) | Err(ModelError::NoConvergence { .. }) => {}
+        Err(e) => return Err(e),
+    }
+    let cont = Continuation {
+        initial_step: 0.1,
+        min_step: 1e-4,
+        max_step: 0.25,
+    };
+    let start = unloaded_tip_angle(whisker, loads.s1);
+    let mut reached = 0.0;
+    let mut last_err: Option<ModelError> = None;
+    let result = cont.run(0.0, 1.0, start, |lambda, p: &f64| {
+        let r = newton_tip_angle(whisker, &loads.scaled(lambda), integration, *p, method)
+            .map(|t| t.phi1);
+        match &r {
+            Ok(_) => reached = lambda,
+            Err(e) => last_err = Some(e.clone()),
+        }
+        r
+    });
+    match result {
+        Ok((phi1, stats)) => {
+            let t = newton_tip_angle(whisker, loads, integration, phi1, method)?;
+            Ok((t, stats.steps))
+        }
+        Err(_) => Err(match last_err {
+            Some(ModelError::NoConvergence {
+                iterations,
+                residual,
+                ..
+            }) => ModelError::NoConvergence {
+                method,
+                load_scale: reached,
+                iterations,
+                residual,
+            },
+            _ => ModelError::NoConvergence {
+                method,
+                load_scale: reached,
+                iterations: MAX_NEWTON,
+                residual: f64::NAN,
+            },
+        }),
+    }
+}
+
+/// The load-free segment `(s1, 1]`: `phi = phi1 + A (s^2 - s1^2)/2 + B (s - s1)`,
+/// `x' = cos phi`, `y' = sin phi`.
+struct FreeSegment {
+    whisker: Whisker,
+    s1: f64,
+    phi1: f64,
+}
+
+impl FreeSegment {
+    fn phi(&self, s: f64) -> f64 {
+        self.phi1
+            + 0.5 * self.whisker.a * (s * s - self.s1 * self.s1)
+            + self.whisker.b * (s - self.s1)
+    }
+}
+
+impl OdeSystem for FreeSegment {
+    fn dim(&self) -> usize {
+        2
+    }
+    fn rhs(&self, s: f64, _u: &[f64], du: &mut [f64]) {
+        let (sp, cp) = self.phi(s).sin_cos();
+        du[0] = cp;
+        du[1] = sp;
+    }
+}
+
+/// Solves a scene by shooting and samples the elastica.
+pub(crate) fn solve(
+    scene: &Scene,
+    integration: &Integration,
+    samples: usize,
+    method: &'static str,
+) -> Result<Solution> {
+    let w = &scene.whisker;
+    let loads = &scene.loads;
+    let (tip, continuation_steps) = solve_tip_angle(w, loads, integration, None, method)?;
+    let (shot, path) = shoot_path(w, loads, tip.phi1, Sensitivities::None, integration, true)?;
+    let s1 = loads.s1;
+    let mut el = Elastica::default();
+    let sample = |el: &mut Elastica, s: f64, u: &[f64]| {
+        let kappa = u[1] / w.stiffness(s) + w.kappa0(s);
+        el.push(s, u[2] + shot.dx, u[3] + shot.dy, u[0], kappa, u[1]);
+    };
+    match path {
+        Some(ShotPath::Dense(sol)) => {
+            let mut u = [0.0; 4];
+            for i in 0..=samples {
+                let s = (i as f64 / samples as f64).min(1.0);
+                if s > s1 {
+                    break;
+                }
+                if sol.eval_into(s, &mut u) {
+                    sample(&mut el, s, &u);
+                }
+            }
+            if el.s.last().is_none_or(|&l| l < s1) {
+                sample(&mut el, s1, &[tip.phi1, 0.0, 0.0, 0.0]);
+            }
+        }
+        Some(ShotPath::Fixed(traj)) => {
+            for i in (0..traj.len()).rev() {
+                sample(&mut el, traj.s[i], traj.state(i));
+            }
+        }
+        None => {}
+    }
+    let loaded_end = EndState {
+        x: shot.dx,
+        y: shot.dy,
+        phi: tip.phi1,
+    };
+    let tip_state = if s1 < 1.0 {
+        free_segment(w, s1, &loaded_end, integration, samples, &mut el, method)?
+    } else {
+        loaded_end
+    };
+    let (ax, ay) = scene.base_reactions(tip.phi1);
+    Ok(Solution {
+        elastica: el,
+        tip: tip_state,
+        loaded_end,
+        base: BaseObservables {
+            ax,
+            ay,
+            ma: -shot.m0,
+            phi0: shot.phi0,
+        },
+        stats: SolveStats {
+            iterations: tip.iterations,
+            residual: tip.residual,
+            continuation_steps,
+            evaluations: tip.evaluations + shot.evaluations,
+        },
+    })
+}
+
+/// Integrates the load-free segment beyond `s1`, appending samples; returns the tip.
+fn free_segment(
+    w: &Whisker,
+    s1: f64,
+    start: &EndState,
+    integration: &Integration,
+    samples: usize,
+    el: &mut Elastica,
+    method: &'static str,
+) -> Result<EndState> {
+    let seg = FreeSegment {
+        whisker: *w,
+        s1,
+        phi1: start.phi,
+    };
+    let err = |source| ModelError::Solver { method, source };
+    let u0 = [start.x, start.y];
+    let push = |el: &mut Elastica, s: f64, x: f64, y: f64| {
+        el.push(s, x, y, seg.phi(s), w.kappa0(s), 0.0);
+    };
+    match integration {
+        Integration::Rk4 { n } => {
+            let steps = ((*n as f64) * (1.0 - s1)).ceil().max(1.0) as usize;
+            let traj = Rk4 { steps }.integrate(&seg, s1, 1.0, &u0).map_err(err)?;
+            for i in 1..traj.len() {
+                let u = traj.state(i);
+                push(el, traj.s[i], u[0], u[1]);
+            }
+            let u = traj.last();
+            Ok(EndState {
+                x: u[0],
+                y: u[1],
+                phi: seg.phi(1.0),
+            })
+        }
+        Integration::Dop853(d) => {
+            let sol = d
+                .clone()
+                .with_dense(true)
+                .integrate(&seg, s1, 1.0, &u0)
+                .map_err(err)?;
+            let mut u = [0.0; 2];
+            for i in 0..=samples {
+                let s = i as f64 / samples as f64;
+                if s > s1 && sol.eval_into(s, &mut u) {
+                    push(el, s, u[0], u[1]);
+                }
+            }
+            Ok(EndState {
+                x: sol.u_end[0],
+                y: sol.u_end[1],
+                phi: seg.phi(1.0),
+            })
+        }
+    }
+}

@@ -1,0 +1,38 @@
+//! A scene: one whisker under one set of loads.
+
+use crate::error::Result;
+use crate::loads::Loads;
+use crate::whisker::Whisker;
+use serde::{Deserialize, Serialize};
+
+/// A whisker with its loads: everything the forward problem [3.25] needs.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Scene {
+    /// Geometry and support.
+    pub whisker: Whisker,
+    /// Loads.
+    pub loads: Loads,
+}
+
+impl Scene {
+    /// A scene from its parts (not yet validated).
+    pub fn new(whisker: Whisker, loads: Loads) -> Self {
+        Scene { whisker, loads }
+    }
+
+    /// Checks every parameter, naming the first one out of range.
+    pub fn validate(&self) -> Result<()> {
+        self.whisker.validate()?;
+        self.loads.validate()
+    }
+
+    /// Base reactions (support on whisker) for a known tip angle `phi1`:
+    /// `Ax = -(f cos beta + q s1 cos alpha)`, `Ay = f sin beta + q s1 sin alpha` [5.1, 6.8, 6.9].
+    pub fn base_reactions(&self, phi1: f64) -> (f64, f64) {
+        let l = &self.loads;
+        let beta = l.tip.effective_beta(phi1);
+        let ax = -(l.tip.f * beta.cos() + l.fluid.q * l.s1 * l.fluid.alpha.cos());
+        let ay = l.tip.f * beta.sin() + l.fluid.q * l.s1 * l.fluid.alpha.sin();
+        (ax, ay)
+    }
+}

@@ -1,0 +1,82 @@
+//! The whisker: a tapered, pre-curved, dimensionless beam of length 1.
+
+use crate::error::{finite, ModelError, Result};
+use crate::support::Support;
+use serde::{Deserialize, Serialize};
+
+/// Geometry and support of a dimensionless whisker (thesis ch. 3).
+///
+/// - conicity: diameter ratio `e(s) = 1 + (theta - 1) s`, bending stiffness `EI(s) = e(s)^4`
+///   [3.8], `0 < theta <= 1`;
+/// - Cesaro pre-curvature `kappa0(s) = A s + B` [3.5];
+/// - support: rigid or a torsional spring `k`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Whisker {
+    /// Tip/base diameter ratio theta in (0, 1]; 1 is a cylinder.
+    pub theta: f64,
+    /// Cesaro slope A of the pre-curvature.
+    pub a: f64,
+    /// Cesaro offset B of the pre-curvature.
+    pub b: f64,
+    /// The base support.
+    pub support: Support,
+}
+
+impl Default for Whisker {
+    fn default() -> Self {
+        Whisker {
+            theta: 1.0,
+            a: 0.0,
+            b: 0.0,
+            support: Support::Rigid,
+        }
+    }
+}
+
+impl Whisker {
+    /// A straight, cylindrical, rigidly clamped whisker.
+    pub fn uniform() -> Self {
+        Self::default()
+    }
+
+    /// Checks every parameter, naming the first one out of range.
+    pub fn validate(&self) -> Result<()> {
+        finite("theta", self.theta)?;
+        if !(self.theta > 0.0 && self.theta <= 1.0) {
+            return Err(ModelError::InvalidParameter {
+                name: "theta",
+                value: self.theta,
+                reason: "the conicity (tip/base diameter ratio) must be in (0, 1]",
+            });
+        }
+        finite("A", self.a)?;
+        finite("B", self.b)?;
+        self.support.validate()
+    }
+
+    /// Diameter ratio `e(s) = 1 + (theta - 1) s` [3.8].
+    #[inline]
+    pub fn diameter(&self, s: f64) -> f64 {
+        1.0 + (self.theta - 1.0) * s
+    }
+
+    /// Bending stiffness `EI(s)/EI_b = e(s)^4` [3.8].
+    #[inline]
+    pub fn stiffness(&self, s: f64) -> f64 {
+        let e = self.diameter(s);
+        let e2 = e * e;
+        e2 * e2
+    }
+
+    /// Pre-curvature `kappa0(s) = A s + B` [3.5].
+    #[inline]
+    pub fn kappa0(&self, s: f64) -> f64 {
+        self.a * s + self.b
+    }
+
+    /// Unloaded tangent angle `pi/2 + A s^2/2 + B s` (rigid base).
+    #[inline]
+    pub fn phi_unloaded(&self, s: f64) -> f64 {
+        std::f64::consts::FRAC_PI_2 + 0.5 * self.a * s * s + self.b * s
+    }
+}

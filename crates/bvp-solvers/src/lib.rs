@@ -1,0 +1,35 @@
+//! # bvp-solvers
+//!
+//! A generic toolkit for non-linear two-point boundary-value problems, written for beam
+//! problems but knowing nothing about whiskers:
+//!
+//! | module | concept |
+//! |---|---|
+//! | [`grid`] | uniform grids on `[a, b]` |
+//! | [`tridiag`] | the Thomas algorithm for tridiagonal systems |
+//! | [`fdm`] | finite differences for `y'' = F(x, y, y')` with Newton on the tridiagonal Jacobian |
+//! | [`richardson`] | Richardson extrapolation of FDM results on `h, h/2, ...` |
+//! | [`integrator`] | first-order systems `u' = G(s, u)`: fixed-step RK4, adaptive Dormand-Prince 8(5,3) with dense output and events |
+//! | [`roots`] | scalar roots: bisection and Brent (the `fzero` equivalents) |
+//! | [`trust_region`] | small non-linear systems by argmin's trust region (the `fsolve` equivalent) |
+//! | [`shooting`] | shooting: unknown initial values / parameters found so that boundary residuals vanish |
+//! | [`continuation`] | load continuation: step a parameter from an easy value to the target |
+//!
+//! Every fallible routine returns [`BvpError`], whose variants carry the numbers
+//! (iterations, residual, row, offending value).
+
+pub mod continuation;
+pub mod error;
+pub mod fdm;
+pub mod grid;
+pub mod integrator;
+pub mod richardson;
+pub mod roots;
+pub mod shooting;
+pub mod tridiag;
+pub mod trust_region;
+
+pub use error::BvpError;
+
+/// Result alias of this crate.
+pub type Result<T> = std::result::Result<T, BvpError>;

@@ -1,0 +1,210 @@
+//! Shooting against closed-form BVP solutions.
+
+use bvp_solvers::integrator::{Dop853, OdeSystem};
+use bvp_solvers::shooting::{Shooting, ShootingIntegrator, ShootingProblem};
+use bvp_solvers::trust_region::TrustRegionOptions;
+use bvp_solvers::BvpError;
+
+fn tr(tol: f64) -> TrustRegionOptions {
+    TrustRegionOptions {
+        tol,
+        max_iters: 100,
+        ..TrustRegionOptions::default()
+    }
+}
+
+fn dop(tol: f64) -> Shooting {
+    Shooting {
+        integrator: ShootingIntegrator::Dop853(Dop853::new(tol, tol)),
+        options: tr(1e-12),
+    }
+}
+
+/// y'' = -y, y(0) = 1, y(1) = 2; unknown p = y'(0). Exact: y = cos x + B sin x,
+/// B = (2 - cos 1)/sin 1.
+struct LinearBvp;
+struct Osc;
+impl OdeSystem for Osc {
+    fn dim(&self) -> usize {
+        2
+    }
+    fn rhs(&self, _s: f64, u: &[f64], du: &mut [f64]) {
+        du[0] = u[1];
+        du[1] = -u[0];
+    }
+}
+impl ShootingProblem for LinearBvp {
+    type System = Osc;
+    fn n_params(&self) -> usize {
+        1
+    }
+    fn system(&self, _p: &[f64]) -> Osc {
+        Osc
+    }
+    fn span(&self, _p: &[f64]) -> (f64, f64) {
+        (0.0, 1.0)
+    }
+    fn initial_state(&self, p: &[f64], u0: &mut [f64]) {
+        u0[0] = 1.0;
+        u0[1] = p[0];
+    }
+    fn residual(&self, _p: &[f64], u_end: &[f64], r: &mut [f64]) {
+        r[0] = u_end[0] - 2.0;
+    }
+}
+
+#[test]
+fn linear_bvp_closed_form() {
+    let b = (2.0 - 1f64.cos()) / 1f64.sin();
+    let sol = dop(1e-13).solve(&LinearBvp, &[0.0]).unwrap();
+    assert!((sol.params[0] - b).abs() < 1e-10, "{}", sol.params[0] - b);
+    assert!((sol.u_end[1] - (-1f64.sin() + b * 1f64.cos())).abs() < 1e-10);
+    // RK4 with 100 steps: O(h^4) ~ 1e-9
+    let rk = Shooting {
+        integrator: ShootingIntegrator::Rk4 { steps: 100 },
+        options: tr(1e-12),
+    };
+    let sol = rk.solve(&LinearBvp, &[0.0]).unwrap();
+    assert!((sol.params[0] - b).abs() < 1e-8, "{}", sol.params[0] - b);
+    assert!((sol.params[0] - b).abs() > 1e-14); // really the RK4 discretisation
+}
+
+/// Bratu: y'' + lambda e^y = 0, y(0) = y(1) = 0; unknown p = y'(0).
+pub struct Bratu {
+    pub lambda: f64,
+}
+pub struct BratuOde {
+    lambda: f64,
+}
+impl OdeSystem for BratuOde {
+    fn dim(&self) -> usize {
+        2
+    }
+    fn rhs(&self, _s: f64, u: &[f64], du: &mut [f64]) {
+        du[0] = u[1];
+        du[1] = -self.lambda * u[0].exp();
+    }
+}
+impl ShootingProblem for Bratu {
+    type System = BratuOde;
+    fn n_params(&self) -> usize {
+        1
+    }
+    fn system(&self, _p: &[f64]) -> BratuOde {
+        BratuOde {
+            lambda: self.lambda,
+        }
+    }
+    fn span(&self, _p: &[f64]) -> (f64, f64) {
+        (0.0, 1.0)
+    }
+    fn initial_state(&self, p: &[f64], u0: &mut [f64]) {
+        u0[0] = 0.0;
+        u0[1] = p[0];
+    }
+    fn residual(&self, _p: &[f64], u_end: &[f64], r: &mut [f64]) {
+        r[0] = u_end[0];
+    }
+}
+
+/// Roots of theta = sqrt(2 lambda) cosh(theta/4) by bisection on [lo, hi] (independent of the
+/// crate's root finders).
+fn bratu_theta(lambda: f64, mut lo: f64, mut hi: f64) -> f64 {
+    let f = |t: f64| t - (2.0 * lambda).sqrt() * (t / 4.0).cosh();
+    assert!(f(lo) * f(hi) < 0.0);
+    for _ in 0..200 {
+        let m = 0.5 * (lo + hi);
+        if f(m) * f(lo) > 0.0 {
+            lo = m;
+        } else {
+            hi = m;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+#[test]
+fn bratu_both_branches_lambda_1() {
+    let lambda = 1.0;
+    // f(theta) = theta - sqrt2 cosh(theta/4): f(0) < 0, f(4) > 0, f(20) < 0
+    for (lo, hi, guess) in [(0.0, 4.0, 0.5), (4.0, 20.0, 10.0)] {
+        let theta = bratu_theta(lambda, lo, hi);
+        let p_exact = theta * (theta / 4.0).tanh(); // y'(0)
+        let sol = dop(1e-13).solve(&Bratu { lambda }, &[guess]).unwrap();
+        println!("Bratu theta {theta}: y'(0) = {} (exact {p_exact}), {} its", sol.params[0], sol.iterations);
+        assert!((sol.params[0] - p_exact).abs() < 1e-9 * p_exact.max(1.0));
+        // y'(1) = -y'(0) by symmetry
+        assert!((sol.u_end[1] + p_exact).abs() < 1e-9 * p_exact.max(1.0));
+    }
+}
+
+/// Euler elastica of a cantilever column: theta'' + P sin theta = 0, theta(0) = 0,
+/// theta'(1) = 0. Shooting backwards from the tip with theta(1) = theta_tip given; unknown P.
+pub struct Elastica {
+    pub theta_tip: f64,
+}
+pub struct ElasticaOde {
+    p: f64,
+}
+impl OdeSystem for ElasticaOde {
+    fn dim(&self) -> usize {
+        2
+    }
+    fn rhs(&self, _s: f64, u: &[f64], du: &mut [f64]) {
+        du[0] = u[1];
+        du[1] = -self.p * u[0].sin();
+    }
+}
+impl ShootingProblem for Elastica {
+    type System = ElasticaOde;
+    fn n_params(&self) -> usize {
+        1
+    }
+    fn system(&self, p: &[f64]) -> ElasticaOde {
+        ElasticaOde { p: p[0] }
+    }
+    fn span(&self, _p: &[f64]) -> (f64, f64) {
+        (1.0, 0.0)
+    }
+    fn initial_state(&self, _p: &[f64], u0: &mut [f64]) {
+        u0[0] = self.theta_tip;
+        u0[1] = 0.0;
+    }
+    fn residual(&self, _p: &[f64], u_end: &[f64], r: &mut [f64]) {
+        r[0] = u_end[0];
+    }
+}
+
+/// Complete elliptic integral of the first kind by the arithmetic-geometric mean.
+fn ellip_k(k: f64) -> f64 {
+    let (mut a, mut b) = (1.0f64, (1.0 - k * k).sqrt());
+    for _ in 0..40 {
+        let (an, bn) = (0.5 * (a + b), (a * b).sqrt());
+        a = an;
+        b = bn;
+    }
+    std::f64::consts::PI / (2.0 * a)
+}
+
+#[test]
+fn elastica_load_matches_elliptic_integral() {
+    let mut guess = 2.5;
+    for theta_tip in [0.01, 0.5, 1.0, 2.0, 2.8] {
+        let sol = dop(1e-13).solve(&Elastica { theta_tip }, &[guess]).unwrap();
+        let exact = ellip_k((theta_tip / 2.0).sin()).powi(2);
+        println!("theta_tip {theta_tip}: P = {:.15}, K^2 = {exact:.15}", sol.params[0]);
+        assert!((sol.params[0] - exact).abs() < 1e-9 * exact, "{}", sol.params[0] - exact);
+        guess = sol.params[0];
+    }
+    // small amplitude: the Euler load pi^2/4
+    let sol = dop(1e-13).solve(&Elastica { theta_tip: 1e-4 }, &[2.0]).unwrap();
+    assert!((sol.params[0] - std::f64::consts::PI.powi(2) / 4.0).abs() < 1e-8);
+}
+
+#[test]
+fn shooting_dimension_error() {
+    assert!(matches!(
+        dop(1e-10).solve(&LinearBvp, &[0.0, 1.0]),
+        Err(BvpError::DimensionMismatch { .. })
+    ));
+}

@@ -1,0 +1,15 @@
+//! The `vibrissa` command line: input/output, figures and scene files.
+//!
+//! - [`error`]: [`CliError`], the one-line errors of the binary and their exit codes;
+//! - [`atomic`]: atomic file writes and staged output directories;
+//! - [`csvio`]: round-trip exact CSV writing and lenient, precise CSV reading;
+//! - [`plot`]: declarative charts, panels and categorical maps rendered to SVG;
+//! - [`scene_file`]: the RON scene format.
+
+pub mod atomic;
+pub mod csvio;
+pub mod error;
+pub mod plot;
+pub mod scene_file;
+
+pub use error::CliError;

@@ -224,3 +224,18 @@ fn timing_small_system() {
         it as f64 / reps as f64
     );
 }
+
+#[test]
+fn budget_boundary_is_exact() {
+    // Rosenbrock from (-1.2, 1) needs exactly 14 iterations: a budget of 14 succeeds (argmin
+    // reports MaxItersReached there, which must still count as converged), 13 does not.
+    let sys = Rosenbrock { analytic: true };
+    let sol = solve(&sys, &[-1.2, 1.0], &opts(1e-12, 14)).unwrap();
+    assert_eq!(sol.iterations, 14);
+    match solve(&sys, &[-1.2, 1.0], &opts(1e-12, 13)) {
+        Err(MyError::Bvp(BvpError::NoConvergence { iterations: 13, residual, .. })) => {
+            assert!(residual > 1e-12 && residual < 1.0, "{residual}")
+        }
+        other => panic!("{other:?}"),
+    }
+}

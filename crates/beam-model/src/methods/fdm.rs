@@ -99,6 +99,10 @@ fn solve_fixed(
     }
 }
 
+fn max_diff(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max)
+}
+
 fn last_or(v: &[f64]) -> f64 {
     v.last().copied().unwrap_or(FRAC_PI_2)
 }
@@ -114,34 +118,79 @@ pub(crate) fn solve(scene: &Scene, n: usize) -> Result<Solution> {
         source,
     })?;
     let unloaded: Vec<f64> = grid.nodes().iter().map(|&s| w.phi_unloaded(s)).collect();
-    let (sol, iterations, continuation_steps) = match solve_fixed(w, loads, &grid, &unloaded) {
-        Ok((sol, it)) => (sol, it, 0),
-        Err(_) => {
+    let sev = super::shooting::severity(w, loads);
+    let direct = if sev <= 1.0 {
+        solve_fixed(w, loads, &grid, &unloaded).ok()
+    } else {
+        None
+    };
+    let (sol, iterations, continuation_steps) = match direct {
+        Some((sol, it)) => (sol, it, 0),
+        None => {
+            // Load continuation with a secant predictor; a corrector that lands far from its
+            // prediction has jumped to another branch and counts as a failure.
+            let first = (1.0 / sev.ceil()).clamp(1e-3, 1.0);
             let cont = Continuation {
-                initial_step: 0.1,
+                initial_step: first,
                 min_step: 1e-4,
-                max_step: 0.25,
+                max_step: (2.0 * first).min(1.0),
             };
             let mut reached = 0.0;
-            let r = cont.run(0.0, 1.0, unloaded.clone(), |lambda, guess: &Vec<f64>| {
-                let r = solve_fixed(w, &loads.scaled(lambda), &grid, guess).map(|(s, _)| s.y);
-                if r.is_ok() {
+            let zero = vec![0.0; unloaded.len()];
+            type State = (f64, Vec<f64>, Vec<f64>);
+            let r = cont.run(
+                0.0,
+                1.0,
+                (0.0, unloaded.clone(), zero),
+                |lambda, (l0, y0, slope): &State| {
+                    if lambda == 0.0 {
+                        return Ok((0.0, y0.clone(), slope.clone()));
+                    }
+                    let pred: Vec<f64> = y0
+                        .iter()
+                        .zip(slope)
+                        .map(|(y, d)| y + d * (lambda - l0))
+                        .collect();
+                    let (sol, it) = solve_fixed(w, &loads.scaled(lambda), &grid, &pred)?;
+                    let jump = max_diff(&sol.y, &pred);
+                    if jump > 0.2 + 0.5 * max_diff(&pred, y0) {
+                        return Err(ModelError::NoConvergence {
+                            method: METHOD,
+                            load_scale: lambda,
+                            iterations: it,
+                            residual: jump,
+                        });
+                    }
                     reached = lambda;
-                }
-                r
-            });
+                    let slope = sol
+                        .y
+                        .iter()
+                        .zip(y0)
+                        .map(|(a, b)| (a - b) / (lambda - l0))
+                        .collect();
+                    Ok((lambda, sol.y, slope))
+                },
+            );
             match r {
-                Ok((y, stats)) => {
+                Ok(((_, y, _), stats)) => {
                     let (sol, it) = solve_fixed(w, loads, &grid, &y)?;
                     (sol, it, stats.steps)
                 }
-                Err(_) => {
+                Err(e) => {
+                    let (iterations, residual) = match e {
+                        ModelError::NoConvergence {
+                            iterations,
+                            residual,
+                            ..
+                        } => (iterations, residual),
+                        _ => (0, f64::NAN),
+                    };
                     return Err(ModelError::NoConvergence {
                         method: METHOD,
                         load_scale: reached,
-                        iterations: 0,
-                        residual: f64::NAN,
-                    })
+                        iterations,
+                        residual,
+                    });
                 }
             }
         }

@@ -6,7 +6,7 @@ use crate::equations::Sensitivities;
 use crate::error::{ModelError, Result};
 use crate::loads::Loads;
 use crate::scene::Scene;
-use crate::shot::{shoot, shoot_path, Integration, Shot, ShotPath};
+use crate::shot::{shoot, shoot_path, Integration, ShotPath};
 use crate::solution::{BaseObservables, Elastica, EndState, Solution, SolveStats};
 use crate::whisker::Whisker;
 use bvp_solvers::continuation::Continuation;
@@ -16,7 +16,6 @@ use bvp_solvers::integrator::{OdeSystem, Rk4};
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct TipSolve {
     pub phi1: f64,
-    pub shot: Shot,
     pub iterations: usize,
     pub residual: f64,
     pub evaluations: usize,
@@ -47,7 +46,6 @@ pub(crate) fn newton_tip_angle(
         if r.abs() <= 1e-13 * scale {
             return Ok(TipSolve {
                 phi1: p,
-                shot,
                 iterations: it,
                 residual: r.abs(),
                 evaluations,
@@ -65,7 +63,6 @@ pub(crate) fn newton_tip_angle(
             if r.abs() <= 1e-9 * scale {
                 return Ok(TipSolve {
                     phi1: p,
-                    shot,
                     iterations: it + 1,
                     residual: r.abs(),
                     evaluations: evaluations + shot.evaluations,
@@ -83,13 +80,20 @@ pub(crate) fn newton_tip_angle(
     })
 }
 
-/// Tip angle of the unloaded whisker, the exact solution at zero load.
-fn unloaded_tip_angle(whisker: &Whisker, s1: f64) -> f64 {
-    whisker.phi_unloaded(s1)
+/// A rough measure of how non-linear a load case is: the linear-theory tip rotation
+/// `f/2 + q/6`, amplified for thin tips (the curvature near a tapered tip grows like
+/// `1/(16 theta^2)`).
+pub(crate) fn severity(whisker: &Whisker, loads: &Loads) -> f64 {
+    let rot = loads.tip.f / 2.0 + loads.fluid.q / 6.0;
+    let taper = (1.0 / (16.0 * whisker.theta * whisker.theta)).max(1.0);
+    rot * taper
 }
 
-/// Direct Newton from the unloaded tip angle; on failure, load continuation in a scale
-/// factor lambda in [0, 1] on f and q, each step warm-started from the last.
+/// Newton on the tip angle, on the branch connected to the unloaded whisker: a direct solve
+/// for mild loads, otherwise load continuation in a scale factor lambda in [0, 1] on f and q
+/// with a secant predictor, each corrector warm-started from the prediction. A corrector that
+/// lands far from its prediction has jumped branches and counts as a failure (the step is
+/// halved).
 pub(crate) fn solve_tip_angle(
     whisker: &Whisker,
     loads: &Loads,
@@ -97,32 +101,65 @@ pub(crate) fn solve_tip_angle(
     guess: Option<f64>,
     method: &'static str,
 ) -> Result<(TipSolve, usize)> {
-    let start = guess.unwrap_or_else(|| unloaded_tip_angle(whisker, loads.s1));
-    match newton_tip_angle(whisker, loads, integration, start, method) {
-        Ok(t) => return Ok((t, 0)),
-        Err(ModelError::Solver { .. }) | Err(ModelError::NoConvergence { .. }) => {}
-        Err(e) => return Err(e),
+    let unloaded = whisker.phi_unloaded(loads.s1);
+    let sev = severity(whisker, loads);
+    if let Some(g) = guess {
+        if let Ok(t) = newton_tip_angle(whisker, loads, integration, g, method) {
+            return Ok((t, 0));
+        }
+    } else if sev <= 1.0 {
+        if let Ok(t) = newton_tip_angle(whisker, loads, integration, unloaded, method) {
+            return Ok((t, 0));
+        }
     }
+    let first = (1.0 / sev.ceil()).clamp(1e-3, 1.0);
     let cont = Continuation {
-        initial_step: 0.1,
+        initial_step: first,
         min_step: 1e-4,
-        max_step: 0.25,
+        max_step: (2.0 * first).min(1.0),
     };
-    let start = unloaded_tip_angle(whisker, loads.s1);
     let mut reached = 0.0;
     let mut last_err: Option<ModelError> = None;
-    let result = cont.run(0.0, 1.0, start, |lambda, p: &f64| {
-        let r = newton_tip_angle(whisker, &loads.scaled(lambda), integration, *p, method)
-            .map(|t| t.phi1);
-        match &r {
-            Ok(_) => reached = lambda,
-            Err(e) => last_err = Some(e.clone()),
-        }
-        r
-    });
+    let mut evaluations = 0;
+    // state: (lambda, phi1, d phi1 / d lambda)
+    let result = cont.run(
+        0.0,
+        1.0,
+        (0.0, unloaded, 0.0),
+        |lambda, &(l0, p0, slope): &(f64, f64, f64)| {
+            if lambda == 0.0 {
+                return Ok((0.0, unloaded, 0.0));
+            }
+            let pred = p0 + slope * (lambda - l0);
+            let t = newton_tip_angle(whisker, &loads.scaled(lambda), integration, pred, method);
+            match t {
+                Ok(t) => {
+                    evaluations += t.evaluations;
+                    let jump = (t.phi1 - pred).abs();
+                    if jump > 0.2 + 0.5 * (pred - p0).abs() {
+                        let e = ModelError::NoConvergence {
+                            method,
+                            load_scale: lambda,
+                            iterations: t.iterations,
+                            residual: jump,
+                        };
+                        last_err = Some(e.clone());
+                        return Err(e);
+                    }
+                    reached = lambda;
+                    Ok((lambda, t.phi1, (t.phi1 - p0) / (lambda - l0)))
+                }
+                Err(e) => {
+                    last_err = Some(e.clone());
+                    Err(e)
+                }
+            }
+        },
+    );
     match result {
-        Ok((phi1, stats)) => {
-            let t = newton_tip_angle(whisker, loads, integration, phi1, method)?;
+        Ok(((_, phi1, _), stats)) => {
+            let mut t = newton_tip_angle(whisker, loads, integration, phi1, method)?;
+            t.evaluations += evaluations;
             Ok((t, stats.steps))
         }
         Err(_) => Err(match last_err {
@@ -136,7 +173,8 @@ pub(crate) fn solve_tip_angle(
                 iterations,
                 residual,
             },
-            _ => ModelError::NoConvergence {
+            Some(e) => e,
+            None => ModelError::NoConvergence {
                 method,
                 load_scale: reached,
                 iterations: MAX_NEWTON,

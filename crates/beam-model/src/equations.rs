@@ -126,48 +126,88 @@ impl OdeSystem for WhiskerOde {
 /// ```
 ///
 /// with Jacobian [3.27] `dF/dphi = [f cos(phi+beta) + q (s1-s) cos(phi+alpha)] / e^4`,
-/// `dF/dphi' = -4 (theta - 1)/e`. For AP loads `sin(phi+beta)` becomes `cos(phi+beta-phi1)`
-/// with the tip angle `phi1` held fixed (an outer iteration makes it consistent).
+/// `dF/dphi' = -4 (theta - 1)/e`. For AP loads `sin(phi+beta)` becomes
+/// `cos(phi + beta - phi1)` with `phi1 = phi(s1)` the unknown tip angle: the problem then
+/// [depends on the right end](SecondOrderBvp::depends_on_right_end), and
+/// [`eval_with_right_end`](SecondOrderBvp::eval_with_right_end) takes `phi1 = y(b)` from the
+/// current iterate, with the extra derivative
+/// `dF/dphi1 = f sin(phi + beta - phi1) / e^4` (so the FDM Newton matrix is bordered and
+/// `phi1` is solved for together with the nodal angles, no outer iteration).
+/// The plain [`f`](SecondOrderBvp::f), [`f_y`](SecondOrderBvp::f_y) and
+/// [`eval`](SecondOrderBvp::eval) use the fixed `phi1` given to [`WhiskerFdmProblem::new`]
+/// (the fixed-direction problem).
 #[derive(Clone, Copy, Debug)]
 pub struct WhiskerFdmProblem {
     ode: WhiskerOde,
 }
 
 impl WhiskerFdmProblem {
-    /// The FDM problem; `phi1` is the (current estimate of the) tip angle for AP loads.
+    /// The FDM problem; `phi1` is the tip angle used by the fixed-direction evaluations
+    /// (`f`, `f_y`, `eval`) for AP loads; the FDM solver uses the iterate's own tip angle.
     pub fn new(whisker: Whisker, loads: Loads, phi1: f64) -> Self {
         WhiskerFdmProblem {
             ode: WhiskerOde::new(whisker, loads, phi1, Sensitivities::None),
         }
+    }
+
+    /// `(F, dF/dphi, dF/dphi', dF/dphi1)` of [3.25]/[3.27] with tip angle `phi1` (used by
+    /// AP loads only; `dF/dphi1 = 0` for DP), sharing one `sin_cos` per angle.
+    #[inline]
+    fn parts(&self, s: f64, phi: f64, dphi: f64, phi1: f64) -> (f64, f64, f64, f64) {
+        let w = &self.ode.whisker;
+        let l = &self.ode.loads;
+        let e = w.diameter(s);
+        let e2 = e * e;
+        let inv_e4 = 1.0 / (e2 * e2);
+        // m' = f sin(c) + ...: c = phi + beta (DP), phi + beta - phi1 + pi/2 (AP)
+        let c = match l.tip.kind {
+            LoadKind::Dp => phi + l.tip.beta,
+            LoadKind::Ap => phi + l.tip.beta - phi1 + FRAC_PI_2,
+        };
+        let (sc, cc) = c.sin_cos();
+        let arm = l.fluid.q * (l.s1 - s);
+        let (sa, ca) = (phi + l.fluid.alpha).sin_cos();
+        let damp = -4.0 * (w.theta - 1.0) / e;
+        let f = (l.tip.f * sc + arm * sa) * inv_e4 + damp * (dphi - w.kappa0(s)) + w.a;
+        let f_y = (l.tip.f * cc + arm * ca) * inv_e4;
+        let f_phi1 = match l.tip.kind {
+            LoadKind::Dp => 0.0,
+            LoadKind::Ap => -l.tip.f * cc * inv_e4,
+        };
+        (f, f_y, damp, f_phi1)
     }
 }
 
 impl SecondOrderBvp for WhiskerFdmProblem {
     #[inline]
     fn f(&self, s: f64, phi: f64, dphi: f64) -> f64 {
-        let w = &self.ode.whisker;
-        let l = &self.ode.loads;
-        let e = w.diameter(s);
-        let e2 = e * e;
-        let load = l.tip.f * self.ode.force_angle(phi).sin()
-            + l.fluid.q * (l.s1 - s) * (phi + l.fluid.alpha).sin();
-        load / (e2 * e2) - 4.0 * (w.theta - 1.0) / e * (dphi - w.kappa0(s)) + w.a
+        self.parts(s, phi, dphi, self.ode.phi1).0
     }
 
     #[inline]
-    fn f_y(&self, s: f64, phi: f64, _dphi: f64) -> f64 {
-        let w = &self.ode.whisker;
-        let l = &self.ode.loads;
-        let e = w.diameter(s);
-        let e2 = e * e;
-        (l.tip.f * self.ode.force_angle(phi).cos()
-            + l.fluid.q * (l.s1 - s) * (phi + l.fluid.alpha).cos())
-            / (e2 * e2)
+    fn f_y(&self, s: f64, phi: f64, dphi: f64) -> f64 {
+        self.parts(s, phi, dphi, self.ode.phi1).1
     }
 
     #[inline]
     fn f_yp(&self, s: f64, _phi: f64, _dphi: f64) -> f64 {
         let w = &self.ode.whisker;
         -4.0 * (w.theta - 1.0) / w.diameter(s)
+    }
+
+    #[inline]
+    fn eval(&self, s: f64, phi: f64, dphi: f64) -> (f64, f64, f64) {
+        let (f, f_y, f_yp, _) = self.parts(s, phi, dphi, self.ode.phi1);
+        (f, f_y, f_yp)
+    }
+
+    #[inline]
+    fn depends_on_right_end(&self) -> bool {
+        self.ode.loads.tip.kind == LoadKind::Ap && self.ode.loads.tip.f != 0.0
+    }
+
+    #[inline]
+    fn eval_with_right_end(&self, s: f64, phi: f64, dphi: f64, phi1: f64) -> (f64, f64, f64, f64) {
+        self.parts(s, phi, dphi, phi1)
     }
 }

@@ -5,8 +5,8 @@
 mod support;
 
 use beam_model::{solve, Loads, Method, ModelError, Scene, Support, TipForce, Whisker};
-use support::{mattiasson, simpson};
 use std::f64::consts::FRAC_PI_2;
+use support::{mattiasson, simpson};
 
 fn tip_scene(f: f64) -> Scene {
     Scene::new(Whisker::uniform(), Loads::tip(TipForce::dp(f, 0.0)))
@@ -24,7 +24,10 @@ const MATTIASSON: [(f64, f64, f64); 4] = [
 fn elliptic_reference_reproduces_the_published_table() {
     for (f, x1, y1) in MATTIASSON {
         let (x, y, _) = mattiasson(f);
-        assert!((x - x1).abs() < 6e-6 && (y - y1).abs() < 6e-6, "f={f}: {x} {y}");
+        assert!(
+            (x - x1).abs() < 6e-6 && (y - y1).abs() < 6e-6,
+            "f={f}: {x} {y}"
+        );
     }
     let (_, _, t) = mattiasson(1.0);
     assert!((t - 0.46135).abs() < 6e-6);
@@ -38,13 +41,20 @@ fn accurate_matches_mattiasson_to_1e9() {
         let ex = (sol.tip.x - x1).abs();
         let ey = (sol.tip.y - y1).abs();
         let et = ((FRAC_PI_2 - sol.tip.phi) - t).abs();
-        assert!(ex < 1e-9 && ey < 1e-9 && et < 1e-9, "f={f}: {ex:e} {ey:e} {et:e}");
+        assert!(
+            ex < 1e-9 && ey < 1e-9 && et < 1e-9,
+            "f={f}: {ex:e} {ey:e} {et:e}"
+        );
     }
 }
 
 #[test]
 fn every_method_matches_mattiasson_to_five_digits_on_a_fine_grid() {
-    for method in [Method::Fdm { n: 2000 }, Method::Rk4 { n: 200 }, Method::accurate()] {
+    for method in [
+        Method::Fdm { n: 2000 },
+        Method::Rk4 { n: 200 },
+        Method::accurate(),
+    ] {
         for (f, x1, y1) in MATTIASSON {
             let sol = solve(&tip_scene(f), &method).unwrap();
             assert!(
@@ -73,19 +83,29 @@ fn small_loads_follow_linear_theory() {
 
 #[test]
 fn unloaded_whiskers_are_straight_arcs_and_euler_spirals() {
-    for method in [Method::accurate(), Method::Rk4 { n: 100 }, Method::Fdm { n: 100 }] {
+    for method in [
+        Method::accurate(),
+        Method::Rk4 { n: 100 },
+        Method::Fdm { n: 100 },
+    ] {
         let straight = solve(&Scene::default(), &method).unwrap();
         assert!(straight.tip.x.abs() < 1e-14 && (straight.tip.y - 1.0).abs() < 1e-12);
     }
     // Circular arc: phi = pi/2 + B s.
     let b = 1.5;
-    let w = Whisker { b, ..Whisker::uniform() };
+    let w = Whisker {
+        b,
+        ..Whisker::uniform()
+    };
     let sol = solve(&Scene::new(w, Loads::none()), &Method::accurate()).unwrap();
     assert!((sol.tip.x - (b.cos() - 1.0) / b).abs() < 1e-12);
     assert!((sol.tip.y - b.sin() / b).abs() < 1e-12);
     // Euler spiral: phi = pi/2 + A s^2/2 (Fresnel integrals by Simpson quadrature).
     let a = -3.0;
-    let w = Whisker { a, ..Whisker::uniform() };
+    let w = Whisker {
+        a,
+        ..Whisker::uniform()
+    };
     let sol = solve(&Scene::new(w, Loads::none()), &Method::accurate()).unwrap();
     let x = simpson(|s| -(0.5 * a * s * s).sin(), 0.0, 1.0, 20000);
     let y = simpson(|s| (0.5 * a * s * s).cos(), 0.0, 1.0, 20000);
@@ -94,19 +114,31 @@ fn unloaded_whiskers_are_straight_arcs_and_euler_spirals() {
 
 /// Moment balance about the base: m(0) = (r(s1) - r0) x F + int_0^s1 (r - r0) x Q ds.
 fn moment_balance_residual(scene: &Scene) -> f64 {
-    let method = Method::Accurate { tol: 1e-12, samples: 4000 };
+    let method = Method::Accurate {
+        tol: 1e-12,
+        samples: 4000,
+    };
     let sol = solve(scene, &method).unwrap();
     let l = &scene.loads;
     let beta = l.tip.effective_beta(sol.loaded_end.phi);
     let (fx, fy) = (l.tip.f * beta.cos(), -l.tip.f * beta.sin());
-    let (qx, qy) = (l.fluid.q * l.fluid.alpha.cos(), -l.fluid.q * l.fluid.alpha.sin());
+    let (qx, qy) = (
+        l.fluid.q * l.fluid.alpha.cos(),
+        -l.fluid.q * l.fluid.alpha.sin(),
+    );
     let el = &sol.elastica;
     // Simpson over the samples on [0, s1] (uniform spacing 1/4000, s1 = 1 here).
     let n = el.len() - 1;
     let h = 1.0 / n as f64;
     let mut integral = 0.0;
     for i in 0..=n {
-        let w = if i == 0 || i == n { 1.0 } else if i % 2 == 1 { 4.0 } else { 2.0 };
+        let w = if i == 0 || i == n {
+            1.0
+        } else if i % 2 == 1 {
+            4.0
+        } else {
+            2.0
+        };
         integral += w * (el.x[i] * qy - el.y[i] * qx);
     }
     integral *= h / 3.0;
@@ -133,8 +165,17 @@ fn forces_and_moments_balance() {
 
 #[test]
 fn spring_support_satisfies_its_robin_condition() {
-    for method in [Method::accurate(), Method::Rk4 { n: 100 }, Method::Fdm { n: 400 }] {
-        let w = Whisker { support: Support::Spring { k: 5.0 }, theta: 0.6, a: 1.0, b: -0.5 };
+    for method in [
+        Method::accurate(),
+        Method::Rk4 { n: 100 },
+        Method::Fdm { n: 400 },
+    ] {
+        let w = Whisker {
+            support: Support::Spring { k: 5.0 },
+            theta: 0.6,
+            a: 1.0,
+            b: -0.5,
+        };
         let sol = solve(&Scene::new(w, Loads::fluid(10.0, 0.0)), &method).unwrap();
         let m0 = -sol.base.ma;
         let r = sol.base.phi0 - FRAC_PI_2 - m0 / 5.0;
@@ -157,7 +198,14 @@ fn order(hs: &[f64], errs: &[f64]) -> f64 {
 #[test]
 fn fixed_step_methods_converge_at_their_orders() {
     for (name, scene) in beam_model::scenarios::reference_scenes() {
-        let exact = solve(&scene, &Method::Accurate { tol: 1e-13, samples: 10 }).unwrap();
+        let exact = solve(
+            &scene,
+            &Method::Accurate {
+                tol: 1e-13,
+                samples: 10,
+            },
+        )
+        .unwrap();
         let ns = [40usize, 80, 160, 320];
         let hs: Vec<f64> = ns.iter().map(|&n| 1.0 / n as f64).collect();
         for (label, make, expected) in [
@@ -172,7 +220,10 @@ fn fixed_step_methods_converge_at_their_orders() {
                 })
                 .collect();
             let p = order(&hs, &errs);
-            assert!((p - expected).abs() < 0.25, "{name} {label}: order {p:.3} errs {errs:?}");
+            assert!(
+                (p - expected).abs() < 0.25,
+                "{name} {label}: order {p:.3} errs {errs:?}"
+            );
         }
     }
 }
@@ -180,10 +231,35 @@ fn fixed_step_methods_converge_at_their_orders() {
 #[test]
 fn bad_parameters_are_named() {
     let cases = [
-        (Whisker { theta: 0.0, ..Whisker::uniform() }, Loads::none(), "theta"),
-        (Whisker { theta: f64::NAN, ..Whisker::uniform() }, Loads::none(), "theta"),
-        (Whisker { support: Support::Spring { k: -1.0 }, ..Whisker::uniform() }, Loads::none(), "k"),
-        (Whisker::uniform(), Loads::tip(TipForce::dp(f64::NAN, 0.0)), "f"),
+        (
+            Whisker {
+                theta: 0.0,
+                ..Whisker::uniform()
+            },
+            Loads::none(),
+            "theta",
+        ),
+        (
+            Whisker {
+                theta: f64::NAN,
+                ..Whisker::uniform()
+            },
+            Loads::none(),
+            "theta",
+        ),
+        (
+            Whisker {
+                support: Support::Spring { k: -1.0 },
+                ..Whisker::uniform()
+            },
+            Loads::none(),
+            "k",
+        ),
+        (
+            Whisker::uniform(),
+            Loads::tip(TipForce::dp(f64::NAN, 0.0)),
+            "f",
+        ),
         (Whisker::uniform(), Loads::fluid(-2.0, 0.0), "q"),
     ];
     for (w, l, name) in cases {
@@ -193,13 +269,20 @@ fn bad_parameters_are_named() {
         }
     }
     assert!(Support::from_stiffness(0.0).is_err());
-    assert_eq!(Support::from_stiffness(f64::INFINITY).unwrap(), Support::Rigid);
+    assert_eq!(
+        Support::from_stiffness(f64::INFINITY).unwrap(),
+        Support::Rigid
+    );
 }
 
 #[test]
 fn beta_whisker_force_scale_matches_the_thesis() {
     let w = beam_model::Preset::Beta.whisker();
-    assert!((w.force_scale() - 4.019e-5).abs() < 5e-9, "{}", w.force_scale());
+    assert!(
+        (w.force_scale() - 4.019e-5).abs() < 5e-9,
+        "{}",
+        w.force_scale()
+    );
     // Remark 4.2: f = 40 is 1.607578e-3 N
     assert!((40.0 * w.force_scale() - 1.607578e-3).abs() < 2e-7);
     let f = w.dimensionless_force(1.607578e-3);

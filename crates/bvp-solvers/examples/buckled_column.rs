@@ -81,7 +81,10 @@ fn main() -> Result<(), BvpError> {
     let pc = std::f64::consts::PI.powi(2) / 4.0;
 
     println!("Cantilever elastica: load P versus tip angle (Euler load pi^2/4 = {pc:.12})");
-    println!("{:>10} {:>18} {:>18} {:>10}", "theta_tip", "P (shooting)", "K(sin(t/2))^2", "rel. diff");
+    println!(
+        "{:>10} {:>18} {:>18} {:>10}",
+        "theta_tip", "P (shooting)", "K(sin(t/2))^2", "rel. diff"
+    );
     let (mut prev_t, mut guess) = (0.05f64, pc);
     for t in [0.05f64, 0.1, 0.25, 0.5, 1.0, 1.5, 2.0, 2.5, 3.0] {
         // continuation in the tip angle from the previous table row
@@ -93,7 +96,10 @@ fn main() -> Result<(), BvpError> {
         .run(prev_t, t, guess, |tt, g: &f64| load(tt, *g))?;
         prev_t = t;
         let exact = ellip_k((t / 2.0).sin()).powi(2);
-        println!("{t:>10.3} {p:>18.12} {exact:>18.12} {:>10.1e}", (p - exact) / exact);
+        println!(
+            "{t:>10.3} {p:>18.12} {exact:>18.12} {:>10.1e}",
+            (p - exact) / exact
+        );
         guess = p;
     }
 

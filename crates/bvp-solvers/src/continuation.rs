@@ -64,7 +64,11 @@ impl Continuation {
             return Err(bad("min_step", self.min_step, "must be finite and > 0"));
         }
         if !(self.max_step >= self.min_step && self.max_step.is_finite()) {
-            return Err(bad("max_step", self.max_step, "must be finite and >= min_step"));
+            return Err(bad(
+                "max_step",
+                self.max_step,
+                "must be finite and >= min_step",
+            ));
         }
         if !(self.initial_step >= self.min_step && self.initial_step <= self.max_step) {
             return Err(bad(

@@ -22,6 +22,17 @@
 //! `J(y_k) delta = -G(y_k)`, `y_{k+1} = y_k + damping * delta`, where the tridiagonal
 //! Jacobian `J` is assembled from `F_y` and `F_{y'}` and factorised by the Thomas algorithm
 //! ([`crate::tridiag`]). All buffers are allocated once per solve.
+//!
+//! **Right-end dependence.** When [`SecondOrderBvp::depends_on_right_end`] is true the
+//! equation is `y'' = F(x, y, y', y(b))`, with `y(b) = y_n` the unknown end value (e.g. the
+//! tip angle `phi1` of an angle-preserving load, thesis [3.25] with
+//! `m' = f cos(phi + beta - phi1)`). Every row `i` then also depends on `y_n` through
+//! `dG_i/dy_n = -h^2 F_{y(b)}(x_i)` (`-h^2/2 F_{y(b)}` in ghost-point rows), so the Newton
+//! matrix is bordered, `J = T + c e_n^T`: tridiagonal plus one dense last column. It is
+//! factorised in `O(n)` by Gaussian elimination with partial pivoting between the two
+//! candidate rows of each column (the band grows by one superdiagonal, the last column stays
+//! a column), which needs only `J` itself nonsingular, not `T` (Sherman–Morrison would fail
+//! where the fixed-`y(b)` problem `T` has a fold while `J` is regular, exactly the AP case).
 
 use crate::grid::UniformGrid;
 use crate::tridiag::Tridiagonal;
@@ -40,6 +51,22 @@ pub trait SecondOrderBvp {
     /// they share expensive sub-expressions (the solver only calls this method).
     fn eval(&self, x: f64, y: f64, yp: f64) -> (f64, f64, f64) {
         (self.f(x, y, yp), self.f_y(x, y, yp), self.f_yp(x, y, yp))
+    }
+    /// Whether `F` also depends on the right-end value `y(b)` (a non-local term, as in a
+    /// follower load whose direction is the unknown end angle), i.e. the problem is
+    /// `y'' = F(x, y, y', y(b))`. When `true` the solver calls only
+    /// [`eval_with_right_end`](Self::eval_with_right_end) and adds the column `dG/dy_n` to the
+    /// Jacobian (see the [module docs](self)). Default `false`.
+    fn depends_on_right_end(&self) -> bool {
+        false
+    }
+    /// `(F, F_y, F_{y'}, F_{y(b)})` at `(x, y, y', y(b))`. The default ignores `yb`, returns
+    /// [`eval`](Self::eval) and `F_{y(b)} = 0`; override it together with
+    /// [`depends_on_right_end`](Self::depends_on_right_end).
+    fn eval_with_right_end(&self, x: f64, y: f64, yp: f64, yb: f64) -> (f64, f64, f64, f64) {
+        let _ = yb;
+        let (f, fy, fyp) = self.eval(x, y, yp);
+        (f, fy, fyp, 0.0)
     }
 }
 
@@ -309,18 +336,30 @@ impl FdmSolver {
         let mut g = vec![0.0; len];
         let mut jac = Tridiagonal::new(len);
         let mut scratch = vec![0.0; len];
+        let bordered = problem.depends_on_right_end();
+        let mut border = if bordered { vec![0.0; len] } else { Vec::new() };
+        let mut lu = if bordered {
+            BorderedLu::new(len)
+        } else {
+            BorderedLu::new(0)
+        };
         let asm = Assembler {
             problem,
             grid,
             left,
             right,
+            bordered,
         };
 
-        let (mut res, _) = asm.assemble(&y, &mut g, &mut jac)?;
+        let (mut res, _) = asm.assemble(&y, &mut g, &mut jac, &mut border)?;
         let mut kappa = 0.0_f64;
         for k in 1..=self.options.max_iter {
             g.iter_mut().for_each(|v| *v = -*v);
-            jac.solve_in_place(&mut g, &mut scratch)?;
+            if bordered {
+                lu.solve_in_place(&jac, &border, &mut g)?;
+            } else {
+                jac.solve_in_place(&mut g, &mut scratch)?;
+            }
             let step = max_abs(&g);
             if !step.is_finite() {
                 return Err(BvpError::NonFinite {
@@ -334,7 +373,7 @@ impl FdmSolver {
             y.iter_mut()
                 .zip(&g)
                 .for_each(|(yi, di)| *yi += damping * di);
-            let (new_res, noise) = asm.assemble(&y, &mut g, &mut jac)?;
+            let (new_res, noise) = asm.assemble(&y, &mut g, &mut jac, &mut border)?;
             res = new_res;
 
             let e_g = 8.0 * f64::EPSILON * noise;
@@ -373,18 +412,52 @@ struct Assembler<'a, P: ?Sized> {
     grid: &'a UniformGrid,
     left: Bc,
     right: Bc,
+    /// `problem.depends_on_right_end()`.
+    bordered: bool,
 }
 
 impl<P: SecondOrderBvp + ?Sized> Assembler<'_, P> {
-    /// Fills `g` with the scaled residual and `jac` with its Jacobian at `y`; returns
+    /// `(F, F_y, F_{y'}, F_{y(b)})` at node `x` with right-end value `yb`.
+    #[inline]
+    fn eval(&self, x: f64, y: f64, yp: f64, yb: f64) -> (f64, f64, f64, f64) {
+        if self.bordered {
+            self.problem.eval_with_right_end(x, y, yp, yb)
+        } else {
+            let (f, fy, fyp) = self.problem.eval(x, y, yp);
+            (f, fy, fyp, 0.0)
+        }
+    }
+
+    /// Fills `g` with the scaled residual and `jac` with its tridiagonal Jacobian at `y`, and
+    /// (bordered problems only) `border[i] = dG_i/dy_n` from the `y(b)` dependence of `F`
+    /// (not including the tridiagonal entries in column `n`); returns
     /// `(|G|_inf, max_i sum_j |term_ij|)` (the latter sizes the rounding level of `G`).
-    fn assemble(&self, y: &[f64], g: &mut [f64], jac: &mut Tridiagonal) -> Result<(f64, f64)> {
+    fn assemble(
+        &self,
+        y: &[f64],
+        g: &mut [f64],
+        jac: &mut Tridiagonal,
+        border: &mut [f64],
+    ) -> Result<(f64, f64)> {
         let n = self.grid.intervals();
         let h = self.grid.h();
         let h2 = h * h;
         let inv2h = 0.5 / h;
+        let yb = y[n];
         let mut res = 0.0_f64;
         let mut scale = 0.0_f64;
+        let mut set_border = |i: usize, v: f64| -> Result<()> {
+            if let Some(b) = border.get_mut(i) {
+                if !v.is_finite() {
+                    return Err(BvpError::NonFinite {
+                        what: "fdm jacobian",
+                        s: self.grid.x(i),
+                    });
+                }
+                *b = v;
+            }
+            Ok(())
+        };
 
         // Left end, node 0.
         {
@@ -394,11 +467,13 @@ impl<P: SecondOrderBvp + ?Sized> Assembler<'_, P> {
                 g[0] = bc.alpha * y[0] - bc.gamma;
                 jac.diag[0] = bc.alpha;
                 jac.upper[0] = 0.0;
+                set_border(0, 0.0)?;
                 scale = scale.max((bc.alpha * y[0]).abs() + bc.gamma.abs());
             } else {
                 let s = bc.slope(y[0]);
                 let ds = -bc.alpha / bc.beta;
-                let (f, fy, fyp) = self.problem.eval(x, y[0], s);
+                let (f, fy, fyp, fyb) = self.eval(x, y[0], s, yb);
+                set_border(0, -0.5 * h2 * fyb)?;
                 g[0] = y[1] - y[0] - h * s - 0.5 * h2 * f;
                 jac.diag[0] = -1.0 + h * bc.alpha / bc.beta - 0.5 * h2 * (fy + fyp * ds);
                 jac.upper[0] = 1.0;
@@ -413,7 +488,8 @@ impl<P: SecondOrderBvp + ?Sized> Assembler<'_, P> {
         for i in 1..n {
             let x = self.grid.x(i);
             let yp = (y[i + 1] - y[i - 1]) * inv2h;
-            let (f, fy, fyp) = self.problem.eval(x, y[i], yp);
+            let (f, fy, fyp, fyb) = self.eval(x, y[i], yp, yb);
+            set_border(i, -h2 * fyb)?;
             let gi = y[i - 1] - 2.0 * y[i] + y[i + 1] - h2 * f;
             g[i] = gi;
             let t = 0.5 * h * fyp;
@@ -433,11 +509,13 @@ impl<P: SecondOrderBvp + ?Sized> Assembler<'_, P> {
                 g[n] = bc.alpha * y[n] - bc.gamma;
                 jac.diag[n] = bc.alpha;
                 jac.lower[n] = 0.0;
+                set_border(n, 0.0)?;
                 scale = scale.max((bc.alpha * y[n]).abs() + bc.gamma.abs());
             } else {
                 let s = bc.slope(y[n]);
                 let ds = -bc.alpha / bc.beta;
-                let (f, fy, fyp) = self.problem.eval(x, y[n], s);
+                let (f, fy, fyp, fyb) = self.eval(x, y[n], s, yb);
+                set_border(n, -0.5 * h2 * fyb)?;
                 g[n] = y[n - 1] - y[n] + h * s - 0.5 * h2 * f;
                 jac.diag[n] = -1.0 - h * bc.alpha / bc.beta - 0.5 * h2 * (fy + fyp * ds);
                 jac.lower[n] = 1.0;
@@ -449,6 +527,108 @@ impl<P: SecondOrderBvp + ?Sized> Assembler<'_, P> {
             check_row(g[n], jac.diag[n], x)?;
         }
         Ok((res, scale))
+    }
+}
+
+/// `O(n)` solver for the bordered Newton matrix `J = T + c e_n^T` (tridiagonal `T` of size
+/// `N = n + 1` plus the dense last column `c`), by Gaussian elimination with partial
+/// pivoting. At step `k` only rows `k` (already updated) and `k + 1` have a nonzero in column
+/// `k`; the larger one is the pivot, so each `U` row holds columns `k, k+1, k+2` (one fill-in
+/// superdiagonal) and `n`. Buffers are allocated once per solve.
+struct BorderedLu {
+    /// `U` rows: entries in columns `k`, `k+1`, `k+2` and `n` (column `n` kept separate).
+    u0: Vec<f64>,
+    u1: Vec<f64>,
+    u2: Vec<f64>,
+    uc: Vec<f64>,
+}
+
+impl BorderedLu {
+    fn new(len: usize) -> Self {
+        Self {
+            u0: vec![0.0; len],
+            u1: vec![0.0; len],
+            u2: vec![0.0; len],
+            uc: vec![0.0; len],
+        }
+    }
+
+    /// Overwrites `rhs` with the solution of `(T + border e_n^T) x = rhs`.
+    ///
+    /// # Errors
+    /// [`BvpError::SingularJacobian`] `{ row, pivot }` when the pivot of column `row` is not
+    /// above `max(1e-300, 8 eps |J|_inf)` (or is NaN).
+    fn solve_in_place(&mut self, t: &Tridiagonal, border: &[f64], rhs: &mut [f64]) -> Result<()> {
+        let len = rhs.len();
+        let n = len - 1;
+        // Original row i split as band entries (columns i-1, i, i+1, all < n) and column n.
+        let row = |i: usize| -> (f64, f64, f64, f64) {
+            let mut c = border[i];
+            let l = if i > 0 { t.lower[i] } else { 0.0 };
+            let mut d = t.diag[i];
+            let mut u = if i < n { t.upper[i] } else { 0.0 };
+            if i == n {
+                c += d;
+                d = 0.0;
+            }
+            if i + 1 == n {
+                c += u;
+                u = 0.0;
+            }
+            (l, d, u, c)
+        };
+        let norm = (0..len).fold(0.0_f64, |m, i| {
+            let (l, d, u, c) = row(i);
+            m.max(l.abs() + d.abs() + u.abs() + c.abs())
+        });
+        let tiny = (8.0 * f64::EPSILON * norm).max(1e-300);
+        let check = |k: usize, p: f64| -> Result<()> {
+            // NaN pivots fail the comparison and are reported too.
+            if p.abs().partial_cmp(&tiny) != Some(std::cmp::Ordering::Greater) {
+                return Err(BvpError::SingularJacobian { row: k, pivot: p });
+            }
+            Ok(())
+        };
+        // Working row: entries in columns k, k+1, k+2, n and its right-hand side.
+        let (_, d0, u0, c0) = row(0);
+        let mut cur = [d0, u0, 0.0, c0, rhs[0]];
+        for k in 0..n {
+            let (l, d, u, c) = row(k + 1);
+            let mut nxt = [l, d, u, c, rhs[k + 1]];
+            if nxt[0].abs() > cur[0].abs() {
+                std::mem::swap(&mut cur, &mut nxt);
+            }
+            check(k, cur[0])?;
+            let m = nxt[0] / cur[0];
+            self.u0[k] = cur[0];
+            self.u1[k] = cur[1];
+            self.u2[k] = cur[2];
+            self.uc[k] = cur[3];
+            rhs[k] = cur[4];
+            // Remaining row shifts one column to the right: columns k+1, k+2, (k+3 = 0), n.
+            cur = [
+                nxt[1] - m * cur[1],
+                nxt[2] - m * cur[2],
+                0.0,
+                nxt[3] - m * cur[3],
+                nxt[4] - m * cur[4],
+            ];
+        }
+        // Last row: only column n (band entries in column n were moved to `c`).
+        check(n, cur[3])?;
+        let xn = cur[4] / cur[3];
+        rhs[n] = xn;
+        for k in (0..n).rev() {
+            let mut v = rhs[k] - self.uc[k] * xn;
+            if k + 1 < n {
+                v -= self.u1[k] * rhs[k + 1];
+            }
+            if k + 2 < n {
+                v -= self.u2[k] * rhs[k + 2];
+            }
+            rhs[k] = v / self.u0[k];
+        }
+        Ok(())
     }
 }
 

@@ -210,7 +210,11 @@ impl Rk4 {
                     s: si + h,
                 });
             }
-            s.push(if i + 1 == m { s1 } else { s0 + (i + 1) as f64 * h });
+            s.push(if i + 1 == m {
+                s1
+            } else {
+                s0 + (i + 1) as f64 * h
+            });
             u.extend_from_slice(&cur);
         }
         Ok(Trajectory { s, u, dim: n })
@@ -549,7 +553,11 @@ impl OdeSolution {
         if !self.dense || out.len() != self.dim || !s.is_finite() {
             return false;
         }
-        let dir = if self.s_end >= self.s_start { 1.0 } else { -1.0 };
+        let dir = if self.s_end >= self.s_start {
+            1.0
+        } else {
+            -1.0
+        };
         let t = dir * (s - self.s_start);
         if t < 0.0 || t > dir * (self.s_end - self.s_start) {
             return false;
@@ -634,7 +642,13 @@ impl Dop853 {
     }
 
     fn check(&self) -> Result<()> {
-        let bad = |name, value, reason| Err(BvpError::InvalidInput { name, value, reason });
+        let bad = |name, value, reason| {
+            Err(BvpError::InvalidInput {
+                name,
+                value,
+                reason,
+            })
+        };
         if !(self.rtol >= 0.0 && self.rtol.is_finite()) {
             return bad("rtol", self.rtol, "must be finite and >= 0");
         }
@@ -642,7 +656,11 @@ impl Dop853 {
             return bad("atol", self.atol, "must be finite and >= 0");
         }
         if self.rtol + self.atol <= 0.0 {
-            return bad("rtol + atol", 0.0, "at least one tolerance must be positive");
+            return bad(
+                "rtol + atol",
+                0.0,
+                "at least one tolerance must be positive",
+            );
         }
         if let Some(h) = self.h_init {
             if !(h.is_finite() && h != 0.0) {
@@ -860,7 +878,13 @@ impl Dop853 {
             sys.rhs(x + C[4] * h, &tmp, &mut k[4 * n..5 * n]);
             combo(&y, h, &k, [(0, A61), (3, A64), (4, A65)], &mut tmp);
             sys.rhs(x + C[5] * h, &tmp, &mut k[5 * n..6 * n]);
-            combo(&y, h, &k, [(0, A71), (3, A74), (4, A75), (5, A76)], &mut tmp);
+            combo(
+                &y,
+                h,
+                &k,
+                [(0, A71), (3, A74), (4, A75), (5, A76)],
+                &mut tmp,
+            );
             sys.rhs(x + C[6] * h, &tmp, &mut k[6 * n..7 * n]);
             combo(
                 &y,

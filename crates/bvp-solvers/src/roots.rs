@@ -118,7 +118,13 @@ where
         return Err(BvpError::NotBracketed { a, b, fa, fb }.into());
     }
     // the end of the current bracket with the smaller |f|
-    let best = |a: f64, fa: f64, b: f64, fb: f64| if fa.abs() <= fb.abs() { (a, fa) } else { (b, fb) };
+    let best = |a: f64, fa: f64, b: f64, fb: f64| {
+        if fa.abs() <= fb.abs() {
+            (a, fa)
+        } else {
+            (b, fb)
+        }
+    };
     for it in 1..=opts.max_iter {
         let m = a + 0.5 * (b - a);
         if m <= a || m >= b {
@@ -195,7 +201,11 @@ where
         });
     }
     if (fa < 0.0) == (fb < 0.0) {
-        let (lo, hi, flo, fhi) = if a <= b { (a, b, fa, fb) } else { (b, a, fb, fa) };
+        let (lo, hi, flo, fhi) = if a <= b {
+            (a, b, fa, fb)
+        } else {
+            (b, a, fb, fa)
+        };
         return Err(BvpError::NotBracketed {
             a: lo,
             b: hi,

@@ -183,7 +183,11 @@ impl GaussNewtonDogleg {
         } else {
             (-b + disc) / (2.0 * a)
         };
-        let tau = if tau.is_finite() { tau.clamp(0.0, 1.0) } else { 1.0 };
+        let tau = if tau.is_finite() {
+            tau.clamp(0.0, 1.0)
+        } else {
+            1.0
+        };
         for pi in p.iter_mut().zip(g) {
             let pu = -alpha * pi.1;
             *pi.0 = pu + tau * (*pi.0 - pu);
@@ -416,7 +420,9 @@ impl<S: NonlinearSystem> Hessian for Wrapper<'_, '_, S> {
         let (n, m) = (self.n, self.m);
         let c = &*c;
         Ok(Mat::from_fn(n, n, |a, b| {
-            (0..m).map(|i| c.jac[i * n + a] * c.jac[i * n + b]).sum::<f64>()
+            (0..m)
+                .map(|i| c.jac[i * n + a] * c.jac[i * n + b])
+                .sum::<f64>()
         }))
     }
 }
@@ -469,10 +475,20 @@ pub fn solve<S: NonlinearSystem>(
         return Err(invalid("tol", opts.tol, "must be finite and > 0").into());
     }
     if !(opts.initial_radius > 0.0 && opts.initial_radius.is_finite()) {
-        return Err(invalid("initial_radius", opts.initial_radius, "must be finite and > 0").into());
+        return Err(invalid(
+            "initial_radius",
+            opts.initial_radius,
+            "must be finite and > 0",
+        )
+        .into());
     }
     if !(opts.max_radius >= opts.initial_radius && opts.max_radius.is_finite()) {
-        return Err(invalid("max_radius", opts.max_radius, "must be finite and >= initial_radius").into());
+        return Err(invalid(
+            "max_radius",
+            opts.max_radius,
+            "must be finite and >= initial_radius",
+        )
+        .into());
     }
 
     let wrapper = Shared {
@@ -520,7 +536,12 @@ pub fn solve<S: NonlinearSystem>(
     let p0 = Mat::from_fn(n, 1, |i, _| x0[i]);
     let target = 0.5 * opts.tol * opts.tol;
     let result = Executor::new(Wrapper(&wrapper), solver)
-        .configure(|state| state.param(p0).max_iters(opts.max_iters).target_cost(target))
+        .configure(|state| {
+            state
+                .param(p0)
+                .max_iters(opts.max_iters)
+                .target_cost(target)
+        })
         .timer(false)
         .ctrlc(false)
         .run();
@@ -549,9 +570,7 @@ pub fn solve<S: NonlinearSystem>(
             // that case is a success too. Every other status is a failure.
             let reached = match state.get_termination_status() {
                 TerminationStatus::Terminated(TerminationReason::TargetCostReached) => true,
-                TerminationStatus::Terminated(TerminationReason::MaxItersReached) => {
-                    cost <= target
-                }
+                TerminationStatus::Terminated(TerminationReason::MaxItersReached) => cost <= target,
                 _ => false,
             };
             match state.get_best_param() {

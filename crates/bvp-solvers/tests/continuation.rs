@@ -80,7 +80,10 @@ fn continuation_reaches_lambda_3_5_where_direct_solve_fails() {
     let solver = solver(4);
     // direct from the trivial guess: not within the budget
     let direct = solver.solve(&Bratu { lambda }, &[0.0]);
-    assert!(matches!(direct, Err(BvpError::NoConvergence { .. })), "{direct:?}");
+    assert!(
+        matches!(direct, Err(BvpError::NoConvergence { .. })),
+        "{direct:?}"
+    );
 
     let cont = Continuation {
         initial_step: 0.5,
@@ -118,7 +121,10 @@ fn continuation_stalls_at_the_fold() {
         }) => {
             println!("stalled at {reached}, step {step}");
             assert_eq!(target, 4.0);
-            assert!(reached <= lambda_c && reached > lambda_c - 0.05, "{reached}");
+            assert!(
+                reached <= lambda_c && reached > lambda_c - 0.05,
+                "{reached}"
+            );
             assert!(step < 2e-3);
         }
         other => panic!("{other:?}"),

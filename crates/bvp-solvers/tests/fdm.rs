@@ -499,3 +499,176 @@ fn grid_basics() {
     assert!(UniformGrid::new(0.0, f64::NAN, 4).is_err());
     assert!(UniformGrid::new(f64::NEG_INFINITY, 0.0, 4).is_err());
 }
+
+// ---------------------------------------------------------------------------------------
+// Right-end (bordered) dependence: y'' = F(x, y, y', y(b)).
+
+/// `y'' = k y(1) + e^x` (linear, non-local), the constant `k` and the closures below give
+/// closed forms `y = K x^2 / 2 + e^x + A x + B` with `K = k y(1)`.
+struct NonLocalLinear {
+    k: f64,
+}
+
+impl bvp_solvers::fdm::SecondOrderBvp for NonLocalLinear {
+    fn f(&self, x: f64, _y: f64, _yp: f64) -> f64 {
+        x.exp()
+    }
+    fn f_y(&self, _x: f64, _y: f64, _yp: f64) -> f64 {
+        0.0
+    }
+    fn f_yp(&self, _x: f64, _y: f64, _yp: f64) -> f64 {
+        0.0
+    }
+    fn depends_on_right_end(&self) -> bool {
+        true
+    }
+    fn eval_with_right_end(&self, x: f64, _y: f64, _yp: f64, yb: f64) -> (f64, f64, f64, f64) {
+        (self.k * yb + x.exp(), 0.0, 0.0, self.k)
+    }
+}
+
+/// Manufactured non-linear problem with exact solution `y = sin x` on `[0, 1]`:
+/// `y'' = -e^y + e^{sin x} - sin x + y(1)^2 - sin^2 1`.
+struct NonLocalNonlinear;
+
+impl bvp_solvers::fdm::SecondOrderBvp for NonLocalNonlinear {
+    fn f(&self, x: f64, y: f64, _yp: f64) -> f64 {
+        -y.exp() + x.sin().exp() - x.sin()
+    }
+    fn f_y(&self, _x: f64, y: f64, _yp: f64) -> f64 {
+        -y.exp()
+    }
+    fn f_yp(&self, _x: f64, _y: f64, _yp: f64) -> f64 {
+        0.0
+    }
+    fn depends_on_right_end(&self) -> bool {
+        true
+    }
+    fn eval_with_right_end(&self, x: f64, y: f64, _yp: f64, yb: f64) -> (f64, f64, f64, f64) {
+        let s1 = 1.0_f64.sin();
+        (
+            -y.exp() + x.sin().exp() - x.sin() + yb * yb - s1 * s1,
+            -y.exp(),
+            0.0,
+            2.0 * yb,
+        )
+    }
+}
+
+#[test]
+fn right_end_linear_dirichlet_neumann_closed_form_second_order() {
+    // y'' = y(1) + e^x, y(0) = 0, y'(1) = 0: K = y(1) = -2/3,
+    // y = -x^2/3 + e^x + (2/3 - e) x - 1.
+    let e = std::f64::consts::E;
+    let exact = move |x: f64| -x * x / 3.0 + x.exp() + (2.0 / 3.0 - e) * x - 1.0;
+    let dexact = move |x: f64| -2.0 * x / 3.0 + x.exp() + 2.0 / 3.0 - e;
+    let solver = FdmSolver::new(Bc::Dirichlet(0.0), Bc::Neumann(0.0));
+    let p = NonLocalLinear { k: 1.0 };
+    let (sy, syp, fine) = orders(&solver, &p, (0.0, 1.0), exact, dexact);
+    // measured: 2.00, 2.00, 2.9e-6 at n = 256
+    assert!((1.95..=2.05).contains(&sy), "order of y {sy}");
+    assert!((1.9..=2.1).contains(&syp), "order of y' {syp}");
+    assert!(fine < 1e-5, "{fine:e}");
+    // Linear: one step solves it, one confirms.
+    let s = solve(&solver, &p, 0.0, 1.0, 64);
+    assert!(s.stats.iterations <= 2, "{}", s.stats.iterations);
+}
+
+#[test]
+fn right_end_linear_robin_left_closed_form() {
+    // y'' = y(1) + e^x, y'(0) - y(0) = 0, y'(1) = 0: A = B = -K - e, K = y(1) = -2e/5.
+    let e = std::f64::consts::E;
+    let k = -2.0 * e / 5.0;
+    let exact = move |x: f64| 0.5 * k * x * x + x.exp() + (-k - e) * (x + 1.0);
+    let dexact = move |x: f64| k * x + x.exp() - k - e;
+    let solver = FdmSolver::new(
+        Bc::Robin {
+            alpha: -1.0,
+            beta: 1.0,
+            gamma: 0.0,
+        },
+        Bc::Neumann(0.0),
+    );
+    let p = NonLocalLinear { k: 1.0 };
+    let (sy, syp, fine) = orders(&solver, &p, (0.0, 1.0), exact, dexact);
+    assert!((1.95..=2.05).contains(&sy), "order of y {sy}");
+    assert!((1.9..=2.1).contains(&syp), "order of y' {syp}");
+    assert!(fine < 1e-4, "{fine:e}");
+}
+
+#[test]
+fn right_end_nonlinear_second_order_and_quadratic_newton() {
+    let solver = FdmSolver::new(Bc::Dirichlet(0.0), Bc::Neumann(1.0_f64.cos()));
+    let (sy, syp, fine) = orders(&solver, &NonLocalNonlinear, (0.0, 1.0), f64::sin, f64::cos);
+    assert!((1.95..=2.05).contains(&sy), "order of y {sy}");
+    assert!((1.9..=2.1).contains(&syp), "order of y' {syp}");
+    assert!(fine < 1e-5, "{fine:e}");
+
+    let grid = UniformGrid::new(0.0, 1.0, 64).unwrap();
+    let guess = vec![0.0; 65];
+    let res: Vec<f64> = (1..=5)
+        .map(|k| {
+            let s = solver.clone().with_options(FdmOptions {
+                max_iter: k,
+                ..FdmOptions::default()
+            });
+            match s.solve(&NonLocalNonlinear, &grid, &guess) {
+                Err(BvpError::NoConvergence { residual, .. }) => residual,
+                other => panic!("expected NoConvergence, got {other:?}"),
+            }
+        })
+        .collect();
+    // Residuals after k = 1..5 iterations (measured 3.7e-4, 3.6e-5, 1.3e-8, 3.8e-14,
+    // 1.6e-16): r_{k+1} <= C r_k^2 with one constant (measured C = 261, 10, 223) down to
+    // the rounding floor; linear convergence would give r_{k+1} / r_k ~ const.
+    for k in 0..3 {
+        let c = res[k + 1] / (res[k] * res[k]);
+        assert!(c < 1e3, "C_{k} = {c}, residuals {res:?}");
+    }
+    assert!(res[3] < 1e-13 && res[3] / res[2] < 1e-4, "{res:?}");
+    let s = solver.solve(&NonLocalNonlinear, &grid, &guess).unwrap();
+    assert!(s.stats.iterations <= 6, "{}", s.stats.iterations);
+}
+
+#[test]
+fn right_end_without_dependence_matches_plain_path() {
+    // The bordered (pivoted) path with F_{y(b)} = 0 equals the Thomas path.
+    let p = NonLocalLinear { k: 0.0 };
+    let plain = FnBvp::new(|x: f64, _, _| x.exp(), |_, _, _| 0.0, |_, _, _| 0.0);
+    let solver = FdmSolver::new(Bc::Dirichlet(1.0), Bc::Neumann(2.0));
+    let a = solve(&solver, &p, 0.0, 1.0, 50);
+    let b = solve(&solver, &plain, 0.0, 1.0, 50);
+    let d =
+        a.y.iter()
+            .zip(&b.y)
+            .map(|(u, v)| (u - v).abs())
+            .fold(0.0, f64::max);
+    assert!(d < 1e-13, "{d:e}");
+}
+
+#[test]
+fn right_end_singular_bordered_system_is_reported() {
+    // y'' = y(1) - y with y'(0) = y'(1) = 0: every constant solves it, and also the discrete
+    // system (the constant vector is in the kernel of T + c e_n^T).
+    struct Kernel;
+    impl bvp_solvers::fdm::SecondOrderBvp for Kernel {
+        fn f(&self, _x: f64, y: f64, _yp: f64) -> f64 {
+            -y
+        }
+        fn f_y(&self, _x: f64, _y: f64, _yp: f64) -> f64 {
+            -1.0
+        }
+        fn f_yp(&self, _x: f64, _y: f64, _yp: f64) -> f64 {
+            0.0
+        }
+        fn depends_on_right_end(&self) -> bool {
+            true
+        }
+        fn eval_with_right_end(&self, _x: f64, y: f64, _yp: f64, yb: f64) -> (f64, f64, f64, f64) {
+            (yb - y, -1.0, 0.0, 1.0)
+        }
+    }
+    let grid = UniformGrid::new(0.0, 1.0, 32).unwrap();
+    let r = FdmSolver::new(Bc::Neumann(0.0), Bc::Neumann(0.0)).solve(&Kernel, &grid, &[0.0; 33]);
+    assert!(matches!(r, Err(BvpError::SingularJacobian { .. })), "{r:?}");
+}

@@ -85,7 +85,9 @@ fn rk4_is_fourth_order() {
     let mut hs = Vec::new();
     let mut errs = Vec::new();
     for steps in [10, 20, 40, 80, 160] {
-        let tr = Rk4 { steps }.integrate(&Harmonic, 0.0, 2.0, &[0.0, 1.0]).unwrap();
+        let tr = Rk4 { steps }
+            .integrate(&Harmonic, 0.0, 2.0, &[0.0, 1.0])
+            .unwrap();
         assert_eq!(tr.len(), steps + 1);
         assert_eq!(tr.s[steps], 2.0);
         let u = tr.last();
@@ -105,7 +107,9 @@ fn rk4_is_fourth_order() {
 fn rk4_backward_and_final_only() {
     let rk = Rk4 { steps: 200 };
     let e1 = 1f64.sin().exp();
-    let tr = rk.integrate(&ExpSin, 2.0, 1.0, &[2f64.sin().exp()]).unwrap();
+    let tr = rk
+        .integrate(&ExpSin, 2.0, 1.0, &[2f64.sin().exp()])
+        .unwrap();
     assert!((tr.last()[0] - e1).abs() < 1e-9, "{}", tr.last()[0] - e1);
     let mut out = [0.0];
     rk.integrate_final(&ExpSin, 2.0, 1.0, &[2f64.sin().exp()], &mut out)
@@ -135,7 +139,9 @@ fn dop853_harmonic_reaches_1e12() {
 #[test]
 fn dop853_nonautonomous_reaches_1e12() {
     for (s1, tol) in [(5.0, 1e-14), (20.0, 1e-14)] {
-        let sol = Dop853::new(tol, tol).integrate(&ExpSin, 0.0, s1, &[1.0]).unwrap();
+        let sol = Dop853::new(tol, tol)
+            .integrate(&ExpSin, 0.0, s1, &[1.0])
+            .unwrap();
         let exact = f64::sin(s1).exp();
         let e = (sol.u_end[0] - exact).abs() / exact;
         println!("exp(sin) to {s1}: rel err {e:e}, {:?}", sol.stats);
@@ -149,7 +155,9 @@ fn dop853_error_scales_with_tolerance() {
     let mut errs = Vec::new();
     let mut evals = Vec::new();
     for &tol in &tols {
-        let sol = Dop853::new(tol, tol).integrate(&Rot3, 0.0, 10.0, &[0.0, 1.0, 0.0, 1.0, 0.0, 1.0]).unwrap();
+        let sol = Dop853::new(tol, tol)
+            .integrate(&Rot3, 0.0, 10.0, &[0.0, 1.0, 0.0, 1.0, 0.0, 1.0])
+            .unwrap();
         let mut e: f64 = 0.0;
         for j in 0..3 {
             e = e.max((sol.u_end[2 * j] - (W[j] * 10.0).sin()).abs());
@@ -182,7 +190,11 @@ fn dop853_backward() {
     for i in 0..=60 {
         let s = 2.0 - 3.0 * i as f64 / 60.0;
         let v = sol.eval(s).unwrap()[0];
-        assert!((v - s.sin().exp()).abs() < 1e-11, "s {s}: {}", v - s.sin().exp());
+        assert!(
+            (v - s.sin().exp()).abs() < 1e-11,
+            "s {s}: {}",
+            v - s.sin().exp()
+        );
     }
     assert!(sol.eval(2.1).is_none());
     assert!(sol.eval(-1.1).is_none());
@@ -204,7 +216,9 @@ fn dop853_dense_output_between_steps() {
         for frac in [0.25, 0.5, 0.77] {
             let s = w[0] + frac * (w[1] - w[0]);
             let u = sol.eval(s).unwrap();
-            max_err = max_err.max((u[0] - s.sin()).abs()).max((u[1] - s.cos()).abs());
+            max_err = max_err
+                .max((u[0] - s.sin()).abs())
+                .max((u[1] - s.cos()).abs());
         }
     }
     println!("dense max err {max_err:e} over {} steps", pts.len() - 1);
@@ -225,10 +239,20 @@ fn dop853_dense_output_between_steps() {
 #[test]
 fn dop853_event_first_zero_of_sin() {
     let (sol, ev) = Dop853::new(1e-14, 1e-14)
-        .integrate_until(&Harmonic, 0.5, 20.0, &[0.5f64.sin(), 0.5f64.cos()], |_, u| u[0])
+        .integrate_until(
+            &Harmonic,
+            0.5,
+            20.0,
+            &[0.5f64.sin(), 0.5f64.cos()],
+            |_, u| u[0],
+        )
         .unwrap();
     let ev = ev.expect("event");
-    println!("event at {:.17}, err {:e}", ev.s, ev.s - std::f64::consts::PI);
+    println!(
+        "event at {:.17}, err {:e}",
+        ev.s,
+        ev.s - std::f64::consts::PI
+    );
     assert!((ev.s - std::f64::consts::PI).abs() < 1e-12);
     assert!((ev.u[1] + 1.0).abs() < 1e-12);
     // the located point is a zero of the event function on the dense output
@@ -244,7 +268,9 @@ fn dop853_event_projectile_landing() {
     let v = 20.0 / 2f64.sqrt();
     let (sol, ev) = Dop853::new(1e-10, 1e-10)
         .with_dense(true)
-        .integrate_until(&Projectile { g }, 0.0, 100.0, &[0.0, 0.0, v, v], |_, u| u[1])
+        .integrate_until(&Projectile { g }, 0.0, 100.0, &[0.0, 0.0, v, v], |_, u| {
+            u[1]
+        })
         .unwrap();
     let ev = ev.unwrap();
     let t = 2.0 * v / g;
@@ -284,7 +310,11 @@ fn invalid_inputs_and_nan() {
     ));
     assert!(matches!(
         d.integrate(&Harmonic, 0.0, 1.0, &[0.0]),
-        Err(BvpError::DimensionMismatch { expected: 2, found: 1, .. })
+        Err(BvpError::DimensionMismatch {
+            expected: 2,
+            found: 1,
+            ..
+        })
     ));
     assert!(matches!(
         Dop853::new(-1.0, 1e-10).integrate(&Harmonic, 0.0, 1.0, &[0.0, 1.0]),
@@ -345,6 +375,10 @@ fn timing_6dim_unit_interval() {
         stats = Some(sol.stats);
     }
     let dt = t0.elapsed().as_secs_f64() / reps as f64;
-    println!("6-dim [0,1] at 1e-12: {:.2} us per solve, {:?}", dt * 1e6, stats);
+    println!(
+        "6-dim [0,1] at 1e-12: {:.2} us per solve, {:?}",
+        dt * 1e6,
+        stats
+    );
     assert!((acc / reps as f64 - 3.5f64.sin()).abs() < 1e-11);
 }

@@ -65,14 +65,29 @@ fn errors() {
     assert!(matches!(r, Err(BvpError::NotBracketed { a, b, .. }) if a == -1.0 && b == 1.0));
     let r: R = bisection(|x| ok(x * x + 1.0), -1.0, 1.0, &o);
     assert!(matches!(r, Err(BvpError::NotBracketed { .. })));
-    let few = RootOptions {
-        max_iter: 5,
-        ..o
-    };
+    let few = RootOptions { max_iter: 5, ..o };
     let r: R = bisection(|x| ok(x.cos() - x), 0.0, 1.0, &few);
-    assert!(matches!(r, Err(BvpError::NoConvergence { method: "bisection", iterations: 5, .. })));
-    let r: R = brent(|x| ok(x.cos() - x), 0.0, 1.0, &RootOptions { max_iter: 2, ..o });
-    assert!(matches!(r, Err(BvpError::NoConvergence { method: "brent", .. })));
+    assert!(matches!(
+        r,
+        Err(BvpError::NoConvergence {
+            method: "bisection",
+            iterations: 5,
+            ..
+        })
+    ));
+    let r: R = brent(
+        |x| ok(x.cos() - x),
+        0.0,
+        1.0,
+        &RootOptions { max_iter: 2, ..o },
+    );
+    assert!(matches!(
+        r,
+        Err(BvpError::NoConvergence {
+            method: "brent",
+            ..
+        })
+    ));
     let r: R = brent(|_| ok(f64::NAN), 0.0, 1.0, &o);
     assert!(matches!(r, Err(BvpError::NonFinite { .. })));
     let r: R = brent(|x| ok(x), f64::NAN, 1.0, &o);
@@ -92,8 +107,28 @@ impl From<BvpError> for MyErr {
 
 #[test]
 fn user_errors_propagate() {
-    let f = |x: f64| if x > 0.6 { Err(MyErr::Mine(7)) } else { Ok(x - 0.9) };
-    assert_eq!(brent(f, 0.0, 0.5, &RootOptions::default()), Err(MyErr::Bvp(BvpError::NotBracketed { a: 0.0, b: 0.5, fa: -0.9, fb: -0.4 })));
-    assert_eq!(brent(f, 0.0, 1.0, &RootOptions::default()), Err(MyErr::Mine(7)));
-    assert_eq!(bisection(f, 0.0, 1.0, &RootOptions::default()), Err(MyErr::Mine(7)));
+    let f = |x: f64| {
+        if x > 0.6 {
+            Err(MyErr::Mine(7))
+        } else {
+            Ok(x - 0.9)
+        }
+    };
+    assert_eq!(
+        brent(f, 0.0, 0.5, &RootOptions::default()),
+        Err(MyErr::Bvp(BvpError::NotBracketed {
+            a: 0.0,
+            b: 0.5,
+            fa: -0.9,
+            fb: -0.4
+        }))
+    );
+    assert_eq!(
+        brent(f, 0.0, 1.0, &RootOptions::default()),
+        Err(MyErr::Mine(7))
+    );
+    assert_eq!(
+        bisection(f, 0.0, 1.0, &RootOptions::default()),
+        Err(MyErr::Mine(7))
+    );
 }

@@ -131,7 +131,10 @@ fn bratu_both_branches_lambda_1() {
         let theta = bratu_theta(lambda, lo, hi);
         let p_exact = theta * (theta / 4.0).tanh(); // y'(0)
         let sol = dop(1e-13).solve(&Bratu { lambda }, &[guess]).unwrap();
-        println!("Bratu theta {theta}: y'(0) = {} (exact {p_exact}), {} its", sol.params[0], sol.iterations);
+        println!(
+            "Bratu theta {theta}: y'(0) = {} (exact {p_exact}), {} its",
+            sol.params[0], sol.iterations
+        );
         assert!((sol.params[0] - p_exact).abs() < 1e-9 * p_exact.max(1.0));
         // y'(1) = -y'(0) by symmetry
         assert!((sol.u_end[1] + p_exact).abs() < 1e-9 * p_exact.max(1.0));
@@ -192,12 +195,21 @@ fn elastica_load_matches_elliptic_integral() {
     for theta_tip in [0.01, 0.5, 1.0, 2.0, 2.8] {
         let sol = dop(1e-13).solve(&Elastica { theta_tip }, &[guess]).unwrap();
         let exact = ellip_k((theta_tip / 2.0).sin()).powi(2);
-        println!("theta_tip {theta_tip}: P = {:.15}, K^2 = {exact:.15}", sol.params[0]);
-        assert!((sol.params[0] - exact).abs() < 1e-9 * exact, "{}", sol.params[0] - exact);
+        println!(
+            "theta_tip {theta_tip}: P = {:.15}, K^2 = {exact:.15}",
+            sol.params[0]
+        );
+        assert!(
+            (sol.params[0] - exact).abs() < 1e-9 * exact,
+            "{}",
+            sol.params[0] - exact
+        );
         guess = sol.params[0];
     }
     // small amplitude: the Euler load pi^2/4
-    let sol = dop(1e-13).solve(&Elastica { theta_tip: 1e-4 }, &[2.0]).unwrap();
+    let sol = dop(1e-13)
+        .solve(&Elastica { theta_tip: 1e-4 }, &[2.0])
+        .unwrap();
     assert!((sol.params[0] - std::f64::consts::PI.powi(2) / 4.0).abs() < 1e-8);
 }
 

@@ -134,7 +134,11 @@ fn rosenbrock_system() {
     for analytic in [true, false] {
         let sol = solve(&Rosenbrock { analytic }, &[-1.2, 1.0], &opts(1e-12, 200)).unwrap();
         println!("Rosenbrock analytic={analytic}: {sol:?}");
-        assert!((sol.x[0] - 1.0).abs() < 1e-12 && (sol.x[1] - 1.0).abs() < 1e-11, "{:?}", sol.x);
+        assert!(
+            (sol.x[0] - 1.0).abs() < 1e-12 && (sol.x[1] - 1.0).abs() < 1e-11,
+            "{:?}",
+            sol.x
+        );
         assert!(sol.residual_norm <= 1e-12);
         assert!(sol.iterations < 50);
         // one residual evaluation per iteration (+ the initial one): the cache works
@@ -190,7 +194,12 @@ fn user_error_propagates() {
 
 #[test]
 fn exact_start_and_bad_inputs() {
-    let sol = solve(&Rosenbrock { analytic: true }, &[1.0, 1.0], &opts(1e-12, 10)).unwrap();
+    let sol = solve(
+        &Rosenbrock { analytic: true },
+        &[1.0, 1.0],
+        &opts(1e-12, 10),
+    )
+    .unwrap();
     assert_eq!(sol.iterations, 0);
     assert_eq!(sol.x, vec![1.0, 1.0]);
     assert!(matches!(
@@ -198,7 +207,11 @@ fn exact_start_and_bad_inputs() {
         Err(MyError::Bvp(BvpError::DimensionMismatch { .. }))
     ));
     assert!(matches!(
-        solve(&Rosenbrock { analytic: true }, &[f64::NAN, 1.0], &opts(1e-12, 10)),
+        solve(
+            &Rosenbrock { analytic: true },
+            &[f64::NAN, 1.0],
+            &opts(1e-12, 10)
+        ),
         Err(MyError::Bvp(BvpError::InvalidInput { name: "x0", .. }))
     ));
     assert!(matches!(
@@ -233,7 +246,11 @@ fn budget_boundary_is_exact() {
     let sol = solve(&sys, &[-1.2, 1.0], &opts(1e-12, 14)).unwrap();
     assert_eq!(sol.iterations, 14);
     match solve(&sys, &[-1.2, 1.0], &opts(1e-12, 13)) {
-        Err(MyError::Bvp(BvpError::NoConvergence { iterations: 13, residual, .. })) => {
+        Err(MyError::Bvp(BvpError::NoConvergence {
+            iterations: 13,
+            residual,
+            ..
+        })) => {
             assert!(residual > 1e-12 && residual < 1.0, "{residual}")
         }
         other => panic!("{other:?}"),

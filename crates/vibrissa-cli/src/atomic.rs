@@ -25,7 +25,8 @@ pub fn write_atomic(path: &Path, contents: &[u8]) -> Result<(), CliError> {
     let tmp = path.with_file_name(tmp_name);
     let result = (|| {
         let mut file = fs::File::create(&tmp).map_err(|e| CliError::io(&tmp, e))?;
-        file.write_all(contents).map_err(|e| CliError::io(&tmp, e))?;
+        file.write_all(contents)
+            .map_err(|e| CliError::io(&tmp, e))?;
         file.sync_all().map_err(|e| CliError::io(&tmp, e))?;
         drop(file);
         fs::rename(&tmp, path).map_err(|e| CliError::io(path, e))

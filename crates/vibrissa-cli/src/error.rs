@@ -160,7 +160,10 @@ mod tests {
             column: Some("Ax".into()),
             reason: "`abc` is not a number".into(),
         };
-        assert_eq!(e.to_string(), "obs.csv:4: column `Ax`: `abc` is not a number");
+        assert_eq!(
+            e.to_string(),
+            "obs.csv:4: column `Ax`: `abc` is not a number"
+        );
         assert_eq!(e.exit_code(), 2);
         let e = CliError::Scene {
             path: "s.ron".into(),
@@ -174,7 +177,10 @@ mod tests {
             "s.ron:3:15: field `whisker.theta`: must be in (0, 1], got -0.5"
         );
         let e = CliError::invalid_argument("--theta", "2", "must be in (0, 1]");
-        assert_eq!(e.to_string(), "invalid value `2` for `--theta`: must be in (0, 1]");
+        assert_eq!(
+            e.to_string(),
+            "invalid value `2` for `--theta`: must be in (0, 1]"
+        );
         let e = CliError::solver(std::io::Error::other("shooting: residual 1e-3"));
         assert_eq!(e.to_string(), "shooting: residual 1e-3");
         assert_eq!(e.exit_code(), 1);

@@ -558,9 +558,18 @@ mod tests {
 
     #[test]
     fn runs_split_at_nan_and_nonpositive_on_log() {
-        let p = [(1.0, 1.0), (2.0, f64::NAN), (3.0, 3.0), (4.0, 4.0), (5.0, -1.0)];
+        let p = [
+            (1.0, 1.0),
+            (2.0, f64::NAN),
+            (3.0, 3.0),
+            (4.0, 4.0),
+            (5.0, -1.0),
+        ];
         assert_eq!(runs(&p, false, false).len(), 2);
-        assert_eq!(runs(&p, false, true), vec![vec![(1.0, 1.0)], vec![(3.0, 3.0), (4.0, 4.0)]]);
+        assert_eq!(
+            runs(&p, false, true),
+            vec![vec![(1.0, 1.0)], vec![(3.0, 3.0), (4.0, 4.0)]]
+        );
     }
 
     #[test]

@@ -205,9 +205,8 @@ impl SceneFile {
 
     /// Renders the scene as pretty RON that [`SceneFile::parse`] reads back identically.
     pub fn to_ron(&self) -> Result<String, CliError> {
-        ron::ser::to_string_pretty(self, ron::ser::PrettyConfig::default()).map_err(|e| {
-            CliError::invalid_argument("scene", format!("{self:?}"), e.to_string())
-        })
+        ron::ser::to_string_pretty(self, ron::ser::PrettyConfig::default())
+            .map_err(|e| CliError::invalid_argument("scene", format!("{self:?}"), e.to_string()))
     }
 
     /// Checks every value's range. `text` is the file's text, used to find the line of the
@@ -438,7 +437,8 @@ mod tests {
 
     #[test]
     fn locate_skips_comments_and_strings() {
-        let text = "// theta: 3\n(\n  profile: \"theta: x\",\n  whisker: (a: 1.0,\n    theta: 2.0),\n)";
+        let text =
+            "// theta: 3\n(\n  profile: \"theta: x\",\n  whisker: (a: 1.0,\n    theta: 2.0),\n)";
         assert_eq!(locate_field(text, &["whisker", "theta"]), Some((5, 5)));
         assert_eq!(locate_field(text, &["whisker", "a"]), Some((4, 13)));
         assert_eq!(locate_field(text, &["loads", "q"]), None);

@@ -48,7 +48,13 @@ fn csv_reader_is_lenient_about_foreign_files() {
                 \r\n\
                 # a comment\r\n\
                 \"A\",2e-3,-1,bar,1,2,3";
-    let t = parse_table(text, Path::new("f.csv"), &["x0", "Ax", "Ay", "MA", "phi0"], 2).unwrap();
+    let t = parse_table(
+        text,
+        Path::new("f.csv"),
+        &["x0", "Ax", "Ay", "MA", "phi0"],
+        2,
+    )
+    .unwrap();
     assert_eq!(t.rows(), 2);
     assert_eq!(t.column("x0").unwrap(), &[1.5, -1.0]);
     assert_eq!(t.column("MA").unwrap(), &[0.0, 2e-3]);
@@ -83,7 +89,10 @@ fn csv_errors_name_file_line_and_column() {
         csv_err("x0,Ax\n1,2\n", &["x0"], 3),
         "obs.csv:2: expected at least 3 data rows, found 1"
     );
-    assert_eq!(csv_err("", &["x0"], 1), "obs.csv:1: the file is empty: no header line");
+    assert_eq!(
+        csv_err("", &["x0"], 1),
+        "obs.csv:1: the file is empty: no header line"
+    );
     // NaN outside the required columns is accepted.
     let t = parse_table("x0,f\n1,NaN\n", Path::new("a"), &["x0"], 1).unwrap();
     assert!(t.column("f").unwrap()[0].is_nan());
@@ -167,7 +176,15 @@ fn scene_good_file_round_trips() {
 #[test]
 fn scene_minimal_file_and_physical_units() {
     let s = SceneFile::parse("(whisker: ())", Path::new("m.ron")).unwrap();
-    assert_eq!(s, SceneFile::with_whisker(WhiskerSpec { theta: 1.0, a: 0.0, b: 0.0, k: None }));
+    assert_eq!(
+        s,
+        SceneFile::with_whisker(WhiskerSpec {
+            theta: 1.0,
+            a: 0.0,
+            b: 0.0,
+            k: None
+        })
+    );
     assert_eq!(s.method.name, "accurate");
     let s = SceneFile::parse(
         r#"(units: Physical(preset: "beta"), whisker: (k: 3.0), profile: "g2")"#,
@@ -214,17 +231,26 @@ fn scene_range_errors_name_field_and_line() {
         "scene.ron:7:18: field `sweep.points`: must be at least 2, got 1"
     );
     let text = GOOD.replace("n: None", "n: Some(3)");
-    assert_eq!(scene_err(&text), "scene.ron:8:32: field `method.n`: must be at least 4, got 3");
+    assert_eq!(
+        scene_err(&text),
+        "scene.ron:8:32: field `method.n`: must be at least 4, got 3"
+    );
     let text = GOOD.replace("Some(20.0)", "Some(-1.0)");
     assert!(scene_err(&text).starts_with("scene.ron:4:44: field `whisker.k`: must be positive"));
     let text = GOOD.replace("q: 5.0", "q: inf");
-    assert_eq!(scene_err(&text), "scene.ron:5:46: field `loads.q`: must be finite, got inf");
+    assert_eq!(
+        scene_err(&text),
+        "scene.ron:5:46: field `loads.q`: must be finite, got inf"
+    );
 }
 
 #[test]
 fn scene_malformed_ron_names_line_and_column() {
-    let e = SceneFile::parse("(\n  whisker: (theta: 1.0,\n  loads: (f: ),\n)", Path::new("bad.ron"))
-        .unwrap_err();
+    let e = SceneFile::parse(
+        "(\n  whisker: (theta: 1.0,\n  loads: (f: ),\n)",
+        Path::new("bad.ron"),
+    )
+    .unwrap_err();
     match &e {
         CliError::Scene { line, column, .. } => assert_eq!((*line, *column), (3, 8)),
         other => panic!("unexpected {other:?}"),
@@ -259,13 +285,19 @@ fn svg_chart_is_written_with_series_names() {
 
     let wp = Chart::new("Work precision", "n", "error")
         .log(true, true)
-        .with(Series::new("fdm", vec![(10.0, 1e-3), (100.0, 1e-5), (1000.0, 0.0)], Style::LinePoints));
+        .with(Series::new(
+            "fdm",
+            vec![(10.0, 1e-3), (100.0, 1e-5), (1000.0, 0.0)],
+            Style::LinePoints,
+        ));
     let p2 = dir.path().join("panels.svg");
     write_svg_panels(&[chart.clone(), wp.clone(), wp, chart], 2, &p2, (1000, 800)).unwrap();
     let svg = fs::read_to_string(&p2).unwrap();
     assert!(svg.contains("Work precision") && svg.contains("fdm"));
     let err = write_svg_panels(&[], 2, &dir.path().join("none.svg"), (100, 100)).unwrap_err();
-    assert!(err.to_string().ends_with("none.svg: cannot draw the figure: no panels to draw"));
+    assert!(err
+        .to_string()
+        .ends_with("none.svg: cannot draw the figure: no panels to draw"));
     assert!(!dir.path().join("none.svg").exists());
 }
 
@@ -298,5 +330,7 @@ fn svg_heatmap_checks_its_shape() {
     );
     map.cells.pop();
     let e = write_heatmap_svg(&map, &p, (600, 400)).unwrap_err();
-    assert!(e.to_string().ends_with("cells has 1 rows but y_values has 2 values"));
+    assert!(e
+        .to_string()
+        .ends_with("cells has 1 rows but y_values has 2 values"));
 }

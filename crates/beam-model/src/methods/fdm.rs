@@ -1,10 +1,12 @@
 //! The thesis's method: central finite differences on the second-order form [3.25] with
 //! Newton on the tridiagonal Jacobian [3.27], the spring base as a Robin condition, the free
-//! end as a Neumann condition, and an outer secant iteration on the tip angle for AP loads.
+//! end as a Neumann condition. For AP loads the tip angle `phi1 = phi(s1)` enters the
+//! right-hand side (`m' = f cos(phi + beta - phi1)`), which the FDM handles as a right-end
+//! (bordered) dependence solved together with the nodal angles.
 
 use crate::equations::WhiskerFdmProblem;
 use crate::error::{ModelError, Result};
-use crate::loads::{LoadKind, Loads};
+use crate::loads::Loads;
 use crate::scene::Scene;
 use crate::solution::{BaseObservables, Elastica, EndState, Solution, SolveStats};
 use crate::support::Support;
@@ -15,7 +17,8 @@ use bvp_solvers::grid::UniformGrid;
 use std::f64::consts::FRAC_PI_2;
 
 const METHOD: &str = "fdm";
-const MAX_OUTER: usize = 60;
+/// Largest angle change (rad) accepted from a direct solve without continuation.
+const DIRECT_JUMP: f64 = 0.5;
 
 fn solver(whisker: &Whisker, s1: f64) -> FdmSolver {
     let left = match whisker.support {
@@ -39,68 +42,33 @@ fn solver(whisker: &Whisker, s1: f64) -> FdmSolver {
     }
 }
 
-/// FDM solve for fixed loads; AP loads get an outer secant iteration on `phi1`.
+/// FDM solve for fixed loads. For AP loads the tip angle `phi1 = phi(s1)` in
+/// `m' = f cos(phi + beta - phi1)` is the last unknown of the discrete system itself (the
+/// problem [depends on the right end](bvp_solvers::fdm::SecondOrderBvp::depends_on_right_end)),
+/// so Newton acts on the bordered Jacobian [3.27] plus the column `dF/dphi1` and there is no
+/// outer iteration on `phi1`. Returns the solution and its Newton iterations.
 fn solve_fixed(
     whisker: &Whisker,
     loads: &Loads,
     grid: &UniformGrid,
     guess: &[f64],
 ) -> Result<(FdmSolution, usize)> {
-    let solver = solver(whisker, loads.s1);
-    let err = |source| ModelError::Solver {
-        method: METHOD,
-        source,
-    };
-    let run = |phi1: f64, guess: &[f64]| {
-        solver
-            .solve(&WhiskerFdmProblem::new(*whisker, *loads, phi1), grid, guess)
-            .map_err(err)
-    };
-    let last = |sol: &FdmSolution| sol.y.last().copied().unwrap_or(f64::NAN);
-    match loads.tip.kind {
-        LoadKind::Dp => {
-            let sol = run(0.0, guess)?;
-            let it = sol.stats.iterations;
-            Ok((sol, it))
-        }
-        LoadKind::Ap => {
-            // Fixed point phi1 = phi_h(s1; phi1), solved by the secant method.
-            let mut p0 = last_or(guess);
-            let mut sol0 = run(p0, guess)?;
-            let mut r0 = last(&sol0) - p0;
-            let mut p1 = last(&sol0);
-            let mut iterations = sol0.stats.iterations;
-            for _ in 0..MAX_OUTER {
-                let sol1 = run(p1, &sol0.y)?;
-                iterations += sol1.stats.iterations;
-                let r1 = last(&sol1) - p1;
-                if r1.abs() <= 1e-12 {
-                    return Ok((sol1, iterations));
-                }
-                let denom = r1 - r0;
-                let next = if denom != 0.0 && denom.is_finite() {
-                    p1 - r1 * (p1 - p0) / denom
-                } else {
-                    last(&sol1)
-                };
-                let next = p1 + (next - p1).clamp(-0.5, 0.5);
-                p0 = p1;
-                r0 = r1;
-                p1 = next;
-                sol0 = sol1;
-            }
-            Err(ModelError::NoConvergence {
-                method: METHOD,
-                load_scale: 1.0,
-                iterations,
-                residual: r0.abs(),
-            })
-        }
-    }
+    let problem = WhiskerFdmProblem::new(*whisker, *loads, last_or(guess));
+    let sol = solver(whisker, loads.s1)
+        .solve(&problem, grid, guess)
+        .map_err(|source| ModelError::Solver {
+            method: METHOD,
+            source,
+        })?;
+    let it = sol.stats.iterations;
+    Ok((sol, it))
 }
 
 fn max_diff(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max)
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
 }
 
 fn last_or(v: &[f64]) -> f64 {
@@ -119,8 +87,14 @@ pub(crate) fn solve(scene: &Scene, n: usize) -> Result<Solution> {
     })?;
     let unloaded: Vec<f64> = grid.nodes().iter().map(|&s| w.phi_unloaded(s)).collect();
     let sev = super::shooting::severity(w, loads);
+    // A direct solve from the unloaded shape is kept only when it stays in the near-linear
+    // regime (max angle change <= DIRECT_JUMP): Newton from far away can land on another
+    // branch (e.g. a soft spring base turned past pi), so larger changes are redone by
+    // continuation, which follows the branch connected to the unloaded whisker.
     let direct = if sev <= 1.0 {
-        solve_fixed(w, loads, &grid, &unloaded).ok()
+        solve_fixed(w, loads, &grid, &unloaded)
+            .ok()
+            .filter(|(sol, _)| max_diff(&sol.y, &unloaded) <= DIRECT_JUMP)
     } else {
         None
     };

@@ -124,3 +124,24 @@ pub fn solve(scene: &Scene, method: &Method) -> Result<Solution> {
         Method::Fdm { n } => fdm::solve(scene, n),
     }
 }
+
+/// The solution of a scene whose tip angle `phi1` is already known (e.g. from a contact
+/// solve): one DOP853 integration at tolerance `tol` from the loaded end, `samples` output
+/// intervals, no check of the base condition (the caller has solved it).
+pub fn shape_from_tip_angle(
+    scene: &Scene,
+    phi1: f64,
+    tol: f64,
+    samples: usize,
+) -> Result<Solution> {
+    scene.validate()?;
+    Method::Accurate { tol, samples }.validate()?;
+    shooting::shape(
+        scene,
+        phi1,
+        &crate::shot::Integration::adaptive(tol),
+        samples,
+        crate::solution::SolveStats::default(),
+        "accurate",
+    )
+}

@@ -11,6 +11,7 @@ use crate::solution::{BaseObservables, Elastica, EndState, Solution, SolveStats}
 use crate::whisker::Whisker;
 use bvp_solvers::continuation::Continuation;
 use bvp_solvers::integrator::{OdeSystem, Rk4};
+use std::f64::consts::FRAC_PI_2;
 
 /// Converged tip angle with its shot.
 #[derive(Clone, Copy, Debug)]
@@ -108,8 +109,13 @@ pub(crate) fn solve_tip_angle(
             return Ok((t, 0));
         }
     } else if sev <= 1.0 {
+        // A direct solve is kept only near the unloaded shape (at most 0.5 rad of rotation at
+        // either end); otherwise it may have landed on another branch and continuation decides.
         if let Ok(t) = newton_tip_angle(whisker, loads, integration, unloaded, method) {
-            return Ok((t, 0));
+            let shot = shoot(whisker, loads, t.phi1, Sensitivities::None, integration)?;
+            if (t.phi1 - unloaded).abs() <= 0.5 && (shot.phi0 - FRAC_PI_2).abs() <= 0.5 {
+                return Ok((t, 0));
+            }
         }
     }
     let first = (1.0 / sev.ceil()).clamp(1e-3, 1.0);
@@ -221,7 +227,36 @@ pub(crate) fn solve(
     let w = &scene.whisker;
     let loads = &scene.loads;
     let (tip, continuation_steps) = solve_tip_angle(w, loads, integration, None, method)?;
-    let (shot, path) = shoot_path(w, loads, tip.phi1, Sensitivities::None, integration, true)?;
+    let stats = SolveStats {
+        iterations: tip.iterations,
+        residual: tip.residual,
+        continuation_steps,
+        evaluations: tip.evaluations,
+    };
+    shape(scene, tip.phi1, integration, samples, stats, method)
+}
+
+/// The elastica, tip and observables for a known tip angle `phi1` (one integration from
+/// the loaded end, no iteration): used once the boundary conditions are solved, by this
+/// module and by the contact phases.
+pub(crate) fn shape(
+    scene: &Scene,
+    phi1: f64,
+    integration: &Integration,
+    samples: usize,
+    mut stats: SolveStats,
+    method: &'static str,
+) -> Result<Solution> {
+    let w = &scene.whisker;
+    let loads = &scene.loads;
+    let tip = TipSolve {
+        phi1,
+        iterations: stats.iterations,
+        residual: stats.residual,
+        evaluations: stats.evaluations,
+    };
+    let (shot, path) = shoot_path(w, loads, phi1, Sensitivities::None, integration, true)?;
+    stats.evaluations += shot.evaluations;
     let s1 = loads.s1;
     let mut el = Elastica::default();
     let sample = |el: &mut Elastica, s: f64, u: &[f64]| {
@@ -272,12 +307,7 @@ pub(crate) fn solve(
             ma: -shot.m0,
             phi0: shot.phi0,
         },
-        stats: SolveStats {
-            iterations: tip.iterations,
-            residual: tip.residual,
-            continuation_steps,
-            evaluations: tip.evaluations + shot.evaluations,
-        },
+        stats,
     })
 }
 

@@ -19,7 +19,8 @@ pub fn carlson_rf(x: f64, y: f64, z: f64) -> f64 {
             let dz = -dx - dy;
             let e2 = dx * dy - dz * dz;
             let e3 = dx * dy * dz;
-            return (1.0 - e2 / 10.0 + e3 / 14.0 + e2 * e2 / 24.0 - 3.0 * e2 * e3 / 44.0) / a.sqrt();
+            return (1.0 - e2 / 10.0 + e3 / 14.0 + e2 * e2 / 24.0 - 3.0 * e2 * e3 / 44.0)
+                / a.sqrt();
         }
     }
     f64::NAN

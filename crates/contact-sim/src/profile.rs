@@ -1,0 +1,364 @@
+//! Obstacle contours: the region `y > g(x)` above a strictly convex, C^2 curve.
+//!
+//! Each profile gives `g`, `g'`, `g''`, the contour angle `psi = atan g'(x)` and the
+//! curvature `g'' / (1 + g'^2)^(3/2)` (thesis ch. 5.1; contours [5.2, 5.3, 5.11]).
+
+use crate::error::{ContactError, Result};
+use serde::{Deserialize, Serialize};
+
+/// A convex contour.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum Profile {
+    /// `y = a (x - xv)^2 + yv`, a > 0.
+    Parabola {
+        /// Curvature coefficient a > 0.
+        a: f64,
+        /// Vertex x.
+        xv: f64,
+        /// Vertex y.
+        yv: f64,
+    },
+    /// `y = a cosh((x - xv)/c) + d`, a, c > 0.
+    Cosh {
+        /// Amplitude a > 0.
+        a: f64,
+        /// Length scale c > 0.
+        c: f64,
+        /// Vertex x.
+        xv: f64,
+        /// Offset d.
+        d: f64,
+    },
+    /// The lower arc of a circle: `y = yc - sqrt(r^2 - (x - xc)^2)`.
+    Circle {
+        /// Centre x.
+        xc: f64,
+        /// Centre y.
+        yc: f64,
+        /// Radius r > 0.
+        r: f64,
+    },
+    /// A tabulated contour, interpolated by a natural cubic spline (C^2).
+    Points(Spline),
+}
+
+/// A natural cubic spline through `(x_i, y_i)`, x strictly increasing.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Spline {
+    x: Vec<f64>,
+    y: Vec<f64>,
+    /// Second derivatives at the knots.
+    m: Vec<f64>,
+}
+
+impl Spline {
+    /// Builds the natural spline; needs at least 3 points with strictly increasing x.
+    pub fn new(x: Vec<f64>, y: Vec<f64>) -> Result<Self> {
+        let bad = |reason: String| ContactError::ProfileSpec {
+            spec: "points".into(),
+            reason,
+        };
+        if x.len() != y.len() || x.len() < 3 {
+            return Err(bad(format!(
+                "need at least 3 (x, y) points, got {} x and {} y",
+                x.len(),
+                y.len()
+            )));
+        }
+        for (i, w) in x.windows(2).enumerate() {
+            if !(w[1] > w[0]) {
+                return Err(bad(format!("x must increase strictly (point {})", i + 2)));
+            }
+        }
+        if let Some(i) = x.iter().chain(&y).position(|v| !v.is_finite()) {
+            return Err(bad(format!("non-finite coordinate (value {})", i + 1)));
+        }
+        let n = x.len();
+        // Tridiagonal system for the second derivatives (natural end conditions).
+        let mut tri = bvp_solvers::tridiag::Tridiagonal::new(n);
+        let mut rhs = vec![0.0; n];
+        tri.diag[0] = 1.0;
+        tri.diag[n - 1] = 1.0;
+        for i in 1..n - 1 {
+            let (h0, h1) = (x[i] - x[i - 1], x[i + 1] - x[i]);
+            tri.lower[i] = h0 / 6.0;
+            tri.diag[i] = (h0 + h1) / 3.0;
+            tri.upper[i] = h1 / 6.0;
+            rhs[i] = (y[i + 1] - y[i]) / h1 - (y[i] - y[i - 1]) / h0;
+        }
+        let m = tri.solve(&rhs)?;
+        Ok(Spline { x, y, m })
+    }
+
+    fn interval(&self, x: f64) -> usize {
+        let n = self.x.len();
+        match self.x.binary_search_by(|v| v.total_cmp(&x)) {
+            Ok(i) => i.min(n - 2),
+            Err(i) => i.clamp(1, n - 1) - 1,
+        }
+    }
+
+    /// Value and first two derivatives at x (cubic extrapolation outside the knots).
+    pub fn eval(&self, x: f64) -> (f64, f64, f64) {
+        let i = self.interval(x);
+        let (x0, x1) = (self.x[i], self.x[i + 1]);
+        let h = x1 - x0;
+        let (a, b) = ((x1 - x) / h, (x - x0) / h);
+        let (m0, m1) = (self.m[i], self.m[i + 1]);
+        let (y0, y1) = (self.y[i], self.y[i + 1]);
+        let v = a * y0 + b * y1 + ((a * a * a - a) * m0 + (b * b * b - b) * m1) * h * h / 6.0;
+        let d =
+            (y1 - y0) / h - (3.0 * a * a - 1.0) * h * m0 / 6.0 + (3.0 * b * b - 1.0) * h * m1 / 6.0;
+        let dd = a * m0 + b * m1;
+        (v, d, dd)
+    }
+
+    /// The tabulated x range.
+    pub fn range(&self) -> (f64, f64) {
+        (self.x[0], self.x[self.x.len() - 1])
+    }
+}
+
+impl Profile {
+    /// Thesis contour g1 (catenary, [5.2]): `y = cosh(x/2) - 4/5`.
+    pub fn g1() -> Self {
+        Profile::Cosh {
+            a: 1.0,
+            c: 2.0,
+            xv: 0.0,
+            d: -0.8,
+        }
+    }
+
+    /// Thesis contour g2 (parabola, [5.3]; exponent reading of spec/model.md): `y = 1/2 + x^2/2`.
+    pub fn g2() -> Self {
+        Profile::Parabola {
+            a: 0.5,
+            xv: 0.0,
+            yv: 0.5,
+        }
+    }
+
+    /// Thesis contour ge (experiment, [5.11]): `y = 2 (x + 5 sqrt(858)/312)^2 + 349/624`,
+    /// through the undeformed tip (0, 1).
+    pub fn ge() -> Self {
+        Profile::Parabola {
+            a: 2.0,
+            xv: -(5.0 / 312.0) * 858f64.sqrt(),
+            yv: 349.0 / 624.0,
+        }
+    }
+
+    /// Parses a CLI profile spec: `g1`, `g2`, `ge`, `parabola:a,xv,yv`, `cosh:a,c,xv,d`,
+    /// `circle:xc,yc,r`. Tabulated contours (`points:FILE`) are read by the caller and built
+    /// with [`Profile::points`].
+    pub fn parse(spec: &str) -> Result<Self> {
+        let bad = |reason: &str| ContactError::ProfileSpec {
+            spec: spec.to_string(),
+            reason: reason.to_string(),
+        };
+        let (kind, args) = match spec.split_once(':') {
+            Some((k, a)) => (k.trim(), Some(a)),
+            None => (spec.trim(), None),
+        };
+        let nums = |n: usize| -> Result<Vec<f64>> {
+            let a =
+                args.ok_or_else(|| bad(&format!("{kind} needs {n} comma-separated numbers")))?;
+            let v: Vec<f64> = a
+                .split(',')
+                .map(|t| t.trim().parse::<f64>())
+                .collect::<std::result::Result<_, _>>()
+                .map_err(|_| bad(&format!("{kind} needs {n} comma-separated numbers")))?;
+            if v.len() != n {
+                return Err(bad(&format!("{kind} needs {n} numbers, got {}", v.len())));
+            }
+            if v.iter().any(|x| !x.is_finite()) {
+                return Err(bad("parameters must be finite"));
+            }
+            Ok(v)
+        };
+        let p = match kind {
+            "g1" if args.is_none() => Profile::g1(),
+            "g2" if args.is_none() => Profile::g2(),
+            "ge" if args.is_none() => Profile::ge(),
+            "parabola" => {
+                let v = nums(3)?;
+                Profile::Parabola { a: v[0], xv: v[1], yv: v[2] }
+            }
+            "cosh" => {
+                let v = nums(4)?;
+                Profile::Cosh { a: v[0], c: v[1], xv: v[2], d: v[3] }
+            }
+            "circle" => {
+                let v = nums(3)?;
+                Profile::Circle { xc: v[0], yc: v[1], r: v[2] }
+            }
+            "points" => return Err(bad("tabulated profiles are read from a CSV file (points:FILE.csv)")),
+            _ => return Err(bad("unknown profile: expected g1, g2, ge, parabola:a,xv,yv, cosh:a,c,xv,d, circle:xc,yc,r or points:FILE.csv")),
+        };
+        p.validate_parameters().map_err(|r| bad(r))?;
+        Ok(p)
+    }
+
+    /// A tabulated contour through the given points.
+    pub fn points(x: Vec<f64>, y: Vec<f64>) -> Result<Self> {
+        Ok(Profile::Points(Spline::new(x, y)?))
+    }
+
+    fn validate_parameters(&self) -> std::result::Result<(), &'static str> {
+        match *self {
+            Profile::Parabola { a, .. } if a <= 0.0 => {
+                Err("a parabola needs a > 0 to be convex (obstacle above it)")
+            }
+            Profile::Cosh { a, c, .. } if a <= 0.0 || c <= 0.0 => {
+                Err("cosh needs a > 0 and c > 0 to be convex")
+            }
+            Profile::Circle { r, .. } if r <= 0.0 => Err("a circle needs r > 0"),
+            _ => Ok(()),
+        }
+    }
+
+    /// A short name for messages.
+    pub fn name(&self) -> String {
+        match self {
+            p if *p == Profile::g1() => "g1".into(),
+            p if *p == Profile::g2() => "g2".into(),
+            p if *p == Profile::ge() => "ge".into(),
+            Profile::Parabola { a, xv, yv } => format!("parabola:{a},{xv},{yv}"),
+            Profile::Cosh { a, c, xv, d } => format!("cosh:{a},{c},{xv},{d}"),
+            Profile::Circle { xc, yc, r } => format!("circle:{xc},{yc},{r}"),
+            Profile::Points(s) => format!("points({} knots)", s.x.len()),
+        }
+    }
+
+    /// `(g, g', g'')` at x. Outside a circle's span the values are NaN.
+    pub fn eval(&self, x: f64) -> (f64, f64, f64) {
+        match *self {
+            Profile::Parabola { a, xv, yv } => {
+                let u = x - xv;
+                (a * u * u + yv, 2.0 * a * u, 2.0 * a)
+            }
+            Profile::Cosh { a, c, xv, d } => {
+                let u = (x - xv) / c;
+                (a * u.cosh() + d, a / c * u.sinh(), a / (c * c) * u.cosh())
+            }
+            Profile::Circle { xc, yc, r } => {
+                let u = x - xc;
+                let w2 = r * r - u * u;
+                if w2 <= 0.0 {
+                    return (f64::NAN, f64::NAN, f64::NAN);
+                }
+                let w = w2.sqrt();
+                (yc - w, u / w, r * r / (w2 * w))
+            }
+            Profile::Points(ref s) => s.eval(x),
+        }
+    }
+
+    /// `g(x)`.
+    pub fn y(&self, x: f64) -> f64 {
+        self.eval(x).0
+    }
+
+    /// Contour angle `psi = atan g'(x)` (measured from the x axis).
+    pub fn psi(&self, x: f64) -> f64 {
+        self.eval(x).1.atan()
+    }
+
+    /// Curvature `g'' / (1 + g'^2)^(3/2)`.
+    pub fn curvature(&self, x: f64) -> f64 {
+        let (_, d, dd) = self.eval(x);
+        dd / (1.0 + d * d).powf(1.5)
+    }
+
+    /// The x where the contour is lowest (`g' = 0`), the vertex.
+    pub fn vertex(&self) -> f64 {
+        match *self {
+            Profile::Parabola { xv, .. } | Profile::Cosh { xv, .. } => xv,
+            Profile::Circle { xc, .. } => xc,
+            Profile::Points(ref s) => {
+                let (a, b) = s.range();
+                // g' is increasing on a convex spline: bisection for g' = 0, clamped.
+                let (mut lo, mut hi) = (a, b);
+                if s.eval(lo).1 >= 0.0 {
+                    return lo;
+                }
+                if s.eval(hi).1 <= 0.0 {
+                    return hi;
+                }
+                for _ in 0..200 {
+                    let m = 0.5 * (lo + hi);
+                    if s.eval(m).1 < 0.0 {
+                        lo = m;
+                    } else {
+                        hi = m;
+                    }
+                }
+                0.5 * (lo + hi)
+            }
+        }
+    }
+
+    /// The x range where the contour is defined (infinite for closed forms).
+    pub fn domain(&self) -> (f64, f64) {
+        match *self {
+            Profile::Circle { xc, r, .. } => (xc - r, xc + r),
+            Profile::Points(ref s) => s.range(),
+            _ => (f64::NEG_INFINITY, f64::INFINITY),
+        }
+    }
+
+    /// Checks strict convexity (`g'' > 0`) on `[a, b]` at 401 points, naming the first
+    /// point where it fails.
+    pub fn check_convex(&self, a: f64, b: f64) -> Result<()> {
+        let n = 400;
+        for i in 0..=n {
+            let x = a + (b - a) * i as f64 / n as f64;
+            let g2 = self.eval(x).2;
+            if !(g2 > 0.0) {
+                return Err(ContactError::NotConvex {
+                    profile: self.name(),
+                    x,
+                    g2,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// The contour point right of the vertex at height `y` (`None` below the vertex or
+    /// outside the domain).
+    pub fn x_right_at(&self, y: f64) -> Option<f64> {
+        let xv = self.vertex();
+        if y < self.y(xv) {
+            return None;
+        }
+        let (_, dmax) = self.domain();
+        let mut hi = xv + 1.0;
+        let mut grow = 1.0;
+        while self.y(hi) < y {
+            grow *= 2.0;
+            hi = xv + grow;
+            if hi > dmax || grow > 1e6 {
+                if dmax.is_finite() && self.y(dmax) >= y {
+                    hi = dmax;
+                    break;
+                }
+                return None;
+            }
+        }
+        let (mut lo, mut hi) = (xv, hi);
+        for _ in 0..200 {
+            let m = 0.5 * (lo + hi);
+            if self.y(m) < y {
+                lo = m;
+            } else {
+                hi = m;
+            }
+            if hi - lo <= 1e-15 * hi.abs().max(1.0) {
+                break;
+            }
+        }
+        Some(0.5 * (lo + hi))
+    }
+}

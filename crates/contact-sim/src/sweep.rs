@@ -1,0 +1,523 @@
+//! The quasi-static sweep (thesis ch. 5, Fig. 5.6): the whisker under the flow alone, the
+//! first contact, phases A and B with their switches, and the separation by snap (x0 has a
+//! local minimum) or release (f falls to zero), parametrised by the contact point moving
+//! left along the contour.
+//!
+//! Every event (phase switch, snap, release) is located by bisection or golden-section search
+//! on the contour parameter, so none is skipped however coarse the requested spacing.
+
+use crate::error::{ContactError, Result};
+use crate::phase::{ContactState, ContourPoint, Phase, PhaseProblem};
+use crate::profile::Profile;
+use beam_model::shot::Integration;
+use beam_model::{shape_from_tip_angle, solve, Loads, Method, Scene, Whisker};
+use serde::{Deserialize, Serialize};
+
+/// Settings of a sweep.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SweepSettings {
+    /// Contact points from first contact to separation, uniformly spaced in xc (event rows
+    /// for phase switches are added).
+    pub points: usize,
+    /// Rows before contact (flow only), spaced `pre_contact_spacing` in x0.
+    pub pre_contact_rows: usize,
+    /// Spacing of the pre-contact rows in x0.
+    pub pre_contact_spacing: f64,
+    /// Integrator tolerance of the shots.
+    pub integration_tol: f64,
+    /// Residual tolerance of the phase solves.
+    pub solve_tol: f64,
+    /// Location tolerance of events in xc.
+    pub event_tol: f64,
+    /// Whether to check at every point that no other part of the whisker enters the obstacle.
+    pub check_penetration: bool,
+}
+
+impl Default for SweepSettings {
+    fn default() -> Self {
+        SweepSettings {
+            points: 200,
+            pre_contact_rows: 10,
+            pre_contact_spacing: 0.05,
+            integration_tol: 1e-12,
+            solve_tol: 1e-11,
+            event_tol: 1e-10,
+            check_penetration: true,
+        }
+    }
+}
+
+/// One row of the observables log.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SweepPoint {
+    /// Base position.
+    pub x0: f64,
+    /// Horizontal base reaction.
+    pub ax: f64,
+    /// Vertical base reaction.
+    pub ay: f64,
+    /// Base moment reaction.
+    pub ma: f64,
+    /// Base angle.
+    pub phi0: f64,
+    /// Contact force (0 before contact).
+    pub f: f64,
+    /// Contact arc length (1 before contact and in phase A).
+    pub s1: f64,
+    /// Tangent angle at s1 (`psi` in phase B; the free tip angle before contact).
+    pub phi1: f64,
+    /// Phase.
+    pub phase: Phase,
+    /// Contact point x (NaN before contact).
+    pub xc: f64,
+    /// Contact point y (NaN before contact).
+    pub yc: f64,
+    /// Contour angle at the contact point (NaN before contact).
+    pub psi: f64,
+}
+
+/// How the contact began.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum FirstContact {
+    /// The tip touched first (phi1 > psi).
+    Tip,
+    /// A point s1 < 1 touched tangentially first.
+    Tangential,
+}
+
+/// How the contact ended.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub enum Separation {
+    /// Separation 1: x0 reached a local minimum and the whisker snaps off.
+    Snap,
+    /// Separation 2: the contact force fell to zero.
+    Release,
+    /// A second point of the whisker would enter the obstacle at this contour point; the
+    /// single-contact model stops there.
+    MultiContact {
+        /// The contour point where it was detected.
+        xc: f64,
+    },
+    /// The contour's domain ended (tabulated or circular contours) before separation.
+    EndOfContour,
+}
+
+/// A complete sweep.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SweepResult {
+    /// Fluid load q.
+    pub q: f64,
+    /// The rows, pre-contact first, in the order of the motion (x0 decreasing in contact).
+    pub points: Vec<SweepPoint>,
+    /// How the contact began.
+    pub first_contact: FirstContact,
+    /// How it ended.
+    pub separation: Separation,
+}
+
+impl SweepResult {
+    /// The rows in contact.
+    pub fn contact_points(&self) -> impl Iterator<Item = &SweepPoint> {
+        self.points.iter().filter(|p| p.phase != Phase::None)
+    }
+
+    /// The sequence of phases in contact, e.g. `"AB"`, `"BA"`, `"A"`.
+    pub fn phase_pattern(&self) -> String {
+        let mut s = String::new();
+        for p in self.contact_points() {
+            let c = if p.phase == Phase::A { 'A' } else { 'B' };
+            if !s.ends_with(c) {
+                s.push(c);
+            }
+        }
+        s
+    }
+}
+
+impl SweepPoint {
+    fn from_state(st: &ContactState, q: f64) -> Self {
+        let (ax, ay, ma, phi0) = st.observables(q);
+        SweepPoint {
+            x0: st.x0,
+            ax,
+            ay,
+            ma,
+            phi0,
+            f: st.f,
+            s1: st.s1,
+            phi1: st.phi1,
+            phase: st.phase,
+            xc: st.point.xc,
+            yc: st.point.yc,
+            psi: st.point.psi,
+        }
+    }
+}
+
+struct Marcher<'a> {
+    whisker: &'a Whisker,
+    q: f64,
+    profile: &'a Profile,
+    integration: Integration,
+    settings: &'a SweepSettings,
+}
+
+enum Stop {
+    Snap(ContactState),
+    Release(ContactState),
+    MultiContact(f64),
+    EndOfContour,
+}
+
+impl Marcher<'_> {
+    fn solve_phase(&self, xc: f64, phase: Phase, guess: [f64; 2]) -> Result<ContactState> {
+        let point = ContourPoint::on(self.profile, xc);
+        PhaseProblem::new(self.whisker, self.q, point, phase, &self.integration)
+            .solve(guess, self.settings.solve_tol)
+    }
+
+    /// The state at `xc` continuing from `prev`, switching phase where the current one
+    /// becomes invalid (A: phi1 <= psi; B: s1 >= 1).
+    fn step(&self, xc: f64, prev: &ContactState) -> Result<ContactState> {
+        let psi = ContourPoint::on(self.profile, xc).psi;
+        let try_a = |guess: [f64; 2]| {
+            self.solve_phase(xc, Phase::A, guess)
+                .ok()
+                .filter(|s| s.phi1 > s.point.psi)
+        };
+        let try_b = |guess: [f64; 2]| {
+            self.solve_phase(xc, Phase::B, guess)
+                .ok()
+                .filter(|s| s.s1 < 1.0)
+        };
+        let found = match prev.phase {
+            Phase::B => try_b([prev.f, prev.s1]).or_else(|| try_a([psi, prev.f])),
+            _ => try_a([prev.phi1, prev.f])
+                .or_else(|| try_b([prev.f, 1.0 - 1e-3]))
+                .or_else(|| try_b([prev.f, 0.9])),
+        };
+        match found {
+            Some(s) => Ok(s),
+            None => {
+                // Report the failure of the phase we were in.
+                let guess = match prev.phase {
+                    Phase::B => [prev.f, prev.s1],
+                    _ => [prev.phi1, prev.f],
+                };
+                self.solve_phase(xc, prev.phase, guess)?;
+                Err(ContactError::PhaseSolve {
+                    phase: if prev.phase == Phase::B { 'B' } else { 'A' },
+                    xc,
+                    iterations: 0,
+                    residual: f64::NAN,
+                })
+            }
+        }
+    }
+
+    /// Whether a part of the whisker other than the contact point is inside the obstacle.
+    fn penetrates(&self, st: &ContactState) -> Result<bool> {
+        if !self.settings.check_penetration {
+            return Ok(false);
+        }
+        let scene = Scene::new(*self.whisker, st.loads(self.q));
+        let sol = shape_from_tip_angle(&scene, st.phi1, self.settings.integration_tol, 80)?;
+        let el = &sol.elastica;
+        for i in 0..el.len() {
+            if (el.s[i] - st.s1).abs() < 0.05 {
+                continue;
+            }
+            let x = st.x0 + el.x[i];
+            let g = self.profile.y(x);
+            if g.is_finite() && el.y[i] > g + 1e-9 {
+                return Ok(true);
+            }
+        }
+        Ok(false)
+    }
+
+    /// Bisection on xc in `[lo, hi]` (`lo` on the side where `side(state)` is true) to the
+    /// event tolerance; returns the state nearest the event on the `true` side.
+    fn bisect(
+        &self,
+        mut inside: ContactState,
+        mut outside_xc: f64,
+        side: impl Fn(&ContactState) -> bool,
+    ) -> Result<ContactState> {
+        while (inside.point.xc - outside_xc).abs() > self.settings.event_tol {
+            let mid = 0.5 * (inside.point.xc + outside_xc);
+            let st = self.step(mid, &inside)?;
+            if side(&st) {
+                inside = st;
+            } else {
+                outside_xc = mid;
+            }
+        }
+        Ok(inside)
+    }
+
+    /// Golden-section search for the minimum of x0(xc) on `[a, b]` (a < b).
+    fn snap_point(&self, a: f64, b: f64, near: &ContactState) -> Result<ContactState> {
+        let g = 0.5 * (5f64.sqrt() - 1.0);
+        let (mut a, mut b) = (a, b);
+        let mut c = b - g * (b - a);
+        let mut d = a + g * (b - a);
+        let mut sc = self.step(c, near)?;
+        let mut sd = self.step(d, &sc)?;
+        while (b - a) > 1e-8 {
+            if sc.x0 < sd.x0 {
+                b = d;
+                d = c;
+                sd = sc;
+                c = b - g * (b - a);
+                sc = self.step(c, &sd)?;
+            } else {
+                a = c;
+                c = d;
+                sc = sd;
+                d = a + g * (b - a);
+                sd = self.step(d, &sc)?;
+            }
+        }
+        Ok(if sc.x0 < sd.x0 { sc } else { sd })
+    }
+
+    /// The states from `last` to `xc`, halving the step towards `xc` when a solve fails. The
+    /// states reached before a failure are returned with it, so that the event checks see
+    /// them (beyond a snap the tip-contact branch ends in a fold the solver cannot pass).
+    fn advance(&self, last: &ContactState, xc: f64) -> (Vec<ContactState>, Option<ContactError>) {
+        match self.step(xc, last) {
+            Ok(s) => (vec![s], None),
+            Err(e) => {
+                if (last.point.xc - xc).abs() < 1e-6 {
+                    return (Vec::new(), Some(e));
+                }
+                let mid = 0.5 * (last.point.xc + xc);
+                let (mut states, err) = self.advance(last, mid);
+                if err.is_some() {
+                    return (states, err);
+                }
+                let anchor = *states.last().unwrap_or(last);
+                let (rest, err) = self.advance(&anchor, xc);
+                states.extend(rest);
+                (states, err)
+            }
+        }
+    }
+
+    /// Marches over the contour points `xcs` from `first`, recording switch events; stops at
+    /// the first separation. Failed steps are refined by halving.
+    fn march(
+        &self,
+        first: ContactState,
+        xcs: impl Iterator<Item = f64>,
+    ) -> Result<(Vec<ContactState>, Option<Stop>)> {
+        let mut states = vec![first];
+        let (dmin, _) = self.profile.domain();
+        for target in xcs {
+            if target < dmin {
+                return Ok((states, Some(Stop::EndOfContour)));
+            }
+            let last = *states.last().unwrap_or(&first);
+            let (new_states, err) = self.advance(&last, target);
+            for st in new_states {
+                if let Some(stop) = self.check(&mut states, st)? {
+                    return Ok((states, Some(stop)));
+                }
+            }
+            if let Some(e) = err {
+                return Err(e);
+            }
+        }
+        Ok((states, None))
+    }
+
+    /// Event checks for a new state; pushes it (and switch events) onto `states`.
+    fn check(&self, states: &mut Vec<ContactState>, st: ContactState) -> Result<Option<Stop>> {
+        let Some(&last) = states.last() else {
+            states.push(st);
+            return Ok(None);
+        };
+        let xc = st.point.xc;
+        if st.phase != last.phase {
+            let phase = last.phase;
+            let ev = self.bisect(last, xc, |s| s.phase == phase)?;
+            if ev.point.xc != last.point.xc {
+                states.push(ev);
+            }
+        }
+        if st.f < 0.0 {
+            let from = *states.last().unwrap_or(&last);
+            let ev = self.bisect(from, xc, |s| s.f >= 0.0)?;
+            return Ok(Some(Stop::Release(ev)));
+        }
+        if st.x0 > last.x0 {
+            let n = states.len();
+            let upper = if n >= 2 {
+                states[n - 2].point.xc
+            } else {
+                last.point.xc
+            };
+            let near = if n >= 2 { states[n - 2] } else { last };
+            let ev = self.snap_point(xc, upper, &near)?;
+            while states.last().is_some_and(|s| s.point.xc <= ev.point.xc) {
+                states.pop();
+            }
+            return Ok(Some(Stop::Snap(ev)));
+        }
+        if self.penetrates(&st)? {
+            return Ok(Some(Stop::MultiContact(xc)));
+        }
+        states.push(st);
+        Ok(None)
+    }
+
+    /// The first contact from the whisker under the flow alone: the point of the elastica
+    /// that reaches the contour first as the base moves left, i.e. the maximum over s of
+    /// `x0(s) = g_R^{-1}(y(s)) - x(s)` (an interior maximum is a tangency, phase B).
+    fn first_contact(&self, free: &beam_model::Solution) -> Result<(ContactState, FirstContact)> {
+        let el = &free.elastica;
+        let mut best: Option<(usize, f64, f64)> = None;
+        for i in 1..el.len() {
+            if let Some(xr) = self.profile.x_right_at(el.y[i]) {
+                let x0 = xr - el.x[i];
+                if best.is_none_or(|(_, b, _)| x0 > b) {
+                    best = Some((i, x0, xr));
+                }
+            }
+        }
+        let (i, _, xc) = best.ok_or_else(|| ContactError::NoContact {
+            reason: format!(
+                "the whisker (highest point y = {:.4}) stays below the contour {}",
+                el.y.iter().cloned().fold(f64::MIN, f64::max),
+                self.profile.name()
+            ),
+        })?;
+        if i == el.len() - 1 && free.tip.phi > self.profile.psi(xc) {
+            let st = self.solve_phase(xc, Phase::A, [free.tip.phi, 0.0])?;
+            Ok((st, FirstContact::Tip))
+        } else {
+            let st = self.solve_phase(xc, Phase::B, [0.0, el.s[i]])?;
+            Ok((st, FirstContact::Tangential))
+        }
+    }
+}
+
+/// Sweeps a whisker under a fluid load `q` (alpha = 0) past `profile` (thesis Fig. 5.6).
+pub fn sweep(
+    whisker: &Whisker,
+    q: f64,
+    profile: &Profile,
+    settings: &SweepSettings,
+) -> Result<SweepResult> {
+    whisker.validate()?;
+    Loads::fluid(q, 0.0).validate()?;
+    if settings.points < 2 {
+        return Err(ContactError::InvalidParameter {
+            name: "points",
+            value: settings.points as f64,
+            reason: "a sweep needs at least 2 contact points",
+        });
+    }
+    let marcher = Marcher {
+        whisker,
+        q,
+        profile,
+        integration: Integration::adaptive(settings.integration_tol),
+        settings,
+    };
+    let free = solve(
+        &Scene::new(*whisker, Loads::fluid(q, 0.0)),
+        &Method::Accurate {
+            tol: settings.integration_tol,
+            samples: 2000,
+        },
+    )?;
+    let (dmin, dmax) = profile.domain();
+    if dmin.is_finite() && dmax.is_finite() {
+        profile.check_convex(dmin, dmax)?;
+    }
+    let (first, first_contact) = marcher.first_contact(&free)?;
+    let xv = profile.vertex();
+    let span = (first.point.xc - xv).abs().max(0.5);
+    profile
+        .check_convex(first.point.xc - 3.0 * span, first.point.xc)
+        .or_else(|e| match profile.domain() {
+            (a, _) if a.is_finite() => profile.check_convex(a, first.point.xc),
+            _ => Err(e),
+        })?;
+    // Pass 1: coarse march to find the separation.
+    let h1 = span / 20.0;
+    let coarse = (1..=400).map(|k| first.point.xc - k as f64 * h1);
+    let (coarse_states, stop) = marcher.march(first, coarse)?;
+    let (sep_xc, final_state, separation) = match stop {
+        Some(Stop::Snap(s)) => (s.point.xc, Some(s), Separation::Snap),
+        Some(Stop::Release(s)) => (s.point.xc, Some(s), Separation::Release),
+        Some(Stop::MultiContact(xc)) => {
+            let last = coarse_states.last().map_or(first.point.xc, |s| s.point.xc);
+            (last, None, Separation::MultiContact { xc })
+        }
+        Some(Stop::EndOfContour) | None => {
+            let last = coarse_states.last().map_or(first.point.xc, |s| s.point.xc);
+            (last, None, Separation::EndOfContour)
+        }
+    };
+    // Pass 2: the requested number of points between first contact and separation.
+    let n = settings.points;
+    let step = (first.point.xc - sep_xc) / (n - 1) as f64;
+    let fine = (1..n - 1).map(|k| first.point.xc - k as f64 * step);
+    let (mut states, stop2) = marcher.march(first, fine)?;
+    let (final_state, separation) = match stop2 {
+        // A snap or release found earlier on the fine grid (rare) wins.
+        Some(Stop::Snap(s)) => (Some(s), Separation::Snap),
+        Some(Stop::Release(s)) => (Some(s), Separation::Release),
+        Some(Stop::MultiContact(xc)) => (None, Separation::MultiContact { xc }),
+        Some(Stop::EndOfContour) => (None, Separation::EndOfContour),
+        None => {
+            let end = match final_state {
+                Some(s) => Some(s),
+                None => {
+                    let last = *states.last().unwrap_or(&first);
+                    (sep_xc < last.point.xc)
+                        .then(|| marcher.step(sep_xc, &last))
+                        .transpose()?
+                }
+            };
+            (end, separation)
+        }
+    };
+    if let Some(s) = final_state {
+        if let Some(last) = states.last() {
+            if last.phase != s.phase {
+                let phase = last.phase;
+                let ev = marcher.bisect(*last, s.point.xc, |st| st.phase == phase)?;
+                states.push(ev);
+            }
+        }
+        states.push(s);
+    }
+    let mut points = Vec::with_capacity(settings.pre_contact_rows + states.len());
+    for k in (1..=settings.pre_contact_rows).rev() {
+        points.push(SweepPoint {
+            x0: first.x0 + k as f64 * settings.pre_contact_spacing,
+            ax: free.base.ax,
+            ay: free.base.ay,
+            ma: free.base.ma,
+            phi0: free.base.phi0,
+            f: 0.0,
+            s1: 1.0,
+            phi1: free.tip.phi,
+            phase: Phase::None,
+            xc: f64::NAN,
+            yc: f64::NAN,
+            psi: f64::NAN,
+        });
+    }
+    points.extend(states.iter().map(|s| SweepPoint::from_state(s, q)));
+    Ok(SweepResult {
+        q,
+        points,
+        first_contact,
+        separation,
+    })
+}

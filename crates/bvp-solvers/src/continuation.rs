@@ -1,6 +1,9 @@
 //! Natural-parameter (load) continuation: step a parameter `lambda` from an easy value to the
 //! target, starting each solve from the previous solution, with step halving on failure.
 
+// `!(x > 0.0)` is used on purpose: it is true for NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use crate::BvpError;
 
 /// Step-size controlled natural-parameter continuation.

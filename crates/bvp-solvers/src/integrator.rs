@@ -11,6 +11,9 @@
 //! Both methods allocate their stage buffers once per call; no allocation happens per step
 //! (except for the stored dense output when it is requested).
 
+// `!(x > 0.0)` is used on purpose: it is true for NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use crate::roots::{brent, RootOptions};
 use crate::{BvpError, Result};
 
@@ -142,6 +145,7 @@ impl Rk4Work {
 
     /// One classical RK4 step in place.
     #[inline]
+    #[allow(clippy::needless_range_loop)]
     fn step<S: OdeSystem + ?Sized>(&mut self, sys: &S, s: f64, h: f64, u: &mut [f64]) {
         let n = u.len();
         sys.rhs(s, u, &mut self.k1);

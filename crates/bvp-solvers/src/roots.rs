@@ -4,6 +4,9 @@
 //! Both take *fallible* closures `FnMut(f64) -> Result<f64, E>` so that callers can propagate
 //! their own error types; the only requirement is `E: From<BvpError>`.
 
+// `!(x > 0.0)` is used on purpose: it is true for NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use crate::BvpError;
 
 /// A located root.

@@ -12,6 +12,9 @@
 //! Hessian, so an iteration costs one residual evaluation plus (when the step is accepted) one
 //! Jacobian.
 
+// `!(x > 0.0)` is used on purpose: it is true for NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use std::cell::{Cell, RefCell};
 
 use argmin::core::{

@@ -159,9 +159,9 @@ fn dop853_error_scales_with_tolerance() {
             .integrate(&Rot3, 0.0, 10.0, &[0.0, 1.0, 0.0, 1.0, 0.0, 1.0])
             .unwrap();
         let mut e: f64 = 0.0;
-        for j in 0..3 {
-            e = e.max((sol.u_end[2 * j] - (W[j] * 10.0).sin()).abs());
-            e = e.max((sol.u_end[2 * j + 1] - (W[j] * 10.0).cos()).abs());
+        for (j, w) in W.iter().enumerate() {
+            e = e.max((sol.u_end[2 * j] - (w * 10.0).sin()).abs());
+            e = e.max((sol.u_end[2 * j + 1] - (w * 10.0).cos()).abs());
         }
         errs.push(e);
         evals.push(sol.stats.rhs_evals as f64);

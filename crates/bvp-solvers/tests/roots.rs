@@ -90,7 +90,7 @@ fn errors() {
     ));
     let r: R = brent(|_| ok(f64::NAN), 0.0, 1.0, &o);
     assert!(matches!(r, Err(BvpError::NonFinite { .. })));
-    let r: R = brent(|x| ok(x), f64::NAN, 1.0, &o);
+    let r: R = brent(ok, f64::NAN, 1.0, &o);
     assert!(matches!(r, Err(BvpError::InvalidInput { .. })));
 }
 

@@ -1,4 +1,24 @@
 //! # profile-recon
 //!
-//! Fluid-load identification and obstacle contour reconstruction (thesis ch. 6).
-//! Skeleton: filled by the profile-recon issue.
+//! Fluid-load identification and obstacle contour reconstruction from the base observables
+//! (thesis ch. 6):
+//!
+//! | module | concept |
+//! |---|---|
+//! | [`observables`] | the measured rows `(x0, Ax, Ay, MA, phi0)` |
+//! | [`identify`] | fluid load from the pre-contact rows [6.1], contact start (Table 6.1) |
+//! | [`reconstruct`] | contact point, force, s1 and phase per row; quality measure [6.11] |
+//! | [`thesis`] | the thesis's five-equation method [6.5-6.10] |
+
+pub mod error;
+pub mod identify;
+pub mod observables;
+pub mod reconstruct;
+pub mod thesis;
+
+pub use error::{ReconError, Result};
+pub use identify::{identify, Identification};
+pub use observables::{from_sweep, ObservableRow};
+pub use reconstruct::{
+    contour_error, reconstruct, ReconMethod, ReconPoint, ReconSettings, Reconstruction,
+};

@@ -4,12 +4,18 @@
 //! - [`atomic`]: atomic file writes and staged output directories;
 //! - [`csvio`]: round-trip exact CSV writing and lenient, precise CSV reading;
 //! - [`plot`]: declarative charts, panels and categorical maps rendered to SVG;
-//! - [`scene_file`]: the RON scene format.
+//! - [`scene_file`]: the RON scene format;
+//! - [`cli`]: the command-line grammar;
+//! - [`resolve`]: scene file + flags -> model values (physical units included);
+//! - [`commands`]: `solve`, `sweep`, `reconstruct`, `demo`.
 
 pub mod atomic;
+pub mod cli;
+pub mod commands;
 pub mod csvio;
 pub mod error;
 pub mod plot;
+pub mod resolve;
 pub mod scene_file;
 
 pub use error::CliError;

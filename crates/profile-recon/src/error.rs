@@ -1,0 +1,70 @@
+//! The one error type of the crate.
+
+use beam_model::ModelError;
+use bvp_solvers::BvpError;
+use thiserror::Error;
+
+/// Everything that can go wrong in identification and reconstruction.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum ReconError {
+    /// The whisker model rejected a parameter or failed to solve.
+    #[error(transparent)]
+    Model(#[from] ModelError),
+    /// An underlying BVP routine failed.
+    #[error(transparent)]
+    Bvp(#[from] BvpError),
+    /// Too few observable rows to work with.
+    #[error("too few observable rows: {found} given, at least {needed} needed ({what})")]
+    TooFewRows {
+        /// Rows given.
+        found: usize,
+        /// Rows needed.
+        needed: usize,
+        /// For what.
+        what: &'static str,
+    },
+    /// A value of the log is not finite.
+    #[error("row {row}: {column} is not a finite number ({value})")]
+    NonFinite {
+        /// 1-based row of the log (data rows, header excluded).
+        row: usize,
+        /// The column name.
+        column: &'static str,
+        /// The value.
+        value: f64,
+    },
+    /// No row before contact: the fluid load cannot be identified from the log.
+    #[error("no pre-contact rows at the start of the log: the fluid load cannot be identified (give it explicitly)")]
+    NoPreContactRows,
+    /// No contact row in the log.
+    #[error("the log has no contact rows (all {rows} rows show the flow alone)")]
+    NoContactRows {
+        /// Rows in the log.
+        rows: usize,
+    },
+    /// A contact row admits no consistent contact point.
+    #[error("row {row} (x0 = {x0}): no consistent contact point (best residual {residual:.3e} with phase {phase})")]
+    InconsistentRow {
+        /// 1-based row of the log.
+        row: usize,
+        /// Its base position.
+        x0: f64,
+        /// The best residual found.
+        residual: f64,
+        /// The phase hypothesis that came closest.
+        phase: char,
+    },
+    /// A parameter is out of range.
+    #[error("invalid parameter {name} = {value}: {reason}")]
+    InvalidParameter {
+        /// The parameter.
+        name: &'static str,
+        /// Its value.
+        value: f64,
+        /// What is admissible.
+        reason: &'static str,
+    },
+}
+
+/// Result alias of this crate.
+pub type Result<T> = std::result::Result<T, ReconError>;

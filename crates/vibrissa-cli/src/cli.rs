@@ -1,0 +1,226 @@
+//! The command-line grammar (clap derive), per `spec/cli.md`.
+//!
+//! Numbers are taken as text here and parsed in [`crate::resolve`], so that every bad value
+//! is reported in the binary's one-line format naming the flag, and values such as `inf`,
+//! `nan` or negative numbers reach the model's own range checks.
+
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+
+const MAIN_EXAMPLES: &str = "\
+Examples:
+  vibrissa solve --f 1 --json                 Mattiasson's cantilever, f = 1
+  vibrissa solve scenes/s04-fluid-elastic-support.ron --k 5 --out out/s04
+  vibrissa sweep --profile g1 --q 5 --theta 0.75 --k 20 --points 100 --out out/sweep
+  vibrissa sweep scenes/c1-uniform-rigid-g1.ron --out out/c1
+  vibrissa demo --out vibrissa-demo
+
+Exit codes: 0 success, 1 solver failure, 2 usage or input error.";
+
+const SOLVE_EXAMPLES: &str = "\
+Examples:
+  vibrissa solve --f 1 --json
+  vibrissa solve --theta 0.5 --k 10 --q 10 --method fdm --n 200
+  vibrissa solve --f 5 --beta-deg 30 --q 5 --a 2 --b -1 --out out/combined
+  vibrissa solve scenes/s11-combined-uniform-rigid.ron --beta-deg 45 --json";
+
+const SWEEP_EXAMPLES: &str = "\
+Examples:
+  vibrissa sweep --profile g1 --q 5 --points 200 --out out/g1
+  vibrissa sweep --profile parabola:2,0.4,0.5 --q 1 --out out/parabola
+  vibrissa sweep --profile points:contour.csv --theta 0.75 --k 20 --q 5 --out out/tab
+  vibrissa sweep scenes/c5-tapered-precurved-elastic-g1.ron --points 50 --out out/c5
+
+Profiles: g1, g2, ge, parabola:a,xv,yv, cosh:a,c,xv,d, circle:xc,yc,r, points:FILE.csv
+(a CSV file with columns x,y).";
+
+const RECONSTRUCT_EXAMPLES: &str = "\
+Examples:
+  vibrissa reconstruct out/g1/observables.csv --out out/recon
+  vibrissa reconstruct obs.csv scenes/c1-uniform-rigid-g1.ron --q 5 --profile g1 --json --out out/recon";
+
+const DEMO_EXAMPLES: &str = "\
+Examples:
+  vibrissa demo
+  vibrissa demo --out /tmp/demo";
+
+/// Whisker-inspired tactile sensing: elastica, contact sweeps and contour reconstruction.
+#[derive(Debug, Parser)]
+#[command(name = "vibrissa", version, about, after_help = MAIN_EXAMPLES)]
+pub struct Cli {
+    /// The command.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The commands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Solve one whisker configuration (elastica, tip, base observables).
+    #[command(after_help = SOLVE_EXAMPLES)]
+    Solve(SolveArgs),
+    /// Sweep the whisker past an obstacle under the fluid load; write the observables log.
+    #[command(after_help = SWEEP_EXAMPLES)]
+    Sweep(SweepArgs),
+    /// Reconstruct a contour from an observables log.
+    #[command(after_help = RECONSTRUCT_EXAMPLES)]
+    Reconstruct(ReconstructArgs),
+    /// Run the whole chain on a built-in scene and write its figures and CSVs.
+    #[command(after_help = DEMO_EXAMPLES)]
+    Demo(DemoArgs),
+}
+
+/// Tip-force kind.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum LoadArg {
+    /// Direction preserving.
+    Dp,
+    /// Angle preserving.
+    Ap,
+}
+
+/// Whisker flags shared by every command.
+#[derive(Debug, Clone, Default, Args)]
+pub struct WhiskerFlags {
+    /// Diameter ratio tip/base, 0 < T <= 1 [default: 1]
+    #[arg(long, value_name = "T", allow_hyphen_values = true)]
+    pub theta: Option<String>,
+    /// Slope A of the Cesaro pre-curvature kappa0(s) = A s + B [default: 0]
+    #[arg(long, value_name = "A", allow_hyphen_values = true)]
+    pub a: Option<String>,
+    /// Offset B of the pre-curvature [default: 0]
+    #[arg(long, value_name = "B", allow_hyphen_values = true)]
+    pub b: Option<String>,
+    /// Base spring stiffness, `inf` for a rigid support [default: inf]
+    #[arg(long, value_name = "K", allow_hyphen_values = true)]
+    pub k: Option<String>,
+}
+
+/// Tip-force flags (solve only).
+#[derive(Debug, Clone, Default, Args)]
+pub struct TipFlags {
+    /// Tip force magnitude f >= 0 [default: 0]
+    #[arg(long, value_name = "F", allow_hyphen_values = true)]
+    pub f: Option<String>,
+    /// Tip force angle in degrees (0 pushes towards +x) [default: 0]
+    #[arg(long = "beta-deg", value_name = "D", allow_hyphen_values = true)]
+    pub beta_deg: Option<String>,
+    /// Tip force direction preserving (dp) or angle preserving (ap) [default: dp]
+    #[arg(long, value_enum, value_name = "KIND")]
+    pub load: Option<LoadArg>,
+}
+
+/// Fluid-load flags.
+#[derive(Debug, Clone, Default, Args)]
+pub struct FluidFlags {
+    /// Fluid load per unit length q >= 0 [default: 0]
+    #[arg(long, value_name = "Q", allow_hyphen_values = true)]
+    pub q: Option<String>,
+    /// Fluid load angle in degrees (0 pushes towards +x) [default: 0]
+    #[arg(long = "alpha-deg", value_name = "D", allow_hyphen_values = true)]
+    pub alpha_deg: Option<String>,
+}
+
+/// Method flags.
+#[derive(Debug, Clone, Default, Args)]
+pub struct MethodFlags {
+    /// Solution method: accurate (adaptive DOP853 shooting), rk4 (fixed-step shooting) or
+    /// fdm (finite differences, the thesis's method) [default: accurate]
+    #[arg(long, value_name = "M")]
+    pub method: Option<String>,
+    /// Grid intervals per unit length for rk4/fdm; output intervals for accurate [default: 100]
+    #[arg(long, value_name = "N", allow_hyphen_values = true)]
+    pub n: Option<String>,
+}
+
+/// All model flags of `solve` and `sweep`.
+#[derive(Debug, Clone, Default, Args)]
+pub struct ModelFlags {
+    /// Whisker flags.
+    #[command(flatten)]
+    pub whisker: WhiskerFlags,
+    /// Tip force flags.
+    #[command(flatten)]
+    pub tip: TipFlags,
+    /// Fluid load flags.
+    #[command(flatten)]
+    pub fluid: FluidFlags,
+    /// Method flags.
+    #[command(flatten)]
+    pub method: MethodFlags,
+}
+
+/// `vibrissa solve`.
+#[derive(Debug, Clone, Args)]
+pub struct SolveArgs {
+    /// A RON scene file (see scenes/README.md); flags override what it sets.
+    #[arg(value_name = "SCENE.ron")]
+    pub scene: Option<PathBuf>,
+    /// Model flags.
+    #[command(flatten)]
+    pub model: ModelFlags,
+    /// Print one JSON object on stdout instead of a human summary.
+    #[arg(long)]
+    pub json: bool,
+    /// Write elastica.csv (s,x,y,phi,kappa,m) and elastica.svg into DIR.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+}
+
+/// `vibrissa sweep`.
+#[derive(Debug, Clone, Args)]
+pub struct SweepArgs {
+    /// A RON scene file (see scenes/README.md); flags override what it sets.
+    #[arg(value_name = "SCENE.ron")]
+    pub scene: Option<PathBuf>,
+    /// Model flags (the sweep uses theta, a, b, k and q; the contact force is computed).
+    #[command(flatten)]
+    pub model: ModelFlags,
+    /// The obstacle contour (required here or in the scene file).
+    #[arg(long, value_name = "P")]
+    pub profile: Option<String>,
+    /// Number of contact points along the contour, at least 2 [default: 200]
+    #[arg(long, value_name = "N", allow_hyphen_values = true)]
+    pub points: Option<String>,
+    /// Output directory: observables.csv, observables.svg, contact.svg, shapes.svg.
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+}
+
+/// `vibrissa reconstruct`.
+#[derive(Debug, Clone, Args)]
+pub struct ReconstructArgs {
+    /// The observables log (columns x0,Ax,Ay,MA,phi0 at least).
+    #[arg(value_name = "OBSERVABLES.csv")]
+    pub observables: PathBuf,
+    /// A RON scene file with the whisker; flags override what it sets.
+    #[arg(value_name = "SCENE.ron")]
+    pub scene: Option<PathBuf>,
+    /// Whisker flags.
+    #[command(flatten)]
+    pub whisker: WhiskerFlags,
+    /// The fluid load q; identified from the log when not given.
+    #[arg(long, value_name = "Q", allow_hyphen_values = true)]
+    pub q: Option<String>,
+    /// The true contour, to compute the reconstruction error (eq. 6.11).
+    #[arg(long, value_name = "P")]
+    pub profile: Option<String>,
+    /// Print one JSON object on stdout.
+    #[arg(long)]
+    pub json: bool,
+    /// Output directory: reconstruction.csv.
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+}
+
+/// `vibrissa demo`.
+#[derive(Debug, Clone, Args)]
+pub struct DemoArgs {
+    /// Output directory.
+    #[arg(long, value_name = "DIR", default_value = "vibrissa-demo")]
+    pub out: PathBuf,
+    /// Contact points of the demo sweep.
+    #[arg(long, value_name = "N", default_value_t = 120)]
+    pub points: usize,
+}

@@ -1,0 +1,162 @@
+//! `vibrissa solve`: one configuration, as JSON or a short summary, optionally with the
+//! elastica as CSV and SVG.
+
+use beam_model::{solve, Loads, Method, Scene, Solution};
+use serde_json::{json, Value};
+
+use crate::atomic::OutputDir;
+use crate::cli::SolveArgs;
+use crate::commands::{list_files, write_elastica_csv, write_elastica_svg};
+use crate::error::CliError;
+use crate::resolve::{resolve_model, LoadedScene, Resolved};
+
+/// Runs `vibrissa solve`.
+pub fn run(args: &SolveArgs) -> Result<(), CliError> {
+    let file = LoadedScene::load_opt(args.scene.as_deref())?;
+    let r = resolve_model(&args.model, file)?;
+    let sol = solve(&r.scene, &r.method).map_err(|e| r.culprit(&e))?;
+    let mut written = Vec::new();
+    if let Some(dir) = &args.out {
+        let out = OutputDir::create(dir)?;
+        write_solution_files(&r, &sol, &out)?;
+        written = out.commit()?;
+    }
+    if args.json {
+        let v = solution_json(&r, &sol);
+        println!("{v}");
+        if !written.is_empty() {
+            eprintln!("wrote {}", list_files(&written));
+        }
+    } else {
+        print!("{}", human_summary(&r, &sol));
+        if !written.is_empty() {
+            println!("wrote {}", list_files(&written));
+        }
+    }
+    Ok(())
+}
+
+/// Writes `elastica.csv` and `elastica.svg` of a solution into the staged directory.
+pub fn write_solution_files(r: &Resolved, sol: &Solution, out: &OutputDir) -> Result<(), CliError> {
+    write_elastica_csv(sol, &out.path_for("elastica.csv"))?;
+    // The unloaded shape for reference (a cheap, always convergent solve).
+    let unloaded = solve(
+        &Scene::new(r.scene.whisker, Loads::none()),
+        &Method::accurate(),
+    )
+    .ok();
+    let title = format!(
+        "elastica ({}, n = {})",
+        r.method.name(),
+        r.method.intervals()
+    );
+    write_elastica_svg(
+        sol,
+        unloaded.as_ref(),
+        &title,
+        &out.path_for("elastica.svg"),
+    )
+}
+
+fn num(v: f64) -> Value {
+    // JSON has no inf/NaN: such values become null.
+    serde_json::Number::from_f64(v).map_or(Value::Null, Value::Number)
+}
+
+/// The JSON object of `solve --json`.
+pub fn solution_json(r: &Resolved, sol: &Solution) -> Value {
+    let s = &r.scene;
+    let end = |e: &beam_model::EndState| json!({"x": num(e.x), "y": num(e.y), "phi": num(e.phi)});
+    let mut v = json!({
+        "method": r.method.name(),
+        "n": r.method.intervals(),
+        "tip": end(&sol.tip),
+        "loaded_end": end(&sol.loaded_end),
+        "base": {
+            "Ax": num(sol.base.ax),
+            "Ay": num(sol.base.ay),
+            "MA": num(sol.base.ma),
+            "phi0": num(sol.base.phi0),
+        },
+        "stats": {
+            "iterations": sol.stats.iterations,
+            "residual": num(sol.stats.residual),
+            "continuation_steps": sol.stats.continuation_steps,
+            "evaluations": sol.stats.evaluations,
+        },
+        "scene": {
+            "theta": num(s.whisker.theta),
+            "a": num(s.whisker.a),
+            "b": num(s.whisker.b),
+            "k": num(s.whisker.support.stiffness()),
+            "f": num(s.loads.tip.f),
+            "beta_deg": num(s.loads.tip.beta.to_degrees()),
+            "load": match s.loads.tip.kind {
+                beam_model::LoadKind::Dp => "dp",
+                beam_model::LoadKind::Ap => "ap",
+            },
+            "q": num(s.loads.fluid.q),
+            "alpha_deg": num(s.loads.fluid.alpha.to_degrees()),
+        },
+        "units": if r.physical.is_some() { "physical" } else { "dimensionless" },
+    });
+    if let (Some(p), Some(obj)) = (&r.physical, v.as_object_mut()) {
+        obj.insert(
+            "physical".to_string(),
+            json!({
+                "length_m": num(p.length),
+                "base_diameter_m": num(p.base_diameter),
+                "youngs_modulus_pa": num(p.youngs_modulus),
+                "tip_m": {"x": num(p.length_of(sol.tip.x)), "y": num(p.length_of(sol.tip.y))},
+                "base": {
+                    "Ax_N": num(sol.base.ax * p.force_scale()),
+                    "Ay_N": num(sol.base.ay * p.force_scale()),
+                    "MA_Nm": num(sol.base.ma * p.moment_scale()),
+                },
+                "f_N": num(s.loads.tip.f * p.force_scale()),
+                "q_N_per_m": num(s.loads.fluid.q * p.line_load_scale()),
+            }),
+        );
+    }
+    v
+}
+
+fn human_summary(r: &Resolved, sol: &Solution) -> String {
+    let mut out = format!(
+        "solve: {} (n = {}), {} iterations, residual {:.2e}{}\n",
+        r.method.name(),
+        r.method.intervals(),
+        sol.stats.iterations,
+        sol.stats.residual,
+        if sol.stats.continuation_steps > 0 {
+            format!(", {} continuation steps", sol.stats.continuation_steps)
+        } else {
+            String::new()
+        }
+    );
+    out += &format!(
+        "tip   x = {:.8}  y = {:.8}  phi = {:.8}\n",
+        sol.tip.x, sol.tip.y, sol.tip.phi
+    );
+    if sol.loaded_end != sol.tip {
+        out += &format!(
+            "s1    x = {:.8}  y = {:.8}  phi = {:.8}\n",
+            sol.loaded_end.x, sol.loaded_end.y, sol.loaded_end.phi
+        );
+    }
+    out += &format!(
+        "base  Ax = {:.8}  Ay = {:.8}  MA = {:.8}  phi0 = {:.8}\n",
+        sol.base.ax, sol.base.ay, sol.base.ma, sol.base.phi0
+    );
+    if let Some(p) = &r.physical {
+        out += &format!(
+            "physical  tip ({:.4} mm, {:.4} mm), Ax = {:.4e} N, Ay = {:.4e} N, MA = {:.4e} N m\n",
+            p.length_of(sol.tip.x) * 1e3,
+            p.length_of(sol.tip.y) * 1e3,
+            sol.base.ax * p.force_scale(),
+            sol.base.ay * p.force_scale(),
+            sol.base.ma * p.moment_scale()
+        );
+    }
+    out
+}

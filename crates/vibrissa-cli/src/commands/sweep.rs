@@ -1,0 +1,183 @@
+//! `vibrissa sweep`: the whisker swept past an obstacle under the fluid load; the
+//! observables log `observables.csv` and its figures.
+
+use std::io::IsTerminal;
+use std::time::Duration;
+
+use beam_model::{shape_from_tip_angle, Scene};
+use contact_sim::phase::contact_loads;
+use contact_sim::{sweep, Phase, Profile, SweepResult, SweepSettings};
+
+use crate::atomic::OutputDir;
+use crate::cli::SweepArgs;
+use crate::commands::{sweep_summary, write_observables_csv, write_sweep_figures};
+use crate::error::CliError;
+use crate::plot::{write_svg, Chart, Series, Style};
+use crate::resolve::{parse_count, profile_arg, resolve_model, LoadedScene, ProfileArg, Resolved};
+
+/// Default number of contact points.
+pub const DEFAULT_POINTS: usize = 200;
+
+/// Runs `vibrissa sweep`.
+pub fn run(args: &SweepArgs) -> Result<(), CliError> {
+    let file = LoadedScene::load_opt(args.scene.as_deref())?;
+    let profile = profile_arg(&args.profile, file.as_ref()).ok_or_else(|| {
+        CliError::invalid_argument(
+            "--profile",
+            "",
+            "a sweep needs an obstacle: give --profile or `profile` in the scene file",
+        )
+    })?;
+    let points = match (
+        &args.points,
+        file.as_ref().and_then(|f| f.file.sweep.as_ref()),
+    ) {
+        (Some(raw), _) => parse_count("--points", raw, 2)?,
+        (None, Some(s)) => s.points,
+        (None, None) => DEFAULT_POINTS,
+    };
+    let r = resolve_model(&args.model, file)?;
+    check_sweep_loads(&r)?;
+    let contour = profile.parse()?;
+    let res = run_sweep(&r, &contour, &profile, points)?;
+    let out = OutputDir::create(&args.out)?;
+    write_sweep_outputs(&r, &contour, &res, &profile.spec, &out)?;
+    let files = out.commit()?;
+    println!("sweep {}: {}", profile.spec, sweep_summary(&res));
+    println!("wrote {} files to {}", files.len(), args.out.display());
+    Ok(())
+}
+
+/// The sweep computes the contact force itself and blows along +x: refuses a tip force and
+/// a flow angle.
+pub fn check_sweep_loads(r: &Resolved) -> Result<(), CliError> {
+    use crate::resolve::Origin;
+    for (p, field, what) in [
+        (
+            &r.given.f,
+            "loads.f",
+            "a sweep computes the contact force itself; leave the tip force at 0",
+        ),
+        (
+            &r.given.alpha_deg,
+            "loads.alpha_deg",
+            "the sweep's flow acts along +x (alpha = 0)",
+        ),
+    ] {
+        if p.value != 0.0 {
+            return Err(match (&p.origin, &r.file) {
+                (Origin::Flag { flag, raw }, _) => {
+                    CliError::invalid_argument(*flag, raw.clone(), what)
+                }
+                (_, Some(file)) => file.error_at(field, format!("{what}, got {}", p.value)),
+                _ => CliError::invalid_argument(field, p.value.to_string(), what),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Runs the sweep with a spinner on stderr when it is a terminal.
+pub fn run_sweep(
+    r: &Resolved,
+    contour: &Profile,
+    profile: &ProfileArg,
+    points: usize,
+) -> Result<SweepResult, CliError> {
+    let settings = SweepSettings {
+        points,
+        ..SweepSettings::default()
+    };
+    let spinner = if std::io::stderr().is_terminal() {
+        let pb = indicatif::ProgressBar::new_spinner();
+        pb.set_message(format!(
+            "sweeping past {} ({points} contact points)",
+            profile.spec
+        ));
+        pb.enable_steady_tick(Duration::from_millis(120));
+        Some(pb)
+    } else {
+        None
+    };
+    let res = sweep(&r.scene.whisker, r.q(), contour, &settings);
+    if let Some(pb) = spinner {
+        pb.finish_and_clear();
+    }
+    res.map_err(|e| r.contact_culprit(e, profile))
+}
+
+/// Writes `observables.csv`, `observables.svg`, `contact.svg` and `shapes.svg` into `out`.
+pub fn write_sweep_outputs(
+    r: &Resolved,
+    contour: &Profile,
+    res: &SweepResult,
+    title: &str,
+    out: &OutputDir,
+) -> Result<(), CliError> {
+    write_observables_csv(res, &out.path_for("observables.csv"))?;
+    write_sweep_figures(res, title, |n| out.path_for(n))?;
+    write_shapes_svg(r, contour, res, title, &out.path_for("shapes.svg"))
+}
+
+/// The contour with the whisker at a few positions of the sweep (thesis Fig. 5.7 style).
+fn write_shapes_svg(
+    r: &Resolved,
+    contour: &Profile,
+    res: &SweepResult,
+    title: &str,
+    path: &std::path::Path,
+) -> Result<(), CliError> {
+    let contact: Vec<_> = res.contact_points().collect();
+    let mut chart = Chart::new(format!("whisker shapes ({title})"), "x", "y").equal_aspect();
+    let picks = 6usize.min(contact.len());
+    let mut xs = vec![];
+    for i in 0..picks {
+        let idx = if picks == 1 {
+            0
+        } else {
+            i * (contact.len() - 1) / (picks - 1)
+        };
+        let p = contact[idx];
+        let scene = Scene::new(r.scene.whisker, contact_loads(r.q(), p.psi, p.f, p.s1));
+        let Ok(sol) = shape_from_tip_angle(&scene, p.phi1, 1e-10, 100) else {
+            continue;
+        };
+        // Draw only shapes that pass through their contact point.
+        let miss = (sol.loaded_end.x + p.x0 - p.xc).hypot(sol.loaded_end.y - p.yc);
+        if miss.is_nan() || miss >= 1e-4 {
+            continue;
+        }
+        let pts: Vec<(f64, f64)> = sol
+            .elastica
+            .x
+            .iter()
+            .zip(&sol.elastica.y)
+            .map(|(x, y)| (x + p.x0, *y))
+            .collect();
+        xs.extend(pts.iter().map(|q| q.0));
+        let name = if i == 0 { "whisker" } else { "" };
+        let color = if p.phase == Phase::B { 1 } else { 0 };
+        chart = chart.with(Series::new(name, pts, Style::Line).color(color));
+    }
+    let (lo, hi) = xs
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+            (a.min(x), b.max(x))
+        });
+    if lo.is_finite() && hi.is_finite() {
+        let (dlo, dhi) = contour.domain();
+        let (a, b) = ((lo - 0.2).max(dlo), (hi + 0.2).min(dhi));
+        let line: Vec<(f64, f64)> = (0..=300)
+            .map(|i| {
+                let x = a + (b - a) * i as f64 / 300.0;
+                (x, contour.y(x))
+            })
+            .filter(|p| p.1.is_finite() && p.1 < 1.6)
+            .collect();
+        chart = chart.with(Series::new("contour", line, Style::Line).color(7));
+    }
+    if chart.series.is_empty() {
+        return Ok(());
+    }
+    write_svg(&chart, path, (800, 640))
+}

@@ -1,0 +1,530 @@
+//! Turning a scene file and command-line flags into the model's values.
+//!
+//! Every parameter remembers where it came from (a flag, the scene file, the default), so
+//! that a value the model refuses is reported against its culprit: the flag with the value
+//! as typed, or the scene file with the line of the field.
+//!
+//! Physical units (`units: Physical(...)` in a scene file) apply to the scene's values and to
+//! the flags that override them: `f` in N, `q` in N/m, `k` in N m/rad, `a` in 1/m^2 and `b`
+//! in 1/m (kappa0 in 1/m with s in m); `theta` and the angles are unit free. They are
+//! converted with [3.16-3.19] (`beam_model::PhysicalWhisker`).
+
+use std::path::{Path, PathBuf};
+
+use beam_model::{
+    LoadKind, Loads, Method, ModelError, PhysicalWhisker, Preset, Scene, Support, TipForce, Whisker,
+};
+use contact_sim::{ContactError, Profile};
+
+use crate::cli::{FluidFlags, LoadArg, MethodFlags, ModelFlags, TipFlags, WhiskerFlags};
+use crate::csvio::read_table;
+use crate::error::CliError;
+use crate::scene_file::{self, locate_field, SceneFile, Units};
+
+/// A scene file as read: its parsed value, its text (for line numbers) and its path.
+#[derive(Debug, Clone)]
+pub struct LoadedScene {
+    /// The parsed scene.
+    pub file: SceneFile,
+    /// The file's text.
+    pub text: String,
+    /// The file's path.
+    pub path: PathBuf,
+}
+
+impl LoadedScene {
+    /// Reads and validates a scene file.
+    pub fn load(path: &Path) -> Result<Self, CliError> {
+        let text = std::fs::read_to_string(path).map_err(|e| CliError::io(path, e))?;
+        let file = SceneFile::parse(&text, path)?;
+        Ok(LoadedScene {
+            file,
+            text,
+            path: path.to_path_buf(),
+        })
+    }
+
+    /// Reads the optional scene file.
+    pub fn load_opt(path: Option<&Path>) -> Result<Option<Self>, CliError> {
+        path.map(Self::load).transpose()
+    }
+
+    /// A [`CliError::Scene`] at the field `field` (dotted path) of this file.
+    pub fn error_at(&self, field: &str, reason: String) -> CliError {
+        let segments: Vec<&str> = field.split('.').collect();
+        let (line, column) = (1..=segments.len())
+            .rev()
+            .find_map(|n| locate_field(&self.text, &segments[..n]))
+            .unwrap_or((1, 1));
+        CliError::Scene {
+            path: self.path.clone(),
+            line,
+            column,
+            field: Some(field.to_string()),
+            reason,
+        }
+    }
+}
+
+/// Where a value came from.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Origin {
+    /// The built-in default.
+    Default,
+    /// A command-line flag, with the text as typed.
+    Flag {
+        /// The flag (`--theta`).
+        flag: &'static str,
+        /// The value as typed.
+        raw: String,
+    },
+    /// The scene file, at the dotted field.
+    Scene(&'static str),
+}
+
+/// A value as given (in the scene's units) with its origin.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Param {
+    /// The value as given.
+    pub value: f64,
+    /// Where it came from.
+    pub origin: Origin,
+}
+
+impl Param {
+    fn default(value: f64) -> Self {
+        Param {
+            value,
+            origin: Origin::Default,
+        }
+    }
+}
+
+/// Parses a number typed for `flag`.
+pub fn parse_number(flag: &'static str, raw: &str) -> Result<f64, CliError> {
+    raw.trim()
+        .parse::<f64>()
+        .map_err(|_| CliError::invalid_argument(flag, raw, "not a number"))
+}
+
+/// Parses a count typed for `flag`, at least `min`.
+pub fn parse_count(flag: &'static str, raw: &str, min: usize) -> Result<usize, CliError> {
+    let n = raw
+        .trim()
+        .parse::<usize>()
+        .map_err(|_| CliError::invalid_argument(flag, raw, "not a non-negative integer"))?;
+    if n < min {
+        return Err(CliError::invalid_argument(
+            flag,
+            raw,
+            format!("must be at least {min}"),
+        ));
+    }
+    Ok(n)
+}
+
+/// A parameter from a flag, else the scene, else the default.
+fn param(
+    flag: &'static str,
+    raw: &Option<String>,
+    scene: Option<(&'static str, f64)>,
+    default: f64,
+) -> Result<Param, CliError> {
+    if let Some(raw) = raw {
+        return Ok(Param {
+            value: parse_number(flag, raw)?,
+            origin: Origin::Flag {
+                flag,
+                raw: raw.clone(),
+            },
+        });
+    }
+    Ok(match scene {
+        Some((field, value)) => Param {
+            value,
+            origin: Origin::Scene(field),
+        },
+        None => Param::default(default),
+    })
+}
+
+/// The whisker and load values as given, with their origins.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Given {
+    /// Conicity.
+    pub theta: Param,
+    /// Pre-curvature slope.
+    pub a: Param,
+    /// Pre-curvature offset.
+    pub b: Param,
+    /// Base stiffness (inf = rigid).
+    pub k: Param,
+    /// Tip force.
+    pub f: Param,
+    /// Tip force angle (degrees).
+    pub beta_deg: Param,
+    /// Tip force kind.
+    pub load: LoadKind,
+    /// Fluid load.
+    pub q: Param,
+    /// Fluid load angle (degrees).
+    pub alpha_deg: Param,
+    /// Method intervals.
+    pub n: Option<Param>,
+}
+
+/// A resolved configuration: the dimensionless scene, the method and the unit system.
+#[derive(Debug, Clone)]
+pub struct Resolved {
+    /// The dimensionless scene (validated).
+    pub scene: Scene,
+    /// The method (validated name and intervals).
+    pub method: Method,
+    /// The physical whisker when the scene is in physical units.
+    pub physical: Option<PhysicalWhisker>,
+    /// The values as given.
+    pub given: Given,
+    /// The scene file, if any.
+    pub file: Option<LoadedScene>,
+}
+
+/// The physical whisker of a scene file's units, if physical.
+pub fn physical_whisker(file: &LoadedScene) -> Result<Option<PhysicalWhisker>, CliError> {
+    let Units::Physical {
+        preset,
+        length_mm,
+        base_diameter_mm,
+        youngs_modulus_gpa,
+    } = &file.file.units
+    else {
+        return Ok(None);
+    };
+    let base = match preset {
+        Some(name) => Some(
+            Preset::from_name(name.trim())
+                .ok_or_else(|| {
+                    file.error_at(
+                        "units.preset",
+                        format!("unknown whisker preset `{name}`: expected beta, gamma, A1 or E2"),
+                    )
+                })?
+                .whisker(),
+        ),
+        None => None,
+    };
+    let pick = |v: &Option<f64>, scale: f64, from: Option<f64>| v.map(|x| x * scale).or(from);
+    let length = pick(length_mm, 1e-3, base.map(|b| b.length));
+    let diameter = pick(base_diameter_mm, 1e-3, base.map(|b| b.base_diameter));
+    let modulus = pick(youngs_modulus_gpa, 1e9, base.map(|b| b.youngs_modulus));
+    match (length, diameter, modulus) {
+        (Some(l), Some(d), Some(e)) => PhysicalWhisker::new(l, d, e)
+            .map(Some)
+            .map_err(|err| file.error_at("units", err.to_string())),
+        _ => Err(file.error_at(
+            "units",
+            "length_mm, base_diameter_mm and youngs_modulus_gpa are required without a preset"
+                .to_string(),
+        )),
+    }
+}
+
+/// Whisker values from flags over the scene file.
+fn given_whisker(
+    w: &WhiskerFlags,
+    file: Option<&LoadedScene>,
+) -> Result<(Param, Param, Param, Param), CliError> {
+    let ws = file.map(|f| &f.file.whisker);
+    let theta = param(
+        "--theta",
+        &w.theta,
+        ws.map(|w| ("whisker.theta", w.theta)),
+        1.0,
+    )?;
+    let a = param("--a", &w.a, ws.map(|w| ("whisker.a", w.a)), 0.0)?;
+    let b = param("--b", &w.b, ws.map(|w| ("whisker.b", w.b)), 0.0)?;
+    let k = param(
+        "--k",
+        &w.k,
+        ws.and_then(|w| w.k).map(|k| ("whisker.k", k)),
+        f64::INFINITY,
+    )?;
+    Ok((theta, a, b, k))
+}
+
+/// Resolves the whisker, loads and method of `solve` and `sweep`.
+pub fn resolve_model(flags: &ModelFlags, file: Option<LoadedScene>) -> Result<Resolved, CliError> {
+    let ModelFlags {
+        whisker,
+        tip,
+        fluid,
+        method,
+    } = flags;
+    resolve_parts(whisker, tip, fluid, method, file)
+}
+
+fn resolve_parts(
+    w: &WhiskerFlags,
+    tip: &TipFlags,
+    fluid: &FluidFlags,
+    m: &MethodFlags,
+    file: Option<LoadedScene>,
+) -> Result<Resolved, CliError> {
+    let f_ref = file.as_ref();
+    let physical = match f_ref {
+        Some(f) => physical_whisker(f)?,
+        None => None,
+    };
+    let (theta, a, b, k) = given_whisker(w, f_ref)?;
+    let ls = f_ref.map(|f| &f.file.loads);
+    let f = param("--f", &tip.f, ls.map(|l| ("loads.f", l.f)), 0.0)?;
+    let beta_deg = param(
+        "--beta-deg",
+        &tip.beta_deg,
+        ls.map(|l| ("loads.beta_deg", l.beta_deg)),
+        0.0,
+    )?;
+    let q = param("--q", &fluid.q, ls.map(|l| ("loads.q", l.q)), 0.0)?;
+    let alpha_deg = param(
+        "--alpha-deg",
+        &fluid.alpha_deg,
+        ls.map(|l| ("loads.alpha_deg", l.alpha_deg)),
+        0.0,
+    )?;
+    let load = match (tip.load, ls.map(|l| l.load)) {
+        (Some(LoadArg::Ap), _) | (None, Some(scene_file::LoadKind::Ap)) => LoadKind::Ap,
+        _ => LoadKind::Dp,
+    };
+    let n = match (&m.n, f_ref.and_then(|f| f.file.method.n)) {
+        (Some(raw), _) => Some(Param {
+            value: parse_count("--n", raw, 0)? as f64,
+            origin: Origin::Flag {
+                flag: "--n",
+                raw: raw.clone(),
+            },
+        }),
+        (None, Some(n)) => Some(Param {
+            value: n as f64,
+            origin: Origin::Scene("method.n"),
+        }),
+        (None, None) => None,
+    };
+    let given = Given {
+        theta,
+        a,
+        b,
+        k,
+        f,
+        beta_deg,
+        load,
+        q,
+        alpha_deg,
+        n,
+    };
+    // The method.
+    let (name, name_origin) = match (&m.method, f_ref) {
+        (Some(name), _) => (name.clone(), Some("--method")),
+        (None, Some(f)) => (f.file.method.name.clone(), None),
+        (None, None) => ("accurate".to_string(), Some("--method")),
+    };
+    let n_value = given.n.as_ref().map(|p| p.value as usize);
+    let method = Method::from_name(name.trim(), n_value).ok_or_else(|| {
+        let reason = "unknown method: expected accurate, rk4 or fdm".to_string();
+        match (name_origin, f_ref) {
+            (None, Some(f)) => f.error_at("method.name", format!("{reason}, got `{name}`")),
+            _ => CliError::invalid_argument("--method", name.clone(), reason),
+        }
+    })?;
+    let mut resolved = Resolved {
+        scene: Scene::default(),
+        method,
+        physical,
+        given,
+        file,
+    };
+    if method.intervals() < 4 {
+        return Err(resolved.culprit(&ModelError::InvalidParameter {
+            name: "n",
+            value: method.intervals() as f64,
+            reason: "at least 4 grid intervals are needed",
+        }));
+    }
+    resolved.scene = resolved.build_scene()?;
+    Ok(resolved)
+}
+
+impl Resolved {
+    /// The dimensionless scene from the given values, validated.
+    fn build_scene(&self) -> Result<Scene, CliError> {
+        let g = &self.given;
+        let (mut a, mut b, mut f, mut q, mut k) =
+            (g.a.value, g.b.value, g.f.value, g.q.value, g.k.value);
+        if let Some(p) = &self.physical {
+            (a, b) = p.dimensionless_curvature(a, b);
+            f = p.dimensionless_force(f);
+            q = p.dimensionless_line_load(q);
+            k = p.dimensionless_stiffness(k);
+        }
+        let support = Support::from_stiffness(k).map_err(|e| self.culprit(&e))?;
+        let whisker = Whisker {
+            theta: g.theta.value,
+            a,
+            b,
+            support,
+        };
+        let tip = TipForce {
+            f,
+            beta: g.beta_deg.value.to_radians(),
+            kind: g.load,
+        };
+        let scene = Scene::new(
+            whisker,
+            Loads::combined(tip, q, g.alpha_deg.value.to_radians()),
+        );
+        scene.validate().map_err(|e| self.culprit(&e))?;
+        Ok(scene)
+    }
+
+    /// The given parameter the model calls `name`.
+    fn param_named(&self, name: &str) -> Option<(&Param, &'static str)> {
+        let g = &self.given;
+        Some(match name {
+            "theta" => (&g.theta, "whisker.theta"),
+            "A" | "a" => (&g.a, "whisker.a"),
+            "B" | "b" => (&g.b, "whisker.b"),
+            "k" => (&g.k, "whisker.k"),
+            "f" => (&g.f, "loads.f"),
+            "beta" => (&g.beta_deg, "loads.beta_deg"),
+            "q" => (&g.q, "loads.q"),
+            "alpha" => (&g.alpha_deg, "loads.alpha_deg"),
+            "n" => (g.n.as_ref()?, "method.n"),
+            _ => return None,
+        })
+    }
+
+    /// Maps a model error to the flag or scene field that caused it; solver failures are
+    /// passed through (they name the method and the residual).
+    pub fn culprit(&self, err: &ModelError) -> CliError {
+        if let ModelError::InvalidParameter {
+            name,
+            value,
+            reason,
+        } = err
+        {
+            if let Some((p, field)) = self.param_named(name) {
+                match &p.origin {
+                    Origin::Flag { flag, raw } => {
+                        return CliError::invalid_argument(*flag, raw.clone(), *reason)
+                    }
+                    Origin::Scene(_) => {
+                        if let Some(file) = &self.file {
+                            return file.error_at(field, format!("{reason}, got {}", p.value));
+                        }
+                    }
+                    Origin::Default => {}
+                }
+            }
+            return CliError::Solver {
+                reason: format!("invalid parameter {name} = {value}: {reason}"),
+                source: Some(Box::new(err.clone())),
+            };
+        }
+        CliError::solver(err.clone())
+    }
+
+    /// Maps a contact-sweep error to its culprit (`--profile`, `--points`, a model
+    /// parameter) or passes a solver failure through.
+    pub fn contact_culprit(&self, err: ContactError, profile: &ProfileArg) -> CliError {
+        match err {
+            ContactError::Model(e) => self.culprit(&e),
+            ContactError::ProfileSpec { reason, .. } => profile.error(reason),
+            ContactError::NotConvex { .. } => profile.error(err.to_string()),
+            ContactError::InvalidParameter {
+                name: "points",
+                value,
+                reason,
+            } => CliError::invalid_argument("--points", format!("{value}"), reason),
+            other => CliError::solver(other),
+        }
+    }
+
+    /// Dimensionless fluid load q.
+    pub fn q(&self) -> f64 {
+        self.scene.loads.fluid.q
+    }
+}
+
+/// A profile spec with its origin.
+#[derive(Debug, Clone)]
+pub struct ProfileArg {
+    /// The spec as given.
+    pub spec: String,
+    /// The scene file it came from, if not from `--profile`.
+    pub file: Option<LoadedScene>,
+}
+
+impl ProfileArg {
+    /// An error about this profile, against `--profile` or the scene's `profile` field.
+    pub fn error(&self, reason: String) -> CliError {
+        match &self.file {
+            Some(f) => f.error_at("profile", format!("`{}`: {reason}", self.spec)),
+            None => CliError::invalid_argument("--profile", self.spec.clone(), reason),
+        }
+    }
+
+    /// Parses the profile. `points:FILE.csv` reads columns `x,y` (a relative path in a scene
+    /// file is taken relative to the scene file) and must be strictly convex on its range.
+    pub fn parse(&self) -> Result<Profile, CliError> {
+        let spec = self.spec.trim();
+        if let Some(file) = spec.strip_prefix("points:") {
+            let mut path = PathBuf::from(file.trim());
+            if let Some(scene) = &self.file {
+                if path.is_relative() {
+                    if let Some(dir) = scene.path.parent() {
+                        path = dir.join(path);
+                    }
+                }
+            }
+            let table = read_table(&path, &["x", "y"], 3)?;
+            let (x, y) = match (table.column("x"), table.column("y")) {
+                (Some(x), Some(y)) => (x.to_vec(), y.to_vec()),
+                _ => return Err(self.error("the CSV file needs columns x and y".into())),
+            };
+            let profile = Profile::points(x, y).map_err(|e| match e {
+                ContactError::ProfileSpec { reason, .. } => CliError::Csv {
+                    path: path.clone(),
+                    line: 1,
+                    column: None,
+                    reason,
+                },
+                other => self.error(other.to_string()),
+            })?;
+            // Convexity is checked by the sweep on the range it needs (a natural spline
+            // has g'' = 0 at its end knots): the interior knots must turn upwards.
+            let (lo, hi) = profile.domain();
+            let h = (hi - lo) * 1e-3;
+            profile
+                .check_convex(lo + h, hi - h)
+                .map_err(|e| self.error(e.to_string()))?;
+            return Ok(profile);
+        }
+        Profile::parse(spec).map_err(|e| match e {
+            ContactError::ProfileSpec { reason, .. } => self.error(reason),
+            other => self.error(other.to_string()),
+        })
+    }
+}
+
+/// The profile from `--profile`, else the scene file's `profile`.
+pub fn profile_arg(flag: &Option<String>, file: Option<&LoadedScene>) -> Option<ProfileArg> {
+    match (flag, file) {
+        (Some(spec), _) => Some(ProfileArg {
+            spec: spec.clone(),
+            file: None,
+        }),
+        (None, Some(f)) => f.file.profile.as_ref().map(|spec| ProfileArg {
+            spec: spec.clone(),
+            file: Some(f.clone()),
+        }),
+        (None, None) => None,
+    }
+}

@@ -1,0 +1,362 @@
+//! End-to-end tests of the `vibrissa` binary.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_vibrissa"))
+}
+
+fn run(args: &[&str], cwd: &Path) -> Output {
+    bin()
+        .args(args)
+        .current_dir(cwd)
+        .output()
+        .expect("the binary runs")
+}
+
+fn scenes_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// A failure: non-zero exit, exactly one line on stderr mentioning every `needle`, no panic.
+fn assert_fails(o: &Output, needles: &[&str]) {
+    let err = stderr(o);
+    assert!(!o.status.success(), "expected failure, stderr: {err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "one-line error: {err:?}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(!err.contains("RUST_BACKTRACE"), "{err}");
+    for n in needles {
+        assert!(err.contains(n), "stderr {err:?} should mention {n:?}");
+    }
+}
+
+fn json(o: &Output) -> serde_json::Value {
+    assert!(o.status.success(), "stderr: {}", stderr(o));
+    serde_json::from_slice(&o.stdout).expect("stdout is one JSON object")
+}
+
+#[test]
+fn solve_json_matches_mattiasson() {
+    let dir = tempfile::tempdir().unwrap();
+    let v = json(&run(&["solve", "--f", "1", "--json"], dir.path()));
+    let x = v["tip"]["x"].as_f64().unwrap();
+    let y = v["tip"]["y"].as_f64().unwrap();
+    assert!((x - 0.30172).abs() < 1e-5, "x1 = {x}");
+    assert!((y - 0.94357).abs() < 1e-5, "y1 = {y}");
+    assert!((v["base"]["Ax"].as_f64().unwrap() + 1.0).abs() < 1e-12);
+    for key in ["Ay", "MA", "phi0"] {
+        assert!(v["base"][key].is_number(), "base.{key}");
+    }
+    assert!(v["tip"]["phi"].is_number());
+    assert_eq!(v["method"], "accurate");
+    assert_eq!(v["n"], 100);
+    // The same from the scene file, and with the FDM.
+    let scene = scenes_dir().join("s01-tip-dp-rigid.ron");
+    let v2 = json(&run(
+        &["solve", scene.to_str().unwrap(), "--json"],
+        dir.path(),
+    ));
+    assert_eq!(v["tip"], v2["tip"]);
+    let v3 = json(&run(
+        &[
+            "solve", "--f", "1", "--method", "fdm", "--n", "400", "--json",
+        ],
+        dir.path(),
+    ));
+    assert_eq!(v3["method"], "fdm");
+    assert_eq!(v3["n"], 400);
+    assert!((v3["tip"]["x"].as_f64().unwrap() - 0.30172).abs() < 1e-4);
+}
+
+#[test]
+fn flags_override_the_scene_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = scenes_dir().join("s04-fluid-elastic-support.ron");
+    let v = json(&run(
+        &["solve", scene.to_str().unwrap(), "--k", "inf", "--json"],
+        dir.path(),
+    ));
+    assert!(v["scene"]["k"].is_null(), "rigid: {}", v["scene"]);
+    assert_eq!(v["scene"]["q"], 10.0);
+    assert!((v["base"]["phi0"].as_f64().unwrap() - std::f64::consts::FRAC_PI_2).abs() < 1e-9);
+}
+
+#[test]
+fn every_example_scene_parses_and_solves() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut n = 0;
+    for entry in fs::read_dir(scenes_dir()).unwrap() {
+        let p = entry.unwrap().path();
+        if p.extension().and_then(|e| e.to_str()) != Some("ron") {
+            continue;
+        }
+        n += 1;
+        let name = p.file_name().unwrap().to_string_lossy().into_owned();
+        let o = if name.starts_with('c') || name.starts_with("ge") {
+            run(
+                &["sweep", p.to_str().unwrap(), "--points", "6", "--out", "o"],
+                dir.path(),
+            )
+        } else {
+            run(&["solve", p.to_str().unwrap(), "--json"], dir.path())
+        };
+        assert!(o.status.success(), "{name}: {}", stderr(&o));
+    }
+    assert!(n >= 25, "{n} scenes");
+}
+
+#[test]
+fn physical_scene_reports_dimensional_values() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = scenes_dir().join("physical-beta-flow.ron");
+    let v = json(&run(
+        &["solve", scene.to_str().unwrap(), "--json"],
+        dir.path(),
+    ));
+    assert_eq!(v["units"], "physical");
+    let q = v["scene"]["q"].as_f64().unwrap();
+    assert!(q > 1.0 && q < 10.0, "dimensionless q = {q}");
+    assert!(v["physical"]["base"]["Ax_N"].is_number());
+}
+
+#[test]
+fn solve_out_writes_elastica() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = run(
+        &["solve", "--q", "5", "--theta", "0.5", "--out", "out"],
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let csv = fs::read_to_string(dir.path().join("out/elastica.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(lines.next(), Some("s,x,y,phi,kappa,m"));
+    assert_eq!(lines.count(), 101);
+    let svg = fs::read_to_string(dir.path().join("out/elastica.svg")).unwrap();
+    assert!(svg.starts_with("<svg"));
+}
+
+#[test]
+fn sweep_writes_observables() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = run(
+        &[
+            "sweep",
+            "--profile",
+            "g1",
+            "--q",
+            "5",
+            "--theta",
+            "0.75",
+            "--k",
+            "20",
+            "--points",
+            "12",
+            "--out",
+            "sw",
+        ],
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(stdout.contains("phases ABA"), "{stdout}");
+    let csv = fs::read_to_string(dir.path().join("sw/observables.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(lines.next(), Some("x0,Ax,Ay,MA,phi0,f,s1,phase,xc,yc,psi"));
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert!(rows.len() >= 12, "{} rows", rows.len());
+    let mut contact = 0;
+    for r in &rows {
+        assert_eq!(r.len(), 11);
+        match r[7] {
+            "none" => {
+                assert_eq!(&r[8..], &["NaN", "NaN", "NaN"]);
+            }
+            "A" | "B" => {
+                contact += 1;
+                for v in &r[8..] {
+                    assert!(v.parse::<f64>().unwrap().is_finite());
+                }
+            }
+            other => panic!("bad phase {other}"),
+        }
+        for (i, v) in r.iter().enumerate().take(7) {
+            assert!(v.parse::<f64>().unwrap().is_finite(), "column {i}: {v}");
+        }
+    }
+    assert!(contact >= 12, "{contact} contact rows");
+    for f in ["observables.svg", "contact.svg", "shapes.svg"] {
+        assert!(dir.path().join("sw").join(f).is_file(), "{f}");
+    }
+}
+
+#[test]
+fn sweep_reads_profile_from_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = scenes_dir().join("c1-uniform-rigid-g1.ron");
+    let o = run(
+        &[
+            "sweep",
+            scene.to_str().unwrap(),
+            "--points",
+            "5",
+            "--out",
+            "c1",
+        ],
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(dir.path().join("c1/observables.csv").is_file());
+}
+
+#[test]
+fn demo_writes_its_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = run(&["demo", "--points", "10"], dir.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(stdout.contains("vibrissa-demo"), "{stdout}");
+    for f in [
+        "observables.csv",
+        "elastica.csv",
+        "observables.svg",
+        "scene.ron",
+    ] {
+        assert!(dir.path().join("vibrissa-demo").join(f).is_file(), "{f}");
+    }
+}
+
+/// Runs a failing command in a fresh directory and checks that no output appeared.
+fn fails_cleanly(args: &[&str], needles: &[&str], setup: impl Fn(&Path)) {
+    let dir = tempfile::tempdir().unwrap();
+    setup(dir.path());
+    let before: Vec<_> = fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    let o = run(args, dir.path());
+    assert_fails(&o, needles);
+    assert!(
+        !dir.path().join("out").exists(),
+        "{args:?} created the output directory"
+    );
+    let after: Vec<_> = fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    assert_eq!(before.len(), after.len(), "{args:?} left files: {after:?}");
+}
+
+#[test]
+fn bad_inputs_fail_with_one_line_naming_the_culprit() {
+    let none = |_: &Path| {};
+    fails_cleanly(
+        &["solve", "--theta", "-0.5", "--out", "out"],
+        &["--theta", "-0.5"],
+        none,
+    );
+    fails_cleanly(&["solve", "--k", "0", "--out", "out"], &["--k", "0"], none);
+    fails_cleanly(
+        &["solve", "--f", "nan", "--out", "out"],
+        &["--f", "nan"],
+        none,
+    );
+    fails_cleanly(&["solve", "--theta", "abc"], &["--theta", "abc"], none);
+    fails_cleanly(
+        &["solve", "--method", "euler"],
+        &["--method", "euler"],
+        none,
+    );
+    fails_cleanly(&["solve", "--n", "2", "--method", "fdm"], &["--n"], none);
+    fails_cleanly(&["solve", "--bogus"], &["--bogus"], none);
+    fails_cleanly(&["sweep", "--profile", "g1"], &["--out"], none);
+    fails_cleanly(&["solve", "--load", "xx"], &["--load", "xx"], none);
+    fails_cleanly(
+        &["solve", "missing.ron", "--out", "out"],
+        &["missing.ron"],
+        none,
+    );
+    fails_cleanly(
+        &["sweep", "--profile", "nope", "--q", "5", "--out", "out"],
+        &["--profile", "nope"],
+        none,
+    );
+    fails_cleanly(&["sweep", "--q", "5", "--out", "out"], &["--profile"], none);
+    fails_cleanly(
+        &["sweep", "--profile", "g1", "--points", "1", "--out", "out"],
+        &["--points"],
+        none,
+    );
+    fails_cleanly(
+        &[
+            "sweep",
+            "--profile",
+            "points:concave.csv",
+            "--q",
+            "5",
+            "--out",
+            "out",
+        ],
+        &["--profile", "convex"],
+        |d| {
+            fs::write(
+                d.join("concave.csv"),
+                "x,y\n0,0\n0.5,0.3\n1,0.4\n1.5,0.45\n",
+            )
+            .unwrap()
+        },
+    );
+    fails_cleanly(
+        &["sweep", "--profile", "points:missing.csv", "--out", "out"],
+        &["missing.csv"],
+        none,
+    );
+    fails_cleanly(
+        &["solve", "bad.ron", "--out", "out"],
+        &["bad.ron:3:"],
+        |d| {
+            fs::write(
+                d.join("bad.ron"),
+                "(\n    whisker: (theta: 1.0),\n    loads: (f: 1.0, colour: 2.0),\n)\n",
+            )
+            .unwrap()
+        },
+    );
+    fails_cleanly(
+        &["solve", "neg.ron", "--out", "out"],
+        &["neg.ron:2:", "whisker.theta"],
+        |d| fs::write(d.join("neg.ron"), "(\n    whisker: (theta: -0.5),\n)\n").unwrap(),
+    );
+    fails_cleanly(
+        &["solve", "negf.ron", "--out", "out"],
+        &["negf.ron:3:", "loads.f"],
+        |d| {
+            fs::write(
+                d.join("negf.ron"),
+                "(\n    whisker: (theta: 1.0),\n    loads: (f: -1.0),\n)\n",
+            )
+            .unwrap()
+        },
+    );
+}
+
+#[test]
+fn usage_errors_exit_2_and_solver_errors_name_the_solver() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = run(&["solve", "--theta", "-0.5"], dir.path());
+    assert_eq!(o.status.code(), Some(2));
+    let o = run(&["reconstruct", "obs.csv", "--out", "r"], dir.path());
+    assert_fails(&o, &["not implemented"]);
+    assert!(!dir.path().join("r").exists());
+    let o = run(&["--version"], dir.path());
+    assert!(o.status.success());
+    assert!(String::from_utf8_lossy(&o.stdout).contains("vibrissa"));
+    let o = run(&["solve", "--help"], dir.path());
+    assert!(o.status.success());
+    assert!(String::from_utf8_lossy(&o.stdout).contains("Examples"));
+}

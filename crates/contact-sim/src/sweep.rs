@@ -305,36 +305,60 @@ impl Marcher<'_> {
         }
     }
 
-    /// Marches over the contour points `xcs` from `first`, recording switch events; stops at
-    /// the first separation. Failed steps are refined by halving.
+    /// Marches over the contour points `xcs` from `first`, recording them and the switch
+    /// events; stops at the first separation. Steps longer than `max_step` are split into
+    /// unrecorded sub-steps (which still enter the event checks), and failed steps are
+    /// refined by halving.
     fn march(
         &self,
         first: ContactState,
         xcs: impl Iterator<Item = f64>,
+        max_step: f64,
     ) -> Result<(Vec<ContactState>, Option<Stop>)> {
         let mut states = vec![first];
+        let mut trail = vec![first];
         let (dmin, _) = self.profile.domain();
         for target in xcs {
             if target < dmin {
                 return Ok((states, Some(Stop::EndOfContour)));
             }
-            let last = *states.last().unwrap_or(&first);
-            let (new_states, err) = self.advance(&last, target);
-            for st in new_states {
-                if let Some(stop) = self.check(&mut states, st)? {
-                    return Ok((states, Some(stop)));
+            let from = *trail.last().unwrap_or(&first);
+            let gap = from.point.xc - target;
+            let pieces = (gap / max_step).ceil().max(1.0) as usize;
+            for j in 1..=pieces {
+                let xc = if j == pieces {
+                    target
+                } else {
+                    from.point.xc - gap * j as f64 / pieces as f64
+                };
+                let anchor = *trail.last().unwrap_or(&first);
+                let (new_states, err) = self.advance(&anchor, xc);
+                let n_new = new_states.len();
+                for (k, st) in new_states.into_iter().enumerate() {
+                    let record = j == pieces && k + 1 == n_new && err.is_none();
+                    if let Some(stop) = self.check(&mut states, &mut trail, st, record)? {
+                        return Ok((states, Some(stop)));
+                    }
                 }
-            }
-            if let Some(e) = err {
-                return Err(e);
+                if let Some(e) = err {
+                    return Err(e);
+                }
             }
         }
         Ok((states, None))
     }
 
-    /// Event checks for a new state; pushes it (and switch events) onto `states`.
-    fn check(&self, states: &mut Vec<ContactState>, st: ContactState) -> Result<Option<Stop>> {
-        let Some(&last) = states.last() else {
+    /// Event checks for a new state `st` against the last computed state; records switch
+    /// events, and `st` itself when `record` is set.
+    fn check(
+        &self,
+        states: &mut Vec<ContactState>,
+        trail: &mut Vec<ContactState>,
+        st: ContactState,
+        record: bool,
+    ) -> Result<Option<Stop>> {
+        let Some(&last) = trail.last() else {
+            trail.push(st);
             states.push(st);
             return Ok(None);
         };
@@ -347,19 +371,13 @@ impl Marcher<'_> {
             }
         }
         if st.f < 0.0 {
-            let from = *states.last().unwrap_or(&last);
-            let ev = self.bisect(from, xc, |s| s.f >= 0.0)?;
+            let ev = self.bisect(last, xc, |s| s.f >= 0.0)?;
             return Ok(Some(Stop::Release(ev)));
         }
         if st.x0 > last.x0 {
-            let n = states.len();
-            let upper = if n >= 2 {
-                states[n - 2].point.xc
-            } else {
-                last.point.xc
-            };
-            let near = if n >= 2 { states[n - 2] } else { last };
-            let ev = self.snap_point(xc, upper, &near)?;
+            let n = trail.len();
+            let near = if n >= 2 { trail[n - 2] } else { last };
+            let ev = self.snap_point(xc, near.point.xc, &near)?;
             while states.last().is_some_and(|s| s.point.xc <= ev.point.xc) {
                 states.pop();
             }
@@ -368,7 +386,10 @@ impl Marcher<'_> {
         if self.penetrates(&st)? {
             return Ok(Some(Stop::MultiContact(xc)));
         }
-        states.push(st);
+        trail.push(st);
+        if record {
+            states.push(st);
+        }
         Ok(None)
     }
 
@@ -433,9 +454,12 @@ pub fn sweep(
             samples: 2000,
         },
     )?;
+    // Finite domains (tabulated, circular) are checked inside their ends, where a natural
+    // spline is flat and a circle's slope is infinite.
     let (dmin, dmax) = profile.domain();
     if dmin.is_finite() && dmax.is_finite() {
-        profile.check_convex(dmin, dmax)?;
+        let w = dmax - dmin;
+        profile.check_convex(dmin + 1e-2 * w, dmax - 1e-2 * w)?;
     }
     let (first, first_contact) = marcher.first_contact(&free)?;
     let xv = profile.vertex();
@@ -449,7 +473,7 @@ pub fn sweep(
     // Pass 1: coarse march to find the separation.
     let h1 = span / 20.0;
     let coarse = (1..=400).map(|k| first.point.xc - k as f64 * h1);
-    let (coarse_states, stop) = marcher.march(first, coarse)?;
+    let (coarse_states, stop) = marcher.march(first, coarse, h1)?;
     let (sep_xc, final_state, separation) = match stop {
         Some(Stop::Snap(s)) => (s.point.xc, Some(s), Separation::Snap),
         Some(Stop::Release(s)) => (s.point.xc, Some(s), Separation::Release),
@@ -466,7 +490,7 @@ pub fn sweep(
     let n = settings.points;
     let step = (first.point.xc - sep_xc) / (n - 1) as f64;
     let fine = (1..n - 1).map(|k| first.point.xc - k as f64 * step);
-    let (mut states, stop2) = marcher.march(first, fine)?;
+    let (mut states, stop2) = marcher.march(first, fine, h1)?;
     let (final_state, separation) = match stop2 {
         // A snap or release found earlier on the fine grid (rare) wins.
         Some(Stop::Snap(s)) => (Some(s), Separation::Snap),

@@ -55,21 +55,21 @@ pub fn identify(
     for (i, r) in rows.iter().enumerate() {
         r.validate(i + 1)?;
     }
-    // Before contact Ay = 0 exactly [6.1]: a log whose first row has Ay != 0 starts in contact.
-    if rows[0].ay.abs() > noise_floor.max(1e-9) * 1e3 {
+    // Noise scale: per column, the median of the absolute successive differences of the
+    // leading rows (robust to one contact jump among them); the threshold is the larger of
+    // the floor and 10 times the largest column scale.
+    let lead = rows.len().min(7);
+    let col = |f: fn(&ObservableRow) -> f64| {
+        let mut d: Vec<f64> = rows[..lead].windows(2).map(|w| (f(&w[1]) - f(&w[0])).abs()).collect();
+        d.sort_by(f64::total_cmp);
+        d.get(d.len() / 2).copied().unwrap_or(0.0)
+    };
+    let scatter = col(|r| r.ax).max(col(|r| r.ay)).max(col(|r| r.ma)).max(col(|r| r.phi0));
+    let threshold = noise_floor.max(10.0 * scatter);
+    // Before contact Ay = 0 [6.1]: a log whose first row has |Ay| above the noise starts in
+    // contact.
+    if rows[0].ay.abs() > threshold.max(1e-6) {
         return Err(ReconError::NoPreContactRows);
-    }
-    // Contact start: first row far from the running pre-contact mean.
-    let lead = rows.len().min(4);
-    let scatter = rows[..lead]
-        .windows(2)
-        .map(|w| distance(&w[0], &w[1]))
-        .fold(0.0, f64::max);
-    let mut threshold = noise_floor.max(10.0 * scatter);
-    // If the leading rows themselves already include the contact, the scatter is large; fall
-    // back to the floor and the first jump.
-    if threshold > 1e-2 * (1.0 + rows[0].ax.abs()) {
-        threshold = noise_floor.max(1e-6);
     }
     let mut start = rows.len();
     let mut mean = rows[0];

@@ -8,16 +8,19 @@
 //! | [`observables`] | the measured rows `(x0, Ax, Ay, MA, phi0)` |
 //! | [`identify`] | fluid load from the pre-contact rows [6.1], contact start (Table 6.1) |
 //! | [`reconstruct`] | contact point, force, s1 and phase per row; quality measure [6.11] |
+//! | [`noise`] | seeded sensor noise and the error-against-noise study |
 //! | [`thesis`] | the thesis's five-equation method [6.5-6.10] |
 
 pub mod error;
 pub mod identify;
+pub mod noise;
 pub mod observables;
 pub mod reconstruct;
 pub mod thesis;
 
 pub use error::{ReconError, Result};
 pub use identify::{identify, Identification};
+pub use noise::{add_noise, noise_study, NoiseResult};
 pub use observables::{from_sweep, ObservableRow};
 pub use reconstruct::{
     contour_error, reconstruct, ReconMethod, ReconPoint, ReconSettings, Reconstruction,

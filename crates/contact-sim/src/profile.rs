@@ -66,7 +66,7 @@ impl Spline {
             )));
         }
         for (i, w) in x.windows(2).enumerate() {
-            if !(w[1] > w[0]) {
+            if w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Greater) {
                 return Err(bad(format!("x must increase strictly (point {})", i + 2)));
             }
         }
@@ -196,7 +196,7 @@ impl Profile {
             "points" => return Err(bad("tabulated profiles are read from a CSV file (points:FILE.csv)")),
             _ => return Err(bad("unknown profile: expected g1, g2, ge, parabola:a,xv,yv, cosh:a,c,xv,d, circle:xc,yc,r or points:FILE.csv")),
         };
-        p.validate_parameters().map_err(|r| bad(r))?;
+        p.validate_parameters().map_err(bad)?;
         Ok(p)
     }
 
@@ -315,7 +315,7 @@ impl Profile {
         for i in 0..=n {
             let x = a + (b - a) * i as f64 / n as f64;
             let g2 = self.eval(x).2;
-            if !(g2 > 0.0) {
+            if g2.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
                 return Err(ContactError::NotConvex {
                     profile: self.name(),
                     x,

@@ -60,11 +60,17 @@ pub fn identify(
     // the floor and 10 times the largest column scale.
     let lead = rows.len().min(7);
     let col = |f: fn(&ObservableRow) -> f64| {
-        let mut d: Vec<f64> = rows[..lead].windows(2).map(|w| (f(&w[1]) - f(&w[0])).abs()).collect();
+        let mut d: Vec<f64> = rows[..lead]
+            .windows(2)
+            .map(|w| (f(&w[1]) - f(&w[0])).abs())
+            .collect();
         d.sort_by(f64::total_cmp);
         d.get(d.len() / 2).copied().unwrap_or(0.0)
     };
-    let scatter = col(|r| r.ax).max(col(|r| r.ay)).max(col(|r| r.ma)).max(col(|r| r.phi0));
+    let scatter = col(|r| r.ax)
+        .max(col(|r| r.ay))
+        .max(col(|r| r.ma))
+        .max(col(|r| r.phi0));
     let threshold = noise_floor.max(10.0 * scatter);
     // Before contact Ay = 0 [6.1]: a log whose first row has |Ay| above the noise starts in
     // contact.

@@ -154,15 +154,15 @@ struct RowSolver<'a> {
 }
 
 impl RowSolver<'_> {
+    /// A reconstructed point from the forward integration `fw` to `s1` and the verdict
+    /// `(phase, residual, evaluations)`.
     fn point(
         &self,
         i: usize,
         row: &ObservableRow,
         s1: f64,
         fw: &Forward,
-        phase: Phase,
-        residual: f64,
-        evaluations: usize,
+        (phase, residual, evaluations): (Phase, f64, usize),
     ) -> ReconPoint {
         ReconPoint {
             row: i,
@@ -264,7 +264,7 @@ impl RowSolver<'_> {
         let ra = a.m.abs();
         let a_valid = a.phi >= a.psi - 1e-9;
         if ra <= 1e-9 && a_valid {
-            return Ok(self.point(i, row, 1.0, &a, Phase::A, ra, 1));
+            return Ok(self.point(i, row, 1.0, &a, (Phase::A, ra, 1)));
         }
         let guess = match prev {
             Some(p) if p.phase == Phase::B => p.s1,
@@ -272,9 +272,9 @@ impl RowSolver<'_> {
         };
         let (s1, b, rb, evals) = self.phase_b(row, guess)?;
         if a_valid && ra <= rb {
-            Ok(self.point(i, row, 1.0, &a, Phase::A, ra, evals + 1))
+            Ok(self.point(i, row, 1.0, &a, (Phase::A, ra, evals + 1)))
         } else {
-            Ok(self.point(i, row, s1, &b, Phase::B, rb, evals + 1))
+            Ok(self.point(i, row, s1, &b, (Phase::B, rb, evals + 1)))
         }
     }
 }

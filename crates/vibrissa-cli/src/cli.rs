@@ -38,7 +38,12 @@ Profiles: g1, g2, ge, parabola:a,xv,yv, cosh:a,c,xv,d, circle:xc,yc,r, points:FI
 const RECONSTRUCT_EXAMPLES: &str = "\
 Examples:
   vibrissa reconstruct out/g1/observables.csv --out out/recon
-  vibrissa reconstruct obs.csv scenes/c1-uniform-rigid-g1.ron --q 5 --profile g1 --json --out out/recon";
+  vibrissa reconstruct obs.csv scenes/c1-uniform-rigid-g1.ron --q 5 --profile g1 --json --out out/recon
+  vibrissa reconstruct noisy.csv --theta 0.75 --k 20 --tolerance none --out out/noisy
+
+The log needs the columns x0,Ax,Ay,MA,phi0 (any order; other columns are ignored). Whisker
+values come from the scene file and the flags; loads in the scene are ignored (q is
+identified from the rows before contact unless --q is given).";
 
 const DEMO_EXAMPLES: &str = "\
 Examples:
@@ -203,13 +208,24 @@ pub struct ReconstructArgs {
     /// The fluid load q; identified from the log when not given.
     #[arg(long, value_name = "Q", allow_hyphen_values = true)]
     pub q: Option<String>,
-    /// The true contour, to compute the reconstruction error (eq. 6.11).
+    /// The true contour, to compute the reconstruction error (eq. 6.11): adds an `error`
+    /// column and error.svg.
     #[arg(long, value_name = "P")]
     pub profile: Option<String>,
-    /// Print one JSON object on stdout.
+    /// Reconstruction method: accurate (initial-value route from the base, ~1e-12) or
+    /// thesis (the thesis's five equations around FDM solves) [default: accurate]
+    #[arg(long, value_name = "M")]
+    pub method: Option<String>,
+    /// Largest consistency residual accepted per contact row; a row beyond it is an error
+    /// naming its line. `none` never fails (for noisy logs: residuals are then only
+    /// reported) [default: 1e-6]
+    #[arg(long, value_name = "T", allow_hyphen_values = true)]
+    pub tolerance: Option<String>,
+    /// Print one JSON object on stdout instead of a human summary.
     #[arg(long)]
     pub json: bool,
-    /// Output directory: reconstruction.csv.
+    /// Output directory: reconstruction.csv, reconstruction.svg (and error.svg with
+    /// --profile).
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
 }

@@ -9,9 +9,13 @@ use std::path::Path;
 
 use beam_model::solve;
 use contact_sim::{Profile, SweepResult};
+use profile_recon::{contour_error, from_sweep, reconstruct, ReconSettings};
 
 use crate::atomic::{write_atomic, OutputDir};
 use crate::cli::{DemoArgs, ModelFlags};
+use crate::commands::reconstruct::{
+    max_of, phase_counts, write_reconstruction_csv, write_reconstruction_figures, RECON_CSV,
+};
 use crate::commands::solve::write_solution_files;
 use crate::commands::sweep::{run_sweep, write_sweep_outputs};
 use crate::commands::sweep_summary;
@@ -85,9 +89,9 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-/// HOOK (lead): identification of q and contour reconstruction from the sweep's
-/// observables, once `profile-recon` lands. Write `reconstruction.csv` (and figures) with
-/// `out.path_for(..)` and push one-line results to `summary`. Does nothing yet.
+/// Identification of q and accurate contour reconstruction from the sweep's observables
+/// alone: writes `reconstruction.csv` (with the error column against the true contour),
+/// `reconstruction.svg` and `error.svg`, and pushes the results to `summary`.
 pub fn reconstruct_step(
     resolved: &Resolved,
     contour: &Profile,
@@ -95,7 +99,39 @@ pub fn reconstruct_step(
     out: &OutputDir,
     summary: &mut Vec<String>,
 ) -> Result<(), CliError> {
-    let _ = (resolved, contour, sweep, out);
-    summary.push("reconstruction: not available yet (profile-recon pending)".to_string());
+    let rows = from_sweep(sweep);
+    let settings = ReconSettings::default();
+    let rec = reconstruct(&resolved.scene.whisker, &rows, None, &settings).map_err(|e| {
+        CliError::Solver {
+            reason: format!("demo reconstruction: {e}"),
+            source: Some(Box::new(e)),
+        }
+    })?;
+    let errors = contour_error(&rec.points, contour);
+    write_reconstruction_csv(&rec.points, Some(&errors), &out.path_for(RECON_CSV))?;
+    write_reconstruction_figures(&rec.points, Some(contour), Some(&errors), "demo, g1", |n| {
+        out.path_for(n)
+    })?;
+    let q_true = resolved.q();
+    let id = &rec.identification;
+    summary.push(format!(
+        "identification: q = {:.12} (true {q_true}, error {:.2e}), contact from row {} of {}",
+        id.q,
+        (id.q - q_true).abs(),
+        id.first_contact_row + 1,
+        rows.len()
+    ));
+    let (na, nb) = phase_counts(&rec.points);
+    summary.push(format!(
+        "reconstruction ({}): {} points, phases A {na} / B {nb}, max residual {:.2e}",
+        settings.method.name(),
+        rec.points.len(),
+        max_of(&rec.points.iter().map(|p| p.residual).collect::<Vec<_>>()),
+    ));
+    summary.push(format!(
+        "contour error (eq. 6.11): max e = {:.2e} over {} points",
+        max_of(&errors),
+        errors.len()
+    ));
     Ok(())
 }

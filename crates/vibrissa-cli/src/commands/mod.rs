@@ -1,6 +1,7 @@
 //! The commands of the binary and the outputs they share.
 
 pub mod demo;
+pub mod reconstruct;
 pub mod solve;
 pub mod sweep;
 
@@ -9,7 +10,7 @@ use std::path::{Path, PathBuf};
 use beam_model::Solution;
 use contact_sim::{Phase, SweepResult};
 
-use crate::cli::{Command, ReconstructArgs};
+use crate::cli::Command;
 use crate::csvio::{Cell, CsvWriter};
 use crate::error::CliError;
 use crate::plot::{write_svg, write_svg_panels, Chart, Series, Style};
@@ -19,20 +20,9 @@ pub fn run(command: Command) -> Result<(), CliError> {
     match command {
         Command::Solve(args) => solve::run(&args),
         Command::Sweep(args) => sweep::run(&args),
-        Command::Reconstruct(args) => reconstruct(&args),
+        Command::Reconstruct(args) => reconstruct::run(&args),
         Command::Demo(args) => demo::run(&args),
     }
-}
-
-/// `vibrissa reconstruct`: the arguments are parsed per the contract; the identification
-/// and reconstruction are added when `profile-recon` lands.
-fn reconstruct(args: &ReconstructArgs) -> Result<(), CliError> {
-    let _ = args;
-    Err(CliError::Solver {
-        reason: "reconstruct: not implemented yet (the profile-recon crate is being written)"
-            .to_string(),
-        source: None,
-    })
 }
 
 /// The header of `elastica.csv`.

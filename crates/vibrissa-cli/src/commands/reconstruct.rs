@@ -1,0 +1,366 @@
+//! `vibrissa reconstruct`: identification of the fluid load and contour reconstruction from
+//! an observables log (thesis ch. 6), written as `reconstruction.csv` and its figures.
+
+use std::path::{Path, PathBuf};
+
+use contact_sim::{Phase, Profile};
+use profile_recon::{
+    contour_error, reconstruct, ObservableRow, ReconError, ReconMethod, ReconPoint, ReconSettings,
+    Reconstruction,
+};
+
+use crate::atomic::OutputDir;
+use crate::cli::{ModelFlags, ReconstructArgs};
+use crate::csvio::{read_table, Cell, CsvWriter, Table};
+use crate::error::CliError;
+use crate::plot::{write_svg, Chart, Series, Style};
+use crate::resolve::{parse_number, resolve_model, LoadedScene, ProfileArg, Resolved};
+
+/// The columns an observables log must have.
+pub const REQUIRED_COLUMNS: [&str; 5] = ["x0", "Ax", "Ay", "MA", "phi0"];
+
+/// The header of `reconstruction.csv` (spec/cli.md); `error` is appended with a profile.
+pub const RECONSTRUCTION_HEADER: [&str; 7] = ["x0", "x", "y", "s1", "f", "psi", "phase"];
+
+/// Default consistency tolerance of the accurate method (exact logs).
+pub const DEFAULT_TOLERANCE_ACCURATE: f64 = 1e-6;
+
+/// Default consistency tolerance of the thesis method (its least-squares residual stays at
+/// about 1e-5..1e-4).
+pub const DEFAULT_TOLERANCE_THESIS: f64 = 1e-3;
+
+/// Runs `vibrissa reconstruct`.
+pub fn run(args: &ReconstructArgs) -> Result<(), CliError> {
+    let method = parse_method(args.method.as_deref())?;
+    let tol = parse_tolerance(args.tolerance.as_deref(), method)?;
+    let file = LoadedScene::load_opt(args.scene.as_deref())?;
+    // The whisker from the scene and the flags; `--q` (if given) goes through the same
+    // resolution so that physical units and range checks apply to it.
+    let mut flags = ModelFlags {
+        whisker: args.whisker.clone(),
+        ..ModelFlags::default()
+    };
+    flags.fluid.q = args.q.clone();
+    let r = resolve_model(&flags, file)?;
+    let q = args.q.as_ref().map(|_| r.q());
+    let truth = match &args.profile {
+        Some(spec) => Some(
+            ProfileArg {
+                spec: spec.clone(),
+                file: None,
+            }
+            .parse()?,
+        ),
+        None => None,
+    };
+
+    let table = read_table(&args.observables, &REQUIRED_COLUMNS, 2)?;
+    let rows = rows_of(&table)?;
+    let settings = ReconSettings {
+        method,
+        consistency_tol: tol,
+        ..ReconSettings::default()
+    };
+    let rec = reconstruct(&r.scene.whisker, &rows, q, &settings)
+        .map_err(|e| recon_culprit(e, &table, &r, args, tol))?;
+    let errors = truth.as_ref().map(|p| contour_error(&rec.points, p));
+
+    let out = OutputDir::create(&args.out)?;
+    write_reconstruction_csv(&rec.points, errors.as_deref(), &out.path_for(RECON_CSV))?;
+    let title = args
+        .observables
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "observables".to_string());
+    write_reconstruction_figures(
+        &rec.points,
+        truth.as_ref(),
+        errors.as_deref(),
+        &title,
+        |n| out.path_for(n),
+    )?;
+    let files = out.commit()?;
+
+    let (na, nb) = phase_counts(&rec.points);
+    let max_error = errors.as_deref().map(max_of);
+    let max_residual = max_of(&rec.points.iter().map(|p| p.residual).collect::<Vec<_>>());
+    if args.json {
+        let mut v = serde_json::json!({
+            "q": rec.identification.q,
+            "q_given": rec.q_given,
+            "points": rec.points.len(),
+            "first_contact_row": rec.identification.first_contact_row,
+            "first_contact_line": table.line_of(rec.identification.first_contact_row),
+            "method": method.name(),
+            "max_residual": json_number(max_residual),
+            "phases": {"A": na, "B": nb},
+            "out": args.out.display().to_string(),
+        });
+        if let Some(e) = max_error {
+            v["max_error"] = json_number(e);
+        }
+        if !rec.q_given {
+            v["model_mismatch"] = json_number(rec.identification.model_mismatch);
+        }
+        println!("{v}");
+    } else {
+        println!("reconstruct {}: {}", title, summary_line(&rec, method));
+        if let Some(e) = max_error {
+            println!("max contour error e = {e:.3e} (eq. 6.11)");
+        }
+        println!("wrote {} files to {}", files.len(), args.out.display());
+    }
+    Ok(())
+}
+
+/// File name of the reconstruction table.
+pub const RECON_CSV: &str = "reconstruction.csv";
+
+fn parse_method(raw: Option<&str>) -> Result<ReconMethod, CliError> {
+    match raw.map(str::trim) {
+        None | Some("accurate") => Ok(ReconMethod::Accurate),
+        Some("thesis") => Ok(ReconMethod::Thesis),
+        Some(other) => Err(CliError::invalid_argument(
+            "--method",
+            other,
+            "unknown reconstruction method: expected accurate or thesis",
+        )),
+    }
+}
+
+fn parse_tolerance(raw: Option<&str>, method: ReconMethod) -> Result<Option<f64>, CliError> {
+    let Some(raw) = raw else {
+        return Ok(Some(match method {
+            ReconMethod::Accurate => DEFAULT_TOLERANCE_ACCURATE,
+            ReconMethod::Thesis => DEFAULT_TOLERANCE_THESIS,
+        }));
+    };
+    if raw.trim().eq_ignore_ascii_case("none") {
+        return Ok(None);
+    }
+    let t = parse_number("--tolerance", raw)?;
+    if !(t.is_finite() && t > 0.0) {
+        return Err(CliError::invalid_argument(
+            "--tolerance",
+            raw,
+            "must be a positive number or `none`",
+        ));
+    }
+    Ok(Some(t))
+}
+
+/// The observable rows of a table read with [`REQUIRED_COLUMNS`].
+fn rows_of(table: &Table) -> Result<Vec<ObservableRow>, CliError> {
+    let col = |name: &str| {
+        table.column(name).ok_or_else(|| CliError::Csv {
+            path: table.path.clone(),
+            line: 1,
+            column: Some(name.to_string()),
+            reason: "missing required column".to_string(),
+        })
+    };
+    let (x0, ax, ay, ma, phi0) = (col("x0")?, col("Ax")?, col("Ay")?, col("MA")?, col("phi0")?);
+    Ok((0..table.rows())
+        .map(|i| ObservableRow {
+            x0: x0[i],
+            ax: ax[i],
+            ay: ay[i],
+            ma: ma[i],
+            phi0: phi0[i],
+        })
+        .collect())
+}
+
+/// Maps a reconstruction error to its culprit: a line of the log, a flag, a model
+/// parameter, or the solver.
+fn recon_culprit(
+    err: ReconError,
+    table: &Table,
+    r: &Resolved,
+    args: &ReconstructArgs,
+    tol: Option<f64>,
+) -> CliError {
+    let first_line = table.line_of(0).unwrap_or(1);
+    let last_line = table
+        .rows()
+        .checked_sub(1)
+        .and_then(|i| table.line_of(i))
+        .unwrap_or(1);
+    let at = |line: usize, column: Option<&str>, reason: String| CliError::Csv {
+        path: table.path.clone(),
+        line,
+        column: column.map(str::to_string),
+        reason,
+    };
+    // `row` of the library's errors is 1-based over the data rows.
+    let line_of = |row: usize| {
+        row.checked_sub(1)
+            .and_then(|i| table.line_of(i))
+            .unwrap_or(first_line)
+    };
+    match err {
+        ReconError::NonFinite { row, column, value } => at(
+            line_of(row),
+            Some(column),
+            format!("value `{value}` is not finite"),
+        ),
+        ReconError::InconsistentRow {
+            row,
+            x0,
+            residual,
+            phase,
+        } => at(
+            line_of(row),
+            None,
+            format!(
+                "x0 = {x0}: no consistent contact point (best residual {residual:.3e} \
+                 with phase {phase}, tolerance {}); check the whisker parameters, or pass \
+                 --tolerance none for a noisy log",
+                tol.map_or("none".to_string(), |t| format!("{t:e}"))
+            ),
+        ),
+        ReconError::TooFewRows { .. } => at(last_line, None, err.to_string()),
+        ReconError::NoPreContactRows => at(
+            first_line,
+            None,
+            "the log starts in contact (Ay != 0 in the first row): the fluid load cannot be \
+             identified; give it with --q"
+                .to_string(),
+        ),
+        ReconError::NoContactRows { .. } => at(last_line, None, err.to_string()),
+        ReconError::InvalidParameter {
+            name: "q",
+            value,
+            reason,
+        } => match &args.q {
+            Some(raw) => CliError::invalid_argument("--q", raw.clone(), reason),
+            None => at(
+                first_line,
+                Some("Ax"),
+                format!("identified fluid load q = {value}: {reason}"),
+            ),
+        },
+        ReconError::Model(e) => r.culprit(&e),
+        other => CliError::solver(other),
+    }
+}
+
+/// Number of phase-A and phase-B points.
+pub fn phase_counts(points: &[ReconPoint]) -> (usize, usize) {
+    let na = points.iter().filter(|p| p.phase == Phase::A).count();
+    let nb = points.iter().filter(|p| p.phase == Phase::B).count();
+    (na, nb)
+}
+
+/// The largest value (NaN if any value is NaN, 0 for none).
+pub fn max_of(values: &[f64]) -> f64 {
+    values.iter().fold(0.0, |m: f64, &v| {
+        if v.is_nan() || m.is_nan() {
+            f64::NAN
+        } else {
+            m.max(v)
+        }
+    })
+}
+
+fn json_number(v: f64) -> serde_json::Value {
+    serde_json::Number::from_f64(v).map_or(serde_json::Value::Null, serde_json::Value::Number)
+}
+
+/// The one-line summary of a reconstruction (without the error).
+pub fn summary_line(rec: &Reconstruction, method: ReconMethod) -> String {
+    let (na, nb) = phase_counts(&rec.points);
+    let q = if rec.q_given {
+        format!("q = {} (given)", rec.identification.q)
+    } else {
+        format!("q = {:.10} (identified)", rec.identification.q)
+    };
+    format!(
+        "{q}, contact from row {}, {} points ({method} method), phases A {na} / B {nb}, \
+         max residual {:.2e}",
+        rec.identification.first_contact_row + 1,
+        rec.points.len(),
+        max_of(&rec.points.iter().map(|p| p.residual).collect::<Vec<_>>()),
+        method = method.name(),
+    )
+}
+
+/// Writes `reconstruction.csv`: `x0,x,y,s1,f,psi,phase` (+ `error`), x0 copied exactly.
+pub fn write_reconstruction_csv(
+    points: &[ReconPoint],
+    errors: Option<&[f64]>,
+    path: &Path,
+) -> Result<(), CliError> {
+    let mut header: Vec<&str> = RECONSTRUCTION_HEADER.to_vec();
+    if errors.is_some() {
+        header.push("error");
+    }
+    let mut w = CsvWriter::new(&header);
+    for (i, p) in points.iter().enumerate() {
+        let mut row = vec![
+            Cell::Num(p.x0),
+            Cell::Num(p.x),
+            Cell::Num(p.y),
+            Cell::Num(p.s1),
+            Cell::Num(p.f),
+            Cell::Num(p.psi),
+            Cell::Text(p.phase.label()),
+        ];
+        if let Some(e) = errors {
+            row.push(Cell::Num(e.get(i).copied().unwrap_or(f64::NAN)));
+        }
+        w.push_row(&row)?;
+    }
+    w.write(path)
+}
+
+/// Writes `reconstruction.svg` (the reconstructed points, with the true contour if known)
+/// and, with errors, `error.svg` (e against x, log scale). Returns the file names written.
+pub fn write_reconstruction_figures(
+    points: &[ReconPoint],
+    truth: Option<&Profile>,
+    errors: Option<&[f64]>,
+    title: &str,
+    path_for: impl Fn(&str) -> PathBuf,
+) -> Result<Vec<&'static str>, CliError> {
+    let mut chart = Chart::new(format!("reconstructed contour ({title})"), "x", "y");
+    if let Some(p) = truth {
+        let xs = points.iter().map(|p| p.x).filter(|x| x.is_finite());
+        let (lo, hi) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+            (a.min(x), b.max(x))
+        });
+        if lo.is_finite() && hi.is_finite() {
+            let pad = 0.05 * (hi - lo).max(1e-3);
+            let (dlo, dhi) = p.domain();
+            let (a, b) = ((lo - pad).max(dlo), (hi + pad).min(dhi));
+            let line: Vec<(f64, f64)> = (0..=300)
+                .map(|i| {
+                    let x = a + (b - a) * i as f64 / 300.0;
+                    (x, p.y(x))
+                })
+                .collect();
+            chart = chart.with(Series::new("true contour", line, Style::Line).color(7));
+        }
+    }
+    for (phase, name, color) in [(Phase::A, "phase A", 0), (Phase::B, "phase B", 1)] {
+        let pts: Vec<(f64, f64)> = points
+            .iter()
+            .filter(|p| p.phase == phase)
+            .map(|p| (p.x, p.y))
+            .collect();
+        if !pts.is_empty() {
+            chart = chart.with(Series::new(name, pts, Style::Points).color(color));
+        }
+    }
+    write_svg(&chart, &path_for("reconstruction.svg"), (800, 560))?;
+    let mut written = vec!["reconstruction.svg"];
+    if let Some(e) = errors {
+        let pts: Vec<(f64, f64)> = points.iter().zip(e).map(|(p, &e)| (p.x, e)).collect();
+        let chart = Chart::new(format!("contour error e = |y - g(x)| ({title})"), "x", "e")
+            .log(false, true)
+            .with(Series::new("e (eq. 6.11)", pts, Style::LinePoints).color(3));
+        write_svg(&chart, &path_for("error.svg"), (800, 480))?;
+        written.push("error.svg");
+    }
+    Ok(written)
+}

@@ -1,0 +1,294 @@
+//! End-to-end tests of `vibrissa reconstruct`: sweep -> reconstruct round trips, logs written
+//! by other programs, and one-line errors that leave no output behind.
+
+use std::fs;
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn run(args: &[&str], cwd: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_vibrissa"))
+        .args(args)
+        .current_dir(cwd)
+        .output()
+        .expect("the binary runs")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn json(o: &Output) -> serde_json::Value {
+    assert!(o.status.success(), "stderr: {}", stderr(o));
+    serde_json::from_slice(&o.stdout).expect("stdout is one JSON object")
+}
+
+/// A failure: non-zero exit, one line on stderr mentioning every needle, no panic, and no
+/// output directory (nor a staging leftover) in `cwd`.
+fn assert_fails(o: &Output, needles: &[&str], cwd: &Path) {
+    let err = stderr(o);
+    assert!(!o.status.success(), "expected failure, stderr: {err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "one-line error: {err:?}");
+    assert!(!err.contains("panicked"), "{err}");
+    for n in needles {
+        assert!(err.contains(n), "stderr {err:?} should mention {n:?}");
+    }
+    assert!(!cwd.join("rec").exists(), "no output directory on failure");
+    for e in fs::read_dir(cwd).unwrap() {
+        let name = e.unwrap().file_name().to_string_lossy().into_owned();
+        assert!(!name.contains("staging"), "staging leftover {name}");
+    }
+}
+
+const WHISKER: [&str; 4] = ["--theta", "0.75", "--k", "20"];
+const Q: f64 = 5.0;
+
+/// Sweeps past g1 into `cwd/sw` and returns the observables text.
+fn sweep(cwd: &Path) -> String {
+    let mut args = vec!["sweep", "--profile", "g1", "--q", "5", "--points", "16"];
+    args.extend(WHISKER);
+    args.extend(["--out", "sw"]);
+    let o = run(&args, cwd);
+    assert!(o.status.success(), "sweep: {}", stderr(&o));
+    fs::read_to_string(cwd.join("sw/observables.csv")).unwrap()
+}
+
+fn reconstruct(cwd: &Path, log: &str, extra: &[&str]) -> Output {
+    let mut args = vec!["reconstruct", log];
+    args.extend(WHISKER);
+    args.extend(extra);
+    run(&args, cwd)
+}
+
+/// Data rows of a CSV text as (header, rows of fields).
+fn parse(text: &str) -> (Vec<String>, Vec<Vec<String>>) {
+    let mut lines = text.lines().map(|l| l.trim_end_matches('\r'));
+    let header = lines
+        .next()
+        .unwrap()
+        .split(',')
+        .map(str::to_string)
+        .collect();
+    let rows = lines
+        .filter(|l| !l.is_empty())
+        .map(|l| l.split(',').map(str::to_string).collect())
+        .collect();
+    (header, rows)
+}
+
+fn col(header: &[String], name: &str) -> usize {
+    header.iter().position(|h| h == name).unwrap()
+}
+
+#[test]
+fn sweep_reconstruct_round_trip() {
+    let dir = tempfile::tempdir().unwrap();
+    let cwd = dir.path();
+    let obs = sweep(cwd);
+    let v = json(&reconstruct(
+        cwd,
+        "sw/observables.csv",
+        &["--profile", "g1", "--json", "--out", "rec"],
+    ));
+    let q = v["q"].as_f64().unwrap();
+    assert!((q - Q).abs() < 1e-9, "identified q = {q}");
+    assert_eq!(v["q_given"], false);
+    assert_eq!(v["method"], "accurate");
+    let max_error = v["max_error"].as_f64().unwrap();
+    assert!(max_error < 1e-9, "max error {max_error}");
+
+    let (oh, orows) = parse(&obs);
+    let rec = fs::read_to_string(cwd.join("rec/reconstruction.csv")).unwrap();
+    assert!(rec.starts_with("x0,x,y,s1,f,psi,phase,error\n"), "{rec}");
+    let (rh, rrows) = parse(&rec);
+    // One row per contact row (f > 0) of the input, in order, x0 bit-identical.
+    let (fi, pi, xi) = (col(&oh, "f"), col(&oh, "phase"), col(&oh, "x0"));
+    let contact: Vec<&Vec<String>> = orows
+        .iter()
+        .filter(|r| r[pi] != "none" && r[fi].parse::<f64>().unwrap() > 0.0)
+        .collect();
+    assert_eq!(rrows.len(), contact.len());
+    assert_eq!(v["points"].as_u64().unwrap() as usize, contact.len());
+    let first = v["first_contact_row"].as_u64().unwrap() as usize;
+    assert_eq!(orows.len() - first, contact.len());
+    for (r, o) in rrows.iter().zip(&contact) {
+        assert_eq!(r[0], o[xi]);
+        let (a, b) = (r[0].parse::<f64>().unwrap(), o[xi].parse::<f64>().unwrap());
+        assert_eq!(a.to_bits(), b.to_bits());
+        let e = r[col(&rh, "error")].parse::<f64>().unwrap();
+        assert!(e < 1e-9, "e = {e}");
+        assert!(["A", "B"].contains(&r[col(&rh, "phase")].as_str()));
+    }
+    let phases = &v["phases"];
+    assert_eq!(
+        phases["A"].as_u64().unwrap() + phases["B"].as_u64().unwrap(),
+        contact.len() as u64
+    );
+    assert!(cwd.join("rec/reconstruction.svg").exists());
+    assert!(cwd.join("rec/error.svg").exists());
+
+    // Without --profile: the exact header and no error figure; q given.
+    let v = json(&reconstruct(
+        cwd,
+        "sw/observables.csv",
+        &["--q", "5", "--json", "--out", "rec2"],
+    ));
+    assert_eq!(v["q_given"], true);
+    assert_eq!(v["q"].as_f64().unwrap(), Q);
+    assert!(v.get("max_error").is_none());
+    let rec2 = fs::read_to_string(cwd.join("rec2/reconstruction.csv")).unwrap();
+    assert!(rec2.starts_with("x0,x,y,s1,f,psi,phase\n"), "{rec2}");
+    assert!(!cwd.join("rec2/error.svg").exists());
+
+    // The human summary.
+    let o = reconstruct(cwd, "sw/observables.csv", &["--out", "rec3"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(out.contains("q = 5"), "{out}");
+}
+
+#[test]
+fn logs_of_other_programs() {
+    let dir = tempfile::tempdir().unwrap();
+    let cwd = dir.path();
+    let obs = sweep(cwd);
+    let (h, rows) = parse(&obs);
+    let reference = {
+        let o = reconstruct(cwd, "sw/observables.csv", &["--out", "ref"]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        fs::read_to_string(cwd.join("ref/reconstruction.csv")).unwrap()
+    };
+    // Shuffled columns, an extra text column, CRLF line ends.
+    let order = ["phi0", "MA", "x0", "Ay", "Ax"];
+    let mut text = String::from("phi0,comment,MA,x0,Ay,Ax\r\n");
+    for (i, r) in rows.iter().enumerate() {
+        let f: Vec<&str> = order.iter().map(|n| r[col(&h, n)].as_str()).collect();
+        text.push_str(&format!(
+            "{},sample {i},{},{},{},{}\r\n",
+            f[0], f[1], f[2], f[3], f[4]
+        ));
+    }
+    fs::write(cwd.join("foreign.csv"), text).unwrap();
+    let o = reconstruct(cwd, "foreign.csv", &["--out", "foreign"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let got = fs::read_to_string(cwd.join("foreign/reconstruction.csv")).unwrap();
+    assert_eq!(got, reference);
+
+    // Only the five required columns.
+    let mut text = String::from("x0,Ax,Ay,MA,phi0\n");
+    for r in &rows {
+        let f: Vec<&str> = ["x0", "Ax", "Ay", "MA", "phi0"]
+            .iter()
+            .map(|n| r[col(&h, n)].as_str())
+            .collect();
+        text.push_str(&f.join(","));
+        text.push('\n');
+    }
+    fs::write(cwd.join("five.csv"), text).unwrap();
+    let v = json(&reconstruct(cwd, "five.csv", &["--json", "--out", "five"]));
+    assert!((v["q"].as_f64().unwrap() - Q).abs() < 1e-9);
+    let got = fs::read_to_string(cwd.join("five/reconstruction.csv")).unwrap();
+    assert_eq!(got, reference);
+}
+
+/// The observables text with the field `column` of the data row at file line `line`
+/// (1-based) replaced by `value`.
+fn with_cell(obs: &str, line: usize, column: &str, value: &str) -> String {
+    let (h, _) = parse(obs);
+    let c = col(&h, column);
+    obs.lines()
+        .enumerate()
+        .map(|(i, l)| {
+            if i + 1 == line {
+                let mut f: Vec<&str> = l.split(',').collect();
+                f[c] = value;
+                f.join(",")
+            } else {
+                l.to_string()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+        + "\n"
+}
+
+#[test]
+fn bad_logs_fail_with_one_line_and_no_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let cwd = dir.path();
+    let obs = sweep(cwd);
+    let (h, _) = parse(&obs);
+
+    // A missing required column.
+    let ma = col(&h, "MA");
+    let dropped: String = obs
+        .lines()
+        .map(|l| {
+            let f: Vec<&str> = l
+                .split(',')
+                .enumerate()
+                .filter(|(i, _)| *i != ma)
+                .map(|(_, f)| f)
+                .collect();
+            f.join(",") + "\n"
+        })
+        .collect();
+    fs::write(cwd.join("nocol.csv"), dropped).unwrap();
+    let o = reconstruct(cwd, "nocol.csv", &["--out", "rec"]);
+    assert_fails(&o, &["nocol.csv:1", "MA"], cwd);
+
+    // NaN in a row (a contact row, line 15): file, line and column named.
+    fs::write(cwd.join("nan.csv"), with_cell(&obs, 15, "Ay", "NaN")).unwrap();
+    let o = reconstruct(cwd, "nan.csv", &["--out", "rec"]);
+    assert_fails(&o, &["nan.csv:15", "Ay"], cwd);
+
+    // A non-numeric cell.
+    fs::write(cwd.join("text.csv"), with_cell(&obs, 7, "phi0", "abc")).unwrap();
+    let o = reconstruct(cwd, "text.csv", &["--out", "rec"]);
+    assert_fails(&o, &["text.csv:7", "phi0", "abc"], cwd);
+
+    // Too few rows.
+    let two: String = obs.lines().take(2).map(|l| format!("{l}\n")).collect();
+    fs::write(cwd.join("short.csv"), two).unwrap();
+    let o = reconstruct(cwd, "short.csv", &["--out", "rec"]);
+    assert_fails(&o, &["short.csv"], cwd);
+
+    // Only pre-contact rows: no contact to reconstruct.
+    let pre: String = obs.lines().take(6).map(|l| format!("{l}\n")).collect();
+    fs::write(cwd.join("pre.csv"), pre).unwrap();
+    let o = reconstruct(cwd, "pre.csv", &["--out", "rec"]);
+    assert_fails(&o, &["pre.csv:6", "no contact"], cwd);
+
+    // A missing file.
+    let o = reconstruct(cwd, "absent.csv", &["--out", "rec"]);
+    assert_fails(&o, &["absent.csv"], cwd);
+
+    // The wrong whisker: the first contact row is inconsistent, named by its line.
+    let o = run(&["reconstruct", "sw/observables.csv", "--out", "rec"], cwd);
+    assert_fails(
+        &o,
+        &["sw/observables.csv:", "no consistent contact point"],
+        cwd,
+    );
+
+    // Bad flags.
+    let o = reconstruct(
+        cwd,
+        "sw/observables.csv",
+        &["--method", "magic", "--out", "rec"],
+    );
+    assert_fails(&o, &["--method", "magic"], cwd);
+    let o = reconstruct(
+        cwd,
+        "sw/observables.csv",
+        &["--tolerance", "-1", "--out", "rec"],
+    );
+    assert_fails(&o, &["--tolerance"], cwd);
+    let o = reconstruct(cwd, "sw/observables.csv", &["--q", "-2", "--out", "rec"]);
+    assert_fails(&o, &["--q"], cwd);
+    let o = reconstruct(
+        cwd,
+        "sw/observables.csv",
+        &["--profile", "zz", "--out", "rec"],
+    );
+    assert_fails(&o, &["--profile"], cwd);
+}

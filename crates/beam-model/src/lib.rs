@@ -39,7 +39,7 @@ pub mod whisker;
 
 pub use error::{ModelError, Result};
 pub use loads::{FluidLoad, LoadKind, Loads, TipForce};
-pub use methods::{shape_from_tip_angle, solve, Method};
+pub use methods::{shape_from_tip_angle, shape_with, solve, Method};
 pub use scene::Scene;
 pub use solution::{BaseObservables, Elastica, EndState, Solution, SolveStats};
 pub use support::Support;

@@ -10,7 +10,7 @@ use crate::error::{ContactError, Result};
 use crate::phase::{ContactState, ContourPoint, Phase, PhaseProblem};
 use crate::profile::Profile;
 use beam_model::shot::Integration;
-use beam_model::{shape_from_tip_angle, solve, Loads, Method, Scene, Whisker};
+use beam_model::{shape_with, solve, Loads, Method, Scene, Whisker};
 use serde::{Deserialize, Serialize};
 
 /// Settings of a sweep.
@@ -179,6 +179,35 @@ impl Marcher<'_> {
     /// The state at `xc` continuing from `prev`, switching phase where the current one
     /// becomes invalid (A: phi1 <= psi; B: s1 >= 1).
     fn step(&self, xc: f64, prev: &ContactState) -> Result<ContactState> {
+        self.step_from(xc, prev, None)
+    }
+
+    /// [`Marcher::step`] with a linear predictor through `before` and `prev` when both are in
+    /// the same phase (the corrector then starts O(h^2) from the solution).
+    fn step_from(
+        &self,
+        xc: f64,
+        prev: &ContactState,
+        before: Option<&ContactState>,
+    ) -> Result<ContactState> {
+        let unknowns = |s: &ContactState| match s.phase {
+            Phase::B => [s.f, s.s1],
+            _ => [s.phi1, s.f],
+        };
+        if let Some(b) = before.filter(|b| b.phase == prev.phase && b.point.xc != prev.point.xc) {
+            let t = (xc - prev.point.xc) / (prev.point.xc - b.point.xc);
+            let (u, v) = (unknowns(prev), unknowns(b));
+            let pred = [u[0] + t * (u[0] - v[0]), u[1] + t * (u[1] - v[1])];
+            if let Ok(st) = self.solve_phase(xc, prev.phase, pred) {
+                let valid = match st.phase {
+                    Phase::B => st.s1 < 1.0,
+                    _ => st.phi1 > st.point.psi,
+                };
+                if valid {
+                    return Ok(st);
+                }
+            }
+        }
         let psi = ContourPoint::on(self.profile, xc).psi;
         let try_a = |guess: [f64; 2]| {
             self.solve_phase(xc, Phase::A, guess)
@@ -221,7 +250,9 @@ impl Marcher<'_> {
             return Ok(false);
         }
         let scene = Scene::new(*self.whisker, st.loads(self.q));
-        let sol = shape_from_tip_angle(&scene, st.phi1, self.settings.integration_tol, 80)?;
+        // A geometric check: RK4 with 80 steps is accurate to ~1e-8, far below the 1e-6
+        // margin by which another point must enter the obstacle to count.
+        let sol = shape_with(&scene, st.phi1, &Integration::Rk4 { n: 80 })?;
         let el = &sol.elastica;
         for i in 0..el.len() {
             if (el.s[i] - st.s1).abs() < 0.05 {
@@ -229,7 +260,7 @@ impl Marcher<'_> {
             }
             let x = st.x0 + el.x[i];
             let g = self.profile.y(x);
-            if g.is_finite() && el.y[i] > g + 1e-9 {
+            if g.is_finite() && el.y[i] > g + 1e-6 {
                 return Ok(true);
             }
         }
@@ -254,6 +285,66 @@ impl Marcher<'_> {
             }
         }
         Ok(inside)
+    }
+
+    /// Locates the xc in `(inside, outside_xc)` where the event function `g` of the phase of
+    /// `inside` changes sign (`g > 0` inside): the Illinois variant of regula falsi on the
+    /// phase continued past its validity, falling back to bisection with phase switching
+    /// when the continued phase cannot be solved. Returns the state at the event.
+    fn locate(
+        &self,
+        inside: ContactState,
+        outside_xc: f64,
+        g: impl Fn(&ContactState) -> f64,
+    ) -> Result<ContactState> {
+        let guess = |s: &ContactState| match s.phase {
+            Phase::B => [s.f, s.s1],
+            _ => [s.phi1, s.f],
+        };
+        let tol = self.settings.event_tol;
+        let (mut a, mut ga) = (inside, g(&inside));
+        let Ok(b0) = self.solve_phase(outside_xc, inside.phase, guess(&inside)) else {
+            return self.bisect(inside, outside_xc, |s| {
+                s.phase == inside.phase && g(s) >= 0.0
+            });
+        };
+        let (mut b, mut gb) = (b0, g(&b0));
+        if !(ga > 0.0 && gb <= 0.0) {
+            return self.bisect(inside, outside_xc, |s| {
+                s.phase == inside.phase && g(s) >= 0.0
+            });
+        }
+        let mut side = 0;
+        for _ in 0..60 {
+            if (a.point.xc - b.point.xc).abs() <= tol {
+                break;
+            }
+            let xc = b.point.xc - gb * (b.point.xc - a.point.xc) / (gb - ga);
+            let Ok(c) = self.solve_phase(xc, inside.phase, guess(&a)) else {
+                return self.bisect(a, b.point.xc, |s| s.phase == inside.phase && g(s) >= 0.0);
+            };
+            let gc = g(&c);
+            if gc.abs() <= 1e-14 && gc >= 0.0 {
+                return Ok(c);
+            }
+            if gc > 0.0 {
+                a = c;
+                ga = gc;
+                if side == 1 {
+                    gb *= 0.5;
+                }
+                side = 1;
+            } else {
+                b = c;
+                gb = gc;
+                if side == -1 {
+                    ga *= 0.5;
+                }
+                side = -1;
+            }
+        }
+        // the state on the valid side (g >= 0), within the event tolerance of the event
+        Ok(a)
     }
 
     /// Golden-section search for the minimum of x0(xc) on `[a, b]` (a < b).
@@ -285,20 +376,30 @@ impl Marcher<'_> {
     /// The states from `last` to `xc`, halving the step towards `xc` when a solve fails. The
     /// states reached before a failure are returned with it, so that the event checks see
     /// them (beyond a snap the tip-contact branch ends in a fold the solver cannot pass).
-    fn advance(&self, last: &ContactState, xc: f64) -> (Vec<ContactState>, Option<ContactError>) {
-        match self.step(xc, last) {
+    fn advance(
+        &self,
+        last: &ContactState,
+        before: Option<&ContactState>,
+        xc: f64,
+    ) -> (Vec<ContactState>, Option<ContactError>) {
+        match self.step_from(xc, last, before) {
             Ok(s) => (vec![s], None),
             Err(e) => {
                 if (last.point.xc - xc).abs() < 1e-6 {
                     return (Vec::new(), Some(e));
                 }
                 let mid = 0.5 * (last.point.xc + xc);
-                let (mut states, err) = self.advance(last, mid);
+                let (mut states, err) = self.advance(last, before, mid);
                 if err.is_some() {
                     return (states, err);
                 }
                 let anchor = *states.last().unwrap_or(last);
-                let (rest, err) = self.advance(&anchor, xc);
+                let prior = if states.len() >= 2 {
+                    states[states.len() - 2]
+                } else {
+                    *last
+                };
+                let (rest, err) = self.advance(&anchor, Some(&prior), xc);
                 states.extend(rest);
                 (states, err)
             }
@@ -332,7 +433,8 @@ impl Marcher<'_> {
                     from.point.xc - gap * j as f64 / pieces as f64
                 };
                 let anchor = *trail.last().unwrap_or(&first);
-                let (new_states, err) = self.advance(&anchor, xc);
+                let before = trail.len().checked_sub(2).map(|i| trail[i]);
+                let (new_states, err) = self.advance(&anchor, before.as_ref(), xc);
                 let n_new = new_states.len();
                 for (k, st) in new_states.into_iter().enumerate() {
                     let record = j == pieces && k + 1 == n_new && err.is_none();
@@ -364,14 +466,16 @@ impl Marcher<'_> {
         };
         let xc = st.point.xc;
         if st.phase != last.phase {
-            let phase = last.phase;
-            let ev = self.bisect(last, xc, |s| s.phase == phase)?;
+            let ev = self.locate(last, xc, |s| match s.phase {
+                Phase::B => 1.0 - s.s1,
+                _ => s.phi1 - s.point.psi,
+            })?;
             if ev.point.xc != last.point.xc {
                 states.push(ev);
             }
         }
         if st.f < 0.0 {
-            let ev = self.bisect(last, xc, |s| s.f >= 0.0)?;
+            let ev = self.locate(last, xc, |s| s.f)?;
             return Ok(Some(Stop::Release(ev)));
         }
         if st.x0 > last.x0 {

@@ -145,3 +145,24 @@ pub fn shape_from_tip_angle(
         "accurate",
     )
 }
+
+/// Like [`shape_from_tip_angle`] with any integrator, e.g. a cheap fixed-step RK4 for
+/// geometric checks (`Integration::Rk4 { n }` samples the RK4 nodes).
+pub fn shape_with(
+    scene: &Scene,
+    phi1: f64,
+    integration: &crate::shot::Integration,
+) -> Result<Solution> {
+    let samples = match integration {
+        crate::shot::Integration::Rk4 { n } => *n,
+        crate::shot::Integration::Dop853(_) => DEFAULT_INTERVALS,
+    };
+    shooting::shape(
+        scene,
+        phi1,
+        integration,
+        samples,
+        crate::solution::SolveStats::default(),
+        "shape",
+    )
+}

@@ -147,6 +147,14 @@ pub(crate) fn forward(
     })
 }
 
+/// Contact force below which the contact angle is treated as unobservable.
+const F_ANGLE: f64 = 1e-6;
+
+/// Phase-B consistency `|phi(s1) - psi|`, weighted by `min(1, f / F_ANGLE)`.
+fn angle_residual(fw: &Forward) -> f64 {
+    (fw.phi - fw.psi).abs() * (fw.f / F_ANGLE).min(1.0)
+}
+
 struct RowSolver<'a> {
     whisker: &'a Whisker,
     q: f64,
@@ -194,7 +202,7 @@ impl RowSolver<'_> {
             let fw = eval(s1)?;
             if fw.m.abs() <= 1e-13 || (s1 - s0).abs() <= 1e-15 {
                 if s1 > 0.0 && s1 <= 1.0 {
-                    let r = (fw.phi - fw.psi).abs();
+                    let r = angle_residual(&fw);
                     if r <= 1e-6 {
                         return Ok((s1, fw, r, evals));
                     }
@@ -240,7 +248,7 @@ impl RowSolver<'_> {
                 &opts,
             )?;
             let fw = eval(root.x)?;
-            let r = (fw.phi - fw.psi).abs();
+            let r = angle_residual(&fw);
             if best.as_ref().is_none_or(|(_, _, br)| r < *br) {
                 best = Some((root.x, fw, r));
             }
@@ -262,7 +270,9 @@ impl RowSolver<'_> {
     fn row(&self, i: usize, row: &ObservableRow, prev: Option<&ReconPoint>) -> Result<ReconPoint> {
         let a = forward(self.whisker, self.q, row, 1.0, &self.integrator)?;
         let ra = a.m.abs();
-        let a_valid = a.phi >= a.psi - 1e-9;
+        // As f -> 0 (a release) the contact angle psi = atan2(-Ax - q s1, Ay) is no longer
+        // observable; the angle conditions are then weighted by f / F_ANGLE.
+        let a_valid = a.phi >= a.psi - 1e-9 || a.f < F_ANGLE;
         if ra <= 1e-9 && a_valid {
             return Ok(self.point(i, row, 1.0, &a, (Phase::A, ra, 1)));
         }

@@ -48,27 +48,31 @@ pub struct WhiskerOde {
     /// Tip angle used by AP loads (ignored for DP).
     phi1: f64,
     sens: Sensitivities,
+    /// `(sin, cos)` of the constant part of the force angle: `beta` (DP) or
+    /// `beta - phi1 + pi/2` (AP), so that `sin(c) = sin(phi + shift)` costs no extra `sin_cos`.
+    force_shift: (f64, f64),
+    /// `(sin, cos)` of alpha.
+    alpha_sc: (f64, f64),
 }
 
 impl WhiskerOde {
     /// The system for a whisker, its loads and (for AP loads) the tip angle `phi1`.
     pub fn new(whisker: Whisker, loads: Loads, phi1: f64, sens: Sensitivities) -> Self {
+        let shift = match loads.tip.kind {
+            LoadKind::Dp => loads.tip.beta,
+            LoadKind::Ap => loads.tip.beta - phi1 + FRAC_PI_2,
+        };
         WhiskerOde {
             whisker,
             loads,
             phi1,
             sens,
+            force_shift: shift.sin_cos(),
+            alpha_sc: loads.fluid.alpha.sin_cos(),
         }
     }
 
-    /// Angle `c` with `m' = f sin(c) + ...`: `phi + beta` (DP) or `phi + beta - phi1 + pi/2` (AP).
-    #[inline]
-    fn force_angle(&self, phi: f64) -> f64 {
-        match self.loads.tip.kind {
-            LoadKind::Dp => phi + self.loads.tip.beta,
-            LoadKind::Ap => phi + self.loads.tip.beta - self.phi1 + FRAC_PI_2,
-        }
-    }
+
 }
 
 impl OdeSystem for WhiskerOde {
@@ -84,11 +88,13 @@ impl OdeSystem for WhiskerOde {
         let e = w.diameter(s);
         let e2 = e * e;
         let inv_e4 = 1.0 / (e2 * e2);
-        let c = self.force_angle(phi);
-        let (sc, cc) = c.sin_cos();
-        let arm = l.s1 - s;
-        let (sa, ca) = (phi + l.fluid.alpha).sin_cos();
+        // one sin_cos per evaluation: the load angles enter through addition theorems
         let (sp, cp) = phi.sin_cos();
+        let (sb, cb) = self.force_shift;
+        let (sc, cc) = (sp * cb + cp * sb, cp * cb - sp * sb);
+        let arm = l.s1 - s;
+        let (sal, cal) = self.alpha_sc;
+        let (sa, ca) = (sp * cal + cp * sal, cp * cal - sp * sal);
         du[0] = m * inv_e4 + w.a * s + w.b;
         du[1] = l.tip.f * sc + l.fluid.q * arm * sa;
         du[2] = cp;

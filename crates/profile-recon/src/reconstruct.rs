@@ -189,18 +189,26 @@ impl RowSolver<'_> {
     /// Phase B: the root of m(s1; s1) near `guess` (secant), else all roots on (0, 1) by a
     /// scan and Brent, keeping the one with the smallest |phi(s1) - psi|; without any root
     /// (noise) the least-squares point of the scan.
-    fn phase_b(&self, row: &ObservableRow, guess: f64) -> Result<(f64, Forward, f64, usize)> {
+    fn phase_b(
+        &self,
+        row: &ObservableRow,
+        guess: f64,
+        second: f64,
+    ) -> Result<(f64, Forward, f64, usize)> {
         let mut evals = 0;
         let mut eval = |s: f64| -> Result<Forward> {
             evals += 1;
             forward(self.whisker, self.q, row, s, &self.integrator)
         };
         // secant from the guess
-        let (mut s0, mut s1) = (guess.min(1.0), (guess - 1e-3).clamp(1e-3, 1.0));
+        let (mut s0, mut s1) = (second.clamp(1e-3, 1.0), guess.clamp(1e-3, 1.0));
+        if s0 == s1 {
+            s0 = (s1 - 1e-3).max(1e-3);
+        }
         let mut m0 = eval(s0)?.m;
         for _ in 0..30 {
             let fw = eval(s1)?;
-            if fw.m.abs() <= 1e-13 || (s1 - s0).abs() <= 1e-15 {
+            if fw.m.abs() <= 1e-14 || (s1 - s0).abs() <= 1e-10 {
                 if s1 > 0.0 && s1 <= 1.0 {
                     let r = angle_residual(&fw);
                     if r <= 1e-6 {
@@ -267,7 +275,8 @@ impl RowSolver<'_> {
         Ok((grid[k], fw, r, evals))
     }
 
-    fn row(&self, i: usize, row: &ObservableRow, prev: Option<&ReconPoint>) -> Result<ReconPoint> {
+    /// One row; `prev` are the points reconstructed so far (for the s1 predictor).
+    fn row(&self, i: usize, row: &ObservableRow, prev: &[ReconPoint]) -> Result<ReconPoint> {
         let a = forward(self.whisker, self.q, row, 1.0, &self.integrator)?;
         let ra = a.m.abs();
         // As f -> 0 (a release) the contact angle psi = atan2(-Ax - q s1, Ay) is no longer
@@ -276,11 +285,16 @@ impl RowSolver<'_> {
         if ra <= 1e-9 && a_valid {
             return Ok(self.point(i, row, 1.0, &a, (Phase::A, ra, 1)));
         }
-        let guess = match prev {
-            Some(p) if p.phase == Phase::B => p.s1,
-            _ => 1.0 - 1e-3,
+        // secant start: the last two phase-B rows extrapolated linearly, else the last one
+        let (guess, second) = match prev {
+            [.., p, q] if p.phase == Phase::B && q.phase == Phase::B => {
+                let pred = (2.0 * q.s1 - p.s1).clamp(1e-3, 1.0);
+                (pred, q.s1)
+            }
+            [.., q] if q.phase == Phase::B => (q.s1, q.s1 - 1e-3),
+            _ => (1.0 - 1e-6, 1.0 - 1e-3),
         };
-        let (s1, b, rb, evals) = self.phase_b(row, guess)?;
+        let (s1, b, rb, evals) = self.phase_b(row, guess, second)?;
         if a_valid && ra <= rb {
             Ok(self.point(i, row, 1.0, &a, (Phase::A, ra, evals + 1)))
         } else {
@@ -332,7 +346,7 @@ pub fn reconstruct(
             let mut points: Vec<ReconPoint> = Vec::with_capacity(contact.len());
             for (k, row) in contact.iter().enumerate() {
                 let i = ident.first_contact_row + k;
-                let p = solver.row(i, row, points.last())?;
+                let p = solver.row(i, row, &points)?;
                 if let Some(tol) = settings.consistency_tol {
                     if p.residual > tol {
                         return Err(ReconError::InconsistentRow {

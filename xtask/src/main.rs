@@ -9,12 +9,21 @@
 //! staged so that a failing chapter leaves nothing half-written, and `DIR/report.md` lists
 //! every figure with its thesis caption, its files and its key numbers.
 
+mod captions;
+mod chapter4;
+mod chapter5;
+mod chapter6;
+mod common;
+
 use std::fmt;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::time::Instant;
 
 use vibrissa_cli::atomic::{write_atomic, OutputDir};
 use vibrissa_cli::CliError;
+
+use common::Ctx;
 
 const USAGE: &str = "usage: cargo xtask reproduce chapter4|chapter5|chapter6|all [--out DIR]";
 
@@ -156,22 +165,29 @@ fn main() -> ExitCode {
 /// Runs the chapters (all of them, even after a failure), writes `out/report.md` and fails
 /// if any chapter failed.
 fn reproduce(chapters: &[Chapter], out: &Path) -> Result<(), Failure> {
+    let start = Instant::now();
     std::fs::create_dir_all(out).map_err(|e| CliError::io(out, e))?;
     let mut report = Report::new("vibrissa: reproduced thesis figures");
     let mut failed = Vec::new();
+    let mut ctx = Ctx::default();
+    let mut times = Vec::new();
     for &ch in chapters {
+        let t0 = Instant::now();
+        eprintln!("xtask: chapter {} ...", ch.number());
         let final_dir = out.join(ch.dir_name());
         let staged = OutputDir::create(&final_dir)?;
         let staging_root = staged.path_for("");
         let mut entries = Report::new("");
         let run = match ch {
-            Chapter::Four => chapter4(&staged, &mut entries),
-            Chapter::Five => chapter5(&staged, &mut entries),
-            Chapter::Six => chapter6(&staged, &mut entries),
+            Chapter::Four => chapter4::run(&staged, &mut entries, &mut ctx),
+            Chapter::Five => chapter5::run(&staged, &mut entries, &mut ctx),
+            Chapter::Six => chapter6::run(&staged, &mut entries, &mut ctx),
         }
         .and_then(|()| staged.commit().map_err(Failure::from));
+        times.push((ch.number(), t0.elapsed().as_secs_f64()));
         match run {
             Ok(_) => {
+                report.failures.append(&mut entries.failures);
                 // Files were recorded at their staging paths; point them at the final ones.
                 for mut e in entries.entries {
                     e.files = e
@@ -193,7 +209,23 @@ fn reproduce(chapters: &[Chapter], out: &Path) -> Result<(), Failure> {
             }
         }
     }
+    let total = start.elapsed().as_secs_f64();
+    report.preamble.push(format!(
+        "Total run time: **{total:.1} s** ({}; {} thread(s); `cargo xtask reproduce`).",
+        times
+            .iter()
+            .map(|(n, t)| format!("chapter {n}: {t:.1} s"))
+            .collect::<Vec<_>>()
+            .join(", "),
+        common::threads()
+    ));
+    report.preamble.push(format!(
+        "Figures and tables reproduced: {}; failed parts: {}.",
+        report.entries.len(),
+        report.all_failures().len()
+    ));
     report.write(&out.join("report.md"))?;
+    eprintln!("xtask: total {total:.1} s");
     eprintln!(
         "xtask: report written to {}",
         out.join("report.md").display()
@@ -210,21 +242,6 @@ fn reproduce(chapters: &[Chapter], out: &Path) -> Result<(), Failure> {
     }
 }
 
-/// Chapter 4: the elastica, method comparison and work-precision figures.
-fn chapter4(_out: &OutputDir, _report: &mut Report) -> Result<(), Failure> {
-    Err(Failure::Run("chapter 4: not implemented yet".to_string()))
-}
-
-/// Chapter 5: sweeps past obstacles, observables and stability maps.
-fn chapter5(_out: &OutputDir, _report: &mut Report) -> Result<(), Failure> {
-    Err(Failure::Run("chapter 5: not implemented yet".to_string()))
-}
-
-/// Chapter 6: load identification and contour reconstruction.
-fn chapter6(_out: &OutputDir, _report: &mut Report) -> Result<(), Failure> {
-    Err(Failure::Run("chapter 6: not implemented yet".to_string()))
-}
-
 /// One reproduced figure or table of the thesis.
 #[derive(Debug, Clone, PartialEq, Default)]
 struct Entry {
@@ -236,10 +253,12 @@ struct Entry {
     files: Vec<PathBuf>,
     /// Key numbers: quantity, this run's value, the thesis's value (if it states one).
     numbers: Vec<(String, String, Option<String>)>,
+    /// Further markdown blocks (tables, notes), rendered after the numbers.
+    blocks: Vec<String>,
+    /// What failed for this figure (the other figures continue).
+    failures: Vec<String>,
 }
 
-// The builders are used by the chapter functions once they are implemented.
-#[allow(dead_code)]
 impl Entry {
     /// Records a written file.
     fn file(&mut self, path: impl Into<PathBuf>) -> &mut Self {
@@ -258,12 +277,26 @@ impl Entry {
             .push((quantity.into(), value.into(), thesis.map(str::to_string)));
         self
     }
+
+    /// Adds a markdown block (a table or a note).
+    fn block(&mut self, markdown: impl Into<String>) -> &mut Self {
+        self.blocks.push(markdown.into());
+        self
+    }
+
+    /// Records a failed part of this figure.
+    fn fail(&mut self, message: impl Into<String>) -> &mut Self {
+        self.failures.push(message.into());
+        self
+    }
 }
 
 /// The reproduction report, rendered as markdown.
 #[derive(Debug, Clone, PartialEq, Default)]
 struct Report {
     title: String,
+    /// Paragraphs under the title (run time, summary).
+    preamble: Vec<String>,
     entries: Vec<Entry>,
     /// Failed parts: (what, message).
     failures: Vec<(String, String)>,
@@ -278,7 +311,6 @@ impl Report {
     }
 
     /// Starts the entry of a figure and returns it for adding files and numbers.
-    #[allow(dead_code)]
     fn entry(&mut self, figure: impl Into<String>, caption: impl Into<String>) -> &mut Entry {
         self.entries.push(Entry {
             figure: figure.into(),
@@ -289,6 +321,17 @@ impl Report {
         &mut self.entries[last]
     }
 
+    /// The failed parts: those of the report, then those of each entry.
+    fn all_failures(&self) -> Vec<(String, String)> {
+        let mut all = self.failures.clone();
+        for e in &self.entries {
+            for f in &e.failures {
+                all.push((e.figure.clone(), f.clone()));
+            }
+        }
+        all
+    }
+
     /// Records a failed part.
     fn failure(&mut self, what: impl Into<String>, message: impl Into<String>) {
         self.failures.push((what.into(), message.into()));
@@ -297,8 +340,17 @@ impl Report {
     /// The markdown text; file paths are shown relative to `base` where possible.
     fn to_markdown(&self, base: &Path) -> String {
         let mut md = format!("# {}\n\n", self.title);
+        for p in &self.preamble {
+            md.push_str(p);
+            md.push_str("\n\n");
+        }
         for e in &self.entries {
-            md.push_str(&format!("## Figure {}\n\n{}\n\n", e.figure, e.caption));
+            let heading = if e.figure.starts_with(|c: char| c.is_ascii_digit()) {
+                format!("Figure {}", e.figure)
+            } else {
+                e.figure.clone()
+            };
+            md.push_str(&format!("## {heading}\n\n{}\n\n", e.caption));
             if !e.files.is_empty() {
                 md.push_str("Files:\n\n");
                 for f in &e.files {
@@ -319,10 +371,18 @@ impl Report {
                 }
                 md.push('\n');
             }
+            for b in &e.blocks {
+                md.push_str(b.trim_end());
+                md.push_str("\n\n");
+            }
+            for f in &e.failures {
+                md.push_str(&format!("**Failed:** {}\n\n", cell(f)));
+            }
         }
-        if !self.failures.is_empty() {
+        let all = self.all_failures();
+        if !all.is_empty() {
             md.push_str("## Failures\n\n");
-            for (what, msg) in &self.failures {
+            for (what, msg) in &all {
                 md.push_str(&format!("- **{what}**: {msg}\n"));
             }
             md.push('\n');
@@ -402,13 +462,18 @@ mod tests {
     }
 
     #[test]
-    fn unimplemented_chapter_fails_and_is_reported() {
-        let dir = std::env::temp_dir().join(format!("xtask-test-{}", std::process::id()));
-        let e = reproduce(&[Chapter::Four], &dir).unwrap_err();
-        assert!(e.to_string().starts_with("chapter(s) 4 failed"), "{e}");
-        let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
-        assert!(md.contains("chapter 4: not implemented yet"));
-        assert!(!dir.join("chapter4").exists());
-        std::fs::remove_dir_all(&dir).unwrap();
+    fn report_renders_preamble_blocks_and_failures() {
+        let mut r = Report::new("R");
+        r.preamble.push("Total run time: 1.0 s".to_string());
+        r.entry("Table 4.2", "Tip coordinates")
+            .block("| a |\n|---|\n| 1 |")
+            .fail("solve failed");
+        let md = r.to_markdown(Path::new("/out"));
+        assert_eq!(
+            md,
+            "# R\n\nTotal run time: 1.0 s\n\n## Table 4.2\n\nTip coordinates\n\n\
+             | a |\n|---|\n| 1 |\n\n**Failed:** solve failed\n\n\
+             ## Failures\n\n- **Table 4.2**: solve failed\n\n"
+        );
     }
 }

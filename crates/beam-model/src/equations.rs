@@ -71,8 +71,6 @@ impl WhiskerOde {
             alpha_sc: loads.fluid.alpha.sin_cos(),
         }
     }
-
-
 }
 
 impl OdeSystem for WhiskerOde {

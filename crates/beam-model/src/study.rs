@@ -35,8 +35,10 @@ pub const RK4_STEPS: [usize; 8] = [10, 20, 40, 80, 160, 320, 640, 1280];
 pub const ACCURATE_TOLS: [f64; 10] = [
     1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12, 1e-13,
 ];
-/// Integrator tolerance of the reference solve the errors are measured against.
-pub const REFERENCE_TOL: f64 = 1e-13;
+/// Integrator tolerance of the reference solve the errors are measured against: one decade
+/// below the tightest `accurate` setting (at the 1e-13 that point would measure
+/// itself, error 0). Its tips differ from those at 1e-15 by about 1e-14.
+pub const REFERENCE_TOL: f64 = 1e-14;
 /// Wall time over which one setting's solves are repeated (at least [`MIN_REPEATS`] times).
 pub const TIMING_BUDGET: Duration = Duration::from_millis(5);
 /// Minimum number of timed solves per setting.
@@ -245,7 +247,7 @@ pub const DEFAULT_KS: [f64; 2] = [f64::INFINITY, 5.0];
 pub const WRONG_TOL: f64 = 1e-2;
 
 /// Tolerance of the `accurate` reference solve of each cell.
-pub const MAP_REFERENCE_TOL: f64 = 1e-10;
+pub const MAP_REFERENCE_TOL: f64 = 1e-12;
 
 /// What a method did on one cell of a stability map.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -348,10 +350,47 @@ fn map_scene(kind: LoadAxis, load: f64, theta: f64, support: Support) -> Scene {
     )
 }
 
+/// One cell: whether the reference converged, and each method's outcome.
+fn map_cell(methods: &[Method], reference_method: &Method, scene: &Scene) -> (bool, Vec<Outcome>) {
+    let reference = solve(scene, reference_method).ok();
+    let outcomes = methods
+        .iter()
+        .map(|method| {
+            let sol = match (method, reference_method, &reference) {
+                // The same integration as the reference (only the output sampling may
+                // differ): its tip is the reference's, no second solve.
+                (Method::Accurate { tol, .. }, Method::Accurate { tol: rt, .. }, r)
+                    if tol == rt =>
+                {
+                    return r.as_ref().map_or(Outcome::Failed, |r| Outcome::Converged {
+                        continuation_steps: r.stats.continuation_steps,
+                    });
+                }
+                _ => solve(scene, method),
+            };
+            match (sol, &reference) {
+                (Err(_), _) => Outcome::Failed,
+                (Ok(sol), Some(r))
+                    if (sol.tip.x - r.tip.x).abs().max((sol.tip.y - r.tip.y).abs()) > WRONG_TOL =>
+                {
+                    Outcome::Wrong
+                }
+                (Ok(sol), _) => Outcome::Converged {
+                    continuation_steps: sol.stats.continuation_steps,
+                },
+            }
+        })
+        .collect();
+    (reference.is_some(), outcomes)
+}
+
 /// Stability maps of several methods over the same grid, sharing one `accurate` reference
-/// solve (tolerance [`MAP_REFERENCE_TOL`]) per cell: a straight whisker of conicity theta on
-/// a base of stiffness `k` (`inf`: rigid) under the load `kind` of each magnitude. A failed
-/// solve is recorded as [`Outcome::Failed`]; only an invalid grid is an error.
+/// solve (tolerance [`MAP_REFERENCE_TOL`], the default of [`Method::accurate`], so that the
+/// `accurate` map costs no extra solve) per cell: a straight whisker of conicity theta on a
+/// base of stiffness `k` (`inf`: rigid) under the load `kind` of each magnitude. Every solve
+/// starts cold, as [`solve`] does for a user. A failed solve is recorded as
+/// [`Outcome::Failed`]; only an invalid grid is an error. The cells are shared out over
+/// `std::thread::available_parallelism()` threads (at most 4).
 pub fn stability_maps(
     methods: &[Method],
     kind: LoadAxis,
@@ -361,9 +400,46 @@ pub fn stability_maps(
 ) -> Result<Vec<StabilityMap>> {
     check_grid(loads, thetas, k)?;
     let support = Support::from_stiffness(k)?;
+    for m in methods {
+        // Reject a bad method up front rather than marking every cell as failed.
+        solve(&map_scene(kind, 0.0, 1.0, support), m)?;
+    }
     let reference_method = Method::Accurate {
         tol: MAP_REFERENCE_TOL,
         samples: 4,
+    };
+    let cells: Vec<(usize, usize)> = (0..loads.len())
+        .flat_map(|i| (0..thetas.len()).map(move |j| (i, j)))
+        .collect();
+    let threads = std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .clamp(1, 4)
+        .min(cells.len());
+    let compute = |t: usize| -> Vec<(usize, usize, bool, Vec<Outcome>)> {
+        cells
+            .iter()
+            .skip(t)
+            .step_by(threads)
+            .map(|&(i, j)| {
+                let scene = map_scene(kind, loads[i], thetas[j], support);
+                let (ok, outcomes) = map_cell(methods, &reference_method, &scene);
+                (i, j, ok, outcomes)
+            })
+            .collect()
+    };
+    let results: Vec<(usize, usize, bool, Vec<Outcome>)> = if threads <= 1 {
+        compute(0)
+    } else {
+        std::thread::scope(|scope| {
+            let handles: Vec<_> = (0..threads)
+                .map(|t| scope.spawn(move || compute(t)))
+                .collect();
+            handles
+                .into_iter()
+                // A worker only panics if a solver panics; re-raise it unchanged.
+                .flat_map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
+                .collect()
+        })
     };
     let mut maps: Vec<StabilityMap> = methods
         .iter()
@@ -373,47 +449,14 @@ pub fn stability_maps(
             k,
             loads: loads.to_vec(),
             thetas: thetas.to_vec(),
-            cells: Vec::with_capacity(loads.len()),
-            reference: Vec::with_capacity(loads.len()),
+            cells: vec![vec![Outcome::Failed; thetas.len()]; loads.len()],
+            reference: vec![vec![false; thetas.len()]; loads.len()],
         })
         .collect();
-    for &load in loads {
-        let mut rows = vec![Vec::with_capacity(thetas.len()); methods.len()];
-        let mut ref_row = Vec::with_capacity(thetas.len());
-        for &theta in thetas {
-            let scene = map_scene(kind, load, theta, support);
-            let reference = solve(&scene, &reference_method).ok();
-            ref_row.push(reference.is_some());
-            for (row, method) in rows.iter_mut().zip(methods) {
-                let outcome = match (method, &reference) {
-                    // The reference is this method's own solve (at a tolerance at least as
-                    // tight as the map needs): no second solve.
-                    (Method::Accurate { tol, .. }, Some(r)) if *tol >= MAP_REFERENCE_TOL => {
-                        Outcome::Converged {
-                            continuation_steps: r.stats.continuation_steps,
-                        }
-                    }
-                    _ => match solve(&scene, method) {
-                        Err(_) => Outcome::Failed,
-                        Ok(sol) => match &reference {
-                            Some(r)
-                                if (sol.tip.x - r.tip.x).abs().max((sol.tip.y - r.tip.y).abs())
-                                    > WRONG_TOL =>
-                            {
-                                Outcome::Wrong
-                            }
-                            _ => Outcome::Converged {
-                                continuation_steps: sol.stats.continuation_steps,
-                            },
-                        },
-                    },
-                };
-                row.push(outcome);
-            }
-        }
-        for (map, row) in maps.iter_mut().zip(rows) {
-            map.cells.push(row);
-            map.reference.push(ref_row.clone());
+    for (i, j, ok, outcomes) in results {
+        for (map, o) in maps.iter_mut().zip(outcomes) {
+            map.cells[i][j] = o;
+            map.reference[i][j] = ok;
         }
     }
     Ok(maps)

@@ -182,6 +182,13 @@ impl Marcher<'_> {
         self.step_from(xc, prev, None)
     }
 
+    /// Whether `st` continues `prev` on the same branch: the corrector may move the contact
+    /// force from its prediction `f_pred` by at most `0.5 + 0.5 f_prev + 2 |f_pred - f_prev|`;
+    /// a corrector that jumped to a far branch (e.g. past a fold) moves it much more.
+    fn continues(st: &ContactState, prev: &ContactState, f_pred: f64) -> bool {
+        (st.f - f_pred).abs() <= 0.5 + 0.5 * prev.f.abs() + 2.0 * (f_pred - prev.f).abs()
+    }
+
     /// [`Marcher::step`] with a linear predictor through `before` and `prev` when both are in
     /// the same phase (the corrector then starts O(h^2) from the solution).
     fn step_from(
@@ -203,7 +210,12 @@ impl Marcher<'_> {
                     Phase::B => st.s1 < 1.0,
                     _ => st.phi1 > st.point.psi,
                 };
-                if valid {
+                let f_pred = if prev.phase == Phase::B {
+                    pred[0]
+                } else {
+                    pred[1]
+                };
+                if valid && Self::continues(&st, prev, f_pred) {
                     return Ok(st);
                 }
             }
@@ -212,12 +224,12 @@ impl Marcher<'_> {
         let try_a = |guess: [f64; 2]| {
             self.solve_phase(xc, Phase::A, guess)
                 .ok()
-                .filter(|s| s.phi1 > s.point.psi)
+                .filter(|s| s.phi1 > s.point.psi && Self::continues(s, prev, prev.f))
         };
         let try_b = |guess: [f64; 2]| {
             self.solve_phase(xc, Phase::B, guess)
                 .ok()
-                .filter(|s| s.s1 < 1.0)
+                .filter(|s| s.s1 < 1.0 && Self::continues(s, prev, prev.f))
         };
         let found = match prev.phase {
             Phase::B => try_b([prev.f, prev.s1]).or_else(|| try_a([psi, prev.f])),
@@ -443,7 +455,18 @@ impl Marcher<'_> {
                     }
                 }
                 if let Some(e) = err {
-                    return Err(e);
+                    // The contact branch ends in a fold in xc (the contact point cannot move
+                    // on): the whisker leaves the contour there, a snap at the last state.
+                    return match (e, trail.len()) {
+                        (ContactError::PhaseSolve { .. }, n) if n >= 3 => {
+                            let last = trail[n - 1];
+                            while states.last().is_some_and(|s| s.point.xc <= last.point.xc) {
+                                states.pop();
+                            }
+                            Ok((states, Some(Stop::Snap(last))))
+                        }
+                        (e, _) => Err(e),
+                    };
                 }
             }
         }

@@ -1,0 +1,25 @@
+//! A 200-point sweep of the uniform, straight, rigid whisker past the contour g1 under the
+//! flow q = 5 (thesis ch. 5, case 1) with the default settings. The target: < 50 ms.
+
+use criterion::{black_box, criterion_group, criterion_main, Criterion};
+use vibrissa::beam_model::Whisker;
+use vibrissa::contact_sim::{sweep, Profile, SweepSettings};
+
+fn sweep_g1(c: &mut Criterion) {
+    let whisker = Whisker::uniform();
+    let profile = Profile::g1();
+    let settings = SweepSettings::default(); // 200 contact points
+    if let Err(e) = sweep(&whisker, 5.0, &profile, &settings) {
+        eprintln!("sweep/g1/q=5: {e}");
+        return;
+    }
+    let mut group = c.benchmark_group("sweep");
+    group.sample_size(10);
+    group.bench_function("g1/q=5/200-points", |b| {
+        b.iter(|| sweep(black_box(&whisker), 5.0, black_box(&profile), &settings))
+    });
+    group.finish();
+}
+
+criterion_group!(benches, sweep_g1);
+criterion_main!(benches);

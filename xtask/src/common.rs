@@ -1,0 +1,275 @@
+//! Helpers shared by the chapter reproductions: a small parallel map, file output recorded
+//! in the report entries, number formatting and the chapter-5 sweeps shared with chapter 6.
+
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
+use std::time::Instant;
+
+use contact_sim::cases::SweepCase;
+use contact_sim::{SweepResult, SweepSettings};
+use vibrissa_cli::atomic::{write_atomic, OutputDir};
+use vibrissa_cli::csvio::CsvWriter;
+use vibrissa_cli::plot::{write_figure, Chart, Panel};
+
+use crate::Entry;
+
+/// Contact points per chapter-5 sweep (the 200).
+pub const SWEEP_POINTS: usize = 200;
+
+/// Worker threads of [`par_map`]: the available parallelism, at most 8.
+pub fn threads() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get().clamp(1, 8))
+}
+
+/// Maps `f` over `items` on [`threads`] threads, keeping the order. A panic inside `f` is
+/// caught and gives `None` for that item (the others continue).
+pub fn par_map<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<Option<R>> {
+    let n = items.len();
+    let workers = threads().min(n.max(1));
+    let next = AtomicUsize::new(0);
+    let results: Mutex<Vec<Option<R>>> = Mutex::new((0..n).map(|_| None).collect());
+    let work = || loop {
+        let i = next.fetch_add(1, Ordering::Relaxed);
+        if i >= n {
+            break;
+        }
+        let r = catch_unwind(AssertUnwindSafe(|| f(&items[i]))).ok();
+        if let Ok(mut g) = results.lock() {
+            g[i] = r;
+        }
+    };
+    if workers <= 1 {
+        work();
+    } else {
+        std::thread::scope(|s| {
+            let handles: Vec<_> = (0..workers).map(|_| s.spawn(work)).collect();
+            for h in handles {
+                // `work` catches panics of `f`; a join error cannot carry a result anyway.
+                let _ = h.join();
+            }
+        });
+    }
+    results.into_inner().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Writes a figure of chart panels to `name` (staged) and records it in `entry`.
+pub fn svg(
+    out: &OutputDir,
+    entry: &mut Entry,
+    name: &str,
+    charts: &[Chart],
+    cols: usize,
+) -> Result<(), String> {
+    let panels: Vec<Panel<'_>> = charts.iter().map(Panel::Chart).collect();
+    svg_panels(out, entry, name, &panels, cols)
+}
+
+/// Writes a figure of panels (charts or maps) to `name` and records it in `entry`.
+pub fn svg_panels(
+    out: &OutputDir,
+    entry: &mut Entry,
+    name: &str,
+    panels: &[Panel<'_>],
+    cols: usize,
+) -> Result<(), String> {
+    let cols = cols.clamp(1, panels.len().max(1));
+    let rows = panels.len().div_ceil(cols).max(1);
+    let size = (560 * cols as u32, 420 * rows as u32);
+    let path = out.path_for(name);
+    if let Some(parent) = path.parent() {
+        std::fs::create_dir_all(parent).map_err(|e| format!("{}: {e}", parent.display()))?;
+    }
+    write_figure(panels, cols, &path, size).map_err(|e| e.to_string())?;
+    entry.file(path);
+    Ok(())
+}
+
+/// Writes a CSV table to `name` and records it in `entry`.
+pub fn csv(out: &OutputDir, entry: &mut Entry, name: &str, w: &CsvWriter) -> Result<(), String> {
+    text(out, entry, name, w.as_str())
+}
+
+/// Writes a text file to `name` and records it in `entry`.
+pub fn text(out: &OutputDir, entry: &mut Entry, name: &str, body: &str) -> Result<(), String> {
+    let path = out.path_for(name);
+    if let Some(parent) = path.parent() {
+        std::fs::create_dir_all(parent).map_err(|e| format!("{}: {e}", parent.display()))?;
+    }
+    write_atomic(&path, body.as_bytes()).map_err(|e| e.to_string())?;
+    entry.file(path);
+    Ok(())
+}
+
+/// Records the error of a figure part in `entry` (the figure's other parts continue).
+pub fn note_err(entry: &mut Entry, what: &str, r: Result<(), String>) {
+    if let Err(e) = r {
+        entry.fail(format!("{what}: {e}"));
+    }
+}
+
+/// A number with `digits` significant digits, plain or scientific.
+pub fn sig(v: f64, digits: usize) -> String {
+    if !v.is_finite() {
+        return format!("{v}");
+    }
+    let a = v.abs();
+    if a == 0.0 {
+        return "0".to_string();
+    }
+    if (1e-3..1e5).contains(&a) {
+        let decimals = (digits as i32 - 1 - a.log10().floor() as i32).max(0) as usize;
+        format!("{v:.decimals$}")
+    } else {
+        format!("{v:.prec$e}", prec = digits.saturating_sub(1))
+    }
+}
+
+/// A number in scientific notation with 2 decimals (errors).
+pub fn sci(v: f64) -> String {
+    if v == 0.0 {
+        "0".to_string()
+    } else if v.is_finite() {
+        format!("{v:.2e}")
+    } else {
+        format!("{v}")
+    }
+}
+
+/// A markdown table from a header and rows.
+pub fn md_table(header: &[&str], rows: &[Vec<String>]) -> String {
+    let mut s = format!("| {} |\n|", header.join(" | "));
+    for _ in header {
+        s.push_str("---|");
+    }
+    s.push('\n');
+    for r in rows {
+        let cells: Vec<String> = r.iter().map(|c| c.replace('|', "\\|")).collect();
+        s.push_str(&format!("| {} |\n", cells.join(" | ")));
+    }
+    s
+}
+
+/// A file-name-safe form of a label.
+pub fn slug(s: &str) -> String {
+    let mut out = String::new();
+    for c in s.chars() {
+        if c.is_ascii_alphanumeric() || c == '.' || c == '-' {
+            out.push(c);
+        } else if !out.ends_with('_') {
+            out.push('_');
+        }
+    }
+    out.trim_matches('_').to_string()
+}
+
+/// One chapter-5 sweep: the case, its result (or error) and its wall time.
+#[derive(Debug, Clone)]
+pub struct SweepRun {
+    /// The case of `contact_sim::cases::chapter5()`.
+    pub case: SweepCase,
+    /// The sweep, or why it failed.
+    pub result: Result<SweepResult, String>,
+    /// Wall time of the sweep (s).
+    pub seconds: f64,
+}
+
+impl SweepRun {
+    /// `"1 g1 q=5"`.
+    pub fn name(&self) -> String {
+        format!(
+            "{} {} {}",
+            self.case.case, self.case.profile_name, self.case.label
+        )
+    }
+
+    /// The file name of its observables CSV (relative to the chapter directory).
+    pub fn csv_name(&self) -> String {
+        format!(
+            "sweeps/case{}_{}_{}.csv",
+            self.case.case,
+            self.case.profile_name,
+            slug(&self.case.label)
+        )
+    }
+}
+
+/// State shared between the chapters of one run (chapter 6 reuses the sweeps of chapter 5).
+#[derive(Debug, Default)]
+pub struct Ctx {
+    sweeps: Option<Vec<SweepRun>>,
+}
+
+impl Ctx {
+    /// The sweeps of every chapter-5 case, computed on first use.
+    pub fn sweeps(&mut self) -> &[SweepRun] {
+        self.sweeps.get_or_insert_with(run_sweeps)
+    }
+}
+
+fn run_sweeps() -> Vec<SweepRun> {
+    let cases = contact_sim::cases::chapter5();
+    let settings = SweepSettings {
+        points: SWEEP_POINTS,
+        ..SweepSettings::default()
+    };
+    let t0 = Instant::now();
+    let runs = par_map(&cases, |c| {
+        let t = Instant::now();
+        let result =
+            contact_sim::sweep(&c.whisker, c.q, &c.profile, &settings).map_err(|e| e.to_string());
+        (result, t.elapsed().as_secs_f64())
+    });
+    eprintln!(
+        "xtask: {} sweeps in {:.1} s",
+        cases.len(),
+        t0.elapsed().as_secs_f64()
+    );
+    cases
+        .into_iter()
+        .zip(runs)
+        .map(|(case, r)| {
+            let (result, seconds) =
+                r.unwrap_or_else(|| (Err("the sweep panicked".to_string()), f64::NAN));
+            SweepRun {
+                case,
+                result,
+                seconds,
+            }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn par_map_keeps_order_and_survives_panics() {
+        let items: Vec<u32> = (0..20).collect();
+        let out = par_map(&items, |&i| {
+            if i == 7 {
+                panic!("boom");
+            }
+            i * 2
+        });
+        assert_eq!(out.len(), 20);
+        assert_eq!(out[7], None);
+        assert_eq!(out[3], Some(6));
+        assert_eq!(out[19], Some(38));
+    }
+
+    #[test]
+    fn formats_numbers_and_names() {
+        assert_eq!(sig(0.301721, 3), "0.302");
+        assert_eq!(sig(47.1817, 4), "47.18");
+        assert_eq!(sig(2.5e-8, 3), "2.50e-8");
+        assert_eq!(sci(0.0), "0");
+        assert_eq!(sci(1.234e-7), "1.23e-7");
+        assert_eq!(slug("A=0 B=-0.5"), "A_0_B_-0.5");
+        assert_eq!(
+            md_table(&["a", "b"], &[vec!["1".into(), "x|y".into()]]),
+            "| a | b |\n|---|---|\n| 1 | x\\|y |\n"
+        );
+    }
+}

@@ -1,0 +1,76 @@
+//! Snapshots (insta) of the key reproduced numbers of the thesis, rounded: Tables 4.2/4.3
+//! (ours next to ANSYS), the tip of every scenario's first case, and the identification
+//! and reconstruction quality of a chapter-6 case. Exact floats are checked elsewhere with
+//! tolerances; these catch any drift in what the report shows.
+
+use vibrissa::beam_model::study::{ansys_comparison, AnsysLoad};
+use vibrissa::beam_model::{scenarios, solve, Method};
+use vibrissa::contact_sim::{cases, sweep, SweepSettings};
+use vibrissa::profile_recon::{contour_error, from_sweep, reconstruct, ReconSettings};
+
+#[test]
+fn tables_4_2_and_4_3_against_ansys() {
+    let mut out = String::from("kind load | ANSYS x1 y1 | ours x1 y1 (mm) | err x y (%)\n");
+    for r in ansys_comparison().unwrap() {
+        let kind = match r.load_kind {
+            AnsysLoad::Tip => "f",
+            AnsysLoad::Fluid => "q",
+        };
+        out.push_str(&format!(
+            "{kind} {:>4} | {:>7.3} {:>7.3} | {:>7.3} {:>7.3} | {:.2} {:.2}\n",
+            r.load,
+            r.ansys_x1_mm,
+            r.ansys_y1_mm,
+            r.ours_x1_mm,
+            r.ours_y1_mm,
+            r.err_ours_x_pct,
+            r.err_ours_y_pct
+        ));
+    }
+    insta::assert_snapshot!(out);
+}
+
+#[test]
+fn scenario_tips() {
+    let mut out = String::new();
+    for sc in scenarios::all() {
+        let c = &sc.cases[sc.cases.len() / 2];
+        let s = solve(&c.scene, &Method::accurate()).unwrap();
+        out.push_str(&format!(
+            "{:>2} {:<36} tip ({:.6}, {:.6}) phi1 {:.6} MA {:.6}\n",
+            sc.id, c.label, s.tip.x, s.tip.y, s.tip.phi, s.base.ma
+        ));
+    }
+    insta::assert_snapshot!(out);
+}
+
+#[test]
+fn chapter6_case_quality() {
+    let mut out = String::new();
+    for c in cases::chapter5().iter().filter(|c| c.case == "5") {
+        let truth = sweep(
+            &c.whisker,
+            c.q,
+            &c.profile,
+            &SweepSettings {
+                points: 40,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let rows = from_sweep(&truth);
+        let rec = reconstruct(&c.whisker, &rows, None, &ReconSettings::default()).unwrap();
+        let e = contour_error(&rec.points, &c.profile)
+            .into_iter()
+            .fold(0.0, f64::max);
+        out.push_str(&format!(
+            "{} {:<18} q={:.9} points={} max_e<1e-10: {}\n",
+            c.profile_name,
+            c.label,
+            rec.identification.q,
+            rec.points.len(),
+            e < 1e-10
+        ));
+    }
+    insta::assert_snapshot!(out);
+}

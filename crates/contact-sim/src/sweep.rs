@@ -489,22 +489,28 @@ impl Marcher<'_> {
         };
         let xc = st.point.xc;
         if st.phase != last.phase {
-            let ev = self.locate(last, xc, |s| match s.phase {
-                Phase::B => 1.0 - s.s1,
-                _ => s.phi1 - s.point.psi,
-            })?;
+            // an event that cannot be located (a solve fails inside the bracket) is kept at
+            // the bracket end on the old phase's side rather than failing the sweep
+            let ev = self
+                .locate(last, xc, |s| match s.phase {
+                    Phase::B => 1.0 - s.s1,
+                    _ => s.phi1 - s.point.psi,
+                })
+                .unwrap_or(last);
             if ev.point.xc != last.point.xc {
                 states.push(ev);
             }
         }
         if st.f < 0.0 {
-            let ev = self.locate(last, xc, |s| s.f)?;
+            let ev = self.locate(last, xc, |s| s.f).unwrap_or(last);
             return Ok(Some(Stop::Release(ev)));
         }
         if st.x0 > last.x0 {
             let n = trail.len();
             let near = if n >= 2 { trail[n - 2] } else { last };
-            let ev = self.snap_point(xc, near.point.xc, &near)?;
+            let ev = self
+                .snap_point(xc, near.point.xc, &near)
+                .unwrap_or(if last.x0 <= st.x0 { last } else { st });
             while states.last().is_some_and(|s| s.point.xc <= ev.point.xc) {
                 states.pop();
             }
@@ -613,40 +619,48 @@ pub fn sweep(
             (last, None, Separation::EndOfContour)
         }
     };
-    // Pass 2: the requested number of points between first contact and separation.
+    // Pass 2: the requested number of points between first contact and separation, the last
+    // one at the separation found by pass 1 (so every event in between is located by the
+    // fine march itself, however few the points).
     let n = settings.points;
     let step = (first.point.xc - sep_xc) / (n - 1) as f64;
-    let fine = (1..n - 1).map(|k| first.point.xc - k as f64 * step);
+    let fine = (1..n).map(|k| {
+        if k == n - 1 {
+            sep_xc
+        } else {
+            first.point.xc - k as f64 * step
+        }
+    });
     let (mut states, stop2) = marcher.march(first, fine, h1)?;
-    let (final_state, separation) = match stop2 {
-        // A snap or release found earlier on the fine grid (rare) wins.
-        Some(Stop::Snap(s)) => (Some(s), Separation::Snap),
-        Some(Stop::Release(s)) => (Some(s), Separation::Release),
-        Some(Stop::MultiContact(xc)) => (None, Separation::MultiContact { xc }),
-        Some(Stop::EndOfContour) => (None, Separation::EndOfContour),
+    let separation = match stop2 {
+        // A snap or release found on the fine grid (normally at its last point) wins.
+        Some(Stop::Snap(s)) => {
+            states.push(s);
+            Separation::Snap
+        }
+        Some(Stop::Release(s)) => {
+            states.push(s);
+            Separation::Release
+        }
+        Some(Stop::MultiContact(xc)) => Separation::MultiContact { xc },
+        Some(Stop::EndOfContour) => Separation::EndOfContour,
         None => {
-            let end = match final_state {
-                Some(s) => Some(s),
-                None => {
-                    let last = *states.last().unwrap_or(&first);
-                    (sep_xc < last.point.xc)
-                        .then(|| marcher.step(sep_xc, &last))
-                        .transpose()?
+            // The fine march reached pass 1's separation point: keep pass 1's exactly located
+            // event state there.
+            if let Some(s) = final_state {
+                if states
+                    .last()
+                    .is_some_and(|l| l.point.xc == s.point.xc && l.phase == s.phase)
+                {
+                    states.pop();
                 }
-            };
-            (end, separation)
+                if states.last().is_none_or(|l| l.point.xc > s.point.xc) {
+                    states.push(s);
+                }
+            }
+            separation
         }
     };
-    if let Some(s) = final_state {
-        if let Some(last) = states.last() {
-            if last.phase != s.phase {
-                let phase = last.phase;
-                let ev = marcher.bisect(*last, s.point.xc, |st| st.phase == phase)?;
-                states.push(ev);
-            }
-        }
-        states.push(s);
-    }
     let mut points = Vec::with_capacity(settings.pre_contact_rows + states.len());
     for k in (1..=settings.pre_contact_rows).rev() {
         points.push(SweepPoint {

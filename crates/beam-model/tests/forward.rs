@@ -179,7 +179,9 @@ fn spring_support_satisfies_its_robin_condition() {
         let sol = solve(&Scene::new(w, Loads::fluid(10.0, 0.0)), &method).unwrap();
         let m0 = -sol.base.ma;
         let r = sol.base.phi0 - FRAC_PI_2 - m0 / 5.0;
-        let tol = if method.name() == "fdm" { 1e-10 } else { 1e-11 };
+        // FDM reports MA from the moment equation (trapezoidal), consistent with its discrete
+        // Robin condition to O(h^2) = 1e-5 at n = 400; shooting satisfies it exactly.
+        let tol = if method.name() == "fdm" { 1e-5 } else { 1e-11 };
         assert!(r.abs() < tol, "{}: {r:e}", method.name());
     }
 }
@@ -287,4 +289,27 @@ fn beta_whisker_force_scale_matches_the_thesis() {
     assert!((40.0 * w.force_scale() - 1.607578e-3).abs() < 2e-7);
     let f = w.dimensionless_force(1.607578e-3);
     assert!((f - 40.0).abs() < 5e-3);
+}
+
+#[test]
+fn fdm_richardson_reaches_shooting_accuracy_and_rescues_thin_tips() {
+    // Where shooting works, FDM + two Richardson levels (order 6) agrees with it.
+    for (name, scene) in beam_model::scenarios::reference_scenes() {
+        let a = solve(&scene, &Method::accurate()).unwrap();
+        let r = beam_model::methods::fdm_richardson(&scene).unwrap();
+        let d = (a.tip.x - r.tip.x).abs().max((a.tip.y - r.tip.y).abs());
+        assert!(d < 1e-9, "{name}: {d:e}");
+        assert!((a.base.ma - r.base.ma).abs() < 1e-8, "{name}");
+    }
+    // A thin tip under a large tip load: single shooting is ill-conditioned there;
+    // `accurate` falls back to FDM + Richardson and agrees with a fine plain FDM.
+    let w = Whisker {
+        theta: 0.15,
+        ..Whisker::uniform()
+    };
+    let scene = Scene::new(w, Loads::tip(TipForce::dp(30.0, 0.0)));
+    let acc = solve(&scene, &Method::accurate()).unwrap();
+    let fine = solve(&scene, &Method::Fdm { n: 6400 }).unwrap();
+    let d = (acc.tip.x - fine.tip.x).hypot(acc.tip.y - fine.tip.y);
+    assert!(d < 1e-5, "{d:e}");
 }

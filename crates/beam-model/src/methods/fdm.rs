@@ -218,7 +218,22 @@ fn assemble(
         };
     }
     let (ax, ay) = scene.base_reactions(phi1);
-    let m0 = el.m.first().copied().unwrap_or(0.0);
+    // The base moment from the moment equation, m(0) = -int_0^s1 m'(s) ds with
+    // m' = f sin(phi + beta_eff) + q (s1 - s) sin(phi + alpha), by the trapezoidal rule: second
+    // order with an even error expansion (unlike a one-sided difference of phi' at the base),
+    // so that Richardson extrapolation applies to MA as well.
+    let l = &scene.loads;
+    let beta = l.tip.effective_beta(phi1);
+    let dm = |i: usize| {
+        let s = sol.grid.x(i);
+        let phi = sol.y[i];
+        l.tip.f * (phi + beta).sin() + l.fluid.q * (s1 - s) * (phi + l.fluid.alpha).sin()
+    };
+    let n = sol.grid.len();
+    let mut m0 = 0.0;
+    for i in 1..n {
+        m0 -= 0.5 * h * (dm(i - 1) + dm(i));
+    }
     Solution {
         elastica: el,
         tip,

@@ -59,27 +59,11 @@ pub fn run(out: &OutputDir, report: &mut Report, ctx: &mut Ctx) -> Result<(), Fa
     Ok(())
 }
 
-/// The observables CSV of a sweep (`x0,Ax,Ay,MA,phi0,f,s1,phase,xc,yc,psi`).
+/// The observables CSV of a sweep (`x0,Ax,Ay,MA,phi0,f,s1,phase,xc,yc,psi`), as the CLI
+/// writes it.
 fn sweep_csv(points: &[SweepPoint]) -> CsvWriter {
-    let mut w = CsvWriter::new(&[
-        "x0", "Ax", "Ay", "MA", "phi0", "f", "s1", "phase", "xc", "yc", "psi",
-    ]);
-    for p in points {
-        let _ = w.push_row(&[
-            Cell::Num(p.x0),
-            Cell::Num(p.ax),
-            Cell::Num(p.ay),
-            Cell::Num(p.ma),
-            Cell::Num(p.phi0),
-            Cell::Num(p.f),
-            Cell::Num(p.s1),
-            Cell::Text(p.phase.label()),
-            Cell::Num(p.xc),
-            Cell::Num(p.yc),
-            Cell::Num(p.psi),
-        ]);
-    }
-    w
+    vibrissa_cli::commands::observables_csv(points)
+        .unwrap_or_else(|_| CsvWriter::new(&vibrissa_cli::commands::OBSERVABLES_HEADER))
 }
 
 fn first_contact_name(f: FirstContact) -> &'static str {

@@ -5,7 +5,6 @@
 
 use crate::loads::{Loads, TipForce};
 use crate::scene::Scene;
-use crate::support::Support;
 use crate::whisker::Whisker;
 
 /// One case of a scenario: a label for legends and the scene.
@@ -35,16 +34,7 @@ fn deg(d: f64) -> f64 {
 }
 
 fn whisker(theta: f64, a: f64, b: f64, k: f64) -> Whisker {
-    Whisker {
-        theta,
-        a,
-        b,
-        support: if k.is_finite() {
-            Support::Spring { k }
-        } else {
-            Support::Rigid
-        },
-    }
+    Whisker::new(theta, a, b, k)
 }
 
 fn fmt_k(k: f64) -> String {

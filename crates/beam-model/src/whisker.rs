@@ -34,6 +34,21 @@ impl Default for Whisker {
 }
 
 impl Whisker {
+    /// A whisker from its parameters, `k = +inf` meaning a rigid support (not validated;
+    /// see [`Whisker::validate`]).
+    pub fn new(theta: f64, a: f64, b: f64, k: f64) -> Self {
+        Whisker {
+            theta,
+            a,
+            b,
+            support: if k.is_infinite() && k > 0.0 {
+                Support::Rigid
+            } else {
+                Support::Spring { k }
+            },
+        }
+    }
+
     /// A straight, cylindrical, rigidly clamped whisker.
     pub fn uniform() -> Self {
         Self::default()

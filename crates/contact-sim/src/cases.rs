@@ -2,7 +2,7 @@
 //! tests, benchmarks and the figure reproduction.
 
 use crate::profile::Profile;
-use beam_model::{Support, Whisker};
+use beam_model::Whisker;
 
 /// One sweep case: a whisker, a fluid load and a contour.
 #[derive(Clone, Debug, PartialEq)]
@@ -22,16 +22,7 @@ pub struct SweepCase {
 }
 
 fn whisker(theta: f64, a: f64, b: f64, k: f64) -> Whisker {
-    Whisker {
-        theta,
-        a,
-        b,
-        support: if k.is_finite() {
-            Support::Spring { k }
-        } else {
-            Support::Rigid
-        },
-    }
+    Whisker::new(theta, a, b, k)
 }
 
 fn profiles(names: &[&'static str]) -> Vec<(&'static str, Profile)> {

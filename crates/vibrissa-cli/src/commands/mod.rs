@@ -8,7 +8,7 @@ pub mod sweep;
 use std::path::{Path, PathBuf};
 
 use beam_model::Solution;
-use contact_sim::{Phase, SweepResult};
+use contact_sim::{Phase, SweepPoint, SweepResult};
 
 use crate::cli::Command;
 use crate::csvio::{Cell, CsvWriter};
@@ -66,10 +66,10 @@ pub fn write_elastica_svg(
     write_svg(&chart, path, (640, 640))
 }
 
-/// Writes `observables.csv` of a sweep to `path`.
-pub fn write_observables_csv(res: &SweepResult, path: &Path) -> Result<(), CliError> {
+/// The rows of `observables.csv` (header [`OBSERVABLES_HEADER`]) for sweep points.
+pub fn observables_csv(points: &[SweepPoint]) -> Result<CsvWriter, CliError> {
     let mut w = CsvWriter::new(&OBSERVABLES_HEADER);
-    for p in &res.points {
+    for p in points {
         w.push_row(&[
             Cell::Num(p.x0),
             Cell::Num(p.ax),
@@ -84,7 +84,12 @@ pub fn write_observables_csv(res: &SweepResult, path: &Path) -> Result<(), CliEr
             Cell::Num(p.psi),
         ])?;
     }
-    w.write(path)
+    Ok(w)
+}
+
+/// Writes `observables.csv` of a sweep to `path`.
+pub fn write_observables_csv(res: &SweepResult, path: &Path) -> Result<(), CliError> {
+    observables_csv(&res.points)?.write(path)
 }
 
 fn phase_color(p: Phase) -> usize {

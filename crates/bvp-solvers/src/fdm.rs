@@ -40,6 +40,26 @@ use crate::{BvpError, Result};
 
 /// A second-order scalar ODE `y'' = F(x, y, y')` together with the partial derivatives
 /// that Newton's method needs.
+///
+/// ```
+/// use bvp_solvers::fdm::{BoundaryCondition, FdmSolver, SecondOrderBvp};
+/// use bvp_solvers::grid::UniformGrid;
+///
+/// /// The Bratu problem y'' + e^y = 0, y(0) = y(1) = 0; lower branch, closed form
+/// /// y(1/2) = 2 ln cosh(t/4) = 0.1405392144 with t = 1.5171645990507543.
+/// struct Bratu;
+/// impl SecondOrderBvp for Bratu {
+///     fn f(&self, _x: f64, y: f64, _yp: f64) -> f64 { -y.exp() }
+///     fn f_y(&self, _x: f64, y: f64, _yp: f64) -> f64 { -y.exp() }
+///     fn f_yp(&self, _x: f64, _y: f64, _yp: f64) -> f64 { 0.0 }
+/// }
+///
+/// let grid = UniformGrid::new(0.0, 1.0, 200).unwrap();
+/// let solver = FdmSolver::new(BoundaryCondition::Dirichlet(0.0), BoundaryCondition::Dirichlet(0.0));
+/// let sol = solver.solve(&Bratu, &grid, &vec![0.0; grid.len()]).unwrap();
+/// // second order: error ~ h^2 = 2.5e-5 times a small constant
+/// assert!((sol.y[100] - 0.1405392144).abs() < 1e-5);
+/// ```
 pub trait SecondOrderBvp {
     /// The right-hand side `F(x, y, y')`.
     fn f(&self, x: f64, y: f64, yp: f64) -> f64;

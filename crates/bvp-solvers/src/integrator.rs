@@ -18,6 +18,23 @@ use crate::roots::{brent, RootOptions};
 use crate::{BvpError, Result};
 
 /// A first-order system `u' = G(s, u)` of dimension [`OdeSystem::dim`].
+///
+/// ```
+/// use bvp_solvers::integrator::{Dop853, OdeSystem};
+///
+/// /// The harmonic oscillator u'' = -u as a first-order system.
+/// struct Oscillator;
+/// impl OdeSystem for Oscillator {
+///     fn dim(&self) -> usize { 2 }
+///     fn rhs(&self, _s: f64, u: &[f64], du: &mut [f64]) {
+///         du[0] = u[1];
+///         du[1] = -u[0];
+///     }
+/// }
+///
+/// let sol = Dop853::new(1e-12, 1e-12).integrate(&Oscillator, 0.0, 1.0, &[0.0, 1.0]).unwrap();
+/// assert!((sol.u_end[0] - 1f64.sin()).abs() < 1e-11);
+/// ```
 pub trait OdeSystem {
     /// Dimension `n` of the state `u`.
     fn dim(&self) -> usize;

@@ -13,6 +13,43 @@ use crate::trust_region::{self, NonlinearSystem, TrustRegionOptions};
 use crate::{BvpError, Result};
 
 /// A boundary-value problem posed for shooting.
+///
+/// ```
+/// use bvp_solvers::integrator::{Dop853, OdeSystem};
+/// use bvp_solvers::shooting::{Shooting, ShootingIntegrator, ShootingProblem};
+/// use bvp_solvers::trust_region::TrustRegionOptions;
+///
+/// /// y'' = -y, y(0) = 0, y(pi/2) = 1 (solution sin s): unknown slope p = y'(0).
+/// struct Sine;
+/// struct Rhs;
+/// impl OdeSystem for Rhs {
+///     fn dim(&self) -> usize { 2 }
+///     fn rhs(&self, _s: f64, u: &[f64], du: &mut [f64]) {
+///         du[0] = u[1];
+///         du[1] = -u[0];
+///     }
+/// }
+/// impl ShootingProblem for Sine {
+///     type System = Rhs;
+///     fn n_params(&self) -> usize { 1 }
+///     fn system(&self, _p: &[f64]) -> Rhs { Rhs }
+///     fn span(&self, _p: &[f64]) -> (f64, f64) { (0.0, std::f64::consts::FRAC_PI_2) }
+///     fn initial_state(&self, p: &[f64], u0: &mut [f64]) {
+///         u0[0] = 0.0;
+///         u0[1] = p[0];
+///     }
+///     fn residual(&self, _p: &[f64], u_end: &[f64], r: &mut [f64]) {
+///         r[0] = u_end[0] - 1.0;
+///     }
+/// }
+///
+/// let shooting = Shooting {
+///     integrator: ShootingIntegrator::Dop853(Dop853::new(1e-12, 1e-12)),
+///     options: TrustRegionOptions::default(),
+/// };
+/// let sol = shooting.solve(&Sine, &[0.3]).unwrap();
+/// assert!((sol.params[0] - 1.0).abs() < 1e-8);
+/// ```
 pub trait ShootingProblem {
     /// The first-order system integrated for given parameters.
     type System: OdeSystem;

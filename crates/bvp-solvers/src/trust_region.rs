@@ -27,6 +27,26 @@ use faer::Mat;
 use crate::BvpError;
 
 /// A system of `n_residuals` equations `r(x) = 0` in `n_unknowns` unknowns.
+///
+/// ```
+/// use bvp_solvers::trust_region::{solve, NonlinearSystem, TrustRegionOptions};
+/// use bvp_solvers::BvpError;
+///
+/// /// Rosenbrock's function as a system: 10 (y - x^2) = 0, 1 - x = 0.
+/// struct Rosenbrock;
+/// impl NonlinearSystem for Rosenbrock {
+///     type Error = BvpError;
+///     fn n_unknowns(&self) -> usize { 2 }
+///     fn residual(&self, x: &[f64], r: &mut [f64]) -> Result<(), BvpError> {
+///         r[0] = 10.0 * (x[1] - x[0] * x[0]);
+///         r[1] = 1.0 - x[0];
+///         Ok(())
+///     }
+/// }
+///
+/// let sol = solve(&Rosenbrock, &[-1.2, 1.0], &TrustRegionOptions::default()).unwrap();
+/// assert!((sol.x[0] - 1.0).abs() < 1e-9 && (sol.x[1] - 1.0).abs() < 1e-9);
+/// ```
 pub trait NonlinearSystem {
     /// The caller's error type; solver failures are converted into it from [`BvpError`].
     type Error: std::error::Error + From<BvpError> + Send + Sync + 'static;

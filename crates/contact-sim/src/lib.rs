@@ -8,6 +8,17 @@
 //! | [`phase`] | tip contact (phase A) and tangential contact (phase B) at one contour point |
 //! | [`cases`] | the chapter-5 cases as reference problems |
 //! | [`sweep`] | first contact, the march along the contour, phase switches, snap and release |
+//!
+//! ```
+//! use beam_model::Whisker;
+//! use contact_sim::{sweep, Profile, Separation, SweepSettings};
+//!
+//! // Thesis case 1: a uniform rigid whisker under q = 5 swept past the catenary g1.
+//! let settings = SweepSettings { points: 20, ..Default::default() };
+//! let r = sweep(&Whisker::uniform(), 5.0, &Profile::g1(), &settings).unwrap();
+//! assert_eq!(r.phase_pattern(), "ABA"); // tip, tangential, tip contact
+//! assert_eq!(r.separation, Separation::Release); // the flow absorbs the snap
+//! ```
 
 pub mod cases;
 pub mod error;

@@ -29,4 +29,7 @@ pub mod sweep;
 pub use error::{ContactError, Result};
 pub use phase::{ContactState, ContourPoint, Phase};
 pub use profile::Profile;
-pub use sweep::{sweep, FirstContact, Separation, SweepPoint, SweepResult, SweepSettings};
+pub use sweep::{
+    sweep, sweep_with_progress, FirstContact, Separation, SweepPoint, SweepProgress, SweepResult,
+    SweepSettings,
+};

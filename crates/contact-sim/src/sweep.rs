@@ -427,11 +427,13 @@ impl Marcher<'_> {
         first: ContactState,
         xcs: impl Iterator<Item = f64>,
         max_step: f64,
+        progress: &mut dyn FnMut(usize),
     ) -> Result<(Vec<ContactState>, Option<Stop>)> {
         let mut states = vec![first];
         let mut trail = vec![first];
         let (dmin, _) = self.profile.domain();
-        for target in xcs {
+        for (done, target) in xcs.enumerate() {
+            progress(done);
             if target < dmin {
                 return Ok((states, Some(Stop::EndOfContour)));
             }
@@ -557,12 +559,40 @@ impl Marcher<'_> {
     }
 }
 
+/// Progress of a running sweep, reported to [`sweep_with_progress`]'s callback.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SweepProgress {
+    /// The coarse pass searching the separation: contour steps done so far.
+    Coarse {
+        /// Steps done.
+        steps: usize,
+    },
+    /// The fine pass: contact points done out of the requested number.
+    Fine {
+        /// Points done.
+        done: usize,
+        /// Points requested.
+        total: usize,
+    },
+}
+
 /// Sweeps a whisker under a fluid load `q` (alpha = 0) past `profile` (thesis Fig. 5.6).
 pub fn sweep(
     whisker: &Whisker,
     q: f64,
     profile: &Profile,
     settings: &SweepSettings,
+) -> Result<SweepResult> {
+    sweep_with_progress(whisker, q, profile, settings, &mut |_| {})
+}
+
+/// [`sweep`] reporting its progress to `progress` (e.g. for a progress bar).
+pub fn sweep_with_progress(
+    whisker: &Whisker,
+    q: f64,
+    profile: &Profile,
+    settings: &SweepSettings,
+    progress: &mut dyn FnMut(SweepProgress),
 ) -> Result<SweepResult> {
     whisker.validate()?;
     Loads::fluid(q, 0.0).validate()?;
@@ -606,7 +636,9 @@ pub fn sweep(
     // Pass 1: coarse march to find the separation.
     let h1 = span / 20.0;
     let coarse = (1..=400).map(|k| first.point.xc - k as f64 * h1);
-    let (coarse_states, stop) = marcher.march(first, coarse, h1)?;
+    let (coarse_states, stop) = marcher.march(first, coarse, h1, &mut |steps| {
+        progress(SweepProgress::Coarse { steps })
+    })?;
     let (sep_xc, final_state, separation) = match stop {
         Some(Stop::Snap(s)) => (s.point.xc, Some(s), Separation::Snap),
         Some(Stop::Release(s)) => (s.point.xc, Some(s), Separation::Release),
@@ -631,7 +663,12 @@ pub fn sweep(
             first.point.xc - k as f64 * step
         }
     });
-    let (mut states, stop2) = marcher.march(first, fine, h1)?;
+    let (mut states, stop2) = marcher.march(first, fine, h1, &mut |done| {
+        progress(SweepProgress::Fine {
+            done: done + 1,
+            total: n,
+        })
+    })?;
     let separation = match stop2 {
         // A snap or release found on the fine grid (normally at its last point) wins.
         Some(Stop::Snap(s)) => {

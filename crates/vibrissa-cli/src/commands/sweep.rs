@@ -6,7 +6,7 @@ use std::time::Duration;
 
 use beam_model::{shape_from_tip_angle, Scene};
 use contact_sim::phase::contact_loads;
-use contact_sim::{sweep, Phase, Profile, SweepResult, SweepSettings};
+use contact_sim::{sweep_with_progress, Phase, Profile, SweepProgress, SweepResult, SweepSettings};
 
 use crate::atomic::OutputDir;
 use crate::cli::SweepArgs;
@@ -88,19 +88,39 @@ pub fn run_sweep(
         points,
         ..SweepSettings::default()
     };
-    let spinner = if std::io::stderr().is_terminal() {
+    // A progress bar on stderr only when it is a terminal: a spinner while the coarse pass
+    // looks for the separation, then a bar over the requested contact points.
+    let bar = std::io::stderr().is_terminal().then(|| {
         let pb = indicatif::ProgressBar::new_spinner();
         pb.set_message(format!(
-            "sweeping past {} ({points} contact points)",
+            "sweeping past {}: finding the separation",
             profile.spec
         ));
         pb.enable_steady_tick(Duration::from_millis(120));
-        Some(pb)
-    } else {
-        None
-    };
-    let res = sweep(&r.scene.whisker, r.q(), contour, &settings);
-    if let Some(pb) = spinner {
+        pb
+    });
+    let mut fine_started = false;
+    let res = sweep_with_progress(&r.scene.whisker, r.q(), contour, &settings, &mut |p| {
+        let Some(pb) = &bar else { return };
+        match p {
+            SweepProgress::Coarse { .. } => pb.tick(),
+            SweepProgress::Fine { done, total } => {
+                if !fine_started {
+                    fine_started = true;
+                    pb.set_length(total as u64);
+                    pb.set_style(
+                        indicatif::ProgressStyle::with_template(
+                            "{msg} [{bar:40}] {pos}/{len} points ({elapsed})",
+                        )
+                        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+                    );
+                    pb.set_message(format!("sweeping past {}", profile.spec));
+                }
+                pb.set_position(done as u64);
+            }
+        }
+    });
+    if let Some(pb) = bar {
         pb.finish_and_clear();
     }
     res.map_err(|e| r.contact_culprit(e, profile))

@@ -811,7 +811,10 @@ fn work_precision(out: &OutputDir, report: &mut Report) {
             "tip error",
         )
         .log(true, true);
-        for (c, m) in ["fdm", "rk4", "accurate"].iter().enumerate() {
+        for (c, m) in ["fdm", "rk4", "accurate", "fdm-richardson"]
+            .iter()
+            .enumerate()
+        {
             let pts: Vec<(f64, f64)> = points
                 .iter()
                 .filter(|p| p.method == *m)

@@ -31,6 +31,8 @@ use std::time::{Duration, Instant};
 pub const FDM_INTERVALS: [usize; 8] = [25, 50, 100, 200, 400, 800, 1600, 3200];
 /// Steps of the `rk4` points: 10, 20, ..., 1280.
 pub const RK4_STEPS: [usize; 8] = [10, 20, 40, 80, 160, 320, 640, 1280];
+/// Coarsest-grid intervals of the fdm-richardson points (grids n, 2n, 4n).
+pub const FDM_RICHARDSON_INTERVALS: [usize; 6] = [10, 20, 40, 80, 160, 320];
 /// Integrator tolerances of the `accurate` points: 1e-4, 1e-5, ..., 1e-13.
 pub const ACCURATE_TOLS: [f64; 10] = [
     1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12, 1e-13,
@@ -68,6 +70,11 @@ pub struct WorkPoint {
 pub fn work_precision_methods() -> Vec<Method> {
     let mut m: Vec<Method> = FDM_INTERVALS.iter().map(|&n| Method::Fdm { n }).collect();
     m.extend(RK4_STEPS.iter().map(|&n| Method::Rk4 { n }));
+    m.extend(
+        FDM_RICHARDSON_INTERVALS
+            .iter()
+            .map(|&n| Method::FdmRichardson { n }),
+    );
     m.extend(ACCURATE_TOLS.iter().map(|&tol| Method::Accurate {
         tol,
         samples: DEFAULT_INTERVALS,
@@ -78,7 +85,7 @@ pub fn work_precision_methods() -> Vec<Method> {
 fn setting(method: &Method) -> f64 {
     match *method {
         Method::Accurate { tol, .. } => tol,
-        Method::Rk4 { n } | Method::Fdm { n } => n as f64,
+        Method::Rk4 { n } | Method::Fdm { n } | Method::FdmRichardson { n } => n as f64,
     }
 }
 

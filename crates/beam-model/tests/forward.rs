@@ -313,3 +313,29 @@ fn fdm_richardson_reaches_shooting_accuracy_and_rescues_thin_tips() {
     let d = (acc.tip.x - fine.tip.x).hypot(acc.tip.y - fine.tip.y);
     assert!(d < 1e-5, "{d:e}");
 }
+
+#[test]
+fn fdm_richardson_converges_at_order_six() {
+    for (name, scene) in beam_model::scenarios::reference_scenes() {
+        let exact = solve(
+            &scene,
+            &Method::Accurate {
+                tol: 1e-14,
+                samples: 10,
+            },
+        )
+        .unwrap();
+        let ns = [20usize, 40, 80];
+        let hs: Vec<f64> = ns.iter().map(|&n| 1.0 / n as f64).collect();
+        let errs: Vec<f64> = ns
+            .iter()
+            .map(|&n| {
+                let s = solve(&scene, &Method::FdmRichardson { n }).unwrap();
+                (s.tip.x - exact.tip.x).hypot(s.tip.y - exact.tip.y)
+            })
+            .collect();
+        let p = order(&hs, &errs);
+        eprintln!("{name}: order {p:.3}, errors {errs:?}");
+        assert!((p - 6.0).abs() < 0.5, "{name}: order {p:.3} errs {errs:?}");
+    }
+}

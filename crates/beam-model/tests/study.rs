@@ -16,7 +16,7 @@ use support::mattiasson;
 fn work_precision_has_the_theoretical_orders_and_accurate_reaches_1e10() {
     for (name, scene) in scenarios::reference_scenes() {
         let points = work_precision(&scene, name).unwrap();
-        assert_eq!(points.len(), 8 + 8 + 10);
+        assert_eq!(points.len(), 8 + 8 + 6 + 10);
         for p in &points {
             assert!(
                 p.error.is_finite() && p.seconds > 0.0 && p.evaluations > 0,
@@ -84,6 +84,9 @@ fn work_precision_errors_are_errors_against_the_exact_elastica() {
                 n: p.setting as usize,
             },
             "rk4" => Method::Rk4 {
+                n: p.setting as usize,
+            },
+            "fdm-richardson" => Method::FdmRichardson {
                 n: p.setting as usize,
             },
             _ => Method::Accurate {

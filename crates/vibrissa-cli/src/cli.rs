@@ -130,8 +130,9 @@ pub struct FluidFlags {
 /// Method flags.
 #[derive(Debug, Clone, Default, Args)]
 pub struct MethodFlags {
-    /// Solution method: accurate (adaptive DOP853 shooting), rk4 (fixed-step shooting) or
-    /// fdm (finite differences, the thesis's method) [default: accurate]
+    /// Solution method: accurate (adaptive DOP853 shooting), rk4 (fixed-step shooting), fdm
+    /// (finite differences, the thesis's method) or fdm-richardson (FDM on n, 2n, 4n with two
+    /// Richardson levels, order 6) [default: accurate]
     #[arg(long, value_name = "M")]
     pub method: Option<String>,
     /// Grid intervals per unit length for rk4/fdm; output intervals for accurate [default: 100]

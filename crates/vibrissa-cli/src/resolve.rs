@@ -328,7 +328,7 @@ fn resolve_parts(
     };
     let n_value = given.n.as_ref().map(|p| p.value as usize);
     let method = Method::from_name(name.trim(), n_value).ok_or_else(|| {
-        let reason = "unknown method: expected accurate, rk4 or fdm".to_string();
+        let reason = "unknown method: expected accurate, rk4, fdm or fdm-richardson".to_string();
         match (name_origin, f_ref) {
             (None, Some(f)) => f.error_at("method.name", format!("{reason}, got `{name}`")),
             _ => CliError::invalid_argument("--method", name.clone(), reason),

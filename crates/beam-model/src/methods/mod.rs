@@ -35,6 +35,12 @@ pub enum Method {
         /// Grid intervals per unit length.
         n: usize,
     },
+    /// FDM on `n`, `2n`, `4n` intervals with two levels of Richardson extrapolation
+    /// (order 6 in the tip, the loaded end and the base observables).
+    FdmRichardson {
+        /// Intervals of the coarsest grid per unit length.
+        n: usize,
+    },
 }
 
 impl Default for Method {
@@ -61,6 +67,7 @@ impl Method {
             Method::Accurate { .. } => "accurate",
             Method::Rk4 { .. } => "rk4",
             Method::Fdm { .. } => "fdm",
+            Method::FdmRichardson { .. } => "fdm-richardson",
         }
     }
 
@@ -68,7 +75,7 @@ impl Method {
     pub fn intervals(&self) -> usize {
         match *self {
             Method::Accurate { samples, .. } => samples,
-            Method::Rk4 { n } | Method::Fdm { n } => n,
+            Method::Rk4 { n } | Method::Fdm { n } | Method::FdmRichardson { n } => n,
         }
     }
 
@@ -82,6 +89,7 @@ impl Method {
             }),
             "rk4" => Some(Method::Rk4 { n }),
             "fdm" => Some(Method::Fdm { n }),
+            "fdm-richardson" => Some(Method::FdmRichardson { n }),
             _ => None,
         }
     }
@@ -133,6 +141,7 @@ pub fn solve(scene: &Scene, method: &Method) -> Result<Solution> {
         }
         Method::Rk4 { n } => shooting::solve(scene, &crate::shot::Integration::Rk4 { n }, n, "rk4"),
         Method::Fdm { n } => fdm::solve(scene, n),
+        Method::FdmRichardson { n } => fdm_richardson_on(scene, n),
     }
 }
 
@@ -184,8 +193,14 @@ pub fn shape_with(
 /// base observables; the elastica is the finest grid's. `stats.residual` holds the
 /// extrapolation's error estimate. The fallback of `accurate` where shooting fails.
 pub fn fdm_richardson(scene: &Scene) -> Result<Solution> {
-    scene.validate()?;
     let n0 = ((40.0 / scene.whisker.theta).ceil() as usize).max(200);
+    fdm_richardson_on(scene, n0)
+}
+
+/// FDM with two Richardson levels from a coarsest grid of `n0` intervals per unit length
+/// (method [`Method::FdmRichardson`]).
+fn fdm_richardson_on(scene: &Scene, n0: usize) -> Result<Solution> {
+    scene.validate()?;
     let sols = [
         fdm::solve(scene, n0)?,
         fdm::solve(scene, 2 * n0)?,

@@ -8,7 +8,12 @@ use vibrissa::profile_recon::{from_sweep, reconstruct, ReconSettings};
 
 fn recon_g1(c: &mut Criterion) {
     let whisker = Whisker::uniform();
-    let truth = match sweep(&whisker, 5.0, &Profile::g1(), &SweepSettings::default()) {
+    let truth = match sweep(
+        &whisker,
+        beam_model::FluidLoad { q: 5.0, alpha: 0.0 },
+        &Profile::g1(),
+        &SweepSettings::default(),
+    ) {
         Ok(t) => t,
         Err(e) => {
             eprintln!("recon/g1: sweep failed: {e}");

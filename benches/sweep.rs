@@ -9,14 +9,26 @@ fn sweep_g1(c: &mut Criterion) {
     let whisker = Whisker::uniform();
     let profile = Profile::g1();
     let settings = SweepSettings::default(); // 200 contact points
-    if let Err(e) = sweep(&whisker, 5.0, &profile, &settings) {
+    if let Err(e) = sweep(
+        &whisker,
+        beam_model::FluidLoad { q: 5.0, alpha: 0.0 },
+        &profile,
+        &settings,
+    ) {
         eprintln!("sweep/g1/q=5: {e}");
         return;
     }
     let mut group = c.benchmark_group("sweep");
     group.sample_size(10);
     group.bench_function("g1/q=5/200-points", |b| {
-        b.iter(|| sweep(black_box(&whisker), 5.0, black_box(&profile), &settings))
+        b.iter(|| {
+            sweep(
+                black_box(&whisker),
+                beam_model::FluidLoad { q: 5.0, alpha: 0.0 },
+                black_box(&profile),
+                &settings,
+            )
+        })
     });
     group.finish();
 }

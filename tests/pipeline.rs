@@ -34,7 +34,7 @@ fn demo_scene_chain_recovers_flow_and_contour() {
     let g1 = Profile::g1();
     let truth = sweep(
         &w,
-        5.0,
+        beam_model::FluidLoad { q: 5.0, alpha: 0.0 },
         &g1,
         &SweepSettings {
             points: 60,

@@ -50,7 +50,7 @@ fn chapter6_case_quality() {
     for c in cases::chapter5().iter().filter(|c| c.case == "5") {
         let truth = sweep(
             &c.whisker,
-            c.q,
+            beam_model::FluidLoad { q: c.q, alpha: 0.0 },
             &c.profile,
             &SweepSettings {
                 points: 40,

@@ -294,7 +294,15 @@ fn sketch(
             let loads = if p.phase == Phase::None {
                 Loads::fluid(r.case.q, 0.0)
             } else {
-                contact_loads(r.case.q, p.psi, p.f.max(0.0), p.s1)
+                contact_loads(
+                    beam_model::FluidLoad {
+                        q: r.case.q,
+                        alpha: 0.0,
+                    },
+                    p.psi,
+                    p.f.max(0.0),
+                    p.s1,
+                )
             };
             let scene = Scene::new(r.case.whisker, loads);
             let sol = match shape_from_tip_angle(&scene, p.phi1, 1e-10, 100) {

@@ -216,8 +216,13 @@ fn run_sweeps() -> Vec<SweepRun> {
     let t0 = Instant::now();
     let runs = par_map(&cases, |c| {
         let t = Instant::now();
-        let result =
-            contact_sim::sweep(&c.whisker, c.q, &c.profile, &settings).map_err(|e| e.to_string());
+        let result = contact_sim::sweep(
+            &c.whisker,
+            beam_model::FluidLoad { q: c.q, alpha: 0.0 },
+            &c.profile,
+            &settings,
+        )
+        .map_err(|e| e.to_string());
         (result, t.elapsed().as_secs_f64())
     });
     eprintln!(

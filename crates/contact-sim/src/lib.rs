@@ -15,7 +15,7 @@
 //!
 //! // Thesis case 1: a uniform rigid whisker under q = 5 swept past the catenary g1.
 //! let settings = SweepSettings { points: 20, ..Default::default() };
-//! let r = sweep(&Whisker::uniform(), 5.0, &Profile::g1(), &settings).unwrap();
+//! let r = sweep(&Whisker::uniform(), beam_model::FluidLoad { q: 5.0, alpha: 0.0 }, &Profile::g1(), &settings).unwrap();
 //! assert_eq!(r.phase_pattern(), "ABA"); // tip, tangential, tip contact
 //! assert_eq!(r.separation, Separation::Release); // the flow absorbs the snap
 //! ```

@@ -8,7 +8,7 @@
 //!   conditions at `s1`; valid while `s1 < 1`.
 //!
 //! The contact force is the DP force `f (sin psi, -cos psi)`, i.e. `beta = pi/2 - psi`, and the
-//! flow acts on `[0, s1]` with `alpha = 0` (spec/model.md). The base position follows as
+//! flow acts on `[0, s1]` at any angle alpha (spec/model.md). The base position follows as
 //! `x0 = xc - (x(s1) - x(0))`.
 
 use crate::error::{ContactError, Result};
@@ -101,26 +101,34 @@ pub struct ContactState {
 
 impl ContactState {
     /// The loads on the whisker in this state.
-    pub fn loads(&self, q: f64) -> Loads {
-        contact_loads(q, self.point.psi, self.f, self.s1)
+    pub fn loads(&self, flow: FluidLoad) -> Loads {
+        contact_loads(flow, self.point.psi, self.f, self.s1)
     }
 
-    /// Base observables `(Ax, Ay, MA, phi0)` [6.8, 6.9, 6.7].
-    pub fn observables(&self, q: f64) -> (f64, f64, f64, f64) {
+    /// Base observables `(Ax, Ay, MA, phi0)` [6.7-6.9] under the flow `flow` on `[0, s1]`:
+    /// `Ax = -(f sin psi + q s1 cos alpha)`, `Ay = f cos psi + q s1 sin alpha`, `MA = -m(0)`.
+    pub fn observables(&self, flow: FluidLoad) -> (f64, f64, f64, f64) {
         let (s, c) = self.point.psi.sin_cos();
-        (-(self.f * s + q * self.s1), self.f * c, -self.m0, self.phi0)
+        let (sa, ca) = flow.alpha.sin_cos();
+        (
+            -(self.f * s + flow.q * self.s1 * ca),
+            self.f * c + flow.q * self.s1 * sa,
+            -self.m0,
+            self.phi0,
+        )
     }
 }
 
-/// Loads of a contact: DP force at `beta = pi/2 - psi`, flow `q` at `alpha = 0` on `[0, s1]`.
-pub fn contact_loads(q: f64, psi: f64, f: f64, s1: f64) -> Loads {
+/// Loads of a contact: DP force `f (sin psi, -cos psi)` (`beta = pi/2 - psi`) at `s1` and the
+/// flow `q (cos alpha, -sin alpha)` on `[0, s1]` (spec/model.md, contact).
+pub fn contact_loads(flow: FluidLoad, psi: f64, f: f64, s1: f64) -> Loads {
     Loads {
         tip: TipForce {
             f,
             beta: FRAC_PI_2 - psi,
             kind: LoadKind::Dp,
         },
-        fluid: FluidLoad { q, alpha: 0.0 },
+        fluid: flow,
         s1,
     }
 }
@@ -128,7 +136,7 @@ pub fn contact_loads(q: f64, psi: f64, f: f64, s1: f64) -> Loads {
 /// The contact problem at one contour point for one phase.
 pub struct PhaseProblem<'a> {
     whisker: &'a Whisker,
-    q: f64,
+    flow: FluidLoad,
     point: ContourPoint,
     phase: Phase,
     integration: &'a Integration,
@@ -139,14 +147,14 @@ impl<'a> PhaseProblem<'a> {
     /// Phase `phase` (A or B) at `point`.
     pub fn new(
         whisker: &'a Whisker,
-        q: f64,
+        flow: FluidLoad,
         point: ContourPoint,
         phase: Phase,
         integration: &'a Integration,
     ) -> Self {
         PhaseProblem {
             whisker,
-            q,
+            flow,
             point,
             phase,
             integration,
@@ -177,7 +185,7 @@ impl<'a> PhaseProblem<'a> {
                 reason: "contact arc length left the whisker during the phase-B iteration",
             }));
         }
-        let loads = contact_loads(self.q, self.point.psi, f, s1);
+        let loads = contact_loads(self.flow, self.point.psi, f, s1);
         let shot = shoot(
             self.whisker,
             &loads,

@@ -10,7 +10,7 @@ use crate::error::{ContactError, Result};
 use crate::phase::{ContactState, ContourPoint, Phase, PhaseProblem};
 use crate::profile::Profile;
 use beam_model::shot::Integration;
-use beam_model::{shape_with, solve, Loads, Method, Scene, Whisker};
+use beam_model::{shape_with, solve, FluidLoad, Loads, Method, Scene, Whisker};
 use serde::{Deserialize, Serialize};
 
 /// Settings of a sweep.
@@ -107,6 +107,8 @@ pub enum Separation {
 pub struct SweepResult {
     /// Fluid load q.
     pub q: f64,
+    /// Flow angle alpha (rad): the flow is `q (cos alpha, -sin alpha)` on `[0, s1]`.
+    pub alpha: f64,
     /// The rows, pre-contact first, in the order of the motion (x0 decreasing in contact).
     pub points: Vec<SweepPoint>,
     /// How the contact began.
@@ -135,8 +137,8 @@ impl SweepResult {
 }
 
 impl SweepPoint {
-    fn from_state(st: &ContactState, q: f64) -> Self {
-        let (ax, ay, ma, phi0) = st.observables(q);
+    fn from_state(st: &ContactState, flow: FluidLoad) -> Self {
+        let (ax, ay, ma, phi0) = st.observables(flow);
         SweepPoint {
             x0: st.x0,
             ax,
@@ -156,7 +158,7 @@ impl SweepPoint {
 
 struct Marcher<'a> {
     whisker: &'a Whisker,
-    q: f64,
+    flow: FluidLoad,
     profile: &'a Profile,
     integration: Integration,
     settings: &'a SweepSettings,
@@ -172,7 +174,7 @@ enum Stop {
 impl Marcher<'_> {
     fn solve_phase(&self, xc: f64, phase: Phase, guess: [f64; 2]) -> Result<ContactState> {
         let point = ContourPoint::on(self.profile, xc);
-        PhaseProblem::new(self.whisker, self.q, point, phase, &self.integration)
+        PhaseProblem::new(self.whisker, self.flow, point, phase, &self.integration)
             .solve(guess, self.settings.solve_tol)
     }
 
@@ -261,7 +263,7 @@ impl Marcher<'_> {
         if !self.settings.check_penetration {
             return Ok(false);
         }
-        let scene = Scene::new(*self.whisker, st.loads(self.q));
+        let scene = Scene::new(*self.whisker, st.loads(self.flow));
         // A geometric check: RK4 with 80 steps is accurate to ~1e-8, far below the 1e-6
         // margin by which another point must enter the obstacle to count.
         let sol = shape_with(&scene, st.phi1, &Integration::Rk4 { n: 80 })?;
@@ -576,26 +578,26 @@ pub enum SweepProgress {
     },
 }
 
-/// Sweeps a whisker under a fluid load `q` (alpha = 0) past `profile` (thesis Fig. 5.6).
+/// Sweeps a whisker under the fluid load `flow` past `profile` (thesis Fig. 5.6).
 pub fn sweep(
     whisker: &Whisker,
-    q: f64,
+    flow: FluidLoad,
     profile: &Profile,
     settings: &SweepSettings,
 ) -> Result<SweepResult> {
-    sweep_with_progress(whisker, q, profile, settings, &mut |_| {})
+    sweep_with_progress(whisker, flow, profile, settings, &mut |_| {})
 }
 
 /// [`sweep`] reporting its progress to `progress` (e.g. for a progress bar).
 pub fn sweep_with_progress(
     whisker: &Whisker,
-    q: f64,
+    flow: FluidLoad,
     profile: &Profile,
     settings: &SweepSettings,
     progress: &mut dyn FnMut(SweepProgress),
 ) -> Result<SweepResult> {
     whisker.validate()?;
-    Loads::fluid(q, 0.0).validate()?;
+    Loads::fluid(flow.q, flow.alpha).validate()?;
     if settings.points < 2 {
         return Err(ContactError::InvalidParameter {
             name: "points",
@@ -605,13 +607,13 @@ pub fn sweep_with_progress(
     }
     let marcher = Marcher {
         whisker,
-        q,
+        flow,
         profile,
         integration: Integration::adaptive(settings.integration_tol),
         settings,
     };
     let free = solve(
-        &Scene::new(*whisker, Loads::fluid(q, 0.0)),
+        &Scene::new(*whisker, Loads::fluid(flow.q, flow.alpha)),
         &Method::Accurate {
             tol: settings.integration_tol,
             samples: 2000,
@@ -715,9 +717,10 @@ pub fn sweep_with_progress(
             psi: f64::NAN,
         });
     }
-    points.extend(states.iter().map(|s| SweepPoint::from_state(s, q)));
+    points.extend(states.iter().map(|s| SweepPoint::from_state(s, flow)));
     Ok(SweepResult {
-        q,
+        q: flow.q,
+        alpha: flow.alpha,
         points,
         first_contact,
         separation,

@@ -2,7 +2,7 @@
 //! conditions, the separation kinds of thesis Figs. 5.11/5.14, and the phase patterns the
 //! thesis describes for the chapter-5 cases.
 
-use beam_model::{shape_from_tip_angle, Scene, Whisker};
+use beam_model::{shape_from_tip_angle, FluidLoad, Scene, Whisker};
 use contact_sim::phase::contact_loads;
 use contact_sim::{
     cases, sweep, FirstContact, Phase, Profile, Separation, SweepResult, SweepSettings,
@@ -13,7 +13,7 @@ fn run(w: &Whisker, q: f64, p: &Profile, points: usize) -> SweepResult {
         points,
         ..SweepSettings::default()
     };
-    sweep(w, q, p, &s).unwrap()
+    sweep(w, FluidLoad { q, alpha: 0.0 }, p, &s).unwrap()
 }
 
 #[test]
@@ -35,7 +35,7 @@ fn every_point_balances_and_satisfies_its_phase_conditions() {
             assert!(pt.f >= -1e-9, "negative contact force {}", pt.f);
             // re-integrate the whisker from the recorded state: the loaded end is the contact
             // point, the base condition holds and the moment is the recorded MA
-            let loads = contact_loads(q, pt.psi, pt.f, pt.s1);
+            let loads = contact_loads(FluidLoad { q, alpha: 0.0 }, pt.psi, pt.f, pt.s1);
             let scene = Scene::new(w, loads);
             let phi1 = pt.phi1;
             if pt.phase == Phase::B {
@@ -156,7 +156,7 @@ fn bad_inputs_are_refused() {
             theta: -0.5,
             ..Whisker::uniform()
         },
-        5.0,
+        FluidLoad { q: 5.0, alpha: 0.0 },
         &Profile::g1(),
         &SweepSettings::default(),
     );
@@ -168,14 +168,25 @@ fn bad_inputs_are_refused() {
         yv: 3.0,
     };
     assert!(matches!(
-        sweep(&Whisker::uniform(), 0.0, &high, &SweepSettings::default()),
+        sweep(
+            &Whisker::uniform(),
+            FluidLoad::default(),
+            &high,
+            &SweepSettings::default()
+        ),
         Err(contact_sim::ContactError::NoContact { .. })
     ));
     // a tabulated concave contour is refused
     let xs: Vec<f64> = (0..20).map(|i| i as f64 * 0.2 - 2.0).collect();
     let ys: Vec<f64> = xs.iter().map(|x| 1.5 - 0.1 * x * x).collect();
     let p = Profile::points(xs, ys).unwrap();
-    let e = sweep(&Whisker::uniform(), 0.0, &p, &SweepSettings::default()).unwrap_err();
+    let e = sweep(
+        &Whisker::uniform(),
+        FluidLoad::default(),
+        &p,
+        &SweepSettings::default(),
+    )
+    .unwrap_err();
     assert!(
         matches!(e, contact_sim::ContactError::NotConvex { .. }),
         "{e}"

@@ -18,7 +18,7 @@
 //!
 //! let w = Whisker::uniform();
 //! let settings = SweepSettings { points: 20, ..Default::default() };
-//! let truth = sweep(&w, 5.0, &Profile::g2(), &settings).unwrap();
+//! let truth = sweep(&w, beam_model::FluidLoad { q: 5.0, alpha: 0.0 }, &Profile::g2(), &settings).unwrap();
 //! // only the observables (x0, Ax, Ay, MA, phi0) go in
 //! let rec = reconstruct(&w, &from_sweep(&truth), None, &ReconSettings::default()).unwrap();
 //! assert!((rec.identification.q - 5.0).abs() < 1e-12);

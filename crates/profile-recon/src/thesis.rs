@@ -54,7 +54,7 @@ use crate::error::{ReconError, Result};
 use crate::observables::ObservableRow;
 use crate::reconstruct::{force, ReconPoint, ReconSettings};
 use beam_model::equations::WhiskerFdmProblem;
-use beam_model::{solve as solve_model, Loads, Method, Scene, Whisker};
+use beam_model::{solve as solve_model, FluidLoad, Loads, Method, Scene, Whisker};
 use bvp_solvers::fdm::{BoundaryCondition, FdmOptions, FdmSolver};
 use bvp_solvers::grid::UniformGrid;
 use bvp_solvers::trust_region::{self, NonlinearSystem, TrustRegionOptions};
@@ -169,7 +169,15 @@ impl<'a> RowSystem<'a> {
     /// The FDM solve of [3.25] on `[0, s1]` with `phi(0) = phi0`, `phi(s1) = phi1`.
     fn fdm(&self, psi: f64, f: f64, s1: f64, phi1: f64) -> Result<Fdm> {
         let grid = UniformGrid::new(0.0, s1, INTERVALS)?;
-        let loads = contact_loads(self.q, psi, f, s1);
+        let loads = contact_loads(
+            FluidLoad {
+                q: self.q,
+                alpha: 0.0,
+            },
+            psi,
+            f,
+            s1,
+        );
         let problem = WhiskerFdmProblem::new(*self.whisker, loads, phi1);
         let phi0 = self.row.phi0;
         let guess: Vec<f64> = {

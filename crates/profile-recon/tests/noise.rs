@@ -10,7 +10,7 @@ fn error_grows_with_noise_without_failures() {
     let w = Whisker::uniform();
     let truth = sweep(
         &w,
-        5.0,
+        beam_model::FluidLoad { q: 5.0, alpha: 0.0 },
         &Profile::g1(),
         &SweepSettings {
             points: 60,

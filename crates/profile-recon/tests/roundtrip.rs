@@ -12,7 +12,13 @@ fn every_chapter5_case_round_trips_with_the_accurate_method() {
             points: 40,
             ..SweepSettings::default()
         };
-        let truth = sweep(&c.whisker, c.q, &c.profile, &s).unwrap();
+        let truth = sweep(
+            &c.whisker,
+            beam_model::FluidLoad { q: c.q, alpha: 0.0 },
+            &c.profile,
+            &s,
+        )
+        .unwrap();
         let rows = from_sweep(&truth);
         let rec = reconstruct(&c.whisker, &rows, None, &ReconSettings::default())
             .unwrap_or_else(|e| panic!("case {} {} {}: {e}", c.case, c.profile_name, c.label));

@@ -44,7 +44,12 @@ fn round_trip(name: &str, profile: &str, label: &str, points: usize) -> Trip {
         points,
         ..SweepSettings::default()
     };
-    let truth = match sweep(&c.whisker, c.q, &c.profile, &s) {
+    let truth = match sweep(
+        &c.whisker,
+        beam_model::FluidLoad { q: c.q, alpha: 0.0 },
+        &c.profile,
+        &s,
+    ) {
         Ok(t) => t,
         Err(e) => panic!("sweep of case {name} {profile} {label} failed: {e}"),
     };
@@ -143,7 +148,12 @@ fn thesis_method_on_every_chapter5_case() {
             points: 30,
             ..SweepSettings::default()
         };
-        if let Err(e) = sweep(&c.whisker, c.q, &c.profile, &s) {
+        if let Err(e) = sweep(
+            &c.whisker,
+            beam_model::FluidLoad { q: c.q, alpha: 0.0 },
+            &c.profile,
+            &s,
+        ) {
             eprintln!(
                 "case {} {} {}: sweep failed ({e})",
                 c.case, c.profile_name, c.label

@@ -4,7 +4,7 @@
 use std::io::IsTerminal;
 use std::time::Duration;
 
-use beam_model::{shape_from_tip_angle, Scene};
+use beam_model::{shape_from_tip_angle, FluidLoad, Scene};
 use contact_sim::phase::contact_loads;
 use contact_sim::{sweep_with_progress, Phase, Profile, SweepProgress, SweepResult, SweepSettings};
 
@@ -48,23 +48,27 @@ pub fn run(args: &SweepArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-/// The sweep computes the contact force itself and blows along +x: refuses a tip force and
-/// a flow angle.
+/// The sweep computes the contact force itself: refuses a tip force, and a flow angle outside
+/// (-90, 90) degrees (the flow must push the whisker towards the obstacle's side, +x).
 pub fn check_sweep_loads(r: &Resolved) -> Result<(), CliError> {
     use crate::resolve::Origin;
-    for (p, field, what) in [
+    let alpha = r.given.alpha_deg.value;
+    let checks = [
         (
             &r.given.f,
             "loads.f",
+            r.given.f.value != 0.0,
             "a sweep computes the contact force itself; leave the tip force at 0",
         ),
         (
             &r.given.alpha_deg,
             "loads.alpha_deg",
-            "the sweep's flow acts along +x (alpha = 0)",
+            !(alpha > -90.0 && alpha < 90.0),
+            "the sweep's flow angle must lie in (-90, 90) degrees (a flow towards +x)",
         ),
-    ] {
-        if p.value != 0.0 {
+    ];
+    for (p, field, bad, what) in checks {
+        if bad {
             return Err(match (&p.origin, &r.file) {
                 (Origin::Flag { flag, raw }, _) => {
                     CliError::invalid_argument(*flag, raw.clone(), what)
@@ -100,26 +104,32 @@ pub fn run_sweep(
         pb
     });
     let mut fine_started = false;
-    let res = sweep_with_progress(&r.scene.whisker, r.q(), contour, &settings, &mut |p| {
-        let Some(pb) = &bar else { return };
-        match p {
-            SweepProgress::Coarse { .. } => pb.tick(),
-            SweepProgress::Fine { done, total } => {
-                if !fine_started {
-                    fine_started = true;
-                    pb.set_length(total as u64);
-                    pb.set_style(
-                        indicatif::ProgressStyle::with_template(
-                            "{msg} [{bar:40}] {pos}/{len} points ({elapsed})",
-                        )
-                        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-                    );
-                    pb.set_message(format!("sweeping past {}", profile.spec));
+    let res = sweep_with_progress(
+        &r.scene.whisker,
+        r.scene.loads.fluid,
+        contour,
+        &settings,
+        &mut |p| {
+            let Some(pb) = &bar else { return };
+            match p {
+                SweepProgress::Coarse { .. } => pb.tick(),
+                SweepProgress::Fine { done, total } => {
+                    if !fine_started {
+                        fine_started = true;
+                        pb.set_length(total as u64);
+                        pb.set_style(
+                            indicatif::ProgressStyle::with_template(
+                                "{msg} [{bar:40}] {pos}/{len} points ({elapsed})",
+                            )
+                            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+                        );
+                        pb.set_message(format!("sweeping past {}", profile.spec));
+                    }
+                    pb.set_position(done as u64);
                 }
-                pb.set_position(done as u64);
             }
-        }
-    });
+        },
+    );
     if let Some(pb) = bar {
         pb.finish_and_clear();
     }
@@ -158,7 +168,18 @@ fn write_shapes_svg(
             i * (contact.len() - 1) / (picks - 1)
         };
         let p = contact[idx];
-        let scene = Scene::new(r.scene.whisker, contact_loads(r.q(), p.psi, p.f, p.s1));
+        let scene = Scene::new(
+            r.scene.whisker,
+            contact_loads(
+                FluidLoad {
+                    q: res.q,
+                    alpha: res.alpha,
+                },
+                p.psi,
+                p.f,
+                p.s1,
+            ),
+        );
         let Ok(sol) = shape_from_tip_angle(&scene, p.phi1, 1e-10, 100) else {
             continue;
         };

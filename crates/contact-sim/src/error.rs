@@ -56,6 +56,29 @@ pub enum ContactError {
         /// Final residual norm.
         residual: f64,
     },
+    /// The contact point reached the end of the contour's parameter range (a table's last
+    /// knot, a circle's vertical end).
+    #[error("the contact point left profile {profile} (contour parameter t = {t:.6})")]
+    LeftContour {
+        /// The profile's name.
+        profile: String,
+        /// The contour parameter reached.
+        t: f64,
+    },
+    /// The continuation of the contact branch could not go on.
+    #[error("the contact branch stalled in phase {phase} at base position x0 = {x0:.6} (contact point xc = {xc:.6}, step {step:.2e}): {reason}")]
+    BranchStalled {
+        /// `A` or `B`.
+        phase: char,
+        /// Last base position reached.
+        x0: f64,
+        /// Last contact point.
+        xc: f64,
+        /// The last step length tried.
+        step: f64,
+        /// Why.
+        reason: String,
+    },
     /// An underlying BVP routine failed.
     #[error(transparent)]
     Bvp(#[from] BvpError),

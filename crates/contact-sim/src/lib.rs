@@ -20,8 +20,12 @@
 //! assert_eq!(r.separation, Separation::Release); // the flow absorbs the snap
 //! ```
 
+mod branch;
 pub mod cases;
+mod continuation;
 pub mod error;
+mod events;
+pub mod first_contact;
 pub mod phase;
 pub mod profile;
 pub mod sweep;
@@ -30,6 +34,6 @@ pub use error::{ContactError, Result};
 pub use phase::{ContactState, ContourPoint, Phase};
 pub use profile::Profile;
 pub use sweep::{
-    sweep, sweep_with_progress, FirstContact, Separation, SweepPoint, SweepProgress, SweepResult,
-    SweepSettings,
+    sweep, sweep_with_progress, FirstContact, FirstTouch, Separation, SweepPoint, SweepProgress,
+    SweepResult, SweepSettings,
 };

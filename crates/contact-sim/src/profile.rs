@@ -5,6 +5,25 @@
 
 use crate::error::{ContactError, Result};
 use serde::{Deserialize, Serialize};
+use std::f64::consts::FRAC_PI_2;
+
+/// A contour point with the derivatives of its coordinates and angle along the contour
+/// parameter `t` ([`Profile::at`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContourGeom {
+    /// x of the point.
+    pub x: f64,
+    /// y of the point.
+    pub y: f64,
+    /// Contour angle psi (tangent direction `(cos psi, sin psi)`).
+    pub psi: f64,
+    /// dx/dt.
+    pub dx: f64,
+    /// dy/dt.
+    pub dy: f64,
+    /// dpsi/dt.
+    pub dpsi: f64,
+}
 
 /// A convex contour.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -38,7 +57,7 @@ pub enum Profile {
         /// Radius r > 0.
         r: f64,
     },
-    /// A tabulated contour, interpolated by a natural cubic spline (C^2).
+    /// A tabulated contour, interpolated by a not-a-knot cubic spline (C^2).
     Points(Spline),
 }
 
@@ -52,7 +71,8 @@ pub struct Spline {
 }
 
 impl Spline {
-    /// Builds the natural spline; needs at least 3 points with strictly increasing x.
+    /// Builds the not-a-knot cubic spline (C^2; g'' linear between knots); needs at least 3
+    /// points with strictly increasing x.
     pub fn new(x: Vec<f64>, y: Vec<f64>) -> Result<Self> {
         let bad = |reason: String| ContactError::ProfileSpec {
             spec: "points".into(),
@@ -74,19 +94,50 @@ impl Spline {
             return Err(bad(format!("non-finite coordinate (value {})", i + 1)));
         }
         let n = x.len();
-        // Tridiagonal system for the second derivatives (natural end conditions).
-        let mut tri = bvp_solvers::tridiag::Tridiagonal::new(n);
-        let mut rhs = vec![0.0; n];
-        tri.diag[0] = 1.0;
-        tri.diag[n - 1] = 1.0;
-        for i in 1..n - 1 {
-            let (h0, h1) = (x[i] - x[i - 1], x[i + 1] - x[i]);
-            tri.lower[i] = h0 / 6.0;
-            tri.diag[i] = (h0 + h1) / 3.0;
-            tri.upper[i] = h1 / 6.0;
-            rhs[i] = (y[i + 1] - y[i]) / h1 - (y[i] - y[i - 1]) / h0;
+        let h: Vec<f64> = x.windows(2).map(|w| w[1] - w[0]).collect();
+        let slope: Vec<f64> = (0..n - 1).map(|i| (y[i + 1] - y[i]) / h[i]).collect();
+        if n == 3 {
+            // not-a-knot through three points: the parabola, g'' constant
+            let m2 = 2.0 * (slope[1] - slope[0]) / (x[2] - x[0]);
+            return Ok(Spline {
+                x,
+                y,
+                m: vec![m2; 3],
+            });
         }
-        let m = tri.solve(&rhs)?;
+        // Not-a-knot end conditions (the third derivative continuous at the second and the
+        // last but one knot): a convex table gives a convex spline up to its ends, where a
+        // natural spline would force g'' = 0. The end values m_0, m_{n-1} are eliminated from
+        // the first and last rows, leaving a tridiagonal system for m_1 .. m_{n-2}.
+        let k = n - 2;
+        let mut tri = bvp_solvers::tridiag::Tridiagonal::new(k);
+        let mut rhs = vec![0.0; k];
+        for (j, rhs_j) in rhs.iter_mut().enumerate() {
+            let i = j + 1;
+            let (h0, h1) = (h[i - 1], h[i]);
+            let (mut lo, mut d, mut up) = (h0 / 6.0, (h0 + h1) / 3.0, h1 / 6.0);
+            if i == 1 {
+                // m_0 = (1 + h0/h1) m_1 - (h0/h1) m_2
+                d += lo * (1.0 + h0 / h1);
+                up -= lo * h0 / h1;
+                lo = 0.0;
+            }
+            if i == n - 2 {
+                // m_{n-1} = (1 + h1/h0) m_{n-2} - (h1/h0) m_{n-3}
+                d += up * (1.0 + h1 / h0);
+                lo -= up * h1 / h0;
+                up = 0.0;
+            }
+            tri.lower[j] = lo;
+            tri.diag[j] = d;
+            tri.upper[j] = up;
+            *rhs_j = slope[i] - slope[i - 1];
+        }
+        let inner = tri.solve(&rhs)?;
+        let mut m = vec![0.0; n];
+        m[1..n - 1].copy_from_slice(&inner);
+        m[0] = (1.0 + h[0] / h[1]) * m[1] - h[0] / h[1] * m[2];
+        m[n - 1] = (1.0 + h[n - 2] / h[n - 3]) * m[n - 2] - h[n - 2] / h[n - 3] * m[n - 3];
         Ok(Spline { x, y, m })
     }
 
@@ -320,6 +371,134 @@ impl Profile {
                     profile: self.name(),
                     x,
                     g2,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// The range of the contour parameter `t` ([`Profile::at`]): `x` itself for graphs
+    /// (infinite for closed forms, the table's range for tabulated contours), the polar angle
+    /// in `[-pi/2, pi/2]` for a circle's lower arc, vertical ends included.
+    pub fn param_range(&self) -> (f64, f64) {
+        match *self {
+            Profile::Circle { .. } => (-FRAC_PI_2, FRAC_PI_2),
+            _ => self.domain(),
+        }
+    }
+
+    /// The contour parameter of the point at `x` (see [`Profile::param_range`]).
+    pub fn param_of_x(&self, x: f64) -> f64 {
+        match *self {
+            Profile::Circle { xc, r, .. } => ((x - xc) / r).clamp(-1.0, 1.0).asin(),
+            _ => x,
+        }
+    }
+
+    /// The contour point at parameter `t` with the derivatives of its coordinates and of its
+    /// angle with respect to `t`. Graphs use `t = x`: `(x, g, atan g')` with derivatives
+    /// `(1, g', g''/(1 + g'^2))`; a circle uses its polar angle from the lowest point:
+    /// `(xc + r sin t, yc - r cos t, t)`, smooth up to the vertical ends `t = +-pi/2`.
+    pub fn at(&self, t: f64) -> ContourGeom {
+        match *self {
+            Profile::Circle { xc, yc, r } => {
+                let (s, c) = t.sin_cos();
+                ContourGeom {
+                    x: xc + r * s,
+                    y: yc - r * c,
+                    psi: t,
+                    dx: r * c,
+                    dy: r * s,
+                    dpsi: 1.0,
+                }
+            }
+            _ => {
+                let (g, d, dd) = self.eval(t);
+                ContourGeom {
+                    x: t,
+                    y: g,
+                    psi: d.atan(),
+                    dx: 1.0,
+                    dy: d,
+                    dpsi: dd / (1.0 + d * d),
+                }
+            }
+        }
+    }
+
+    /// Whether the contour is strictly convex at parameter `t` (the turning rate of its
+    /// tangent `dpsi/dt` is positive), with the second derivative `g''` for messages.
+    pub fn convex_at(&self, t: f64) -> Result<()> {
+        let geom = self.at(t);
+        if geom.dpsi > 0.0 && geom.dpsi.is_finite() {
+            return Ok(());
+        }
+        Err(ContactError::NotConvex {
+            profile: self.name(),
+            x: geom.x,
+            g2: self.eval(geom.x).2,
+        })
+    }
+
+    /// The parameter of the contour point right of the lowest point at height `y`, on the
+    /// whole parameter range (a circle's arc up to its vertical end): `None` below the lowest
+    /// point or above the contour's range. Bisection to machine precision on the monotone
+    /// right flank.
+    pub fn param_right_at(&self, y: f64) -> Option<f64> {
+        let (t_lo, t_hi) = self.param_range();
+        let tv = match *self {
+            Profile::Circle { .. } => 0.0,
+            _ => self.vertex(),
+        };
+        if y.is_nan() || y < self.at(tv).y {
+            return None;
+        }
+        let mut hi = if t_hi.is_finite() {
+            if self.at(t_hi).y < y {
+                return None;
+            }
+            t_hi
+        } else {
+            let mut w = 1.0;
+            while self.at(tv + w).y < y {
+                w *= 2.0;
+                if w > 1e6 {
+                    return None;
+                }
+            }
+            tv + w
+        };
+        let mut lo = tv.max(t_lo);
+        for _ in 0..200 {
+            let m = 0.5 * (lo + hi);
+            if m <= lo || m >= hi {
+                break;
+            }
+            if self.at(m).y < y {
+                lo = m;
+            } else {
+                hi = m;
+            }
+        }
+        Some(0.5 * (lo + hi))
+    }
+
+    /// Checks strict convexity where a whisker of unit length with its base on `y = 0` can
+    /// touch the contour (heights up to 1): closed forms are convex by their parameters; a
+    /// table's `g''` is linear between knots, so it is checked at every knot below that
+    /// height and at the neighbours of such knots. Names the first knot where it fails.
+    pub fn check_reachable_convex(&self) -> Result<()> {
+        let Profile::Points(ref s) = *self else {
+            return Ok(());
+        };
+        let n = s.x.len();
+        for i in 0..n {
+            let near = (i.saturating_sub(1)..(i + 2).min(n)).any(|j| s.y[j] <= 1.0);
+            if near && (s.m[i].is_nan() || s.m[i] <= 0.0) {
+                return Err(ContactError::NotConvex {
+                    profile: self.name(),
+                    x: s.x[i],
+                    g2: s.m[i],
                 });
             }
         }

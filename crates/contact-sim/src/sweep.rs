@@ -1,23 +1,32 @@
-//! The quasi-static sweep (thesis ch. 5, Fig. 5.6): the whisker under the flow alone, the
-//! first contact, phases A and B with their switches, and the separation by snap (x0 has a
-//! local minimum) or release (f falls to zero), parametrised by the contact point moving
-//! left along the contour.
-//!
-//! Every event (phase switch, snap, release) is located by bisection or golden-section search
-//! on the contour parameter, so none is skipped however coarse the requested spacing.
+//! The quasi-static sweep (thesis ch. 5, Fig. 5.6), driven by the quantity the experimenter
+//! moves, the base position x0: the whisker under the flow alone, the exact first contact
+//! ([`crate::first_contact`]), the contact branch followed by continuation in x0 through
+//! phase switches and folds of the contact point ([`crate::continuation`]), events located on
+//! the branch ([`crate::events`]), and the rows of the log assembled here: pre-contact rows,
+//! then contact rows evenly spaced in x0 from the first contact to the separation, plus one
+//! row at each phase switch.
 
+use crate::branch::{Branch, Constraint, Node};
+use crate::continuation::{trace, End, StepControl};
 use crate::error::{ContactError, Result};
-use crate::phase::{ContactState, ContourPoint, Phase, PhaseProblem};
+use crate::first_contact::{first_touch, free_tip_angle};
+pub use crate::first_contact::{FirstContact, FirstTouch};
+use crate::phase::{ContactState, Phase};
 use crate::profile::Profile;
-use beam_model::shot::Integration;
-use beam_model::{shape_with, solve, FluidLoad, Loads, Method, Scene, Whisker};
+use beam_model::equations::Sensitivities;
+use beam_model::shot::{shoot, Integration};
+use beam_model::{FluidLoad, Loads, Whisker};
 use serde::{Deserialize, Serialize};
+
+/// Largest number of contact rows a sweep accepts.
+pub const MAX_POINTS: usize = 100_000;
 
 /// Settings of a sweep.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SweepSettings {
-    /// Contact points from first contact to separation, uniformly spaced in xc (event rows
-    /// for phase switches are added).
+    /// Contact rows from the first contact to the separation (both included), evenly spaced
+    /// in the base position x0; one row per phase switch is added. At least 2, at most
+    /// [`MAX_POINTS`].
     pub points: usize,
     /// Rows before contact (flow only), spaced `pre_contact_spacing` in x0.
     pub pre_contact_rows: usize,
@@ -27,10 +36,14 @@ pub struct SweepSettings {
     pub integration_tol: f64,
     /// Residual tolerance of the phase solves.
     pub solve_tol: f64,
-    /// Location tolerance of events in xc.
+    /// Location tolerance of events in the branch state `(phi1 or s1, f, t)`.
     pub event_tol: f64,
-    /// Whether to check at every point that no other part of the whisker enters the obstacle.
+    /// Whether to check at every node that no other part of the whisker enters the obstacle.
     pub check_penetration: bool,
+    /// Step budget of the continuation along the contact branch.
+    pub max_steps: usize,
+    /// Largest continuation step (in the branch state).
+    pub max_step: f64,
 }
 
 impl Default for SweepSettings {
@@ -43,6 +56,8 @@ impl Default for SweepSettings {
             solve_tol: 1e-11,
             event_tol: 1e-10,
             check_penetration: true,
+            max_steps: 20_000,
+            max_step: 1.0,
         }
     }
 }
@@ -76,15 +91,6 @@ pub struct SweepPoint {
     pub psi: f64,
 }
 
-/// How the contact began.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-pub enum FirstContact {
-    /// The tip touched first (phi1 > psi).
-    Tip,
-    /// A point s1 < 1 touched tangentially first.
-    Tangential,
-}
-
 /// How the contact ended.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub enum Separation {
@@ -98,8 +104,14 @@ pub enum Separation {
         /// The contour point where it was detected.
         xc: f64,
     },
-    /// The contour's domain ended (tabulated or circular contours) before separation.
+    /// The contact point reached the end of the contour (a table's last knot, a circle's
+    /// vertical end) before separation.
     EndOfContour,
+    /// No separation within the continuation's step budget.
+    NotReached {
+        /// The steps taken.
+        steps: usize,
+    },
 }
 
 /// A complete sweep.
@@ -109,10 +121,12 @@ pub struct SweepResult {
     pub q: f64,
     /// Flow angle alpha (rad): the flow is `q (cos alpha, -sin alpha)` on `[0, s1]`.
     pub alpha: f64,
-    /// The rows, pre-contact first, in the order of the motion (x0 decreasing in contact).
+    /// The rows in the order of the motion (x0 strictly decreasing), pre-contact rows first.
     pub points: Vec<SweepPoint>,
     /// How the contact began.
     pub first_contact: FirstContact,
+    /// The free whisker's first touch, exact: touching arc length, contour point, x0.
+    pub first_touch: FirstTouch,
     /// How it ended.
     pub separation: Separation,
 }
@@ -156,420 +170,15 @@ impl SweepPoint {
     }
 }
 
-struct Marcher<'a> {
-    whisker: &'a Whisker,
-    flow: FluidLoad,
-    profile: &'a Profile,
-    integration: Integration,
-    settings: &'a SweepSettings,
-}
-
-enum Stop {
-    Snap(ContactState),
-    Release(ContactState),
-    MultiContact(f64),
-    EndOfContour,
-}
-
-impl Marcher<'_> {
-    fn solve_phase(&self, xc: f64, phase: Phase, guess: [f64; 2]) -> Result<ContactState> {
-        let point = ContourPoint::on(self.profile, xc);
-        PhaseProblem::new(self.whisker, self.flow, point, phase, &self.integration)
-            .solve(guess, self.settings.solve_tol)
-    }
-
-    /// The state at `xc` continuing from `prev`, switching phase where the current one
-    /// becomes invalid (A: phi1 <= psi; B: s1 >= 1).
-    fn step(&self, xc: f64, prev: &ContactState) -> Result<ContactState> {
-        self.step_from(xc, prev, None)
-    }
-
-    /// Whether `st` continues `prev` on the same branch: the corrector may move the contact
-    /// force from its prediction `f_pred` by at most `0.5 + 0.5 f_prev + 2 |f_pred - f_prev|`;
-    /// a corrector that jumped to a far branch (e.g. past a fold) moves it much more.
-    fn continues(st: &ContactState, prev: &ContactState, f_pred: f64) -> bool {
-        (st.f - f_pred).abs() <= 0.5 + 0.5 * prev.f.abs() + 2.0 * (f_pred - prev.f).abs()
-    }
-
-    /// [`Marcher::step`] with a linear predictor through `before` and `prev` when both are in
-    /// the same phase (the corrector then starts O(h^2) from the solution).
-    fn step_from(
-        &self,
-        xc: f64,
-        prev: &ContactState,
-        before: Option<&ContactState>,
-    ) -> Result<ContactState> {
-        let unknowns = |s: &ContactState| match s.phase {
-            Phase::B => [s.f, s.s1],
-            _ => [s.phi1, s.f],
-        };
-        if let Some(b) = before.filter(|b| b.phase == prev.phase && b.point.xc != prev.point.xc) {
-            let t = (xc - prev.point.xc) / (prev.point.xc - b.point.xc);
-            let (u, v) = (unknowns(prev), unknowns(b));
-            let pred = [u[0] + t * (u[0] - v[0]), u[1] + t * (u[1] - v[1])];
-            if let Ok(st) = self.solve_phase(xc, prev.phase, pred) {
-                let valid = match st.phase {
-                    Phase::B => st.s1 < 1.0,
-                    _ => st.phi1 > st.point.psi,
-                };
-                let f_pred = if prev.phase == Phase::B {
-                    pred[0]
-                } else {
-                    pred[1]
-                };
-                if valid && Self::continues(&st, prev, f_pred) {
-                    return Ok(st);
-                }
-            }
-        }
-        let psi = ContourPoint::on(self.profile, xc).psi;
-        let try_a = |guess: [f64; 2]| {
-            self.solve_phase(xc, Phase::A, guess)
-                .ok()
-                .filter(|s| s.phi1 > s.point.psi && Self::continues(s, prev, prev.f))
-        };
-        let try_b = |guess: [f64; 2]| {
-            self.solve_phase(xc, Phase::B, guess)
-                .ok()
-                .filter(|s| s.s1 < 1.0 && Self::continues(s, prev, prev.f))
-        };
-        let found = match prev.phase {
-            Phase::B => try_b([prev.f, prev.s1]).or_else(|| try_a([psi, prev.f])),
-            _ => try_a([prev.phi1, prev.f])
-                .or_else(|| try_b([prev.f, 1.0 - 1e-3]))
-                .or_else(|| try_b([prev.f, 0.9])),
-        };
-        match found {
-            Some(s) => Ok(s),
-            None => {
-                // Report the failure of the phase we were in.
-                let guess = match prev.phase {
-                    Phase::B => [prev.f, prev.s1],
-                    _ => [prev.phi1, prev.f],
-                };
-                self.solve_phase(xc, prev.phase, guess)?;
-                Err(ContactError::PhaseSolve {
-                    phase: if prev.phase == Phase::B { 'B' } else { 'A' },
-                    xc,
-                    iterations: 0,
-                    residual: f64::NAN,
-                })
-            }
-        }
-    }
-
-    /// Whether a part of the whisker other than the contact point is inside the obstacle.
-    fn penetrates(&self, st: &ContactState) -> Result<bool> {
-        if !self.settings.check_penetration {
-            return Ok(false);
-        }
-        let scene = Scene::new(*self.whisker, st.loads(self.flow));
-        // A geometric check: RK4 with 80 steps is accurate to ~1e-8, far below the 1e-6
-        // margin by which another point must enter the obstacle to count.
-        let sol = shape_with(&scene, st.phi1, &Integration::Rk4 { n: 80 })?;
-        let el = &sol.elastica;
-        for i in 0..el.len() {
-            if (el.s[i] - st.s1).abs() < 0.05 {
-                continue;
-            }
-            let x = st.x0 + el.x[i];
-            let g = self.profile.y(x);
-            if g.is_finite() && el.y[i] > g + 1e-6 {
-                return Ok(true);
-            }
-        }
-        Ok(false)
-    }
-
-    /// Bisection on xc in `[lo, hi]` (`lo` on the side where `side(state)` is true) to the
-    /// event tolerance; returns the state nearest the event on the `true` side.
-    fn bisect(
-        &self,
-        mut inside: ContactState,
-        mut outside_xc: f64,
-        side: impl Fn(&ContactState) -> bool,
-    ) -> Result<ContactState> {
-        while (inside.point.xc - outside_xc).abs() > self.settings.event_tol {
-            let mid = 0.5 * (inside.point.xc + outside_xc);
-            let st = self.step(mid, &inside)?;
-            if side(&st) {
-                inside = st;
-            } else {
-                outside_xc = mid;
-            }
-        }
-        Ok(inside)
-    }
-
-    /// Locates the xc in `(inside, outside_xc)` where the event function `g` of the phase of
-    /// `inside` changes sign (`g > 0` inside): the Illinois variant of regula falsi on the
-    /// phase continued past its validity, falling back to bisection with phase switching
-    /// when the continued phase cannot be solved. Returns the state at the event.
-    fn locate(
-        &self,
-        inside: ContactState,
-        outside_xc: f64,
-        g: impl Fn(&ContactState) -> f64,
-    ) -> Result<ContactState> {
-        let guess = |s: &ContactState| match s.phase {
-            Phase::B => [s.f, s.s1],
-            _ => [s.phi1, s.f],
-        };
-        let tol = self.settings.event_tol;
-        let (mut a, mut ga) = (inside, g(&inside));
-        let Ok(b0) = self.solve_phase(outside_xc, inside.phase, guess(&inside)) else {
-            return self.bisect(inside, outside_xc, |s| {
-                s.phase == inside.phase && g(s) >= 0.0
-            });
-        };
-        let (mut b, mut gb) = (b0, g(&b0));
-        if !(ga > 0.0 && gb <= 0.0) {
-            return self.bisect(inside, outside_xc, |s| {
-                s.phase == inside.phase && g(s) >= 0.0
-            });
-        }
-        let mut side = 0;
-        for _ in 0..60 {
-            if (a.point.xc - b.point.xc).abs() <= tol {
-                break;
-            }
-            let xc = b.point.xc - gb * (b.point.xc - a.point.xc) / (gb - ga);
-            let Ok(c) = self.solve_phase(xc, inside.phase, guess(&a)) else {
-                return self.bisect(a, b.point.xc, |s| s.phase == inside.phase && g(s) >= 0.0);
-            };
-            let gc = g(&c);
-            if gc.abs() <= 1e-14 && gc >= 0.0 {
-                return Ok(c);
-            }
-            if gc > 0.0 {
-                a = c;
-                ga = gc;
-                if side == 1 {
-                    gb *= 0.5;
-                }
-                side = 1;
-            } else {
-                b = c;
-                gb = gc;
-                if side == -1 {
-                    ga *= 0.5;
-                }
-                side = -1;
-            }
-        }
-        // the state on the valid side (g >= 0), within the event tolerance of the event
-        Ok(a)
-    }
-
-    /// Golden-section search for the minimum of x0(xc) on `[a, b]` (a < b).
-    fn snap_point(&self, a: f64, b: f64, near: &ContactState) -> Result<ContactState> {
-        let g = 0.5 * (5f64.sqrt() - 1.0);
-        let (mut a, mut b) = (a, b);
-        let mut c = b - g * (b - a);
-        let mut d = a + g * (b - a);
-        let mut sc = self.step(c, near)?;
-        let mut sd = self.step(d, &sc)?;
-        while (b - a) > 1e-8 {
-            if sc.x0 < sd.x0 {
-                b = d;
-                d = c;
-                sd = sc;
-                c = b - g * (b - a);
-                sc = self.step(c, &sd)?;
-            } else {
-                a = c;
-                c = d;
-                sc = sd;
-                d = a + g * (b - a);
-                sd = self.step(d, &sc)?;
-            }
-        }
-        Ok(if sc.x0 < sd.x0 { sc } else { sd })
-    }
-
-    /// The states from `last` to `xc`, halving the step towards `xc` when a solve fails. The
-    /// states reached before a failure are returned with it, so that the event checks see
-    /// them (beyond a snap the tip-contact branch ends in a fold the solver cannot pass).
-    fn advance(
-        &self,
-        last: &ContactState,
-        before: Option<&ContactState>,
-        xc: f64,
-    ) -> (Vec<ContactState>, Option<ContactError>) {
-        match self.step_from(xc, last, before) {
-            Ok(s) => (vec![s], None),
-            Err(e) => {
-                if (last.point.xc - xc).abs() < 1e-6 {
-                    return (Vec::new(), Some(e));
-                }
-                let mid = 0.5 * (last.point.xc + xc);
-                let (mut states, err) = self.advance(last, before, mid);
-                if err.is_some() {
-                    return (states, err);
-                }
-                let anchor = *states.last().unwrap_or(last);
-                let prior = if states.len() >= 2 {
-                    states[states.len() - 2]
-                } else {
-                    *last
-                };
-                let (rest, err) = self.advance(&anchor, Some(&prior), xc);
-                states.extend(rest);
-                (states, err)
-            }
-        }
-    }
-
-    /// Marches over the contour points `xcs` from `first`, recording them and the switch
-    /// events; stops at the first separation. Steps longer than `max_step` are split into
-    /// unrecorded sub-steps (which still enter the event checks), and failed steps are
-    /// refined by halving.
-    fn march(
-        &self,
-        first: ContactState,
-        xcs: impl Iterator<Item = f64>,
-        max_step: f64,
-        progress: &mut dyn FnMut(usize),
-    ) -> Result<(Vec<ContactState>, Option<Stop>)> {
-        let mut states = vec![first];
-        let mut trail = vec![first];
-        let (dmin, _) = self.profile.domain();
-        for (done, target) in xcs.enumerate() {
-            progress(done);
-            if target < dmin {
-                return Ok((states, Some(Stop::EndOfContour)));
-            }
-            let from = *trail.last().unwrap_or(&first);
-            let gap = from.point.xc - target;
-            let pieces = (gap / max_step).ceil().max(1.0) as usize;
-            for j in 1..=pieces {
-                let xc = if j == pieces {
-                    target
-                } else {
-                    from.point.xc - gap * j as f64 / pieces as f64
-                };
-                let anchor = *trail.last().unwrap_or(&first);
-                let before = trail.len().checked_sub(2).map(|i| trail[i]);
-                let (new_states, err) = self.advance(&anchor, before.as_ref(), xc);
-                let n_new = new_states.len();
-                for (k, st) in new_states.into_iter().enumerate() {
-                    let record = j == pieces && k + 1 == n_new && err.is_none();
-                    if let Some(stop) = self.check(&mut states, &mut trail, st, record)? {
-                        return Ok((states, Some(stop)));
-                    }
-                }
-                if let Some(e) = err {
-                    // The contact branch ends in a fold in xc (the contact point cannot move
-                    // on): the whisker leaves the contour there, a snap at the last state.
-                    return match (e, trail.len()) {
-                        (ContactError::PhaseSolve { .. }, n) if n >= 3 => {
-                            let last = trail[n - 1];
-                            while states.last().is_some_and(|s| s.point.xc <= last.point.xc) {
-                                states.pop();
-                            }
-                            Ok((states, Some(Stop::Snap(last))))
-                        }
-                        (e, _) => Err(e),
-                    };
-                }
-            }
-        }
-        Ok((states, None))
-    }
-
-    /// Event checks for a new state `st` against the last computed state; records switch
-    /// events, and `st` itself when `record` is set.
-    fn check(
-        &self,
-        states: &mut Vec<ContactState>,
-        trail: &mut Vec<ContactState>,
-        st: ContactState,
-        record: bool,
-    ) -> Result<Option<Stop>> {
-        let Some(&last) = trail.last() else {
-            trail.push(st);
-            states.push(st);
-            return Ok(None);
-        };
-        let xc = st.point.xc;
-        if st.phase != last.phase {
-            // an event that cannot be located (a solve fails inside the bracket) is kept at
-            // the bracket end on the old phase's side rather than failing the sweep
-            let ev = self
-                .locate(last, xc, |s| match s.phase {
-                    Phase::B => 1.0 - s.s1,
-                    _ => s.phi1 - s.point.psi,
-                })
-                .unwrap_or(last);
-            if ev.point.xc != last.point.xc {
-                states.push(ev);
-            }
-        }
-        if st.f < 0.0 {
-            let ev = self.locate(last, xc, |s| s.f).unwrap_or(last);
-            return Ok(Some(Stop::Release(ev)));
-        }
-        if st.x0 > last.x0 {
-            let n = trail.len();
-            let near = if n >= 2 { trail[n - 2] } else { last };
-            let ev = self
-                .snap_point(xc, near.point.xc, &near)
-                .unwrap_or(if last.x0 <= st.x0 { last } else { st });
-            while states.last().is_some_and(|s| s.point.xc <= ev.point.xc) {
-                states.pop();
-            }
-            return Ok(Some(Stop::Snap(ev)));
-        }
-        if self.penetrates(&st)? {
-            return Ok(Some(Stop::MultiContact(xc)));
-        }
-        trail.push(st);
-        if record {
-            states.push(st);
-        }
-        Ok(None)
-    }
-
-    /// The first contact from the whisker under the flow alone: the point of the elastica
-    /// that reaches the contour first as the base moves left, i.e. the maximum over s of
-    /// `x0(s) = g_R^{-1}(y(s)) - x(s)` (an interior maximum is a tangency, phase B).
-    fn first_contact(&self, free: &beam_model::Solution) -> Result<(ContactState, FirstContact)> {
-        let el = &free.elastica;
-        let mut best: Option<(usize, f64, f64)> = None;
-        for i in 1..el.len() {
-            if let Some(xr) = self.profile.x_right_at(el.y[i]) {
-                let x0 = xr - el.x[i];
-                if best.is_none_or(|(_, b, _)| x0 > b) {
-                    best = Some((i, x0, xr));
-                }
-            }
-        }
-        let (i, _, xc) = best.ok_or_else(|| ContactError::NoContact {
-            reason: format!(
-                "the whisker (highest point y = {:.4}) stays below the contour {}",
-                el.y.iter().cloned().fold(f64::MIN, f64::max),
-                self.profile.name()
-            ),
-        })?;
-        if i == el.len() - 1 && free.tip.phi > self.profile.psi(xc) {
-            let st = self.solve_phase(xc, Phase::A, [free.tip.phi, 0.0])?;
-            Ok((st, FirstContact::Tip))
-        } else {
-            let st = self.solve_phase(xc, Phase::B, [0.0, el.s[i]])?;
-            Ok((st, FirstContact::Tangential))
-        }
-    }
-}
-
 /// Progress of a running sweep, reported to [`sweep_with_progress`]'s callback.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SweepProgress {
-    /// The coarse pass searching the separation: contour steps done so far.
+    /// The continuation along the contact branch towards the separation: steps done.
     Coarse {
         /// Steps done.
         steps: usize,
     },
-    /// The fine pass: contact points done out of the requested number.
+    /// The rows at evenly spaced base positions: rows done out of the requested number.
     Fine {
         /// Points done.
         done: usize,
@@ -598,119 +207,87 @@ pub fn sweep_with_progress(
 ) -> Result<SweepResult> {
     whisker.validate()?;
     Loads::fluid(flow.q, flow.alpha).validate()?;
-    if settings.points < 2 {
-        return Err(ContactError::InvalidParameter {
-            name: "points",
-            value: settings.points as f64,
-            reason: "a sweep needs at least 2 contact points",
-        });
-    }
-    let marcher = Marcher {
+    check_settings(settings, flow)?;
+    profile.check_reachable_convex()?;
+    let integration = Integration::adaptive(settings.integration_tol);
+    let branch = Branch {
         whisker,
         flow,
         profile,
-        integration: Integration::adaptive(settings.integration_tol),
-        settings,
+        integration: &integration,
+        tol: settings.solve_tol,
     };
-    let free = solve(
-        &Scene::new(*whisker, Loads::fluid(flow.q, flow.alpha)),
-        &Method::Accurate {
+    // The free whisker under the flow, then its exact first touch.
+    let guess = beam_model::solve(
+        &beam_model::Scene::new(*whisker, Loads::fluid(flow.q, flow.alpha)),
+        &beam_model::Method::Accurate {
             tol: settings.integration_tol,
-            samples: 2000,
+            samples: 16,
         },
-    )?;
-    // Finite domains (tabulated, circular) are checked inside their ends, where a natural
-    // spline is flat and a circle's slope is infinite.
-    let (dmin, dmax) = profile.domain();
-    if dmin.is_finite() && dmax.is_finite() {
-        let w = dmax - dmin;
-        profile.check_convex(dmin + 1e-2 * w, dmax - 1e-2 * w)?;
-    }
-    let (first, first_contact) = marcher.first_contact(&free)?;
-    let xv = profile.vertex();
-    let span = (first.point.xc - xv).abs().max(0.5);
-    profile
-        .check_convex(first.point.xc - 3.0 * span, first.point.xc)
-        .or_else(|e| match profile.domain() {
-            (a, _) if a.is_finite() => profile.check_convex(a, first.point.xc),
-            _ => Err(e),
-        })?;
-    // Pass 1: coarse march to find the separation.
-    let h1 = span / 20.0;
-    let coarse = (1..=400).map(|k| first.point.xc - k as f64 * h1);
-    let (coarse_states, stop) = marcher.march(first, coarse, h1, &mut |steps| {
-        progress(SweepProgress::Coarse { steps })
-    })?;
-    let (sep_xc, final_state, separation) = match stop {
-        Some(Stop::Snap(s)) => (s.point.xc, Some(s), Separation::Snap),
-        Some(Stop::Release(s)) => (s.point.xc, Some(s), Separation::Release),
-        Some(Stop::MultiContact(xc)) => {
-            let last = coarse_states.last().map_or(first.point.xc, |s| s.point.xc);
-            (last, None, Separation::MultiContact { xc })
-        }
-        Some(Stop::EndOfContour) | None => {
-            let last = coarse_states.last().map_or(first.point.xc, |s| s.point.xc);
-            (last, None, Separation::EndOfContour)
-        }
+    )?
+    .tip
+    .phi;
+    let phi1 = free_tip_angle(whisker, flow, guess, &integration)?;
+    let touch = first_touch(whisker, flow, phi1, profile, settings.integration_tol)?;
+    profile.convex_at(touch.t)?;
+    let first = first_node(&branch, &touch)?;
+    // The branch from the first contact to the separation.
+    progress(SweepProgress::Coarse { steps: 0 });
+    let ctl = StepControl {
+        initial: settings.max_step * 0.2,
+        max: settings.max_step,
+        min: 1e-10,
+        max_steps: settings.max_steps,
+        event_tol: settings.event_tol,
+        check_penetration: settings.check_penetration,
     };
-    // Pass 2: the requested number of points between first contact and separation, the last
-    // one at the separation found by pass 1 (so every event in between is located by the
-    // fine march itself, however few the points).
-    let n = settings.points;
-    let step = (first.point.xc - sep_xc) / (n - 1) as f64;
-    let fine = (1..n).map(|k| {
-        if k == n - 1 {
-            sep_xc
-        } else {
-            first.point.xc - k as f64 * step
-        }
+    let tr = trace(&branch, first, &ctl)?;
+    progress(SweepProgress::Coarse {
+        steps: tr.nodes.len(),
     });
-    let (mut states, stop2) = marcher.march(first, fine, h1, &mut |done| {
-        progress(SweepProgress::Fine {
-            done: done + 1,
-            total: n,
-        })
-    })?;
-    let separation = match stop2 {
-        // A snap or release found on the fine grid (normally at its last point) wins.
-        Some(Stop::Snap(s)) => {
-            states.push(s);
-            Separation::Snap
-        }
-        Some(Stop::Release(s)) => {
-            states.push(s);
-            Separation::Release
-        }
-        Some(Stop::MultiContact(xc)) => Separation::MultiContact { xc },
-        Some(Stop::EndOfContour) => Separation::EndOfContour,
-        None => {
-            // The fine march reached pass 1's separation point: keep pass 1's exactly located
-            // event state there.
-            if let Some(s) = final_state {
-                if states
-                    .last()
-                    .is_some_and(|l| l.point.xc == s.point.xc && l.phase == s.phase)
-                {
-                    states.pop();
-                }
-                if states.last().is_none_or(|l| l.point.xc > s.point.xc) {
-                    states.push(s);
-                }
-            }
-            separation
-        }
+    for n in &tr.nodes {
+        profile.convex_at(n.u[2])?;
+    }
+    let (last, separation) = match tr.end {
+        End::Snap(n) => (n, Separation::Snap),
+        End::Release(n) => (n, Separation::Release),
+        End::MultiContact(n) => (
+            n,
+            Separation::MultiContact {
+                xc: n.state.point.xc,
+            },
+        ),
+        End::OffContour(n) => (n, Separation::EndOfContour),
+        End::NotReached(n, steps) => (n, Separation::NotReached { steps }),
     };
+    let states = rows(
+        &branch,
+        &tr.nodes,
+        &tr.switches,
+        &last,
+        settings.points,
+        progress,
+    )?;
+    // The free whisker's observables before contact.
+    let free = shoot(
+        whisker,
+        &Loads::fluid(flow.q, flow.alpha),
+        phi1,
+        Sensitivities::None,
+        &integration,
+    )?;
+    let (sa, ca) = flow.alpha.sin_cos();
     let mut points = Vec::with_capacity(settings.pre_contact_rows + states.len());
     for k in (1..=settings.pre_contact_rows).rev() {
         points.push(SweepPoint {
-            x0: first.x0 + k as f64 * settings.pre_contact_spacing,
-            ax: free.base.ax,
-            ay: free.base.ay,
-            ma: free.base.ma,
-            phi0: free.base.phi0,
+            x0: first.x0() + k as f64 * settings.pre_contact_spacing,
+            ax: -flow.q * ca,
+            ay: flow.q * sa,
+            ma: -free.m0,
+            phi0: free.phi0,
             f: 0.0,
             s1: 1.0,
-            phi1: free.tip.phi,
+            phi1,
             phase: Phase::None,
             xc: f64::NAN,
             yc: f64::NAN,
@@ -722,7 +299,212 @@ pub fn sweep_with_progress(
         q: flow.q,
         alpha: flow.alpha,
         points,
-        first_contact,
+        first_contact: touch.kind,
+        first_touch: touch,
         separation,
     })
+}
+
+/// Refuses settings the sweep cannot honour, naming the culprit.
+fn check_settings(settings: &SweepSettings, flow: FluidLoad) -> Result<()> {
+    let bad = |name, value: f64, reason| {
+        Err(ContactError::InvalidParameter {
+            name,
+            value,
+            reason,
+        })
+    };
+    if settings.points < 2 || settings.points > MAX_POINTS {
+        return bad(
+            "points",
+            settings.points as f64,
+            "a sweep needs between 2 and 100000 contact rows",
+        );
+    }
+    if settings.pre_contact_rows > MAX_POINTS {
+        return bad(
+            "pre_contact_rows",
+            settings.pre_contact_rows as f64,
+            "at most 100000 pre-contact rows",
+        );
+    }
+    if !(settings.pre_contact_spacing > 0.0 && settings.pre_contact_spacing.is_finite()) {
+        return bad(
+            "pre_contact_spacing",
+            settings.pre_contact_spacing,
+            "the pre-contact spacing must be positive and finite",
+        );
+    }
+    for (name, v) in [
+        ("integration_tol", settings.integration_tol),
+        ("solve_tol", settings.solve_tol),
+        ("event_tol", settings.event_tol),
+    ] {
+        if !(1e-14..=1e-3).contains(&v) {
+            return bad(name, v, "tolerances must lie in [1e-14, 1e-3]");
+        }
+    }
+    if !(settings.max_step > 1e-6 && settings.max_step <= 1.0) {
+        return bad(
+            "max_step",
+            settings.max_step,
+            "the step must lie in (1e-6, 1]",
+        );
+    }
+    if settings.max_steps == 0 || settings.max_steps > 1_000_000 {
+        return bad(
+            "max_steps",
+            settings.max_steps as f64,
+            "the step budget must lie in [1, 1000000]",
+        );
+    }
+    let alpha_deg = flow.alpha.to_degrees();
+    if !(alpha_deg > -90.0 && alpha_deg < 90.0) {
+        return bad(
+            "alpha",
+            flow.alpha,
+            "the sweep's flow angle must lie in (-90, 90) degrees (a flow towards +x)",
+        );
+    }
+    Ok(())
+}
+
+/// The first node of the branch: the contact state at the base position of the first touch.
+/// A tip touch is the free whisker itself (`f = 0`); a tangential touch is solved in phase B,
+/// where the flow acts on `[0, s1]` only (spec/model.md), at the same base position.
+fn first_node(branch: &Branch, touch: &FirstTouch) -> Result<Node> {
+    let (phase, u) = match touch.kind {
+        FirstContact::Tip => (Phase::A, [touch.phi1, 0.0, touch.t]),
+        FirstContact::Tangential => (Phase::B, [touch.s, 0.0, touch.t]),
+    };
+    let node = match touch.kind {
+        // the free whisker itself: no correction (f = 0 exactly)
+        FirstContact::Tip => branch.eval(phase, u)?.1,
+        FirstContact::Tangential => {
+            branch.correct(phase, u, Constraint::BasePosition(touch.x0), true)?
+        }
+    };
+    if node.state.f < -1e-9 || (phase == Phase::B && node.state.s1 >= 1.0) {
+        return Err(ContactError::NoContact {
+            reason: format!(
+                "the first {} contact at x0 = {:.6} has no admissible state (f = {:.3e}, s1 = {:.6})",
+                if phase == Phase::B { "tangential" } else { "tip" },
+                touch.x0,
+                node.state.f,
+                node.state.s1
+            ),
+        });
+    }
+    Ok(node)
+}
+
+/// The log's contact rows: `points` rows evenly spaced in x0 from the first node to `last`
+/// (both included), each solved at its base position from the bracketing nodes of the traced
+/// branch, plus the switch nodes; in the order of the motion.
+fn rows(
+    branch: &Branch,
+    nodes: &[Node],
+    switches: &[Node],
+    last: &Node,
+    points: usize,
+    progress: &mut dyn FnMut(SweepProgress),
+) -> Result<Vec<ContactState>> {
+    let first = nodes[0];
+    let (x_start, x_end) = (first.x0(), last.x0());
+    let mut out: Vec<ContactState> = Vec::with_capacity(points + switches.len());
+    out.push(first.state);
+    let mut seg = 0;
+    let span = x_start - x_end;
+    let mut recent: Vec<Node> = vec![first];
+    for k in 1..points.saturating_sub(1) {
+        progress(SweepProgress::Fine {
+            done: k,
+            total: points,
+        });
+        let target = x_start - span * k as f64 / (points - 1) as f64;
+        while seg + 1 < nodes.len() && nodes[seg + 1].x0() > target {
+            seg += 1;
+        }
+        if seg + 1 >= nodes.len() {
+            break;
+        }
+        let (a, b) = (&nodes[seg], &nodes[seg + 1]);
+        let (phase, ua, ub) = if a.phase == b.phase {
+            (a.phase, a.u, b.u)
+        } else {
+            (b.phase, b.u, b.u)
+        };
+        // Prediction: quadratic extrapolation in x0 through the last three rows of this
+        // phase when they lie on this stretch, else interpolation between the nodes.
+        let w = (a.x0() - target) / (a.x0() - b.x0());
+        let mut guess = [
+            ua[0] + w * (ub[0] - ua[0]),
+            ua[1] + w * (ub[1] - ua[1]),
+            ua[2] + w * (ub[2] - ua[2]),
+        ];
+        let mut jac = if w < 0.5 { a.jac } else { b.jac };
+        if let [.., r0, r1, r2] = recent.as_slice() {
+            if r0.phase == phase && r1.phase == phase && r2.phase == phase && r0.x0() <= a.x0() {
+                let (x0, x1, x2) = (r0.x0(), r1.x0(), r2.x0());
+                let l0 = (target - x1) * (target - x2) / ((x0 - x1) * (x0 - x2));
+                let l1 = (target - x0) * (target - x2) / ((x1 - x0) * (x1 - x2));
+                let l2 = (target - x0) * (target - x1) / ((x2 - x0) * (x2 - x1));
+                for (i, g) in guess.iter_mut().enumerate() {
+                    *g = l0 * r0.u[i] + l1 * r1.u[i] + l2 * r2.u[i];
+                }
+                jac = r2.jac;
+            }
+        }
+        // The chord method from the prediction; Newton from it, from the interpolation
+        // between the bracketing nodes, and from the nearer node as fallbacks.
+        let lin = [
+            ua[0] + w * (ub[0] - ua[0]),
+            ua[1] + w * (ub[1] - ua[1]),
+            ua[2] + w * (ub[2] - ua[2]),
+        ];
+        let near = if w < 0.5 { ua } else { ub };
+        let node = match branch.chord_at_base(phase, guess, target, &jac) {
+            Some(n) => n,
+            None => {
+                let mut found = None;
+                let mut last_err = None;
+                for start in [guess, lin, near] {
+                    match branch.correct(phase, start, Constraint::BasePosition(target), true) {
+                        Ok(n) if (n.x0() - target).abs() <= 1e-9 => {
+                            found = Some(n);
+                            break;
+                        }
+                        Ok(_) => {}
+                        Err(e) => last_err = Some(e),
+                    }
+                }
+                match (found, last_err) {
+                    (Some(n), _) => n,
+                    (None, Some(e)) => return Err(e),
+                    (None, None) => {
+                        return Err(ContactError::BranchStalled {
+                            phase: crate::branch::phase_letter(phase),
+                            x0: target,
+                            xc: a.state.point.xc,
+                            step: 0.0,
+                            reason: "no row solution at this base position".into(),
+                        })
+                    }
+                }
+            }
+        };
+        recent.push(node);
+        out.push(node.state);
+    }
+    if span > 0.0 {
+        out.push(last.state);
+    }
+    out.extend(switches.iter().map(|n| n.state));
+    out.sort_by(|a, b| b.x0.total_cmp(&a.x0));
+    out.dedup_by(|a, b| a.x0 == b.x0);
+    progress(SweepProgress::Fine {
+        done: points,
+        total: points,
+    });
+    Ok(out)
 }

@@ -178,7 +178,7 @@ fn bad_inputs_are_refused() {
     ));
     // a tabulated concave contour is refused
     let xs: Vec<f64> = (0..20).map(|i| i as f64 * 0.2 - 2.0).collect();
-    let ys: Vec<f64> = xs.iter().map(|x| 1.5 - 0.1 * x * x).collect();
+    let ys: Vec<f64> = xs.iter().map(|x| 0.9 - 0.1 * x * x).collect();
     let p = Profile::points(xs, ys).unwrap();
     let e = sweep(
         &Whisker::uniform(),

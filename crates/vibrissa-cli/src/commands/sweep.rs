@@ -32,7 +32,17 @@ pub fn run(args: &SweepArgs) -> Result<(), CliError> {
         &args.points,
         file.as_ref().and_then(|f| f.file.sweep.as_ref()),
     ) {
-        (Some(raw), _) => parse_count("--points", raw, 2)?,
+        (Some(raw), _) => {
+            let n = parse_count("--points", raw, 2)?;
+            if n > contact_sim::sweep::MAX_POINTS {
+                return Err(CliError::invalid_argument(
+                    "--points",
+                    raw.clone(),
+                    "at most 100000 contact rows",
+                ));
+            }
+            n
+        }
         (None, Some(s)) => s.points,
         (None, None) => DEFAULT_POINTS,
     };
@@ -52,6 +62,24 @@ pub fn run(args: &SweepArgs) -> Result<(), CliError> {
 /// (-90, 90) degrees (the flow must push the whisker towards the obstacle's side, +x).
 pub fn check_sweep_loads(r: &Resolved) -> Result<(), CliError> {
     use crate::resolve::Origin;
+    // The sweep's phase solves are adaptive shooting with exact sensitivities (tolerance
+    // 1e-12); a fixed-grid method or grid size would be silently ignored, so it is refused.
+    if !matches!(r.method, beam_model::Method::Accurate { .. }) {
+        return Err(CliError::invalid_argument(
+            "--method",
+            format!("{:?}", r.method),
+            "the sweep always solves its contact phases with `accurate` shooting; leave --method at accurate",
+        ));
+    }
+    if let Some(n) = &r.given.n {
+        if let crate::resolve::Origin::Flag { flag, raw } = &n.origin {
+            return Err(CliError::invalid_argument(
+                *flag,
+                raw.clone(),
+                "the sweep uses adaptive shooting and has no grid: --n does not apply",
+            ));
+        }
+    }
     let alpha = r.given.alpha_deg.value;
     let checks = [
         (

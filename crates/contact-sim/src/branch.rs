@@ -1,0 +1,391 @@
+//! The contact branch: the one-parameter family of equilibria of a whisker in single-point
+//! contact with the contour, followed in the base position x0 (spec/model.md, contact).
+//!
+//! In a phase the state is `u = (v, f, t)`: `v = phi1` in phase A (tip contact, `s1 = 1`) or
+//! `v = s1` in phase B (tangential contact, `phi1 = psi`), the contact force `f` and the
+//! contour parameter `t` of the contact point ([`Profile::at`]). Two equations hold on the
+//! branch [5.4-5.10]:
+//!
+//! ```text
+//! R0 = phi(0) - pi/2 - m(0)/k = 0     (base condition [3.21, 3.22])
+//! R1 = y(s1) - y(0) - yc(t)   = 0     (the contact point lies on the contour)
+//! ```
+//!
+//! so the branch is a curve in `(v, f, t)`; the base position on it is
+//! `x0(u) = xc(t) - (x(s1) - x(0))`. A third equation picks one point: `x0(u) = X` (a row at
+//! a prescribed base position), a hyperplane through a predicted point (pseudo-arclength), or
+//! an event condition. Each is solved by Newton's method on the 3x3 system with the exact
+//! sensitivities of the shot in `(phi1, f, s1)` and a forward difference in the force angle.
+
+use crate::error::{ContactError, Result};
+use crate::phase::{contact_loads, ContactState, ContourPoint, Phase};
+use crate::profile::Profile;
+use beam_model::equations::Sensitivities;
+use beam_model::shot::{shoot, Integration, Shot};
+use beam_model::{FluidLoad, Whisker};
+
+/// A point of the contact branch: the phase, the state `u = (v, f, t)` and everything the
+/// sweep needs from it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Node {
+    /// Phase A or B.
+    pub phase: Phase,
+    /// `(phi1 or s1, f, t)`.
+    pub u: [f64; 3],
+    /// The solved state (observables, contact point).
+    pub state: ContactState,
+    /// Rows `dR0, dR1, dx0` of the Jacobian with respect to `u`.
+    pub jac: [[f64; 3]; 3],
+}
+
+impl Node {
+    /// The base position.
+    pub fn x0(&self) -> f64 {
+        self.state.x0
+    }
+
+    /// The unit tangent of the branch (null vector of the 2x3 Jacobian of `R`), with the sign
+    /// that makes it point along `dir` (any vector; the sign of `+dir` wins ties).
+    pub fn tangent(&self, dir: &[f64; 3]) -> [f64; 3] {
+        let (a, b) = (self.jac[0], self.jac[1]);
+        let mut t = [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ];
+        let n = norm(&t);
+        for v in &mut t {
+            *v /= n;
+        }
+        if dot(&t, dir) < 0.0 {
+            for v in &mut t {
+                *v = -*v;
+            }
+        }
+        t
+    }
+
+    /// `dx0/dsigma` along the unit tangent `t`.
+    pub fn x0_rate(&self, t: &[f64; 3]) -> f64 {
+        dot(&self.jac[2], t)
+    }
+}
+
+/// The third equation of a corrector solve.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Constraint {
+    /// `x0(u) = X`.
+    BasePosition(f64),
+    /// `n . (u - p) = 0`.
+    Hyperplane {
+        /// Unit normal.
+        n: [f64; 3],
+        /// A point of the plane.
+        p: [f64; 3],
+    },
+    /// The end of the phase's validity: `phi1 = psi(t)` in phase A, `s1 = 1` in phase B.
+    PhaseEnd,
+    /// A vanishing contact force, `f = 0`.
+    NoForce,
+}
+
+/// The branch equations of one whisker, flow and contour.
+pub(crate) struct Branch<'a> {
+    pub whisker: &'a Whisker,
+    pub flow: FluidLoad,
+    pub profile: &'a Profile,
+    pub integration: &'a Integration,
+    /// Residual tolerance of the corrector (norm of `R` and of the constraint).
+    pub tol: f64,
+}
+
+/// Relative step of the forward difference in the force angle.
+const ANGLE_STEP: f64 = 1e-7;
+
+/// Newton iterations per corrector solve.
+const MAX_NEWTON: usize = 30;
+
+impl Branch<'_> {
+    /// Evaluates the branch equations at `u` in `phase`: residual `R`, the node (state and
+    /// Jacobian).
+    pub fn eval(&self, phase: Phase, u: [f64; 3]) -> Result<([f64; 2], Node)> {
+        self.eval_with(phase, u, true)
+    }
+
+    /// [`Branch::eval`], with the Jacobian only if `jac` is set (zero otherwise).
+    fn eval_with(&self, phase: Phase, u: [f64; 3], jac: bool) -> Result<([f64; 2], Node)> {
+        let (v, f, t) = (u[0], u[1], u[2]);
+        let (t_lo, t_hi) = self.profile.param_range();
+        if !(t >= t_lo && t <= t_hi) {
+            return Err(ContactError::LeftContour {
+                profile: self.profile.name(),
+                t,
+            });
+        }
+        let g = self.profile.at(t);
+        let (phi1, s1) = match phase {
+            Phase::B => (g.psi, v),
+            _ => (v, 1.0),
+        };
+        if !(s1 > 1e-6 && s1 <= 1.5 && f.is_finite() && phi1.is_finite()) {
+            return Err(ContactError::PhaseSolve {
+                phase: phase_letter(phase),
+                xc: g.x,
+                iterations: 0,
+                residual: f64::NAN,
+            });
+        }
+        let loads = contact_loads(self.flow, g.psi, f, s1);
+        let sens = if jac {
+            Sensitivities::All
+        } else {
+            Sensitivities::None
+        };
+        let shot = shoot(self.whisker, &loads, phi1, sens, self.integration)?;
+        // d(shot)/d(beta) at fixed f by a forward difference (zero without a force).
+        let dbeta: [f64; 4] = if f == 0.0 || !jac {
+            [0.0; 4]
+        } else {
+            let mut l2 = loads;
+            l2.tip.beta += ANGLE_STEP;
+            let s2: Shot = shoot(
+                self.whisker,
+                &l2,
+                phi1,
+                Sensitivities::None,
+                self.integration,
+            )?;
+            [
+                (s2.phi0 - shot.phi0) / ANGLE_STEP,
+                (s2.m0 - shot.m0) / ANGLE_STEP,
+                (s2.dx - shot.dx) / ANGLE_STEP,
+                (s2.dy - shot.dy) / ANGLE_STEP,
+            ]
+        };
+        let c = self.whisker.support.compliance();
+        let col = |d: [f64; 4]| [d[0] - c * d[1], d[3], -d[2]];
+        // d/dt: the force angle beta = pi/2 - psi(t) turns, and in phase B phi1 = psi(t).
+        let dpsi = g.dpsi;
+        let mut dt = [0.0; 4];
+        for i in 0..4 {
+            dt[i] = -dbeta[i] * dpsi;
+            if phase == Phase::B {
+                dt[i] += shot.sens[0][i] * dpsi;
+            }
+        }
+        let (c0, c1) = match phase {
+            Phase::B => (col(shot.sens[2]), col(shot.sens[1])),
+            _ => (col(shot.sens[0]), col(shot.sens[1])),
+        };
+        let mut c2 = col(dt);
+        c2[1] -= g.dy;
+        c2[2] += g.dx;
+        let jac = [
+            [c0[0], c1[0], c2[0]],
+            [c0[1], c1[1], c2[1]],
+            [c0[2], c1[2], c2[2]],
+        ];
+        let r = [
+            self.whisker.support.residual(shot.phi0, shot.m0),
+            shot.dy - g.y,
+        ];
+        let state = ContactState {
+            phase,
+            point: ContourPoint {
+                xc: g.x,
+                yc: g.y,
+                psi: g.psi,
+            },
+            f,
+            s1,
+            phi1,
+            x0: g.x - shot.dx,
+            phi0: shot.phi0,
+            m0: shot.m0,
+            iterations: 0,
+            residual: r[0].hypot(r[1]),
+        };
+        Ok((
+            r,
+            Node {
+                phase,
+                u,
+                state,
+                jac,
+            },
+        ))
+    }
+
+    /// Newton's method on `R(u) = 0` with the third equation `constraint`, from `u`, until the
+    /// residual norm is at most the tolerance; damped by step halving when it grows. Trial
+    /// points are shot without sensitivities; the Jacobian is recomputed at each accepted
+    /// iterate, and at the solution only if `jac` is set (otherwise the node carries the last
+    /// iterate's). Fails with the last residual.
+    pub fn correct(
+        &self,
+        phase: Phase,
+        u: [f64; 3],
+        constraint: Constraint,
+        jac: bool,
+    ) -> Result<Node> {
+        let value = |node: &Node| -> f64 {
+            match constraint {
+                Constraint::BasePosition(x) => node.state.x0 - x,
+                Constraint::Hyperplane { n, p } => dot(&n, &sub(&node.u, &p)),
+                Constraint::PhaseEnd => match phase {
+                    Phase::B => node.state.s1 - 1.0,
+                    _ => node.state.phi1 - node.state.point.psi,
+                },
+                Constraint::NoForce => node.state.f,
+            }
+        };
+        let mut u = u;
+        let (r, mut node) = self.eval_with(phase, u, true)?;
+        let mut res = [r[0], r[1], value(&node)];
+        let mut rn = norm(&res);
+        if rn <= self.tol {
+            return Ok(node);
+        }
+        for it in 0..MAX_NEWTON {
+            let grad = match constraint {
+                Constraint::BasePosition(_) => node.jac[2],
+                Constraint::Hyperplane { n, .. } => n,
+                Constraint::PhaseEnd => match phase {
+                    Phase::B => [1.0, 0.0, 0.0],
+                    _ => [1.0, 0.0, -self.profile.at(u[2]).dpsi],
+                },
+                Constraint::NoForce => [0.0, 1.0, 0.0],
+            };
+            let m = [node.jac[0], node.jac[1], grad];
+            let Some(du) = solve3(&m, &res) else {
+                break;
+            };
+            let mut lambda = 1.0;
+            let mut next = None;
+            for _ in 0..8 {
+                let trial = [
+                    u[0] - lambda * du[0],
+                    u[1] - lambda * du[1],
+                    u[2] - lambda * du[2],
+                ];
+                if let Ok((r2, n2)) = self.eval_with(phase, trial, false) {
+                    let res2 = [r2[0], r2[1], value(&n2)];
+                    let rn2 = norm(&res2);
+                    if rn2.is_finite() && (rn2 < rn || rn2 <= self.tol) {
+                        next = Some((trial, n2, res2, rn2));
+                        break;
+                    }
+                }
+                lambda *= 0.5;
+            }
+            let Some((trial, plain, res2, rn2)) = next else {
+                break;
+            };
+            u = trial;
+            res = res2;
+            rn = rn2;
+            if rn <= self.tol && !jac {
+                let mut done = plain;
+                done.jac = node.jac;
+                done.state.iterations = it as u64 + 1;
+                return Ok(done);
+            }
+            node = self.eval_with(phase, u, true)?.1;
+            if rn <= self.tol {
+                node.state.iterations = it as u64 + 1;
+                return Ok(node);
+            }
+        }
+        Err(ContactError::PhaseSolve {
+            phase: phase_letter(phase),
+            xc: node.state.point.xc,
+            iterations: MAX_NEWTON as u64,
+            residual: rn,
+        })
+    }
+}
+
+impl Branch<'_> {
+    /// The chord method: Newton steps with the fixed Jacobian `jac` of a nearby node (rows
+    /// `dR0, dR1, dx0`) for the equations `R = 0`, `x0 = X`, from `u`; shots without
+    /// sensitivities only. Converges linearly at the rate of the Jacobian's error, so it is
+    /// used from good predictions; `None` if it does not reach the tolerance in a few steps.
+    pub fn chord_at_base(
+        &self,
+        phase: Phase,
+        u: [f64; 3],
+        x0: f64,
+        jac: &[[f64; 3]; 3],
+    ) -> Option<Node> {
+        let mut u = u;
+        let mut last = f64::INFINITY;
+        for it in 0..8 {
+            let (r, mut node) = self.eval_with(phase, u, false).ok()?;
+            let res = [r[0], r[1], node.state.x0 - x0];
+            let rn = norm(&res);
+            if rn <= self.tol {
+                node.jac = *jac;
+                node.state.iterations = it;
+                return Some(node);
+            }
+            if rn.is_nan() || rn >= 0.5 * last {
+                return None;
+            }
+            last = rn;
+            let du = solve3(jac, &res)?;
+            u = sub(&u, &du);
+        }
+        None
+    }
+}
+
+pub(crate) fn sub(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+/// `A` or `B`.
+pub(crate) fn phase_letter(phase: Phase) -> char {
+    if phase == Phase::B {
+        'B'
+    } else {
+        'A'
+    }
+}
+
+pub(crate) fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+pub(crate) fn norm(a: &[f64; 3]) -> f64 {
+    dot(a, a).sqrt()
+}
+
+/// Solves the 3x3 system `m x = b` by Gaussian elimination with partial pivoting; `None` if
+/// it is singular.
+pub(crate) fn solve3(m: &[[f64; 3]; 3], b: &[f64; 3]) -> Option<[f64; 3]> {
+    let mut a = [
+        [m[0][0], m[0][1], m[0][2], b[0]],
+        [m[1][0], m[1][1], m[1][2], b[1]],
+        [m[2][0], m[2][1], m[2][2], b[2]],
+    ];
+    for k in 0..3 {
+        let p = (k..3).max_by(|&i, &j| a[i][k].abs().total_cmp(&a[j][k].abs()))?;
+        a.swap(k, p);
+        if !(a[k][k].abs() > 0.0 && a[k][k].is_finite()) {
+            return None;
+        }
+        for i in k + 1..3 {
+            let l = a[i][k] / a[k][k];
+            let pivot = a[k];
+            for (aij, pkj) in a[i][k..].iter_mut().zip(&pivot[k..]) {
+                *aij -= l * pkj;
+            }
+        }
+    }
+    let mut x = [0.0; 3];
+    for k in (0..3).rev() {
+        let s: f64 = (k + 1..3).map(|j| a[k][j] * x[j]).sum();
+        x[k] = (a[k][3] - s) / a[k][k];
+    }
+    x.iter().all(|v| v.is_finite()).then_some(x)
+}

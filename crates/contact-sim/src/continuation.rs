@@ -1,0 +1,297 @@
+//! Pseudo-arclength continuation of the contact branch from the first contact to the
+//! separation, in the direction in which the base position x0 falls (the base moves towards
+//! -x; spec/model.md, contact).
+//!
+//! Each step predicts along the unit tangent of the branch in `(v, f, t)` and corrects on the
+//! hyperplane through the prediction normal to the tangent, so folds of the contact point
+//! (xc reversing while x0 keeps falling) are passed like any other point. The step adapts to
+//! the corrector's effort and to the turning of the tangent. After each step the events
+//! between the two nodes are checked and the earliest one is located ([`crate::events`]):
+//! a phase switch continues on the other phase's branch; a release (`f = 0`), a snap (x0
+//! reaching a turning point), a second contact or the end of the contour ends the trace.
+//! Every loop has a budget: a trace that does not separate within `max_steps` steps ends as
+//! [`End::NotReached`].
+
+use crate::branch::{dot, Branch, Constraint, Node};
+use crate::error::{ContactError, Result};
+use crate::events::{locate, penetration, phase_margin, smooth_turn, x0_rate};
+use crate::phase::Phase;
+
+/// How the trace ended.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum End {
+    /// x0 reached a turning point: the whisker snaps off (the node at the turning point).
+    Snap(Node),
+    /// The contact force fell to zero (the node at f = 0).
+    Release(Node),
+    /// Another point of the whisker reaches the obstacle (the last node with one contact).
+    MultiContact(Node),
+    /// The contact point reached the end of the contour's parameter range.
+    OffContour(Node),
+    /// No separation within the step budget.
+    NotReached(Node, usize),
+}
+
+/// The traced branch: its nodes in the order of the motion (x0 strictly falling; a phase
+/// switch appears twice, once in each phase's variables), the switch nodes, and the end.
+pub(crate) struct Trace {
+    pub nodes: Vec<Node>,
+    pub switches: Vec<Node>,
+    pub end: End,
+}
+
+/// Step control of the trace.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct StepControl {
+    /// First step length.
+    pub initial: f64,
+    /// Largest step length.
+    pub max: f64,
+    /// Smallest step length before the trace gives up.
+    pub min: f64,
+    /// Step budget.
+    pub max_steps: usize,
+    /// Event location tolerance in the state.
+    pub event_tol: f64,
+    /// Whether to check for a second contact at every node.
+    pub check_penetration: bool,
+}
+
+/// Penetration depth below which a second contact is not counted (the shape check's own
+/// accuracy is ~1e-10).
+const PENETRATION_MARGIN: f64 = 1e-8;
+
+/// Longest step over which an event is located (longer steps are shrunk first).
+const EVENT_BRACKET: f64 = 0.02;
+
+/// The events checked after each step, in the order they are reported at equal position.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Event {
+    Switch,
+    Release,
+    Snap,
+    SecondContact,
+}
+
+/// Traces the branch from `first` until it separates.
+pub(crate) fn trace(branch: &Branch, first: Node, ctl: &StepControl) -> Result<Trace> {
+    let down = [-first.jac[2][0], -first.jac[2][1], -first.jac[2][2]];
+    let mut t = first.tangent(&down);
+    let mut nodes = vec![first];
+    let mut switches = Vec::new();
+    if ctl.check_penetration {
+        let depth = penetration(branch.whisker, branch.flow, branch.profile, &first.state)?;
+        if depth > PENETRATION_MARGIN {
+            return Err(ContactError::NoContact {
+                reason: format!(
+                    "at the first touch (x0 = {:.6}) the {} contact state puts another part of the whisker {depth:.3e} inside the contour; a single-contact sweep cannot start",
+                    first.x0(),
+                    if first.phase == Phase::B { "tangential (flow on [0, s1] only)" } else { "tip" }
+                ),
+            });
+        }
+    }
+    if x0_rate(&first, &t) >= 0.0 {
+        return Ok(Trace {
+            nodes,
+            switches,
+            end: End::Snap(first),
+        });
+    }
+    let mut cur = first;
+    let mut h = ctl.initial;
+    let stalled = |cur: &Node, h: f64, reason: String| ContactError::BranchStalled {
+        phase: crate::branch::phase_letter(cur.phase),
+        x0: cur.x0(),
+        xc: cur.state.point.xc,
+        step: h,
+        reason,
+    };
+    for _ in 0..ctl.max_steps {
+        let p = [
+            cur.u[0] + h * t[0],
+            cur.u[1] + h * t[1],
+            cur.u[2] + h * t[2],
+        ];
+        let node = match branch.correct(cur.phase, p, Constraint::Hyperplane { n: t, p }, true) {
+            Ok(n) => n,
+            Err(e) => {
+                h *= 0.5;
+                if h < ctl.min {
+                    return match e {
+                        ContactError::LeftContour { .. } => Ok(Trace {
+                            nodes,
+                            switches,
+                            end: End::OffContour(cur),
+                        }),
+                        e => Err(stalled(&cur, h, e.to_string())),
+                    };
+                }
+                continue;
+            }
+        };
+        let tn = node.tangent(&t);
+        if !smooth_turn(&t, &tn) && h > ctl.min {
+            h *= 0.5;
+            continue;
+        }
+        // The earliest event in (cur, node].
+        let mut events = Vec::new();
+        if phase_margin(&node) <= 0.0 {
+            events.push(Event::Switch);
+        }
+        if node.state.f < 0.0 {
+            events.push(Event::Release);
+        }
+        if node.x0_rate(&tn) >= 0.0 {
+            events.push(Event::Snap);
+        }
+        let depth = if ctl.check_penetration {
+            penetration(branch.whisker, branch.flow, branch.profile, &node.state)?
+        } else {
+            f64::NEG_INFINITY
+        };
+        if depth > PENETRATION_MARGIN {
+            events.push(Event::SecondContact);
+        }
+        if events.is_empty() {
+            if node.x0() >= cur.x0() {
+                // x0 must fall along an oriented tangent with a negative rate at both ends;
+                // a rise means the step jumped over a pair of turning points.
+                h *= 0.5;
+                if h < ctl.min {
+                    return Err(stalled(&cur, h, "x0 rose between two nodes".into()));
+                }
+                continue;
+            }
+            let easy = node.state.iterations <= 3;
+            cur = node;
+            t = tn;
+            nodes.push(node);
+            if easy {
+                h = (h * 1.6).min(ctl.max);
+            }
+            continue;
+        }
+        // Events are located in short brackets, where the chord stays close to the branch:
+        // shrink the step first (this also separates several events in one step).
+        if h > EVENT_BRACKET || (events.len() > 1 && h > 64.0 * ctl.min) {
+            h = (h * 0.25).max(ctl.min);
+            continue;
+        }
+        let t_ref = t;
+        let mut best: Option<(Event, Node)> = None;
+        for ev in events {
+            let g = |n: &Node| -> Result<f64> {
+                Ok(match ev {
+                    Event::Switch => phase_margin(n),
+                    Event::Release => n.state.f,
+                    Event::Snap => -x0_rate(n, &t_ref),
+                    Event::SecondContact => {
+                        PENETRATION_MARGIN
+                            - penetration(branch.whisker, branch.flow, branch.profile, &n.state)?
+                    }
+                })
+            };
+            // Switches and releases are solved directly (the event condition as the third
+            // equation, from the secant point of the bracket); the rest, and any direct
+            // solution outside the bracket, by regula falsi along the chord.
+            let direct = match ev {
+                Event::Switch => Some(Constraint::PhaseEnd),
+                Event::Release => Some(Constraint::NoForce),
+                _ => None,
+            }
+            .and_then(|c| {
+                let (ga, gb) = (g(&cur).ok()?, g(&node).ok()?);
+                let w = ga / (ga - gb);
+                let p = [
+                    cur.u[0] + w * (node.u[0] - cur.u[0]),
+                    cur.u[1] + w * (node.u[1] - cur.u[1]),
+                    cur.u[2] + w * (node.u[2] - cur.u[2]),
+                ];
+                let at = branch.correct(cur.phase, p, c, true).ok()?;
+                let d = crate::branch::sub(&node.u, &cur.u);
+                let along = dot(&crate::branch::sub(&at.u, &cur.u), &d) / dot(&d, &d);
+                (along > -1e-12 && along < 1.0 + 1e-12).then_some(at)
+            });
+            let at = match direct {
+                Some(at) => at,
+                None => locate(branch, &cur, &node, &g, ctl.event_tol)?,
+            };
+            let along = dot(&crate::branch::sub(&at.u, &cur.u), &t);
+            if best.is_none_or(|(_, b)| along < dot(&crate::branch::sub(&b.u, &cur.u), &t)) {
+                best = Some((ev, at));
+            }
+        }
+        let Some((ev, at)) = best else { continue };
+        if at.u != cur.u && at.x0() < cur.x0() {
+            nodes.push(at);
+        }
+        match ev {
+            Event::Release => {
+                return Ok(Trace {
+                    nodes,
+                    switches,
+                    end: End::Release(at),
+                })
+            }
+            Event::Snap => {
+                return Ok(Trace {
+                    nodes,
+                    switches,
+                    end: End::Snap(at),
+                })
+            }
+            Event::SecondContact => {
+                return Ok(Trace {
+                    nodes,
+                    switches,
+                    end: End::MultiContact(at),
+                })
+            }
+            Event::Switch => {
+                let (next, tn) = switch_phase(branch, &at)?;
+                // the switch row in tip-contact form: s1 = 1 exactly, phi1 = psi
+                switches.push(if next.phase == Phase::A { next } else { at });
+                if x0_rate(&next, &tn) >= 0.0 {
+                    // The other phase's branch leaves towards larger x0: no quasi-static
+                    // continuation, the whisker snaps off at the switch.
+                    return Ok(Trace {
+                        nodes,
+                        switches,
+                        end: End::Snap(at),
+                    });
+                }
+                nodes.push(next);
+                cur = next;
+                t = tn;
+                h = ctl.initial.min(h);
+            }
+        }
+    }
+    Ok(Trace {
+        nodes,
+        switches,
+        end: End::NotReached(cur, ctl.max_steps),
+    })
+}
+
+/// The node of the other phase at a switch node `at` (where `phi1 = psi` and `s1 = 1`), with
+/// the tangent that enters the new phase's valid side.
+fn switch_phase(branch: &Branch, at: &Node) -> Result<(Node, [f64; 3])> {
+    let (phase, u) = match at.phase {
+        Phase::B => (Phase::A, [at.state.point.psi, at.u[1], at.u[2]]),
+        _ => (Phase::B, [1.0, at.u[1], at.u[2]]),
+    };
+    let next = branch.correct(phase, u, Constraint::BasePosition(at.x0()), true)?;
+    // The valid side: s1 < 1 in B; phi1 - psi(t) > 0 in A.
+    let into = match phase {
+        Phase::B => [-1.0, 0.0, 0.0],
+        _ => {
+            let g = branch.profile.at(next.u[2]);
+            [1.0, 0.0, -g.dpsi]
+        }
+    };
+    let tn = next.tangent(&into);
+    Ok((next, tn))
+}

@@ -1,0 +1,214 @@
+//! The first contact (thesis ch. 5.2.1): the whisker under the flow alone, approached by the
+//! contour as the base moves towards -x.
+//!
+//! With the free elastica `r(s)` relative to the base and `x_R(y)` the contour's right flank,
+//! the point `s` touches the contour when the base is at `D(s) = x_R(y(s)) - x(s)`; the first
+//! contact is the maximum of `D` over `s`. Since `D'(s) = sin(phi(s) - psi) / sin(psi)`, an
+//! interior maximum is a tangency `phi(s) = psi` (phase B first) and a maximum at the tip with
+//! `phi1 > psi` is a tip contact (phase A first). Every sign change of `phi - psi` along the
+//! whisker is bracketed on a fine sampling of the dense free solution and refined by
+//! bisection to machine precision, so the first contact is exact to the integrator's
+//! tolerance, not to a sampling step.
+
+use crate::error::{ContactError, Result};
+use crate::profile::Profile;
+use beam_model::equations::{Sensitivities, WhiskerOde};
+use beam_model::shot::{shoot, Integration};
+use beam_model::{FluidLoad, Loads, Whisker};
+use bvp_solvers::integrator::{Dop853, OdeSolution};
+use serde::{Deserialize, Serialize};
+
+/// How the contact began.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum FirstContact {
+    /// The tip touched first (phi1 > psi).
+    Tip,
+    /// A point s1 < 1 touched tangentially first.
+    Tangential,
+}
+
+/// Where and how the free whisker first touches the contour.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FirstTouch {
+    /// Tip or tangential.
+    pub kind: FirstContact,
+    /// Arc length of the touching point (1 for the tip).
+    pub s: f64,
+    /// Contour parameter of the touched point ([`Profile::at`]).
+    pub t: f64,
+    /// Touched contour point x.
+    pub xc: f64,
+    /// Touched contour point y.
+    pub yc: f64,
+    /// Contour angle there.
+    pub psi: f64,
+    /// Base position at the first touch.
+    pub x0: f64,
+    /// Tip angle of the free whisker.
+    pub phi1: f64,
+}
+
+/// Samples of the free elastica that bracket the tangency points.
+const SAMPLES: usize = 600;
+
+/// The free elastica under the flow alone, as dense output from the tip to the base.
+struct FreeShape {
+    sol: OdeSolution,
+    /// Base position relative to the tip's frame.
+    base: (f64, f64),
+}
+
+impl FreeShape {
+    /// `(x, y, phi)` of the point at arc length `s`, relative to the base.
+    fn at(&self, s: f64) -> Option<(f64, f64, f64)> {
+        let mut u = [0.0; 4];
+        self.sol
+            .eval_into(s, &mut u)
+            .then(|| (u[2] - self.base.0, u[3] - self.base.1, u[0]))
+    }
+}
+
+/// The tip angle of the free whisker under `flow`: Newton on the base condition
+/// [3.21, 3.22] with the exact derivative of the shot, from `guess`.
+pub(crate) fn free_tip_angle(
+    whisker: &Whisker,
+    flow: FluidLoad,
+    guess: f64,
+    integration: &Integration,
+) -> Result<f64> {
+    let loads = Loads::fluid(flow.q, flow.alpha);
+    let c = whisker.support.compliance();
+    let mut phi1 = guess;
+    let mut last = f64::NAN;
+    for _ in 0..40 {
+        let shot = shoot(whisker, &loads, phi1, Sensitivities::TipAngle, integration)?;
+        let r = whisker.support.residual(shot.phi0, shot.m0);
+        last = r.abs();
+        let d = shot.sens[0][0] - c * shot.sens[0][1];
+        let step = r / d;
+        if !step.is_finite() {
+            break;
+        }
+        phi1 -= step;
+        if step.abs() <= 1e-15 * (1.0 + phi1.abs()) || r.abs() <= 1e-15 {
+            return Ok(phi1);
+        }
+    }
+    if last <= 1e-11 {
+        return Ok(phi1);
+    }
+    Err(ContactError::NoContact {
+        reason: format!(
+            "the free whisker under the flow could not be solved (base residual {last:.3e})"
+        ),
+    })
+}
+
+/// Locates the first contact of the free whisker (tip angle `phi1`) with `profile`.
+pub(crate) fn first_touch(
+    whisker: &Whisker,
+    flow: FluidLoad,
+    phi1: f64,
+    profile: &Profile,
+    tol: f64,
+) -> Result<FirstTouch> {
+    let loads = Loads::fluid(flow.q, flow.alpha);
+    let ode = WhiskerOde::new(*whisker, loads, phi1, Sensitivities::None);
+    let sol =
+        Dop853::new(tol, tol)
+            .with_dense(true)
+            .integrate(&ode, 1.0, 0.0, &[phi1, 0.0, 0.0, 0.0])?;
+    let base = (sol.u_end[2], sol.u_end[3]);
+    let shape = FreeShape { sol, base };
+    // D(s) and the sign of D'(s) = sin(phi - psi)/sin(psi) where the contour is defined.
+    let probe = |s: f64| -> Option<(f64, f64, f64)> {
+        let (x, y, phi) = shape.at(s)?;
+        let t = profile.param_right_at(y)?;
+        let g = profile.at(t);
+        Some((g.x - x, phi - g.psi, t))
+    };
+    let mut candidates: Vec<f64> = Vec::new();
+    let mut prev: Option<(f64, f64)> = None;
+    for i in 0..=SAMPLES {
+        let s = i as f64 / SAMPLES as f64;
+        let Some((_, h, _)) = probe(s) else {
+            prev = None;
+            continue;
+        };
+        if let Some((sp, hp)) = prev {
+            if hp > 0.0 && h <= 0.0 {
+                // bisection on the sign of phi - psi to machine precision
+                let (mut a, mut b) = (sp, s);
+                for _ in 0..100 {
+                    let m = 0.5 * (a + b);
+                    if m <= a || m >= b {
+                        break;
+                    }
+                    match probe(m) {
+                        Some((_, hm, _)) if hm > 0.0 => a = m,
+                        Some(_) => b = m,
+                        None => break,
+                    }
+                }
+                candidates.push(0.5 * (a + b));
+            }
+        }
+        prev = Some((s, h));
+    }
+    let tip = probe(1.0);
+    if let Some((_, h, _)) = tip {
+        if h > 0.0 {
+            candidates.push(1.0);
+        }
+    }
+    let best = candidates
+        .iter()
+        .filter_map(|&s| probe(s).map(|(d, _, t)| (s, d, t)))
+        .max_by(|a, b| a.1.total_cmp(&b.1));
+    let Some((s, x0, t)) = best else {
+        let top = (0..=SAMPLES)
+            .filter_map(|i| shape.at(i as f64 / SAMPLES as f64).map(|p| p.1))
+            .fold(f64::NEG_INFINITY, f64::max);
+        return Err(ContactError::NoContact {
+            reason: format!(
+                "the whisker (highest point y = {top:.4}) never meets the right flank of {}",
+                profile.name()
+            ),
+        });
+    };
+    // Parts of the whisker above the end of a finite contour (a circle's vertical end, a
+    // table's last knot) would meet what lies beyond it first: refuse rather than guess.
+    let (_, t_hi) = profile.param_range();
+    if t_hi.is_finite() {
+        let end = profile.at(t_hi);
+        for i in 0..=SAMPLES {
+            if let Some((x, y, _)) = shape.at(i as f64 / SAMPLES as f64) {
+                if y > end.y && end.x - x >= x0 {
+                    return Err(ContactError::NoContact {
+                        reason: format!(
+                            "the whisker first meets {} above the end of its contour (y = {y:.4} > {:.4}); extend the contour",
+                            profile.name(),
+                            end.y
+                        ),
+                    });
+                }
+            }
+        }
+    }
+    let g = profile.at(t);
+    let kind = if s == 1.0 {
+        FirstContact::Tip
+    } else {
+        FirstContact::Tangential
+    };
+    Ok(FirstTouch {
+        kind,
+        s,
+        t,
+        xc: g.x,
+        yc: g.y,
+        psi: g.psi,
+        x0,
+        phi1,
+    })
+}

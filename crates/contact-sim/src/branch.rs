@@ -82,6 +82,9 @@ pub(crate) enum Constraint {
         n: [f64; 3],
         /// A point of the plane.
         p: [f64; 3],
+        /// How far from `p` the solution may lie: an iterate beyond it fails the solve
+        /// (the prediction was too far from the branch), before a shot is spent there.
+        radius: f64,
     },
     /// The end of the phase's validity: `phi1 = psi(t)` in phase A, `s1 = 1` in phase B.
     PhaseEnd,
@@ -99,11 +102,15 @@ pub(crate) struct Branch<'a> {
     pub tol: f64,
 }
 
+/// The largest residual norm accepted from a corrector that cannot reduce it further.
+const NOISE_FLOOR: f64 = 1e-10;
+
 /// Relative step of the forward difference in the force angle.
 const ANGLE_STEP: f64 = 1e-7;
 
-/// Newton iterations per corrector solve.
-const MAX_NEWTON: usize = 30;
+/// Newton iterations per corrector solve (from a prediction Newton converges in 2-4; a
+/// corrector that needs more is failed fast and the caller shortens its step).
+const MAX_NEWTON: usize = 10;
 
 impl Branch<'_> {
     /// Evaluates the branch equations at `u` in `phase`: residual `R`, the node (state and
@@ -218,9 +225,10 @@ impl Branch<'_> {
 
     /// Newton's method on `R(u) = 0` with the third equation `constraint`, from `u`, until the
     /// residual norm is at most the tolerance; damped by step halving when it grows. Trial
-    /// points are shot without sensitivities; the Jacobian is recomputed at each accepted
-    /// iterate, and at the solution only if `jac` is set (otherwise the node carries the last
-    /// iterate's). Fails with the last residual.
+    /// points are shot without sensitivities; the Jacobian is kept while it contracts the
+    /// residual by 20x per step (simplified Newton) and recomputed otherwise, and at the
+    /// solution only if `jac` is set (otherwise the node carries the last one). Fails with
+    /// the last residual.
     pub fn correct(
         &self,
         phase: Phase,
@@ -231,7 +239,7 @@ impl Branch<'_> {
         let value = |node: &Node| -> f64 {
             match constraint {
                 Constraint::BasePosition(x) => node.state.x0 - x,
-                Constraint::Hyperplane { n, p } => dot(&n, &sub(&node.u, &p)),
+                Constraint::Hyperplane { n, p, .. } => dot(&n, &sub(&node.u, &p)),
                 Constraint::PhaseEnd => match phase {
                     Phase::B => node.state.s1 - 1.0,
                     _ => node.state.phi1 - node.state.point.psi,
@@ -262,12 +270,18 @@ impl Branch<'_> {
             };
             let mut lambda = 1.0;
             let mut next = None;
-            for _ in 0..8 {
+            for _ in 0..5 {
                 let trial = [
                     u[0] - lambda * du[0],
                     u[1] - lambda * du[1],
                     u[2] - lambda * du[2],
                 ];
+                if let Constraint::Hyperplane { p, radius, .. } = constraint {
+                    if norm(&sub(&trial, &p)) > radius {
+                        lambda *= 0.5;
+                        continue;
+                    }
+                }
                 if let Ok((r2, n2)) = self.eval_with(phase, trial, false) {
                     let res2 = [r2[0], r2[1], value(&n2)];
                     let rn2 = norm(&res2);
@@ -281,6 +295,7 @@ impl Branch<'_> {
             let Some((trial, plain, res2, rn2)) = next else {
                 break;
             };
+            let contraction = rn2 / rn;
             u = trial;
             res = res2;
             rn = rn2;
@@ -290,11 +305,31 @@ impl Branch<'_> {
                 done.state.iterations = it as u64 + 1;
                 return Ok(done);
             }
-            node = self.eval_with(phase, u, true)?.1;
+            if rn <= self.tol || contraction > 0.05 {
+                // a fresh Jacobian at the solution, or where the old one converges slowly
+                node = self.eval_with(phase, u, true)?.1;
+            } else {
+                // a simplified Newton step: the Jacobian is kept
+                let j = node.jac;
+                node = plain;
+                node.jac = j;
+            }
             if rn <= self.tol {
                 node.state.iterations = it as u64 + 1;
                 return Ok(node);
             }
+        }
+        // Slender tips put a noise floor on the shots (adaptive steps): a corrector that
+        // stalls just above the tolerance but within NOISE_FLOOR is accepted, its residual
+        // recorded in the state.
+        if rn <= NOISE_FLOOR {
+            let mut done = self.eval_with(phase, u, jac)?.1;
+            if !jac {
+                done.jac = node.jac;
+            }
+            done.state.residual = rn;
+            done.state.iterations = MAX_NEWTON as u64;
+            return Ok(done);
         }
         Err(ContactError::PhaseSolve {
             phase: phase_letter(phase),
@@ -306,11 +341,12 @@ impl Branch<'_> {
 }
 
 impl Branch<'_> {
-    /// The chord method: Newton steps with the fixed Jacobian `jac` of a nearby node (rows
-    /// `dR0, dR1, dx0`) for the equations `R = 0`, `x0 = X`, from `u`; shots without
-    /// sensitivities only. Converges linearly at the rate of the Jacobian's error, so it is
-    /// used from good predictions; `None` if it does not reach the tolerance in a few steps.
-    pub fn chord_at_base(
+    /// Broyden's method for the equations `R = 0`, `x0 = X` from `u`, started with the
+    /// Jacobian `jac` of a nearby row or node (rows `dR0, dR1, dx0`) and improved by a rank-one
+    /// update after every step; shots without sensitivities only. Used from good predictions;
+    /// `None` if the residual stops falling or the tolerance is not reached in a few steps.
+    /// The node carries the updated Jacobian, a good start for the next row.
+    pub fn broyden_at_base(
         &self,
         phase: Phase,
         u: [f64; 3],
@@ -318,22 +354,39 @@ impl Branch<'_> {
         jac: &[[f64; 3]; 3],
     ) -> Option<Node> {
         let mut u = u;
-        let mut last = f64::INFINITY;
+        let mut j = *jac;
+        let mut last: Option<([f64; 3], [f64; 3])> = None;
+        let mut last_norm = f64::INFINITY;
         for it in 0..8 {
             let (r, mut node) = self.eval_with(phase, u, false).ok()?;
             let res = [r[0], r[1], node.state.x0 - x0];
             let rn = norm(&res);
+            if let Some((du, res_prev)) = last {
+                // J += (dr - J du) du^T / (du . du)
+                let dr = sub(&res, &res_prev);
+                let jdu = [dot(&j[0], &du), dot(&j[1], &du), dot(&j[2], &du)];
+                let dd = dot(&du, &du);
+                if dd > 0.0 {
+                    for (row, (dri, jdi)) in j.iter_mut().zip(dr.iter().zip(&jdu)) {
+                        for (jk, duk) in row.iter_mut().zip(&du) {
+                            *jk += (dri - jdi) * duk / dd;
+                        }
+                    }
+                }
+            }
             if rn <= self.tol {
-                node.jac = *jac;
+                node.jac = j;
                 node.state.iterations = it;
                 return Some(node);
             }
-            if rn.is_nan() || rn >= 0.5 * last {
+            if rn.is_nan() || rn >= 0.5 * last_norm {
                 return None;
             }
-            last = rn;
-            let du = solve3(jac, &res)?;
-            u = sub(&u, &du);
+            last_norm = rn;
+            let step = solve3(&j, &res)?;
+            let du = [-step[0], -step[1], -step[2]];
+            u = [u[0] + du[0], u[1] + du[1], u[2] + du[2]];
+            last = Some((du, res));
         }
         None
     }

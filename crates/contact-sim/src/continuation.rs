@@ -61,6 +61,10 @@ pub(crate) struct StepControl {
 /// accuracy is ~1e-10).
 const PENETRATION_MARGIN: f64 = 1e-8;
 
+/// A step below which a rise of x0 is the turning point itself (x0 stationary within the
+/// shots' accuracy).
+const SNAP_STEP: f64 = 1e-7;
+
 /// Longest step over which an event is located (longer steps are shrunk first).
 const EVENT_BRACKET: f64 = 0.02;
 
@@ -113,7 +117,16 @@ pub(crate) fn trace(branch: &Branch, first: Node, ctl: &StepControl) -> Result<T
             cur.u[1] + h * t[1],
             cur.u[2] + h * t[2],
         ];
-        let node = match branch.correct(cur.phase, p, Constraint::Hyperplane { n: t, p }, true) {
+        let node = match branch.correct(
+            cur.phase,
+            p,
+            Constraint::Hyperplane {
+                n: t,
+                p,
+                radius: 0.5 * h + 1e-9,
+            },
+            true,
+        ) {
             Ok(n) => n,
             Err(e) => {
                 h *= 0.5;
@@ -146,18 +159,28 @@ pub(crate) fn trace(branch: &Branch, first: Node, ctl: &StepControl) -> Result<T
         if node.x0_rate(&tn) >= 0.0 {
             events.push(Event::Snap);
         }
-        let depth = if ctl.check_penetration {
-            penetration(branch.whisker, branch.flow, branch.profile, &node.state)?
-        } else {
-            f64::NEG_INFINITY
-        };
-        if depth > PENETRATION_MARGIN {
+        // The shape check for a second contact costs a shot of its own: done only for a
+        // step that is otherwise accepted (and at located events, below).
+        if events.is_empty()
+            && ctl.check_penetration
+            && penetration(branch.whisker, branch.flow, branch.profile, &node.state)?
+                > PENETRATION_MARGIN
+        {
             events.push(Event::SecondContact);
         }
         if events.is_empty() {
             if node.x0() >= cur.x0() {
                 // x0 must fall along an oriented tangent with a negative rate at both ends;
-                // a rise means the step jumped over a pair of turning points.
+                // a rise means the step jumped over a pair of turning points, or, on a tiny
+                // step, that x0 is stationary to within the shots' accuracy: the turning
+                // point of the snap, reached within the step.
+                if h < SNAP_STEP {
+                    return Ok(Trace {
+                        nodes,
+                        switches,
+                        end: End::Snap(cur),
+                    });
+                }
                 h *= 0.5;
                 if h < ctl.min {
                     return Err(stalled(&cur, h, "x0 rose between two nodes".into()));
@@ -173,54 +196,85 @@ pub(crate) fn trace(branch: &Branch, first: Node, ctl: &StepControl) -> Result<T
             }
             continue;
         }
-        // Events are located in short brackets, where the chord stays close to the branch:
-        // shrink the step first (this also separates several events in one step).
-        if h > EVENT_BRACKET || (events.len() > 1 && h > 64.0 * ctl.min) {
-            h = (h * 0.25).max(ctl.min);
-            continue;
-        }
-        let t_ref = t;
+        // Switches and releases alone are solved directly, with the event condition as the
+        // third equation from the secant point of the bracket. Other events are located by
+        // regula falsi along the chord in short brackets, where the chord stays close to the
+        // branch: longer steps are shrunk first (this also separates several events).
+        let single_direct =
+            events.len() == 1 && matches!(events[0], Event::Switch | Event::Release);
         let mut best: Option<(Event, Node)> = None;
-        for ev in events {
-            let g = |n: &Node| -> Result<f64> {
-                Ok(match ev {
-                    Event::Switch => phase_margin(n),
-                    Event::Release => n.state.f,
-                    Event::Snap => -x0_rate(n, &t_ref),
-                    Event::SecondContact => {
-                        PENETRATION_MARGIN
-                            - penetration(branch.whisker, branch.flow, branch.profile, &n.state)?
-                    }
-                })
+        if single_direct {
+            let ev = events[0];
+            let c = if ev == Event::Switch {
+                Constraint::PhaseEnd
+            } else {
+                Constraint::NoForce
             };
-            // Switches and releases are solved directly (the event condition as the third
-            // equation, from the secant point of the bracket); the rest, and any direct
-            // solution outside the bracket, by regula falsi along the chord.
-            let direct = match ev {
-                Event::Switch => Some(Constraint::PhaseEnd),
-                Event::Release => Some(Constraint::NoForce),
-                _ => None,
-            }
-            .and_then(|c| {
-                let (ga, gb) = (g(&cur).ok()?, g(&node).ok()?);
-                let w = ga / (ga - gb);
-                let p = [
-                    cur.u[0] + w * (node.u[0] - cur.u[0]),
-                    cur.u[1] + w * (node.u[1] - cur.u[1]),
-                    cur.u[2] + w * (node.u[2] - cur.u[2]),
-                ];
-                let at = branch.correct(cur.phase, p, c, true).ok()?;
+            let g = |n: &Node| {
+                if ev == Event::Switch {
+                    phase_margin(n)
+                } else {
+                    n.state.f
+                }
+            };
+            let (ga, gb) = (g(&cur), g(&node));
+            let w = ga / (ga - gb);
+            let p = [
+                cur.u[0] + w * (node.u[0] - cur.u[0]),
+                cur.u[1] + w * (node.u[1] - cur.u[1]),
+                cur.u[2] + w * (node.u[2] - cur.u[2]),
+            ];
+            if let Ok(at) = branch.correct(cur.phase, p, c, true) {
                 let d = crate::branch::sub(&node.u, &cur.u);
                 let along = dot(&crate::branch::sub(&at.u, &cur.u), &d) / dot(&d, &d);
-                (along > -1e-12 && along < 1.0 + 1e-12).then_some(at)
-            });
-            let at = match direct {
-                Some(at) => at,
-                None => locate(branch, &cur, &node, &g, ctl.event_tol)?,
-            };
-            let along = dot(&crate::branch::sub(&at.u, &cur.u), &t);
-            if best.is_none_or(|(_, b)| along < dot(&crate::branch::sub(&b.u, &cur.u), &t)) {
-                best = Some((ev, at));
+                if along > -1e-12 && along < 1.0 + 1e-12 && at.x0() <= cur.x0() {
+                    best = Some((ev, at));
+                }
+            }
+        }
+        if best.is_none() {
+            if h > EVENT_BRACKET || (events.len() > 1 && h > 64.0 * ctl.min) {
+                h = (h * 0.25).max(ctl.min);
+                continue;
+            }
+            let t_ref = t;
+            for &ev in &events {
+                let g = |n: &Node| -> Result<f64> {
+                    Ok(match ev {
+                        Event::Switch => phase_margin(n),
+                        Event::Release => n.state.f,
+                        Event::Snap => -x0_rate(n, &t_ref),
+                        Event::SecondContact => {
+                            PENETRATION_MARGIN
+                                - penetration(
+                                    branch.whisker,
+                                    branch.flow,
+                                    branch.profile,
+                                    &n.state,
+                                )?
+                        }
+                    })
+                };
+                let at = locate(branch, &cur, &node, &g, ctl.event_tol)?;
+                let along = dot(&crate::branch::sub(&at.u, &cur.u), &t);
+                if best.is_none_or(|(_, b)| along < dot(&crate::branch::sub(&b.u, &cur.u), &t)) {
+                    best = Some((ev, at));
+                }
+            }
+        }
+        // A second contact before the located event ends the trace there.
+        if let Some((ev, at)) = best {
+            if ev != Event::SecondContact
+                && ctl.check_penetration
+                && penetration(branch.whisker, branch.flow, branch.profile, &at.state)?
+                    > PENETRATION_MARGIN
+            {
+                let g = |n: &Node| -> Result<f64> {
+                    Ok(PENETRATION_MARGIN
+                        - penetration(branch.whisker, branch.flow, branch.profile, &n.state)?)
+                };
+                let sc = locate(branch, &cur, &at, &g, ctl.event_tol)?;
+                best = Some((Event::SecondContact, sc));
             }
         }
         let Some((ev, at)) = best else { continue };

@@ -102,7 +102,12 @@ pub(crate) fn locate(
             s = 0.5 * (sa + sb);
         }
         let p = [a.u[0] + s * d[0], a.u[1] + s * d[1], a.u[2] + s * d[2]];
-        let node = branch.correct(a.phase, p, Constraint::Hyperplane { n, p }, true)?;
+        let node = branch.correct(
+            a.phase,
+            p,
+            Constraint::Hyperplane { n, p, radius: len },
+            true,
+        )?;
         let gs = g(&node)?;
         if gs > 0.0 {
             (sa, ga, na) = (s, gs, node);

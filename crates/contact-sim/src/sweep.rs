@@ -381,7 +381,10 @@ fn first_node(branch: &Branch, touch: &FirstTouch) -> Result<Node> {
         // the free whisker itself: no correction (f = 0 exactly)
         FirstContact::Tip => branch.eval(phase, u)?.1,
         FirstContact::Tangential => {
-            branch.correct(phase, u, Constraint::BasePosition(touch.x0), true)?
+            match branch.correct(phase, u, Constraint::BasePosition(touch.x0), true) {
+                Ok(n) if n.state.f >= 0.0 => n,
+                _ => tangential_first_node(branch, u, touch.x0)?,
+            }
         }
     };
     if node.state.f < -1e-9 || (phase == Phase::B && node.state.s1 >= 1.0) {
@@ -396,6 +399,67 @@ fn first_node(branch: &Branch, touch: &FirstTouch) -> Result<Node> {
         });
     }
     Ok(node)
+}
+
+/// The phase-B state at the first-touch base position `x0`, reached along the phase-B branch:
+/// a tangential touch removes the flow beyond s1 (spec/model.md), which can move the state far
+/// from the free whisker's (slender tips). The branch point with `f = 0` is solved first (the
+/// whisker under the flow on `[0, s1]` alone, tangent to the contour), then the branch is
+/// followed in x0 down to `x0` with halving substeps. Where that branch does not reach `x0`
+/// with `f >= 0` (the thesis's phase-B model has no admissible state there), the sweep cannot
+/// start and says so.
+fn tangential_first_node(branch: &Branch, u: [f64; 3], x0: f64) -> Result<Node> {
+    let start = branch.correct(Phase::B, u, Constraint::NoForce, true)?;
+    if start.x0() < x0 - 1e-12 {
+        return Err(ContactError::NoContact {
+            reason: format!(
+                "at the first tangential touch (x0 = {x0:.6}) the phase-B model (flow on [0, s1] only) is not yet in contact (its own touch is at x0 = {:.6})",
+                start.x0()
+            ),
+        });
+    }
+    let (mut cur, mut prev): (Node, Option<Node>) = (start, None);
+    let mut h = (cur.x0() - x0).min(0.05);
+    for _ in 0..10_000 {
+        if cur.x0() - x0 <= 1e-13 {
+            return Ok(cur);
+        }
+        let target = (cur.x0() - h).max(x0);
+        // secant predictor through the last two states
+        let guess = match prev {
+            Some(p) if p.x0() != cur.x0() => {
+                let w = (target - cur.x0()) / (cur.x0() - p.x0());
+                [
+                    cur.u[0] + w * (cur.u[0] - p.u[0]),
+                    cur.u[1] + w * (cur.u[1] - p.u[1]),
+                    cur.u[2] + w * (cur.u[2] - p.u[2]),
+                ]
+            }
+            _ => cur.u,
+        };
+        match branch.correct(Phase::B, guess, Constraint::BasePosition(target), true) {
+            Ok(n) if n.state.s1 < 1.0 && n.state.f >= 0.0 => {
+                prev = Some(cur);
+                cur = n;
+                h = (h * 1.5).min(0.05);
+            }
+            _ => {
+                h *= 0.5;
+                if h < 1e-9 {
+                    break;
+                }
+            }
+        }
+    }
+    Err(ContactError::NoContact {
+        reason: format!(
+            "the tangential first touch at s = {:.6} (x0 = {x0:.6}) has no admissible phase-B state: the phase-B model (flow on [0, s1] only) leaves its own f = 0 touch at x0 = {:.6} and turns back at x0 = {:.6} with f = {:.3e}; the single-contact model cannot start this sweep",
+            u[0],
+            start.x0(),
+            cur.x0(),
+            cur.state.f
+        ),
+    })
 }
 
 /// The log's contact rows: `points` rows evenly spaced in x0 from the first node to `last`
@@ -444,7 +508,7 @@ fn rows(
         ];
         let mut jac = if w < 0.5 { a.jac } else { b.jac };
         if let [.., r0, r1, r2] = recent.as_slice() {
-            if r0.phase == phase && r1.phase == phase && r2.phase == phase && r0.x0() <= a.x0() {
+            if r0.phase == phase && r1.phase == phase && r2.phase == phase {
                 let (x0, x1, x2) = (r0.x0(), r1.x0(), r2.x0());
                 let l0 = (target - x1) * (target - x2) / ((x0 - x1) * (x0 - x2));
                 let l1 = (target - x0) * (target - x2) / ((x1 - x0) * (x1 - x2));
@@ -455,7 +519,7 @@ fn rows(
                 jac = r2.jac;
             }
         }
-        // The chord method from the prediction; Newton from it, from the interpolation
+        // Broyden's method from the prediction; Newton from it, from the interpolation
         // between the bracketing nodes, and from the nearer node as fallbacks.
         let lin = [
             ua[0] + w * (ub[0] - ua[0]),
@@ -463,7 +527,7 @@ fn rows(
             ua[2] + w * (ub[2] - ua[2]),
         ];
         let near = if w < 0.5 { ua } else { ub };
-        let node = match branch.chord_at_base(phase, guess, target, &jac) {
+        let node = match branch.broyden_at_base(phase, guess, target, &jac) {
             Some(n) => n,
             None => {
                 let mut found = None;

@@ -47,7 +47,10 @@ struct SceneSpec {
 }
 
 fn random_scene(rng: &mut Rng, i: usize) -> SceneSpec {
-    let theta = if rng.next() < 0.2 {
+    let u = rng.next();
+    let theta = if u < 0.1 {
+        rng.range(0.03, 0.1)
+    } else if u < 0.25 {
         rng.range(0.1, 0.3)
     } else {
         rng.range(0.3, 1.0)
@@ -315,8 +318,75 @@ fn check_first_touch(s: &SceneSpec, r: &SweepResult) -> Result<f64, String> {
     Ok(on.max(err))
 }
 
+/// Named scenes a researcher brings that the thesis never had.
+fn named_scenes() -> Vec<SceneSpec> {
+    let table: Vec<f64> = (0..=50).map(|j| -2.5 + 0.1 * j as f64).collect();
+    let ys = table.iter().map(|x| 0.6 * x * x + 0.5).collect();
+    let mk = |name: &str, w: Whisker, q: f64, alpha_deg: f64, profile: Profile| SceneSpec {
+        name: name.to_string(),
+        whisker: w,
+        flow: FluidLoad {
+            q,
+            alpha: alpha_deg.to_radians(),
+        },
+        profile,
+    };
+    vec![
+        mk(
+            "bent back (A = -3, B = 1.5) on a parabola",
+            Whisker::new(0.5, -3.0, 1.5, f64::INFINITY),
+            0.5,
+            0.0,
+            Profile::parse("parabola:1,0,0.45").unwrap(),
+        ),
+        mk(
+            "circle post r = 0.6",
+            Whisker::new(0.75, 0.0, 0.0, 20.0),
+            2.0,
+            0.0,
+            Profile::parse("circle:0,1.1,0.6").unwrap(),
+        ),
+        mk(
+            "table over [-2.5, 2.5]",
+            Whisker::new(0.6, 0.0, 0.0, 20.0),
+            3.0,
+            0.0,
+            Profile::points(table, ys).unwrap(),
+        ),
+        mk(
+            "slender theta = 0.05 on g1",
+            Whisker::new(0.05, 0.0, 0.0, f64::INFINITY),
+            0.3,
+            0.0,
+            Profile::g1(),
+        ),
+        mk(
+            "slender theta = 0.05, elastic, flow at 30 degrees on g2",
+            Whisker::new(0.05, 0.0, 0.0, 20.0),
+            0.5,
+            30.0,
+            Profile::g2(),
+        ),
+        mk(
+            "flow at 45 degrees on g2",
+            Whisker::new(0.75, -0.5, 0.2, 20.0),
+            4.0,
+            45.0,
+            Profile::g2(),
+        ),
+        mk(
+            "flow at -45 degrees on ge",
+            Whisker::new(0.4, 0.0, 0.0, 10.0),
+            2.0,
+            -45.0,
+            Profile::ge(),
+        ),
+    ]
+}
+
 fn run_battery(count: usize, seed: u64) {
     let mut rng = Rng(seed);
+    let named = named_scenes();
     let settings = SweepSettings {
         points: 30,
         pre_contact_rows: 3,
@@ -329,8 +399,13 @@ fn run_battery(count: usize, seed: u64) {
     let mut seps = std::collections::BTreeMap::<String, usize>::new();
     let mut firsts = [0usize; 2];
     let mut touch_worst = 0.0f64;
-    for i in 0..count {
-        let s = random_scene(&mut rng, i);
+    let total = named.len() + count;
+    let mut named = named.into_iter();
+    for i in 0..total {
+        let s = match named.next() {
+            Some(s) => s,
+            None => random_scene(&mut rng, i),
+        };
         let t0 = std::time::Instant::now();
         let r = match sweep(&s.whisker, s.flow, &s.profile, &settings) {
             Ok(r) => r,
@@ -393,7 +468,7 @@ fn run_battery(count: usize, seed: u64) {
         }
     }
     println!(
-        "battery: {count} scenes, {} refused (no contact), {} contact rows; first contact tip {} tangential {}; separations {seps:?}",
+        "battery: {total} scenes, {} refused (no contact), {} contact rows; first contact tip {} tangential {}; separations {seps:?}",
         refused.len(),
         worst.rows,
         firsts[0],

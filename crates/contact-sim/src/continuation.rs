@@ -224,7 +224,12 @@ pub(crate) fn trace(branch: &Branch, first: Node, ctl: &StepControl) -> Result<T
                 cur.u[1] + w * (node.u[1] - cur.u[1]),
                 cur.u[2] + w * (node.u[2] - cur.u[2]),
             ];
-            if let Ok(at) = branch.correct(cur.phase, p, c, true) {
+            if let Ok(mut at) = branch.correct(cur.phase, p, c, true) {
+                if ev == Event::Release {
+                    // f = 0 to the corrector's tolerance: the release row carries f = 0
+                    at.state.f = at.state.f.max(0.0);
+                    at.u[1] = at.state.f;
+                }
                 let d = crate::branch::sub(&node.u, &cur.u);
                 let along = dot(&crate::branch::sub(&at.u, &cur.u), &d) / dot(&d, &d);
                 if along > -1e-12 && along < 1.0 + 1e-12 && at.x0() <= cur.x0() {

@@ -4,10 +4,18 @@
 //!
 //! | module | concept |
 //! |---|---|
-//! | [`profile`] | convex contours g1, g2, ge, parabola, cosh, circle arc, tabulated points |
+//! | [`profile`] | convex contours g1, g2, ge, parabola, cosh, circle arc, tabulated points; the contour parameter |
 //! | [`phase`] | tip contact (phase A) and tangential contact (phase B) at one contour point |
+//! | `branch` | the contact branch in `(phi1 or s1, f, t)`: equations, Jacobian, correctors |
+//! | `continuation` | pseudo-arclength continuation of the branch in the direction of falling x0 |
+//! | `events` | phase switches, release, snap (x0 turning point), second contact: location |
+//! | [`first_contact`] | the exact first touch of the free whisker (tip or tangential) |
 //! | [`cases`] | the chapter-5 cases as reference problems |
-//! | [`sweep`] | first contact, the march along the contour, phase switches, snap and release |
+//! | [`mod@sweep`] | settings, the log's rows evenly spaced in x0, separation kinds |
+//!
+//! The sweep follows the base position x0, the quantity the experimenter moves: the contact
+//! point may move either way along the contour and reverse; the whisker separates where x0
+//! reaches a turning point of the branch (snap) or the contact force falls to zero (release).
 //!
 //! ```
 //! use beam_model::Whisker;
@@ -15,9 +23,12 @@
 //!
 //! // Thesis case 1: a uniform rigid whisker under q = 5 swept past the catenary g1.
 //! let settings = SweepSettings { points: 20, ..Default::default() };
-//! let r = sweep(&Whisker::uniform(), beam_model::FluidLoad { q: 5.0, alpha: 0.0 }, &Profile::g1(), &settings).unwrap();
+//! let flow = beam_model::FluidLoad { q: 5.0, alpha: 0.0 };
+//! let r = sweep(&Whisker::uniform(), flow, &Profile::g1(), &settings).unwrap();
 //! assert_eq!(r.phase_pattern(), "ABA"); // tip, tangential, tip contact
 //! assert_eq!(r.separation, Separation::Release); // the flow absorbs the snap
+//! // the base moves left row by row
+//! assert!(r.points.windows(2).all(|w| w[1].x0 < w[0].x0));
 //! ```
 
 mod branch;

@@ -1,8 +1,8 @@
 //! The quasi-static sweep (thesis ch. 5, Fig. 5.6), driven by the quantity the experimenter
 //! moves, the base position x0: the whisker under the flow alone, the exact first contact
 //! ([`crate::first_contact`]), the contact branch followed by continuation in x0 through
-//! phase switches and folds of the contact point ([`crate::continuation`]), events located on
-//! the branch ([`crate::events`]), and the rows of the log assembled here: pre-contact rows,
+//! phase switches and folds of the contact point (`continuation`), events located on
+//! the branch (`events`), and the rows of the log assembled here: pre-contact rows,
 //! then contact rows evenly spaced in x0 from the first contact to the separation, plus one
 //! row at each phase switch.
 

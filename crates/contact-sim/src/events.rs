@@ -28,7 +28,7 @@ pub(crate) fn phase_margin(node: &Node) -> f64 {
 }
 
 /// How deep the whisker of `state` enters the obstacle away from its contact point (positive
-/// inside): the maximum over the elastica (RK4 on 400 steps, the maximum refined by the
+/// inside): the maximum over the elastica (RK4 on 200 steps, the maximum refined by the
 /// parabola through its neighbours) of the depth below the contour, for a circle also inside
 /// its vertical sides. Only the contact point itself is excluded (`|s - s1| < 2e-3`), so a
 /// free segment that curls into the obstacle next to a tangential contact counts.
@@ -39,7 +39,7 @@ pub(crate) fn penetration(
     state: &ContactState,
 ) -> Result<f64> {
     let scene = Scene::new(*whisker, state.loads(flow));
-    let sol = shape_with(&scene, state.phi1, &Integration::Rk4 { n: 400 })?;
+    let sol = shape_with(&scene, state.phi1, &Integration::Rk4 { n: 200 })?;
     let el = &sol.elastica;
     let depth_at = |i: usize| -> f64 {
         if (el.s[i] - state.s1).abs() < 2e-3 {

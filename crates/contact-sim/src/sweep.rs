@@ -498,8 +498,9 @@ fn rows(
         } else {
             (b.phase, b.u, b.u)
         };
-        // Prediction: quadratic extrapolation in x0 through the last three rows of this
-        // phase when they lie on this stretch, else interpolation between the nodes.
+        // Prediction: Lagrange extrapolation in x0 through the last rows of this phase
+        // (cubic from four, quadratic from three) when they exist, else interpolation
+        // between the bracketing nodes.
         let w = (a.x0() - target) / (a.x0() - b.x0());
         let mut guess = [
             ua[0] + w * (ub[0] - ua[0]),
@@ -507,17 +508,28 @@ fn rows(
             ua[2] + w * (ub[2] - ua[2]),
         ];
         let mut jac = if w < 0.5 { a.jac } else { b.jac };
-        if let [.., r0, r1, r2] = recent.as_slice() {
-            if r0.phase == phase && r1.phase == phase && r2.phase == phase {
-                let (x0, x1, x2) = (r0.x0(), r1.x0(), r2.x0());
-                let l0 = (target - x1) * (target - x2) / ((x0 - x1) * (x0 - x2));
-                let l1 = (target - x0) * (target - x2) / ((x1 - x0) * (x1 - x2));
-                let l2 = (target - x0) * (target - x1) / ((x2 - x0) * (x2 - x1));
-                for (i, g) in guess.iter_mut().enumerate() {
-                    *g = l0 * r0.u[i] + l1 * r1.u[i] + l2 * r2.u[i];
-                }
-                jac = r2.jac;
+        let same: Vec<&Node> = recent
+            .iter()
+            .rev()
+            .take(4)
+            .take_while(|r| r.phase == phase)
+            .collect();
+        if same.len() >= 3 {
+            let xs: Vec<f64> = same.iter().map(|r| r.x0()).collect();
+            for (i, g) in guess.iter_mut().enumerate() {
+                *g = same
+                    .iter()
+                    .enumerate()
+                    .map(|(k, r)| {
+                        let l: f64 = (0..xs.len())
+                            .filter(|&m| m != k)
+                            .map(|m| (target - xs[m]) / (xs[k] - xs[m]))
+                            .product();
+                        l * r.u[i]
+                    })
+                    .sum();
             }
+            jac = same[0].jac;
         }
         // Broyden's method from the prediction; Newton from it, from the interpolation
         // between the bracketing nodes, and from the nearer node as fallbacks.

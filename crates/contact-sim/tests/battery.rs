@@ -135,6 +135,7 @@ struct Figures {
     fdm_agree: usize,
     fdm_near: usize,
     fdm_other: usize,
+    fdm_fail: usize,
 }
 
 /// The whisker integrated from the base with the row's observables as initial values
@@ -211,7 +212,10 @@ fn check_rows(s: &SceneSpec, r: &SweepResult) -> Result<Figures, String> {
         // (2) a second method from scratch: fdm-richardson at the row's loads; it may land on
         // another equilibrium of the same loads (counted, see the note of issue 12)
         let loads = contact_loads(s.flow, p.psi, p.f, p.s1);
-        if let Ok(sol) = solve(&Scene::new(s.whisker, loads), &Method::FdmRichardson { n }) {
+        let scene = Scene::new(s.whisker, loads);
+        // phase B ends the loads between grid nodes: a finer grid keeps the FDM's order
+        let n = if p.phase == Phase::B { 4 * n } else { n };
+        if let Ok(sol) = solve(&scene, &Method::FdmRichardson { n }) {
             let d2 = [sol.base.ma - p.ma, sol.base.phi0 - p.phi0]
                 .iter()
                 .fold(0.0f64, |m, v| m.max(v.abs()));
@@ -220,10 +224,19 @@ fn check_rows(s: &SceneSpec, r: &SweepResult) -> Result<Figures, String> {
             } else if d2 <= 1e-6 {
                 fig.fdm_near += 1;
             } else {
-                fig.fdm_other += 1;
+                // another equilibrium of the same loads when `accurate` from scratch lands
+                // on the fdm-richardson one too
+                let other = solve(&scene, &Method::accurate())
+                    .map(|a| (a.base.ma - sol.base.ma).abs() < 1e-6)
+                    .unwrap_or(false);
+                if other {
+                    fig.fdm_other += 1;
+                } else {
+                    fig.fdm_fail += 1;
+                }
             }
         } else {
-            fig.fdm_other += 1;
+            fig.fdm_fail += 1;
         }
         // (3) global moment balance about the base [6.7]:
         // MA = (Fx Y1 - Fy X1) + int_0^s1 (Qx y - Qy x) ds on the integrated shape (Simpson)
@@ -463,6 +476,7 @@ fn run_battery(count: usize, seed: u64, max_stopped: usize) {
                 worst.fdm_agree += f.fdm_agree;
                 worst.fdm_other += f.fdm_other;
                 worst.fdm_near += f.fdm_near;
+                worst.fdm_fail += f.fdm_fail;
                 // The check integrates from the base towards the tip: errors of the recorded
                 // base values (the shots' ~1e-11) grow by cond = int_0^1 e^-4 ds, which is
                 // 1 for a uniform whisker and ~2500 at theta = 0.05; the tolerances grow with it.
@@ -493,8 +507,8 @@ fn run_battery(count: usize, seed: u64, max_stopped: usize) {
         firsts[1]
     );
     println!(
-        "fdm-richardson from scratch: {} rows agree to 1e-9, {} to 1e-6, {} land elsewhere or fail",
-        worst.fdm_agree, worst.fdm_near, worst.fdm_other
+        "fdm-richardson from scratch: {} rows agree to 1e-9, {} to 1e-6, {} land on another equilibrium (where accurate from scratch lands too), {} otherwise",
+        worst.fdm_agree, worst.fdm_near, worst.fdm_other, worst.fdm_fail
     );
     println!(
         "worst re-solve {:.2e} ({}), moment {:.2e} ({}), penetration {:.2e} ({}), phase {:.2e}, first touch {:.2e}",

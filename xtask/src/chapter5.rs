@@ -79,6 +79,7 @@ fn separation_name(s: &Separation) -> String {
         Separation::Release => "release".to_string(),
         Separation::MultiContact { xc } => format!("multi-contact at xc = {}", sig(*xc, 4)),
         Separation::EndOfContour => "end of contour".to_string(),
+        Separation::ContactAtBase => "contact at the base".to_string(),
         Separation::NotReached { steps } => format!("not reached within {steps} steps"),
     }
 }

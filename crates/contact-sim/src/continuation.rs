@@ -28,6 +28,8 @@ pub(crate) enum End {
     MultiContact(Node),
     /// The contact point reached the end of the contour's parameter range.
     OffContour(Node),
+    /// A tangential contact slid down to the base (`s1 = BASE_CONTACT`).
+    AtBase(Node),
     /// No separation within the step budget.
     NotReached(Node, usize),
 }
@@ -75,7 +77,12 @@ enum Event {
     Release,
     Snap,
     SecondContact,
+    AtBase,
 }
+
+/// The contact arc length at which a tangential contact has slid down to the base: the
+/// obstacle reaches the base's path and the single-contact sweep ends there.
+pub(crate) const BASE_CONTACT: f64 = 1e-2;
 
 /// Traces the branch from `first` until it separates.
 pub(crate) fn trace(branch: &Branch, first: Node, ctl: &StepControl) -> Result<Trace> {
@@ -112,10 +119,16 @@ pub(crate) fn trace(branch: &Branch, first: Node, ctl: &StepControl) -> Result<T
         reason,
     };
     for _ in 0..ctl.max_steps {
+        // The step is measured with the force relative to its size, `|(dv, df/F, dt)|` with
+        // `F = max(1, |f|)`: forces that grow large (a contact sliding to the base) are
+        // followed in proportion, not in unit steps.
+        let fscale = cur.state.f.abs().max(1.0);
+        let len = (t[0] * t[0] + (t[1] / fscale).powi(2) + t[2] * t[2]).sqrt();
+        let hs = h / len;
         let p = [
-            cur.u[0] + h * t[0],
-            cur.u[1] + h * t[1],
-            cur.u[2] + h * t[2],
+            cur.u[0] + hs * t[0],
+            cur.u[1] + hs * t[1],
+            cur.u[2] + hs * t[2],
         ];
         let node = match branch.correct(
             cur.phase,
@@ -123,7 +136,7 @@ pub(crate) fn trace(branch: &Branch, first: Node, ctl: &StepControl) -> Result<T
             Constraint::Hyperplane {
                 n: t,
                 p,
-                radius: 0.5 * h + 1e-9,
+                radius: 0.5 * hs + 1e-9,
             },
             true,
         ) {
@@ -158,6 +171,9 @@ pub(crate) fn trace(branch: &Branch, first: Node, ctl: &StepControl) -> Result<T
         }
         if node.x0_rate(&tn) >= 0.0 {
             events.push(Event::Snap);
+        }
+        if node.phase == Phase::B && node.state.s1 <= BASE_CONTACT {
+            events.push(Event::AtBase);
         }
         // The shape check for a second contact costs a shot of its own: done only for a
         // step that is otherwise accepted (and at located events, below).
@@ -249,6 +265,7 @@ pub(crate) fn trace(branch: &Branch, first: Node, ctl: &StepControl) -> Result<T
                         Event::Switch => phase_margin(n),
                         Event::Release => n.state.f,
                         Event::Snap => -x0_rate(n, &t_ref),
+                        Event::AtBase => n.state.s1 - BASE_CONTACT,
                         Event::SecondContact => {
                             PENETRATION_MARGIN
                                 - penetration(
@@ -306,6 +323,13 @@ pub(crate) fn trace(branch: &Branch, first: Node, ctl: &StepControl) -> Result<T
                     nodes,
                     switches,
                     end: End::MultiContact(at),
+                })
+            }
+            Event::AtBase => {
+                return Ok(Trace {
+                    nodes,
+                    switches,
+                    end: End::AtBase(at),
                 })
             }
             Event::Switch => {

@@ -107,6 +107,9 @@ pub enum Separation {
     /// The contact point reached the end of the contour (a table's last knot, a circle's
     /// vertical end) before separation.
     EndOfContour,
+    /// The contact point slid down the whisker to the base (s1 = 0.01): the obstacle reaches
+    /// the base's path, and the sweep cannot go on.
+    ContactAtBase,
     /// No separation within the continuation's step budget.
     NotReached {
         /// The steps taken.
@@ -258,6 +261,7 @@ pub fn sweep_with_progress(
             },
         ),
         End::OffContour(n) => (n, Separation::EndOfContour),
+        End::AtBase(n) => (n, Separation::ContactAtBase),
         End::NotReached(n, steps) => (n, Separation::NotReached { steps }),
     };
     let states = rows(

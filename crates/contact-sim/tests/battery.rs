@@ -382,6 +382,20 @@ fn named_scenes() -> Vec<SceneSpec> {
             Profile::g2(),
         ),
         mk(
+            "a contour down to the base's path (cosh:1,2,0,-1)",
+            Whisker::uniform(),
+            1.0,
+            0.0,
+            Profile::parse("cosh:1,2,0,-1").unwrap(),
+        ),
+        mk(
+            "an almost flat parabola (parabola:1e-3,0.4,0.7)",
+            Whisker::uniform(),
+            1.0,
+            0.0,
+            Profile::parse("parabola:1e-3,0.4,0.7").unwrap(),
+        ),
+        mk(
             "flow at 45 degrees on g2",
             Whisker::new(0.75, -0.5, 0.2, 20.0),
             4.0,
@@ -439,6 +453,7 @@ fn run_battery(count: usize, seed: u64, max_stopped: usize) {
             .entry(match r.separation {
                 Separation::MultiContact { .. } => "multi-contact".to_string(),
                 Separation::NotReached { .. } => "not-reached".to_string(),
+                Separation::ContactAtBase => "contact-at-base".to_string(),
                 ref x => format!("{x:?}").to_lowercase(),
             })
             .or_default() += 1;

@@ -219,6 +219,7 @@ pub fn sweep_summary(res: &SweepResult) -> String {
             format!("second contact at xc = {xc:.4} (stopped)")
         }
         contact_sim::Separation::EndOfContour => "end of contour".to_string(),
+        contact_sim::Separation::ContactAtBase => "contact at the base".to_string(),
         contact_sim::Separation::NotReached { steps } => {
             format!("not reached within {steps} steps")
         }

@@ -67,7 +67,7 @@ pub fn check_sweep_loads(r: &Resolved) -> Result<(), CliError> {
     if !matches!(r.method, beam_model::Method::Accurate { .. }) {
         return Err(CliError::invalid_argument(
             "--method",
-            format!("{:?}", r.method),
+            r.method.name().to_string(),
             "the sweep always solves its contact phases with `accurate` shooting; leave --method at accurate",
         ));
     }

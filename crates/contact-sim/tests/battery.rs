@@ -4,10 +4,14 @@
 //!
 //! Every row is checked independently of the sweep's own solver (adaptive shooting):
 //! - re-solved by `fdm-richardson` (FDM on three grids + Richardson, a different method) at
-//!   the row's contact force: base moment, base angle and the loaded end on the contour
-//!   agree to 1e-9;
+//!   the row's contact force (counted: it agrees to 1e-9, or lands on another equilibrium of
+//!   the same loads, where `accurate` from scratch lands too);
+//! - an RK4 integration from the base with the row's observables as initial values (another
+//!   integrator, the other direction): free-end moment zero and the loaded end on the contact
+//!   point to 1e-9 relative to the load scale (scaled by the check's own conditioning for
+//!   slender tips);
 //! - the global moment balance about the base, from the row's contact point and the
-//!   re-solved shape, holds to 1e-8;
+//!   integrated shape, holds to 1e-8;
 //! - the phase conditions hold on the re-solved shape, and no other part of the whisker lies
 //!   inside the obstacle;
 //! - x0 falls strictly from row to row;
@@ -200,14 +204,18 @@ fn check_rows(s: &SceneSpec, r: &SweepResult) -> Result<Figures, String> {
         let tr = from_base(s, p);
         let k1 = tr.iter().position(|v| v[0] >= p.s1 - 1e-15).unwrap();
         let e = tr[k1];
+        // relative to the load scale: the recorded base values carry the shots' relative
+        // tolerance, so a contact pinned near the base (f ~ 1e4) is checked relative to f
+        let scale = 1f64.max(p.f).max(p.ma.abs());
         let d = [e[2], e[3] - p.xc, e[4] - p.yc]
             .iter()
-            .fold(0.0f64, |m, v| m.max(v.abs()));
+            .fold(0.0f64, |m, v| m.max(v.abs()))
+            / scale;
         fig.resolve = fig.resolve.max(d);
         let ph = match p.phase {
             Phase::B => (e[1] - p.psi).abs(),
             _ => (p.psi - e[1]).max(0.0),
-        };
+        } / scale;
         fig.phase = fig.phase.max(ph);
         // (2) a second method from scratch: fdm-richardson at the row's loads; it may land on
         // another equilibrium of the same loads (counted, see the note of issue 12)
@@ -254,7 +262,7 @@ fn check_rows(s: &SceneSpec, r: &SweepResult) -> Result<Figures, String> {
             integral += 0.5 * (tr[k1][0] - tr[j][0]) * (g(&tr[j]) + g(&tr[k1]));
         }
         let moment = fx * p.yc - fy * (p.xc - p.x0) + integral;
-        fig.moment = fig.moment.max((moment - p.ma).abs());
+        fig.moment = fig.moment.max((moment - p.ma).abs() / scale);
         // (4) no penetration away from the contact point
         for v in &tr {
             if (v[0] - p.s1).abs() < 2e-3 {
@@ -502,9 +510,16 @@ fn run_battery(count: usize, seed: u64, max_stopped: usize) {
                     1.0
                 };
                 let (tol_pos, tol_phase) = (1e-9 + 1e-11 * cond, 1e-8 + 1e-10 * cond);
+                // the row where a second contact is located touches the contour to within the
+                // sweep's shape check (RK4 on 200 steps, ~1e-7)
+                let tol_pen = if matches!(r.separation, Separation::MultiContact { .. }) {
+                    2e-7
+                } else {
+                    5e-8
+                };
                 if f.resolve > tol_pos
                     || f.moment > 1e-8
-                    || f.penetration > 5e-8
+                    || f.penetration > tol_pen
                     || f.phase > tol_phase
                 {
                     failures.push(format!("{}: {f:?}", s.name));

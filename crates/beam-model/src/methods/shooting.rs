@@ -9,7 +9,7 @@ use crate::scene::Scene;
 use crate::shot::{shoot, shoot_path, Integration, ShotPath};
 use crate::solution::{BaseObservables, Elastica, EndState, Solution, SolveStats};
 use crate::whisker::Whisker;
-use bvp_solvers::continuation::Continuation;
+use bvp_solvers::continuation::{BranchGuard, Continuation};
 use bvp_solvers::integrator::{OdeSystem, Rk4};
 use std::f64::consts::FRAC_PI_2;
 
@@ -115,15 +115,16 @@ pub(crate) fn severity(whisker: &Whisker, loads: &Loads) -> f64 {
 
 /// Newton on the tip angle, on the branch connected to the unloaded whisker: a direct solve
 /// for mild loads, otherwise load continuation in a scale factor lambda in [0, 1] on f and q
-/// with a secant predictor, each corrector warm-started from the prediction. A corrector that
-/// lands far from its prediction has jumped branches and counts as a failure (the step is
-/// halved).
-pub(crate) fn solve_tip_angle(
+/// ([`Continuation::follow`]: secant predictor, each corrector warm-started from the
+/// prediction, a corrector that lands far from its prediction has jumped branches and counts
+/// as a failure), stopped after `budget` right-hand-side evaluations.
+pub(crate) fn solve_tip_angle_within(
     whisker: &Whisker,
     loads: &Loads,
     integration: &Integration,
     guess: Option<f64>,
     method: &'static str,
+    budget: usize,
 ) -> Result<(TipSolve, usize)> {
     let unloaded = whisker.phi_unloaded(loads.s1);
     let sev = severity(whisker, loads);
@@ -147,84 +148,47 @@ pub(crate) fn solve_tip_angle(
         min_step: 1e-4,
         max_step: (2.0 * first).min(1.0),
     };
-    let mut reached = 0.0;
-    let mut last_err: Option<ModelError> = None;
     let mut evaluations = 0;
     let loose = match integration {
         Integration::Dop853(d) => Integration::adaptive(d.rtol.max(1e-8)),
         other => other.clone(),
     };
-    // state: (lambda, phi1, d phi1 / d lambda)
-    let result = cont.run(
-        0.0,
-        1.0,
-        (0.0, unloaded, 0.0),
-        |lambda, &(l0, p0, slope): &(f64, f64, f64)| {
-            if lambda == 0.0 {
-                return Ok((0.0, unloaded, 0.0));
-            }
-            let pred = p0 + slope * (lambda - l0);
-            // intermediate load steps only guide the branch: a looser integrator and
-            // residual, the full accuracy is restored by the final Newton at lambda = 1
-            let t = newton_to(
-                whisker,
-                &loads.scaled(lambda),
-                &loose,
-                pred,
-                method,
-                1e-8,
-                false,
-            );
-            match t {
-                Ok(t) => {
-                    evaluations += t.evaluations;
-                    let jump = (t.phi1 - pred).abs();
-                    if jump > 0.2 + 0.5 * (pred - p0).abs() {
-                        let e = ModelError::NoConvergence {
-                            method,
-                            load_scale: lambda,
-                            iterations: t.iterations,
-                            residual: jump,
-                        };
-                        last_err = Some(e.clone());
-                        return Err(e);
-                    }
-                    reached = lambda;
-                    Ok((lambda, t.phi1, (t.phi1 - p0) / (lambda - l0)))
+    let (phi1, stats) = cont
+        .follow(
+            0.0,
+            1.0,
+            vec![unloaded],
+            &BranchGuard::default(),
+            |lambda, pred: &[f64]| {
+                if evaluations > budget {
+                    return Err(ModelError::Budget {
+                        method,
+                        what: "right-hand-side evaluations",
+                        limit: budget,
+                    });
                 }
-                Err(e) => {
-                    last_err = Some(e.clone());
-                    Err(e)
-                }
-            }
-        },
-    );
-    match result {
-        Ok(((_, phi1, _), stats)) => {
-            let mut t = newton_to(whisker, loads, integration, phi1, method, 1e-13, true)?;
-            t.evaluations += evaluations;
-            Ok((t, stats.steps))
-        }
-        Err(_) => Err(match last_err {
-            Some(ModelError::NoConvergence {
-                iterations,
-                residual,
-                ..
-            }) => ModelError::NoConvergence {
-                method,
-                load_scale: reached,
-                iterations,
-                residual,
+                // intermediate load steps only guide the branch: a looser integrator and
+                // residual, the full accuracy is restored by the final Newton at lambda = 1
+                let t = newton_to(
+                    whisker,
+                    &loads.scaled(lambda),
+                    &loose,
+                    pred[0],
+                    method,
+                    1e-8,
+                    false,
+                )?;
+                evaluations += t.evaluations;
+                Ok(vec![t.phi1])
             },
-            Some(e) => e,
-            None => ModelError::NoConvergence {
-                method,
-                load_scale: reached,
-                iterations: MAX_NEWTON,
-                residual: f64::NAN,
-            },
-        }),
-    }
+        )
+        .map_err(|e| {
+            // the budget stops the run at once, whatever the step size
+            ModelError::from_continuation(method, e)
+        })?;
+    let mut t = newton_to(whisker, loads, integration, phi1[0], method, 1e-13, true)?;
+    t.evaluations += evaluations;
+    Ok((t, stats.steps))
 }
 
 /// The load-free segment `(s1, 1]`: `phi = phi1 + A (s^2 - s1^2)/2 + B (s - s1)`,
@@ -254,39 +218,81 @@ impl OdeSystem for FreeSegment {
     }
 }
 
-/// Solves a scene by shooting and samples the elastica.
+/// Solves a scene by shooting and samples the elastica; the continuation stops with
+/// [`ModelError::Budget`] after `budget` right-hand-side evaluations. `stats.residual` is
+/// the base residual [3.21, 3.22] of the returned (final) shot.
 pub(crate) fn solve(
     scene: &Scene,
     integration: &Integration,
     samples: usize,
     method: &'static str,
+    budget: usize,
 ) -> Result<Solution> {
     let w = &scene.whisker;
     let loads = &scene.loads;
-    let (tip, continuation_steps) = solve_tip_angle(w, loads, integration, None, method)?;
-    let stats = SolveStats {
+    let (tip, continuation_steps) =
+        solve_tip_angle_within(w, loads, integration, None, method, budget)?;
+    let mut stats = SolveStats {
         iterations: tip.iterations,
         residual: tip.residual,
         continuation_steps,
         evaluations: tip.evaluations,
+        ..SolveStats::default()
     };
     let mut sol = shape(scene, tip.phi1, integration, samples, stats, method)?;
     // The final shot verifies the base condition [3.21, 3.22] of the last Newton step.
-    let m0 = -sol.base.ma;
-    let r = w.support.residual(sol.base.phi0, m0).abs();
-    if r > 1e-12 * (1.0 + m0.abs() * w.support.compliance()) {
+    let scale = |sol: &Solution| 1.0 + sol.base.ma.abs() * w.support.compliance();
+    let residual = |sol: &Solution| w.support.residual(sol.base.phi0, -sol.base.ma).abs();
+    if residual(&sol) > 1e-12 * scale(&sol) {
         let t = newton_tip_angle(w, loads, integration, tip.phi1, method)?;
-        let stats = SolveStats {
-            iterations: tip.iterations + t.iterations,
-            residual: t.residual,
-            continuation_steps,
-            evaluations: tip.evaluations + t.evaluations,
-        };
+        stats.iterations += t.iterations;
+        stats.evaluations += t.evaluations;
         sol = shape(scene, t.phi1, integration, samples, stats, method)?;
-    } else {
-        sol.stats.residual = r;
     }
+    sol.stats.residual = residual(&sol);
     Ok(sol)
+}
+
+/// A-posteriori error estimate of a shooting solution, independent of its residual: a
+/// second shot from the same tip angle with the integrator `check` (tighter tolerance or
+/// finer grid), corrected by one Newton step on the base condition [3.21, 3.22] with the
+/// exact derivative `dR/dphi1`, gives a second solution `(phi1', phi0', m0', x', y')`; the
+/// estimate is the largest difference from `sol` (the tip beyond `s1` moves with phi1 by at
+/// most `(1 - s1) |dphi1|`, an AP force's reactions by `f |dphi1|`). Returns the estimate
+/// and the evaluations spent.
+pub(crate) fn error_estimate(
+    scene: &Scene,
+    sol: &Solution,
+    check: &Integration,
+) -> Result<(f64, usize)> {
+    let w = &scene.whisker;
+    let loads = &scene.loads;
+    let phi1 = sol.loaded_end.phi;
+    let shot = shoot(w, loads, phi1, Sensitivities::TipAngle, check)?;
+    let c = w.support.compliance();
+    let r = w.support.residual(shot.phi0, shot.m0);
+    let dr = shot.sens[0][0] - c * shot.sens[0][1];
+    if !(dr.is_finite() && dr != 0.0) {
+        return Ok((f64::INFINITY, shot.evaluations));
+    }
+    let d = -r / dr;
+    let sens = shot.sens[0];
+    let diffs = [
+        shot.phi0 + sens[0] * d - sol.base.phi0,
+        shot.m0 + sens[1] * d + sol.base.ma,
+        shot.dx + sens[2] * d - sol.loaded_end.x,
+        shot.dy + sens[3] * d - sol.loaded_end.y,
+        d,
+    ];
+    let mut est = diffs.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+    if !est.is_finite() {
+        est = f64::INFINITY;
+    }
+    est += d.abs() * (1.0 - loads.s1);
+    if loads.tip.kind == crate::loads::LoadKind::Ap {
+        est = est.max(d.abs() * loads.tip.f);
+    }
+    Ok((est, shot.evaluations))
 }
 
 /// The elastica, tip and observables for a known tip angle `phi1` (one integration from

@@ -127,7 +127,7 @@ pub(crate) fn solve_from(
             let first = (1.0 / sev.ceil()).clamp(1e-3, 1.0);
             let cont = Continuation {
                 initial_step: first,
-                min_step: 1e-4,
+                min_step: 1e-8,
                 max_step: (2.0 * first).min(1.0),
             };
             let (y, stats) = cont

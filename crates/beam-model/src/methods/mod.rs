@@ -65,8 +65,9 @@ pub const MIN_TOL: f64 = 1e-14;
 pub const MIN_CHECK_TOL: f64 = 2.5e-15;
 
 /// The bound on the error estimate of the fixed-grid methods (`fdm`, `rk4`,
-/// `fdm-richardson` on a user's grid): beyond it the numbers are not even two digits.
-pub const FIXED_GRID_TOLERANCE: f64 = 1e-2;
+/// `fdm-richardson` on a user's grid): 5 %, twice the thesis's FDM-ANSYS discrepancy (2.55 %);
+/// beyond it the numbers are not the thesis's model.
+pub const FIXED_GRID_TOLERANCE: f64 = 5e-2;
 
 /// Right-hand-side evaluations `accurate`'s shooting may spend before it falls back to FDM
 /// with Richardson extrapolation (single shooting is ill-conditioned for thin tips under
@@ -130,12 +131,12 @@ impl Method {
 
     /// The accuracy a solve must reach: its a-posteriori error estimate
     /// ([`SolveStats::error_estimate`](crate::SolveStats)) is checked against this bound.
-    /// `accurate`: `max(1e3 tol, 1e-10)` (1e-9 at the default tol 1e-12); the fixed-grid
+    /// `accurate`: `max(1e4 tol, 1e-10)` (1e-8 at the default tol 1e-12); the fixed-grid
     /// methods promise their discretisation, not an accuracy, and are refused only beyond
     /// [`FIXED_GRID_TOLERANCE`].
     pub fn tolerance(&self) -> f64 {
         match *self {
-            Method::Accurate { tol, .. } => (1e3 * tol).max(1e-10),
+            Method::Accurate { tol, .. } => (1e4 * tol).max(1e-10),
             _ => FIXED_GRID_TOLERANCE,
         }
     }
@@ -266,7 +267,12 @@ fn accurate(scene: &Scene, tol: f64, samples: usize, tolerance: f64) -> Result<S
     let shooting_evaluations = match &shot {
         Ok(sol) if sol.stats.error_estimate <= tolerance => return shot,
         Ok(sol) => sol.stats.evaluations,
-        Err(_) => 0,
+        Err(e) => {
+            if std::env::var_os("VIBRISSA_DEBUG").is_some() {
+                eprintln!("DEBUG shooting: {e}");
+            }
+            0
+        }
     };
     // Single shooting is ill-conditioned for thin tips under large loads (the linearised
     // equation grows like exp(sqrt(f)/theta^2) near the tip): fall back to the globally

@@ -33,7 +33,7 @@ pub(crate) fn newton_tip_angle(
     guess: f64,
     method: &'static str,
 ) -> Result<TipSolve> {
-    newton_to(whisker, loads, integration, guess, method, 1e-13, false)
+    newton_to(whisker, loads, integration, guess, method, 1e-13, false, 1.0)
 }
 
 /// Newton on the tip angle to the residual tolerance `tol` (relative to `1 + |m0|/k`).
@@ -45,6 +45,7 @@ fn newton_to(
     method: &'static str,
     tol: f64,
     verify_last: bool,
+    load_scale: f64,
 ) -> Result<TipSolve> {
     let c = whisker.support.compliance();
     let mut p = guess;
@@ -98,7 +99,7 @@ fn newton_to(
     }
     Err(ModelError::NoConvergence {
         method,
-        load_scale: 1.0,
+        load_scale,
         iterations: MAX_NEWTON,
         residual: last_r,
     })
@@ -145,7 +146,7 @@ pub(crate) fn solve_tip_angle_within(
     let first = (1.0 / sev.ceil()).clamp(1e-3, 1.0);
     let cont = Continuation {
         initial_step: first,
-        min_step: 1e-4,
+        min_step: 1e-8,
         max_step: (2.0 * first).min(1.0),
     };
     let mut evaluations = 0;
@@ -177,6 +178,7 @@ pub(crate) fn solve_tip_angle_within(
                     method,
                     1e-8,
                     false,
+                    lambda,
                 )?;
                 evaluations += t.evaluations;
                 Ok(vec![t.phi1])
@@ -186,7 +188,7 @@ pub(crate) fn solve_tip_angle_within(
             // the budget stops the run at once, whatever the step size
             ModelError::from_continuation(method, e)
         })?;
-    let mut t = newton_to(whisker, loads, integration, phi1[0], method, 1e-13, true)?;
+    let mut t = newton_to(whisker, loads, integration, phi1[0], method, 1e-13, true, 1.0)?;
     t.evaluations += evaluations;
     Ok((t, stats.steps))
 }

@@ -7,7 +7,7 @@
 //! | [`profile`] | convex contours g1, g2, ge, parabola, cosh, circle arc, tabulated points |
 //! | [`phase`] | tip contact (phase A) and tangential contact (phase B) at one contour point |
 //! | [`cases`] | the chapter-5 cases as reference problems |
-//! | [`sweep`] | first contact, the march along the contour, phase switches, snap and release |
+//! | [`sweep`](mod@sweep) | first contact, the march along the contour, phase switches, snap and release |
 //!
 //! ```
 //! use beam_model::Whisker;

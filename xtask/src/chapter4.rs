@@ -5,11 +5,11 @@
 use std::time::Instant;
 
 use beam_model::scenarios::{self, Case};
-use xtask::study::{self, LoadAxis, Outcome, StabilityMap};
 use beam_model::{solve, EndState, Method, Scene, Solution};
 use vibrissa_cli::atomic::OutputDir;
 use vibrissa_cli::csvio::{Cell, CsvWriter};
 use vibrissa_cli::plot::{Chart, HeatMap, Panel, Series, Style};
+use xtask::study::{self, LoadAxis, Outcome, StabilityMap};
 
 use crate::captions::caption;
 use crate::common::{self, note_err, par_map, sci, sig, Ctx};

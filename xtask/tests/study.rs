@@ -6,12 +6,12 @@
 #[path = "../../crates/beam-model/tests/support/mod.rs"]
 mod support;
 
+use beam_model::{scenarios, solve, Loads, Method, ModelError, Scene, TipForce, Whisker};
+use support::mattiasson;
 use xtask::study::{
     self, ansys_comparison, default_map_methods, observed_orders, stability_map, stability_maps,
     to_csv, work_precision, AnsysLoad, LoadAxis, Outcome, REFERENCE_TOL,
 };
-use beam_model::{scenarios, solve, Loads, Method, ModelError, Scene, TipForce, Whisker};
-use support::mattiasson;
 
 #[test]
 fn work_precision_has_the_theoretical_orders_and_accurate_reaches_1e10() {

@@ -205,7 +205,7 @@ fn slender_battery_subset() {
     let t = run(&[0.01, 0.02, 0.05, 0.1, 0.5], false);
     assert_eq!(t.cases, 40);
     // every theta >= 0.02 is answered, not refused
-    
+
     // the issue's confident wrong answer is answered right, not refused
     assert!(t.refused <= t.cases / 10, "{t:?}");
 }
@@ -225,7 +225,10 @@ fn slender_battery_full() {
 /// (0.720214, 0.487868), MA 1.756058. The reference here is recomputed, not copied.
 #[test]
 fn the_issue_case_is_answered_right() {
-    let scene = Scene::new(whisker(0.01, 0.0, 0.0, f64::INFINITY), Loads::fluid(5.0, 0.0));
+    let scene = Scene::new(
+        whisker(0.01, 0.0, 0.0, f64::INFINITY),
+        Loads::fluid(5.0, 0.0),
+    );
     let sol = solve(&scene, &Method::accurate()).unwrap();
     let rk4 = solve(&scene, &Method::Rk4 { n: 4000 }).unwrap();
     let r = reference(&scene);

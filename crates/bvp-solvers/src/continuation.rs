@@ -192,13 +192,13 @@ impl Continuation {
                 *p = yi + d * dl;
             }
             let outcome = match correct(next, &pred) {
-                Ok(sol) if sol.len() != y.len() => Err(StallCause::Invalid(
-                    BvpError::DimensionMismatch {
+                Ok(sol) if sol.len() != y.len() => {
+                    Err(StallCause::Invalid(BvpError::DimensionMismatch {
                         name: "continuation state",
                         expected: y.len(),
                         found: sol.len(),
-                    },
-                )),
+                    }))
+                }
                 Ok(sol) => {
                     let distance = max_diff(&sol, &pred);
                     let allowed = guard.absolute + guard.relative * max_diff(&pred, &y);

@@ -200,10 +200,16 @@ fn follow_reaches_the_target_with_a_secant_predictor() {
     };
     let mut calls = 0;
     let (y, stats) = cont
-        .follow(0.0, 10.0, vec![0.0], &BranchGuard::default(), |l, p: &[f64]| {
-            calls += 1;
-            cubic_newton(l, p[0]).map(|y| vec![y])
-        })
+        .follow(
+            0.0,
+            10.0,
+            vec![0.0],
+            &BranchGuard::default(),
+            |l, p: &[f64]| {
+                calls += 1;
+                cubic_newton(l, p[0]).map(|y| vec![y])
+            },
+        )
         .unwrap();
     // y^3 + y = 10 has the root y = 2 exactly
     assert!((y[0] - 2.0).abs() < 1e-12, "{}", y[0]);
@@ -220,17 +226,23 @@ fn follow_fails_with_the_last_inner_error_or_the_jump() {
     };
     // a corrector that fails beyond lambda = 0.5 with its own error
     let fail = cont
-        .follow(0.0, 1.0, vec![0.0], &BranchGuard::default(), |l, _p: &[f64]| {
-            if l > 0.5 {
-                Err(BvpError::NoConvergence {
-                    method: "inner",
-                    iterations: 7,
-                    residual: l,
-                })
-            } else {
-                Ok(vec![l])
-            }
-        })
+        .follow(
+            0.0,
+            1.0,
+            vec![0.0],
+            &BranchGuard::default(),
+            |l, _p: &[f64]| {
+                if l > 0.5 {
+                    Err(BvpError::NoConvergence {
+                        method: "inner",
+                        iterations: 7,
+                        residual: l,
+                    })
+                } else {
+                    Ok(vec![l])
+                }
+            },
+        )
         .unwrap_err();
     assert_eq!(fail.reached, 0.5);
     assert!(fail.step < 0.02 && fail.step >= 0.01, "{}", fail.step);
@@ -249,9 +261,15 @@ fn follow_fails_with_the_last_inner_error_or_the_jump() {
         max_attempts: 1000,
     };
     let fail = cont
-        .follow(0.0, 1.0, vec![0.0], &guard, |l, _p: &[f64]| -> Result<Vec<f64>, BvpError> {
-            Ok(vec![if l > 0.5 { l + 1.0 } else { l }])
-        })
+        .follow(
+            0.0,
+            1.0,
+            vec![0.0],
+            &guard,
+            |l, _p: &[f64]| -> Result<Vec<f64>, BvpError> {
+                Ok(vec![if l > 0.5 { l + 1.0 } else { l }])
+            },
+        )
         .unwrap_err();
     assert_eq!(fail.reached, 0.5);
     match fail.cause {
@@ -265,9 +283,13 @@ fn follow_fails_with_the_last_inner_error_or_the_jump() {
         max_attempts: 3,
     };
     let fail = cont
-        .follow(0.0, 1.0, vec![0.0], &guard, |l, _p: &[f64]| -> Result<Vec<f64>, BvpError> {
-            Ok(vec![l])
-        })
+        .follow(
+            0.0,
+            1.0,
+            vec![0.0],
+            &guard,
+            |l, _p: &[f64]| -> Result<Vec<f64>, BvpError> { Ok(vec![l]) },
+        )
         .unwrap_err();
     assert_eq!(fail.cause, StallCause::Budget { max_attempts: 3 });
     assert_eq!(fail.steps, 3);

@@ -86,7 +86,11 @@ fn process_alive(pid: u32) -> bool {
 fn acquire_lock(lock: &Path, target: &Path) -> Result<(), CliError> {
     // two attempts: the second after removing a stale lock
     for _ in 0..2 {
-        match fs::OpenOptions::new().write(true).create_new(true).open(lock) {
+        match fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(lock)
+        {
             Ok(mut f) => {
                 let _ = write!(f, "{}", std::process::id());
                 return Ok(());
@@ -230,9 +234,11 @@ impl OutputDir {
         collect_files(&self.staging, &mut files)?;
         files.sort();
         sync_dir(&self.staging);
-        let old = self
-            .staging
-            .with_file_name(format!(".{}.old-{}", self.target_name(), std::process::id()));
+        let old = self.staging.with_file_name(format!(
+            ".{}.old-{}",
+            self.target_name(),
+            std::process::id()
+        ));
         let had_old = self.target.exists();
         if had_old {
             if old.exists() {

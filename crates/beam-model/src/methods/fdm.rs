@@ -92,12 +92,11 @@ pub(crate) fn solve_from(
     let w = &scene.whisker;
     let loads = &scene.loads;
     let s1 = loads.s1;
-    let grid = UniformGrid::new(0.0, s1, intervals(n, s1)).map_err(|source| {
-        ModelError::Solver {
+    let grid =
+        UniformGrid::new(0.0, s1, intervals(n, s1)).map_err(|source| ModelError::Solver {
             method: METHOD,
             source,
-        }
-    })?;
+        })?;
     if let Some(g) = guess.filter(|g| g.len() == grid.len()) {
         if let Ok((sol, it)) = solve_fixed(w, loads, &grid, g) {
             if max_diff(&sol.y, g) <= DIRECT_JUMP {

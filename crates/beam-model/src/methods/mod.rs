@@ -164,7 +164,7 @@ impl Method {
             });
         }
         if let Method::Accurate { tol, .. } = *self {
-            if !(tol >= MIN_TOL && tol <= 1e-2) {
+            if !(MIN_TOL..=1e-2).contains(&tol) {
                 return Err(ModelError::InvalidParameter {
                     name: "tol",
                     value: tol,
@@ -313,7 +313,10 @@ fn difference(a: &Solution, b: &Solution) -> f64 {
         a.base.ay - b.base.ay,
     ]
     .iter()
-    .fold(0.0, |m, d| if d.is_nan() { f64::NAN } else { m.max(d.abs()) })
+    .fold(
+        0.0,
+        |m, d| if d.is_nan() { f64::NAN } else { m.max(d.abs()) },
+    )
 }
 
 /// Linear interpolation of nodal values on a uniform grid onto a uniform grid of the same

@@ -33,10 +33,21 @@ pub(crate) fn newton_tip_angle(
     guess: f64,
     method: &'static str,
 ) -> Result<TipSolve> {
-    newton_to(whisker, loads, integration, guess, method, 1e-13, false, 1.0)
+    newton_to(
+        whisker,
+        loads,
+        integration,
+        guess,
+        method,
+        1e-13,
+        false,
+        1.0,
+    )
 }
 
-/// Newton on the tip angle to the residual tolerance `tol` (relative to `1 + |m0|/k`).
+/// Newton on the tip angle to the residual tolerance `tol` (relative to `1 + |m0|/k`);
+/// `load_scale` is reported with a failure.
+#[allow(clippy::too_many_arguments)]
 fn newton_to(
     whisker: &Whisker,
     loads: &Loads,
@@ -188,7 +199,16 @@ pub(crate) fn solve_tip_angle_within(
             // the budget stops the run at once, whatever the step size
             ModelError::from_continuation(method, e)
         })?;
-    let mut t = newton_to(whisker, loads, integration, phi1[0], method, 1e-13, true, 1.0)?;
+    let mut t = newton_to(
+        whisker,
+        loads,
+        integration,
+        phi1[0],
+        method,
+        1e-13,
+        true,
+        1.0,
+    )?;
     t.evaluations += evaluations;
     Ok((t, stats.steps))
 }

@@ -19,7 +19,6 @@
 // `!(x > 0.0)` is used on purpose: it is true for NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-
 use crate::{BvpError, Result};
 
 mod dop853;

@@ -3,7 +3,6 @@
 use super::{all_finite, check_initial, check_span, OdeSystem};
 use crate::{BvpError, Result};
 
-
 /// The classical fourth-order Runge-Kutta method with `steps` equal steps `h = (s1 - s0)/steps`:
 ///
 /// `k1 = G(s, u)`, `k2 = G(s + h/2, u + h k1/2)`, `k3 = G(s + h/2, u + h k2/2)`,

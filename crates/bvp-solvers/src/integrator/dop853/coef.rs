@@ -168,7 +168,6 @@ pub(super) mod tableau {
     pub const D716: f64 = -0.14972683625798562581422125276e+03;
 }
 
-
 pub(super) use tableau::*;
 
 /// Number of stored stage derivatives `k1..k16` (0-based slots 0..=15).
@@ -176,7 +175,13 @@ pub(super) const NSTAGE: usize = 16;
 
 /// Writes `out = y + h * sum_j a_j k_j` for the listed (0-based stage, coefficient) pairs.
 #[inline(always)]
-pub(super) fn combo<const M: usize>(y: &[f64], h: f64, k: &[f64], terms: [(usize, f64); M], out: &mut [f64]) {
+pub(super) fn combo<const M: usize>(
+    y: &[f64],
+    h: f64,
+    k: &[f64],
+    terms: [(usize, f64); M],
+    out: &mut [f64],
+) {
     let n = y.len();
     for (i, o) in out.iter_mut().enumerate().take(n) {
         let mut acc = 0.0;

@@ -100,7 +100,6 @@ impl OdeSolution {
     }
 }
 
-
 /// Computes the 8 blocks of dense-output coefficients of the step `[x, x + h]` into `rc`
 /// (uses `k1..k13`, evaluates the extra stages `k14..k16`).
 #[allow(clippy::too_many_arguments)]

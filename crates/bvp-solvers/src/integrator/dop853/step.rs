@@ -26,13 +26,7 @@ pub(super) fn stages<S: OdeSystem + ?Sized>(
     sys.rhs(x + C[4] * h, tmp, &mut k[4 * n..5 * n]);
     combo(y, h, k, [(0, A61), (3, A64), (4, A65)], tmp);
     sys.rhs(x + C[5] * h, tmp, &mut k[5 * n..6 * n]);
-    combo(
-        y,
-        h,
-        k,
-        [(0, A71), (3, A74), (4, A75), (5, A76)],
-        tmp,
-    );
+    combo(y, h, k, [(0, A71), (3, A74), (4, A75), (5, A76)], tmp);
     sys.rhs(x + C[6] * h, tmp, &mut k[6 * n..7 * n]);
     combo(
         y,
@@ -102,7 +96,6 @@ pub(super) fn stages<S: OdeSystem + ?Sized>(
         tmp,
     );
     sys.rhs(xph, tmp, &mut k[11 * n..12 * n]);
-
 }
 
 /// The 8th-order update `ynew = y + h sum b_i k_i` and the error norm

@@ -58,11 +58,15 @@ pub const DEFAULT_INTERVALS: usize = 100;
 pub const MAX_INTERVALS: usize = 100_000;
 
 /// Smallest `accurate` integrator tolerance (DOP853 needs `tol >~ 10 eps`, and the error
-/// estimate integrates once more at `tol / 100`, floored at [`MIN_CHECK_TOL`]).
+/// estimate integrates once more at `tol / 10`, floored at [`MIN_CHECK_TOL`]).
 pub const MIN_TOL: f64 = 1e-14;
 
 /// Tolerance floor of the check integration of `accurate`'s error estimate.
 pub const MIN_CHECK_TOL: f64 = 2.5e-15;
+
+/// `accurate` estimates its error by an embedded second solution: one more shot at
+/// `tol * CHECK_TOL_RATIO`.
+pub const CHECK_TOL_RATIO: f64 = 0.1;
 
 /// The bound on the error estimate of the fixed-grid methods (`fdm`, `rk4`,
 /// `fdm-richardson` on a user's grid): 5 %, twice the thesis's FDM-ANSYS discrepancy (2.55 %);
@@ -246,33 +250,16 @@ fn check_estimate(scene: &Scene, sol: &Solution) -> Result<()> {
     })
 }
 
-/// `accurate`: DOP853 shooting with an independent estimate (a check shot at `tol / 100`);
+/// `accurate`: DOP853 shooting with an independent estimate (a second shot at
+/// `tol * CHECK_TOL_RATIO`);
 /// the FDM + Richardson fallback where shooting fails or does not meet `tolerance`.
 fn accurate(scene: &Scene, tol: f64, samples: usize, tolerance: f64) -> Result<Solution> {
-    let shot = shooting::solve(
-        scene,
-        &Integration::adaptive(tol),
-        samples,
-        "accurate",
-        SHOOTING_BUDGET,
-    )
-    .and_then(|mut sol| {
-        let check = Integration::adaptive((tol * 1e-2).max(MIN_CHECK_TOL));
-        let (est, ev) = shooting::error_estimate(scene, &sol, &check)?;
-        sol.stats.error_estimate = est;
-        sol.stats.evaluations += ev;
-        sol.stats.method_used = MethodKind::Accurate;
-        Ok(sol)
-    });
+    let check_tol = (tol * CHECK_TOL_RATIO).max(MIN_CHECK_TOL);
+    let shot = shooting::solve_accurate(scene, tol, check_tol, samples, SHOOTING_BUDGET);
     let shooting_evaluations = match &shot {
         Ok(sol) if sol.stats.error_estimate <= tolerance => return shot,
         Ok(sol) => sol.stats.evaluations,
-        Err(e) => {
-            if std::env::var_os("VIBRISSA_DEBUG").is_some() {
-                eprintln!("DEBUG shooting: {e}");
-            }
-            0
-        }
+        Err(_) => 0,
     };
     // Single shooting is ill-conditioned for thin tips under large loads (the linearised
     // equation grows like exp(sqrt(f)/theta^2) near the tip): fall back to the globally

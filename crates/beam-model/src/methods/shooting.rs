@@ -20,6 +20,11 @@ pub(crate) struct TipSolve {
     pub iterations: usize,
     pub residual: f64,
     pub evaluations: usize,
+    /// `(phi0, m0, dx, dy)` at `phi1` from the Newton shots (linearly extrapolated from the
+    /// last shot when Newton's last step was not shot).
+    pub values: [f64; 4],
+    /// Their derivatives with respect to `phi1` (from the last shot with sensitivities).
+    pub sens: [f64; 4],
 }
 
 const MAX_NEWTON: usize = 40;
@@ -69,12 +74,16 @@ fn newton_to(
         let dr = shot.sens[0][0] - c * shot.sens[0][1];
         last_r = r.abs();
         let scale = 1.0 + shot.m0.abs() * c;
+        let sens = shot.sens[0];
+        let values = [shot.phi0, shot.m0, shot.dx, shot.dy];
         if r.abs() <= tol * scale {
             return Ok(TipSolve {
                 phi1: p,
                 iterations: it,
                 residual: r.abs(),
                 evaluations,
+                values,
+                sens,
             });
         }
         if !(dr.is_finite() && dr != 0.0) {
@@ -85,11 +94,17 @@ fn newton_to(
         if verify_last && r.abs() <= 1e-7 * scale {
             // Quadratic convergence: this step brings the residual to ~r^2, far below the
             // tolerance; the caller's final shot verifies it instead of one more shot here.
+            let mut values = values;
+            for (v, d) in values.iter_mut().zip(sens) {
+                *v += d * step;
+            }
             return Ok(TipSolve {
                 phi1: p,
                 iterations: it + 1,
                 residual: f64::NAN,
                 evaluations,
+                values,
+                sens,
             });
         }
         if step.abs() <= 4.0 * f64::EPSILON * p.abs().max(1.0) {
@@ -102,6 +117,8 @@ fn newton_to(
                     iterations: it + 1,
                     residual: r.abs(),
                     evaluations: evaluations + shot.evaluations,
+                    values: [shot.phi0, shot.m0, shot.dx, shot.dy],
+                    sens,
                 });
             }
             last_r = r.abs();
@@ -148,8 +165,7 @@ pub(crate) fn solve_tip_angle_within(
         // A direct solve is kept only near the unloaded shape (at most 0.5 rad of rotation at
         // either end); otherwise it may have landed on another branch and continuation decides.
         if let Ok(t) = newton_tip_angle(whisker, loads, integration, unloaded, method) {
-            let shot = shoot(whisker, loads, t.phi1, Sensitivities::None, integration)?;
-            if (t.phi1 - unloaded).abs() <= 0.5 && (shot.phi0 - FRAC_PI_2).abs() <= 0.5 {
+            if (t.phi1 - unloaded).abs() <= 0.5 && (t.values[0] - FRAC_PI_2).abs() <= 0.5 {
                 return Ok((t, 0));
             }
         }
@@ -275,6 +291,84 @@ pub(crate) fn solve(
     Ok(sol)
 }
 
+/// `accurate`: Newton on the tip angle with DOP853 at `tol` and the elastica from a dense
+/// shot at `tol` (re-solved if that shot's base residual exceeds 1e-12), then an embedded
+/// second solution: one more shot from the same tip angle at the tighter tolerance
+/// `check_tol`, corrected by one Newton step `dphi1 = -R_check / R'` on the base condition
+/// [3.21, 3.22] (with the derivative `R'` of the last Newton shot). The error estimate is the
+/// largest difference of the corrected `(phi0, m0, x1, y1, phi1)` from the returned ones
+/// (plus the tip's and an AP force's dependence on phi1): independent of the solve's own
+/// residual.
+pub(crate) fn solve_accurate(
+    scene: &Scene,
+    tol: f64,
+    check_tol: f64,
+    samples: usize,
+    budget: usize,
+) -> Result<Solution> {
+    let w = &scene.whisker;
+    let loads = &scene.loads;
+    let method = "accurate";
+    let integration = Integration::adaptive(tol);
+    let (tip, continuation_steps) =
+        solve_tip_angle_within(w, loads, &integration, None, method, budget)?;
+    let mut stats = SolveStats {
+        iterations: tip.iterations,
+        residual: tip.residual,
+        continuation_steps,
+        evaluations: tip.evaluations,
+        method_used: crate::solution::MethodKind::Accurate,
+        ..SolveStats::default()
+    };
+    let mut sens = tip.sens;
+    let mut sol = shape(scene, tip.phi1, &integration, samples, stats, method)?;
+    // The final shot verifies the base condition [3.21, 3.22] of the last Newton step.
+    let c = w.support.compliance();
+    let scale = |sol: &Solution| 1.0 + sol.base.ma.abs() * c;
+    let residual = |sol: &Solution| w.support.residual(sol.base.phi0, -sol.base.ma).abs();
+    if residual(&sol) > 1e-12 * scale(&sol) {
+        let t = newton_tip_angle(w, loads, &integration, tip.phi1, method)?;
+        stats.iterations += t.iterations;
+        stats.evaluations += t.evaluations;
+        sens = t.sens;
+        sol = shape(scene, t.phi1, &integration, samples, stats, method)?;
+    }
+    sol.stats.residual = residual(&sol);
+    // the embedded second solution
+    let shot = shoot(
+        w,
+        loads,
+        sol.loaded_end.phi,
+        Sensitivities::None,
+        &Integration::adaptive(check_tol),
+    )?;
+    sol.stats.evaluations += shot.evaluations;
+    let r = w.support.residual(shot.phi0, shot.m0);
+    let dr = sens[0] - c * sens[1];
+    let d = if dr.is_finite() && dr != 0.0 {
+        -r / dr
+    } else {
+        f64::INFINITY
+    };
+    let diffs = [
+        shot.phi0 + sens[0] * d - sol.base.phi0,
+        shot.m0 + sens[1] * d + sol.base.ma,
+        shot.dx + sens[2] * d - sol.loaded_end.x,
+        shot.dy + sens[3] * d - sol.loaded_end.y,
+        d,
+    ];
+    let mut est = diffs.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+    if !est.is_finite() {
+        est = f64::INFINITY;
+    }
+    est += d.abs() * (1.0 - loads.s1);
+    if loads.tip.kind == crate::loads::LoadKind::Ap {
+        est = est.max(d.abs() * loads.tip.f);
+    }
+    sol.stats.error_estimate = est;
+    Ok(sol)
+}
+
 /// A-posteriori error estimate of a shooting solution, independent of its residual: a
 /// second shot from the same tip angle with the integrator `check` (tighter tolerance or
 /// finer grid), corrected by one Newton step on the base condition [3.21, 3.22] with the
@@ -335,6 +429,8 @@ pub(crate) fn shape(
         iterations: stats.iterations,
         residual: stats.residual,
         evaluations: stats.evaluations,
+        values: [f64::NAN; 4],
+        sens: [f64::NAN; 4],
     };
     let (shot, path) = shoot_path(w, loads, phi1, Sensitivities::None, integration, true)?;
     stats.evaluations += shot.evaluations;

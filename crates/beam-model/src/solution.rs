@@ -125,6 +125,11 @@ pub struct SolveStats {
     /// The method that produced the numbers.
     #[serde(default)]
     pub method_used: MethodKind,
+    /// Load steps at which the continuation's corrector converged on another equilibrium
+    /// (rejected by the branch guard): when > 0, other equilibria exist along the load path;
+    /// the one returned is the branch reached by loading from zero.
+    #[serde(default)]
+    pub branch_jumps: usize,
     /// The method that was requested; differs from `method_used` after a fallback (e.g.
     /// `accurate` -> `fdm-richardson` where shooting is ill-conditioned).
     #[serde(default)]
@@ -146,6 +151,7 @@ impl Default for SolveStats {
             residual: 0.0,
             continuation_steps: 0,
             evaluations: 0,
+            branch_jumps: 0,
             error_estimate: f64::NAN,
             tolerance: f64::INFINITY,
             method_used: MethodKind::Accurate,

@@ -36,6 +36,9 @@ pub struct ContinuationStats {
     pub steps: usize,
     /// Failed solves that halved the step.
     pub halvings: usize,
+    /// Of those, correctors rejected by the jump guard of [`Continuation::follow`]: they
+    /// converged on another solution branch, which is therefore near.
+    pub jumps: usize,
 }
 
 impl Continuation {
@@ -61,8 +64,9 @@ impl Continuation {
         let dir = if to >= from { 1.0 } else { -1.0 };
         let mut lambda = from;
         let mut h = self.initial_step;
-        // Every attempt either advances lambda or halves h, which falls below min_step after
-        // log2(initial_step / min_step) halvings: the loop is bounded by the step counts.
+        // Every attempt either advances lambda by at least min_step or halves h, which falls
+        // below min_step after log2(max_step / min_step) halvings in a row: at most
+        // |to - from| / min_step accepted steps (`follow` has an explicit budget).
         while lambda != to {
             let remaining = (to - lambda).abs();
             let next = if remaining <= h { to } else { lambda + dir * h };
@@ -229,6 +233,9 @@ impl Continuation {
                 }
                 Err(cause) => {
                     stats.halvings += 1;
+                    if matches!(cause, StallCause::Jump { .. }) {
+                        stats.jumps += 1;
+                    }
                     let tried = h.min(remaining);
                     h = 0.5 * tried;
                     if h < self.min_step {

@@ -118,8 +118,8 @@ pub(crate) fn solve_from(
     } else {
         None
     };
-    let (sol, iterations, continuation_steps) = match direct {
-        Some((sol, it)) => (sol, it, 0),
+    let (sol, iterations, continuation_steps, jumps) = match direct {
+        Some((sol, it)) => (sol, it, 0, 0),
         None => {
             // Load continuation from the unloaded whisker (the one driver of bvp-solvers:
             // secant predictor, jump guard), each corrector a Newton solve on the grid.
@@ -141,10 +141,11 @@ pub(crate) fn solve_from(
                 )
                 .map_err(|e| ModelError::from_continuation(METHOD, e))?;
             let (sol, it) = solve_fixed(w, loads, &grid, &y)?;
-            (sol, it, stats.steps)
+            (sol, it, stats.steps, stats.jumps)
         }
     };
-    let out = assemble(scene, &sol, iterations, continuation_steps, n);
+    let mut out = assemble(scene, &sol, iterations, continuation_steps, n);
+    out.stats.branch_jumps = jumps;
     Ok((out, sol.y))
 }
 

@@ -78,6 +78,9 @@ pub const FIXED_GRID_TOLERANCE: f64 = 5e-2;
 /// large loads and then needs many continuation steps).
 pub const SHOOTING_BUDGET: usize = 300_000;
 
+/// Right-hand-side evaluations the `rk4` continuation may spend (a few seconds at most).
+pub const RK4_BUDGET: usize = 20_000_000;
+
 /// Finest grid (intervals of `[0, 1]`) of `accurate`'s FDM + Richardson fallback.
 pub const MAX_FALLBACK_INTERVALS: usize = 102_400;
 
@@ -202,7 +205,7 @@ pub fn solve(scene: &Scene, method: &Method) -> Result<Solution> {
     let mut sol = match *method {
         Method::Accurate { tol, samples } => accurate(scene, tol, samples, tolerance)?,
         Method::Rk4 { n } => {
-            let mut sol = shooting::solve(scene, &Integration::Rk4 { n }, n, "rk4", usize::MAX)?;
+            let mut sol = shooting::solve(scene, &Integration::Rk4 { n }, n, "rk4", RK4_BUDGET)?;
             let fine = Integration::Rk4 {
                 n: n.saturating_mul(2),
             };
@@ -455,6 +458,7 @@ impl<'a> GridLadder<'a> {
         best.stats.residual = sols[2].stats.residual;
         best.stats.evaluations = self.levels.iter().map(|(s, _)| s.stats.evaluations).sum();
         best.stats.continuation_steps = self.levels[0].0.stats.continuation_steps;
+        best.stats.branch_jumps = self.levels[0].0.stats.branch_jumps;
         best.stats.method_used = MethodKind::FdmRichardson;
         Ok(best)
     }

@@ -25,6 +25,8 @@ pub(crate) struct TipSolve {
     pub values: [f64; 4],
     /// Their derivatives with respect to `phi1` (from the last shot with sensitivities).
     pub sens: [f64; 4],
+    /// Continuation steps rejected as branch jumps.
+    pub branch_jumps: usize,
 }
 
 const MAX_NEWTON: usize = 40;
@@ -84,6 +86,7 @@ fn newton_to(
                 evaluations,
                 values,
                 sens,
+                branch_jumps: 0,
             });
         }
         if !(dr.is_finite() && dr != 0.0) {
@@ -105,6 +108,7 @@ fn newton_to(
                 evaluations,
                 values,
                 sens,
+                branch_jumps: 0,
             });
         }
         if step.abs() <= 4.0 * f64::EPSILON * p.abs().max(1.0) {
@@ -119,6 +123,7 @@ fn newton_to(
                     evaluations: evaluations + shot.evaluations,
                     values: [shot.phi0, shot.m0, shot.dx, shot.dy],
                     sens,
+                    branch_jumps: 0,
                 });
             }
             last_r = r.abs();
@@ -226,6 +231,7 @@ pub(crate) fn solve_tip_angle_within(
         1.0,
     )?;
     t.evaluations += evaluations;
+    t.branch_jumps = stats.jumps;
     Ok((t, stats.steps))
 }
 
@@ -275,6 +281,7 @@ pub(crate) fn solve(
         residual: tip.residual,
         continuation_steps,
         evaluations: tip.evaluations,
+        branch_jumps: tip.branch_jumps,
         ..SolveStats::default()
     };
     let mut sol = shape(scene, tip.phi1, integration, samples, stats, method)?;
@@ -317,6 +324,7 @@ pub(crate) fn solve_accurate(
         residual: tip.residual,
         continuation_steps,
         evaluations: tip.evaluations,
+        branch_jumps: tip.branch_jumps,
         method_used: crate::solution::MethodKind::Accurate,
         ..SolveStats::default()
     };
@@ -431,6 +439,7 @@ pub(crate) fn shape(
         evaluations: stats.evaluations,
         values: [f64::NAN; 4],
         sens: [f64::NAN; 4],
+        branch_jumps: 0,
     };
     let (shot, path) = shoot_path(w, loads, phi1, Sensitivities::None, integration, true)?;
     stats.evaluations += shot.evaluations;

@@ -86,6 +86,7 @@ pub fn solution_json(r: &Resolved, sol: &Solution) -> Value {
             "error_estimate": num(sol.stats.error_estimate),
             "tolerance": num(sol.stats.tolerance),
             "method_used": sol.stats.method_used.name(),
+            "branch_jumps": sol.stats.branch_jumps,
         },
         "scene": {
             "theta": num(s.whisker.theta),
@@ -142,6 +143,10 @@ fn human_summary(r: &Resolved, sol: &Solution) -> String {
             format!(", {} continuation steps", sol.stats.continuation_steps)
         } else {
             String::new()
+        } + if sol.stats.branch_jumps > 0 {
+            "; other equilibria exist along the load path (the one returned is reached by loading from zero)"
+        } else {
+            ""
         }
     );
     out += &format!(

@@ -8,7 +8,7 @@
 //!   event location (first zero of a scalar function of the solution) by Brent's method on the
 //!   dense output.
 //!
-//! Layout (as in the `russell_ode` and `ode_solvers` crates): [`rk4`] for the fixed-step
+//! Layout (as in the `russell_ode` and `ode_solvers` crates): `rk4.rs` for the fixed-step
 //! method; `dop853/` split into the tableau (`coef`), one step with its error norm
 //! (`step`), the step-size controller (`control`), the dense output (`dense`) and event
 //! location (`events`), with the driver loop in `dop853/mod.rs`.

@@ -4,7 +4,7 @@
 use super::coef::*;
 use crate::integrator::OdeSystem;
 
-/// Result of a [`Dop853`] integration: the end state and (optionally) the dense output.
+/// Result of a [`Dop853`](super::Dop853) integration: the end state and (optionally) the dense output.
 #[derive(Clone, Debug)]
 pub struct OdeSolution {
     /// Where the integration ended (`s1`, or the event location).

@@ -54,6 +54,17 @@ pub enum ModelError {
         /// The guard's bound.
         allowed: f64,
     },
+    /// The load paths on `n` and `2n` grid intervals reached different equilibria: the grid
+    /// does not resolve the whisker (usually the thin tip's boundary layer).
+    #[error("{method}: the load paths on {n} and 2x{n} intervals reach different equilibria (distance {distance:.3e}); the grid does not resolve the tip, use a finer --n")]
+    BranchAmbiguous {
+        /// The method.
+        method: &'static str,
+        /// The coarser grid's intervals per unit length.
+        n: usize,
+        /// Largest difference of tip, loaded end and base observables.
+        distance: f64,
+    },
     /// A work budget (continuation correctors, integration steps, grid size) was used up.
     #[error("{method}: budget of {limit} {what} used up")]
     Budget {

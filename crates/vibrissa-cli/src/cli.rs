@@ -190,7 +190,7 @@ pub struct SweepArgs {
     /// The obstacle contour (required here or in the scene file).
     #[arg(long, value_name = "P")]
     pub profile: Option<String>,
-    /// Number of contact points along the contour, at least 2 [default: 200]
+    /// Number of contact points along the contour, 2..=100000 [default: 200]
     #[arg(long, value_name = "N", allow_hyphen_values = true)]
     pub points: Option<String>,
     /// Output directory: observables.csv, observables.svg, contact.svg, shapes.svg.

@@ -109,6 +109,22 @@ pub fn parse_number(flag: &'static str, raw: &str) -> Result<f64, CliError> {
 
 /// Parses a count typed for `flag`, at least `min`.
 pub fn parse_count(flag: &'static str, raw: &str, min: usize) -> Result<usize, CliError> {
+    let n = parse_count_unbounded(flag, raw, min)?;
+    if n > MAX_COUNT {
+        return Err(CliError::invalid_argument(
+            flag,
+            raw,
+            format!("must be at most {MAX_COUNT} (the memory and time of one run are bounded)"),
+        ));
+    }
+    Ok(n)
+}
+
+/// Largest count any flag accepts (grid intervals, contact points): bounds memory and run
+/// time.
+pub const MAX_COUNT: usize = 100_000;
+
+fn parse_count_unbounded(flag: &'static str, raw: &str, min: usize) -> Result<usize, CliError> {
     let n = raw
         .trim()
         .parse::<usize>()

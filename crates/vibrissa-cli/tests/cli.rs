@@ -287,6 +287,20 @@ fn bad_inputs_fail_with_one_line_naming_the_culprit() {
         ),
         (&["solve", "--k", "1e-9", "--out", "out"], &["--k", "1e-9"]),
         (&["solve", "--q", "1e9", "--out", "out"], &["--q", "1e9"]),
+        (
+            &[
+                "sweep",
+                "--profile",
+                "g1",
+                "--q",
+                "5",
+                "--points",
+                "18446744073709551615",
+                "--out",
+                "out",
+            ],
+            &["--points", "18446744073709551615"],
+        ),
     ] {
         fails_cleanly(args, needles, none);
     }

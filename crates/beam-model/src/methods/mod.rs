@@ -81,6 +81,12 @@ pub const SHOOTING_BUDGET: usize = 300_000;
 /// Right-hand-side evaluations the `rk4` continuation may spend (a few seconds at most).
 pub const RK4_BUDGET: usize = 20_000_000;
 
+/// Largest difference (tip, loaded end, base observables) between the FDM solutions on `n`
+/// and `2n` intervals, each reached by its own continuation from zero load, for them to count
+/// as the same equilibrium: same-branch solutions differ by the discretisation error (the
+/// fixed-grid tolerance at most), another branch by O(0.1..1).
+pub const BRANCH_AGREEMENT: f64 = FIXED_GRID_TOLERANCE;
+
 /// Finest grid (intervals of `[0, 1]`) of `accurate`'s FDM + Richardson fallback.
 pub const MAX_FALLBACK_INTERVALS: usize = 102_400;
 
@@ -400,12 +406,25 @@ struct GridLadder<'a> {
 }
 
 impl<'a> GridLadder<'a> {
-    fn new(scene: &'a Scene, n0: usize) -> Result<Self> {
+    /// The grids `n0` and `2 n0`, each solved by its own continuation from zero load: on a
+    /// grid that does not resolve the tip's boundary layer the discrete load path can reach
+    /// another equilibrium than the continuous one, and two grids that disagree by more than
+    /// [`BRANCH_AGREEMENT`] expose it ([`ModelError::BranchAmbiguous`]).
+    fn new(scene: &'a Scene, n0: usize, method: &'static str) -> Result<Self> {
         let first = fdm::solve_from(scene, n0, None)?;
+        let second = fdm::solve_from(scene, n0.saturating_mul(2), None)?;
+        let distance = difference(&first.0, &second.0);
+        if !(distance <= BRANCH_AGREEMENT) {
+            return Err(ModelError::BranchAmbiguous {
+                method,
+                n: n0,
+                distance,
+            });
+        }
         Ok(GridLadder {
             scene,
-            levels: vec![first],
-            n: n0,
+            levels: vec![first, second],
+            n: n0.saturating_mul(2),
         })
     }
 
@@ -467,20 +486,27 @@ impl<'a> GridLadder<'a> {
 /// FDM with two Richardson levels from a coarsest grid of `n0` intervals per unit length
 /// (method [`Method::FdmRichardson`]).
 fn fdm_richardson_on(scene: &Scene, n0: usize) -> Result<Solution> {
-    let mut ladder = GridLadder::new(scene, n0)?;
-    ladder.refine()?;
+    let mut ladder = GridLadder::new(scene, n0, "fdm-richardson")?;
     ladder.refine()?;
     ladder.extrapolate()
 }
 
 /// `accurate`'s fallback: FDM + Richardson on the last three of the grids `n0 2^j`
-/// (`n0 = max(100, 2/theta)`: two nodes across the tip's boundary layer), adding grids
-/// until the extrapolation's estimate meets `tolerance` or the finest grid reaches
+/// (`n0 = max(100, 2/theta)`: two nodes across the tip's boundary layer), the first two by
+/// independent continuations from zero load that must reach the same equilibrium (else
+/// `n0` is doubled, up to a quarter of [`MAX_FALLBACK_INTERVALS`]), adding grids until the
+/// extrapolation's estimate meets `tolerance` or the finest grid reaches
 /// [`MAX_FALLBACK_INTERVALS`].
 fn fdm_richardson_adaptive(scene: &Scene, tolerance: f64) -> Result<Solution> {
-    let n0 = ((2.0 / scene.whisker.theta).ceil() as usize).max(100);
-    let mut ladder = GridLadder::new(scene, n0)?;
-    ladder.refine()?;
+    let mut n0 = ((2.0 / scene.whisker.theta).ceil() as usize).max(100);
+    let mut ladder = loop {
+        match GridLadder::new(scene, n0, "fdm-richardson") {
+            Err(ModelError::BranchAmbiguous { .. }) if 8 * n0 <= MAX_FALLBACK_INTERVALS => {
+                n0 *= 2;
+            }
+            other => break other?,
+        }
+    };
     ladder.refine()?;
     loop {
         let sol = ladder.extrapolate()?;

@@ -414,7 +414,8 @@ impl<'a> GridLadder<'a> {
         let first = fdm::solve_from(scene, n0, None)?;
         let second = fdm::solve_from(scene, n0.saturating_mul(2), None)?;
         let distance = difference(&first.0, &second.0);
-        if !(distance <= BRANCH_AGREEMENT) {
+        // NaN counts as a disagreement
+        if distance.is_nan() || distance > BRANCH_AGREEMENT {
             return Err(ModelError::BranchAmbiguous {
                 method,
                 n: n0,

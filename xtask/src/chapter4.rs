@@ -5,11 +5,11 @@
 use std::time::Instant;
 
 use beam_model::scenarios::{self, Case};
-use beam_model::study::{self, LoadAxis, Outcome, StabilityMap};
 use beam_model::{solve, EndState, Method, Scene, Solution};
 use vibrissa_cli::atomic::OutputDir;
 use vibrissa_cli::csvio::{Cell, CsvWriter};
 use vibrissa_cli::plot::{Chart, HeatMap, Panel, Series, Style};
+use xtask::study::{self, LoadAxis, Outcome, StabilityMap};
 
 use crate::captions::caption;
 use crate::common::{self, note_err, par_map, sci, sig, Ctx};
@@ -863,11 +863,12 @@ fn work_precision(out: &OutputDir, report: &mut Report) {
     }
 }
 
-const CATEGORIES: [(&str, (u8, u8, u8)); 4] = [
+const CATEGORIES: [(&str, (u8, u8, u8)); 5] = [
     ("converged", (44, 160, 44)),
     ("converged (continuation)", (152, 223, 138)),
     ("failed", (214, 39, 40)),
     ("wrong branch", (255, 127, 14)),
+    ("solved by the fallback (fdm-richardson)", (31, 119, 180)),
 ];
 
 fn heatmap(m: &StabilityMap) -> HeatMap {
@@ -883,6 +884,7 @@ fn heatmap(m: &StabilityMap) -> HeatMap {
                     Outcome::Converged { .. } => 1,
                     Outcome::Failed => 2,
                     Outcome::Wrong => 3,
+                    Outcome::FellBack { .. } => 4,
                 })
                 .collect()
         })
@@ -987,6 +989,7 @@ fn stability_maps(out: &OutputDir, report: &mut Report) {
                         }
                         Outcome::Failed => ("failed", f64::NAN),
                         Outcome::Wrong => ("wrong", f64::NAN),
+                        Outcome::FellBack { method_used } => (*method_used, f64::NAN),
                     };
                     let _ = w.push_row(&[
                         Cell::Text(m.method),

@@ -28,6 +28,68 @@ pub enum ModelError {
         /// Residual of the last attempt.
         residual: f64,
     },
+    /// Load continuation stopped before the full load: `cause` is the last failure of the
+    /// corrector (or a [`ModelError::BranchJump`], or [`ModelError::Budget`]).
+    #[error("{method}: load continuation stalled at load scale {load_scale:.4} (step {step:.1e}): {cause}")]
+    ContinuationFailed {
+        /// The method.
+        method: &'static str,
+        /// Fraction of the target loads reached (1 = full load).
+        load_scale: f64,
+        /// The last step that failed.
+        step: f64,
+        /// The last inner failure.
+        cause: Box<ModelError>,
+    },
+    /// A continuation corrector converged on another equilibrium branch: it landed `distance`
+    /// (rad, max-norm) from its prediction, more than the guard allows.
+    #[error("{method}: branch jump at load scale {load_scale:.4} (distance {distance:.3e} rad > {allowed:.3e})")]
+    BranchJump {
+        /// The method.
+        method: &'static str,
+        /// Load scale of the rejected step.
+        load_scale: f64,
+        /// Distance from the prediction.
+        distance: f64,
+        /// The guard's bound.
+        allowed: f64,
+    },
+    /// The load paths on `n` and `2n` grid intervals reached different equilibria: the grid
+    /// does not resolve the whisker (usually the thin tip's boundary layer).
+    #[error("{method}: the load paths on {n} and 2x{n} intervals reach different equilibria (distance {distance:.3e}); the grid does not resolve the tip, use a finer --n")]
+    BranchAmbiguous {
+        /// The method.
+        method: &'static str,
+        /// The coarser grid's intervals per unit length.
+        n: usize,
+        /// Largest difference of tip, loaded end and base observables.
+        distance: f64,
+    },
+    /// A work budget (continuation correctors, integration steps, grid size) was used up.
+    #[error("{method}: budget of {limit} {what} used up")]
+    Budget {
+        /// The method.
+        method: &'static str,
+        /// What was counted.
+        what: &'static str,
+        /// The budget.
+        limit: usize,
+    },
+    /// The a-posteriori error estimate of a solve exceeds the requested accuracy: the
+    /// numbers are not trustworthy and are not returned.
+    #[error("{method}: estimated error {estimate:.3e} exceeds the requested accuracy {tolerance:.1e} (theta = {theta}); {hint}")]
+    Inaccurate {
+        /// The method (after any fallback).
+        method: &'static str,
+        /// The error estimate (max over tip, loaded end and base observables).
+        estimate: f64,
+        /// The requested accuracy.
+        tolerance: f64,
+        /// The whisker's conicity (thin tips are the usual cause).
+        theta: f64,
+        /// What may help.
+        hint: &'static str,
+    },
     /// An underlying BVP routine failed.
     #[error("{method}: {source}")]
     Solver {
@@ -44,6 +106,42 @@ impl From<BvpError> for ModelError {
         ModelError::Solver {
             method: "bvp",
             source,
+        }
+    }
+}
+
+impl ModelError {
+    /// Maps a failure of [`Continuation::follow`](bvp_solvers::continuation::Continuation::follow)
+    /// to a model error that names the method and carries the last inner error.
+    pub(crate) fn from_continuation(
+        method: &'static str,
+        fail: bvp_solvers::continuation::ContinuationFailure<ModelError>,
+    ) -> Self {
+        use bvp_solvers::continuation::StallCause;
+        let cause = match fail.cause {
+            StallCause::Inner(e) => e,
+            StallCause::Jump {
+                at,
+                distance,
+                allowed,
+            } => ModelError::BranchJump {
+                method,
+                load_scale: at,
+                distance,
+                allowed,
+            },
+            StallCause::Budget { max_attempts } => ModelError::Budget {
+                method,
+                what: "continuation correctors",
+                limit: max_attempts,
+            },
+            StallCause::Invalid(source) => return ModelError::Solver { method, source },
+        };
+        ModelError::ContinuationFailed {
+            method,
+            load_scale: fail.reached,
+            step: fail.step,
+            cause: Box::new(cause),
         }
     }
 }

@@ -14,7 +14,6 @@
 //! | [`shot`] | shooting from the loaded end (observables as initial values) |
 //! | [`methods`] | `fdm`, `rk4`, `accurate` and [`solve`] |
 //! | [`scenarios`] | the thesis's load scenarios 1-18 as reference problems |
-//! | [`study`] | work-precision, stability maps, the ANSYS comparison (§4.5) behind the charts |
 //!
 //! ```
 //! use beam_model::{solve, Loads, Method, Scene, TipForce, Whisker};
@@ -32,7 +31,6 @@ pub mod scenarios;
 pub mod scene;
 pub mod shot;
 pub mod solution;
-pub mod study;
 pub mod support;
 pub mod units;
 pub mod whisker;
@@ -41,7 +39,7 @@ pub use error::{ModelError, Result};
 pub use loads::{FluidLoad, LoadKind, Loads, TipForce};
 pub use methods::{shape_from_tip_angle, shape_with, solve, Method};
 pub use scene::Scene;
-pub use solution::{BaseObservables, Elastica, EndState, Solution, SolveStats};
+pub use solution::{BaseObservables, Elastica, EndState, MethodKind, Solution, SolveStats};
 pub use support::Support;
 pub use units::{PhysicalWhisker, Preset};
 pub use whisker::Whisker;

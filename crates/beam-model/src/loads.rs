@@ -3,6 +3,10 @@
 use crate::error::{finite, ModelError, Result};
 use serde::{Deserialize, Serialize};
 
+/// Largest admissible load magnitude f or q (dimensionless; the thesis's loads are <= 30,
+/// a rat whisker at f = 1000 carries 40 mN).
+pub const LOAD_MAX: f64 = 1e3;
+
 /// How a tip force follows the deformation (thesis Fig. 2.29).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub enum LoadKind {
@@ -145,6 +149,15 @@ impl Loads {
                 value: self.fluid.q,
                 reason: "the fluid load magnitude must be >= 0 (its direction is set by alpha)",
             });
+        }
+        for (name, v) in [("f", self.tip.f), ("q", self.fluid.q)] {
+            if v > LOAD_MAX {
+                return Err(ModelError::InvalidParameter {
+                    name,
+                    value: v,
+                    reason: "the load magnitude must be <= 1000",
+                });
+            }
         }
         if !(self.s1 > 0.0 && self.s1 <= 1.0) {
             return Err(ModelError::InvalidParameter {

@@ -26,6 +26,23 @@ impl Scene {
         self.loads.validate()
     }
 
+    /// The same scene with the load angles beta and alpha reduced to `[-pi, pi]` (when outside) by
+    /// `atan2(sin, cos)` (the reduction of `sin`/`cos` is exact, so a huge angle keeps its
+    /// meaning; `beta + phi` would otherwise lose `phi` to rounding).
+    pub fn normalised(&self) -> Scene {
+        let reduce = |a: f64| {
+            if a.abs() <= std::f64::consts::PI {
+                return a;
+            }
+            let (s, c) = a.sin_cos();
+            s.atan2(c)
+        };
+        let mut out = *self;
+        out.loads.tip.beta = reduce(self.loads.tip.beta);
+        out.loads.fluid.alpha = reduce(self.loads.fluid.alpha);
+        out
+    }
+
     /// Base reactions (support on whisker) for a known tip angle `phi1`:
     /// `Ax = -(f cos beta + q s1 cos alpha)`, `Ay = f sin beta + q s1 sin alpha` [5.1, 6.8, 6.9].
     pub fn base_reactions(&self, phi1: f64) -> (f64, f64) {

@@ -67,8 +67,45 @@ pub struct BaseObservables {
     pub phi0: f64,
 }
 
-/// Statistics of a solve.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+/// Which method produced a solution's numbers ([`SolveStats::method_used`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum MethodKind {
+    /// Adaptive DOP853 shooting.
+    #[default]
+    Accurate,
+    /// Fixed-step RK4 shooting.
+    Rk4,
+    /// Central finite differences [3.25, 3.27].
+    Fdm,
+    /// FDM on nested grids with two Richardson levels.
+    FdmRichardson,
+    /// One integration from a known tip angle (no boundary-value solve).
+    Shape,
+}
+
+impl MethodKind {
+    /// The name used by the CLI and the charts (`accurate`, `rk4`, `fdm`, `fdm-richardson`,
+    /// `shape`).
+    pub fn name(&self) -> &'static str {
+        match self {
+            MethodKind::Accurate => "accurate",
+            MethodKind::Rk4 => "rk4",
+            MethodKind::Fdm => "fdm",
+            MethodKind::FdmRichardson => "fdm-richardson",
+            MethodKind::Shape => "shape",
+        }
+    }
+}
+
+/// Statistics of a solve, with its a-posteriori error estimate.
+///
+/// `error_estimate` bounds the absolute error of the returned tip, loaded end (x, y, phi)
+/// and base observables (MA, phi0; Ax, Ay follow from phi1) by an independent second
+/// solution, not by the solve's own residual: a tighter-tolerance shot corrected by one
+/// Newton step (`accurate`), a doubled grid (`fdm`, `rk4`), the last Richardson level
+/// (`fdm-richardson`). A solve whose estimate exceeds `tolerance` is returned as
+/// [`ModelError::Inaccurate`](crate::ModelError::Inaccurate), never as a solution.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SolveStats {
     /// Newton (or outer) iterations of the final solve.
     pub iterations: usize,
@@ -78,6 +115,56 @@ pub struct SolveStats {
     pub continuation_steps: usize,
     /// Right-hand-side evaluations or FDM sweeps, a machine-independent cost measure.
     pub evaluations: usize,
+    /// A-posteriori estimate of the absolute error (see the type's docs); NaN when none was
+    /// computed (a bare shape integration).
+    #[serde(default = "nan")]
+    pub error_estimate: f64,
+    /// The accuracy the estimate was checked against (`Method::tolerance`).
+    #[serde(default = "inf")]
+    pub tolerance: f64,
+    /// The method that produced the numbers.
+    #[serde(default)]
+    pub method_used: MethodKind,
+    /// Load steps at which the continuation's corrector converged on another equilibrium
+    /// (rejected by the branch guard): when > 0, other equilibria exist along the load path;
+    /// the one returned is the branch reached by loading from zero.
+    #[serde(default)]
+    pub branch_jumps: usize,
+    /// The method that was requested; differs from `method_used` after a fallback (e.g.
+    /// `accurate` -> `fdm-richardson` where shooting is ill-conditioned).
+    #[serde(default)]
+    pub requested: MethodKind,
+}
+
+fn nan() -> f64 {
+    f64::NAN
+}
+
+fn inf() -> f64 {
+    f64::INFINITY
+}
+
+impl Default for SolveStats {
+    fn default() -> Self {
+        SolveStats {
+            iterations: 0,
+            residual: 0.0,
+            continuation_steps: 0,
+            evaluations: 0,
+            branch_jumps: 0,
+            error_estimate: f64::NAN,
+            tolerance: f64::INFINITY,
+            method_used: MethodKind::Accurate,
+            requested: MethodKind::Accurate,
+        }
+    }
+}
+
+impl SolveStats {
+    /// Whether the numbers come from another method than the one requested.
+    pub fn fell_back(&self) -> bool {
+        self.method_used != self.requested
+    }
 }
 
 /// A solved scene.

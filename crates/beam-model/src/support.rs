@@ -3,6 +3,10 @@
 use crate::error::{ModelError, Result};
 use serde::{Deserialize, Serialize};
 
+/// Smallest admissible spring stiffness: a softer base turns by `m(0)/k`, more than 100 rad
+/// under a unit moment.
+pub const K_MIN: f64 = 1e-2;
+
 /// Support of the whisker base (thesis Fig. 3.1, boundary conditions [3.21, 3.22]).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub enum Support {
@@ -17,13 +21,20 @@ pub enum Support {
 }
 
 impl Support {
-    /// A support from a stiffness, `k = +inf` meaning rigid. Rejects `k <= 0` and NaN.
+    /// A support from a stiffness, `k = +inf` meaning rigid. Rejects `k <` [`K_MIN`] and NaN.
     pub fn from_stiffness(k: f64) -> Result<Self> {
         if k.is_nan() || k <= 0.0 {
             return Err(ModelError::InvalidParameter {
                 name: "k",
                 value: k,
                 reason: "the base spring stiffness must be > 0 (use inf for a rigid support)",
+            });
+        }
+        if k < K_MIN {
+            return Err(ModelError::InvalidParameter {
+                name: "k",
+                value: k,
+                reason: "the base spring stiffness must be >= 0.01 (or inf for a rigid support)",
             });
         }
         Ok(if k.is_infinite() {

@@ -4,6 +4,16 @@ use crate::error::{finite, ModelError, Result};
 use crate::support::Support;
 use serde::{Deserialize, Serialize};
 
+/// Smallest admissible conicity: at theta = 0.01 the tip's bending stiffness is 1e-8 of the
+/// base's and its boundary layer (width ~ theta) needs ~ 1e4 grid intervals for an error
+/// of 1e-9; below, the budgets of [`solve`](crate::solve) cannot guarantee an answer.
+/// Rat whiskers have theta ~ 0.02..0.1.
+pub const THETA_MIN: f64 = 0.01;
+
+/// Largest magnitude of the pre-curvature coefficients A and B: |kappa0| <= 2 * 100 rad per
+/// whisker length (a curl of 16 turns), far beyond real whiskers.
+pub const PRECURVATURE_MAX: f64 = 100.0;
+
 /// Geometry and support of a dimensionless whisker (thesis ch. 3).
 ///
 /// - conicity: diameter ratio `e(s) = 1 + (theta - 1) s`, bending stiffness `EI(s) = e(s)^4`
@@ -64,8 +74,23 @@ impl Whisker {
                 reason: "the conicity (tip/base diameter ratio) must be in (0, 1]",
             });
         }
-        finite("A", self.a)?;
-        finite("B", self.b)?;
+        if self.theta < THETA_MIN {
+            return Err(ModelError::InvalidParameter {
+                name: "theta",
+                value: self.theta,
+                reason: "the conicity must be >= 0.01: thinner tips are beyond the solver's resolution budget",
+            });
+        }
+        for (name, v) in [("A", self.a), ("B", self.b)] {
+            finite(name, v)?;
+            if v.abs() > PRECURVATURE_MAX {
+                return Err(ModelError::InvalidParameter {
+                    name,
+                    value: v,
+                    reason: "the pre-curvature coefficients must be within [-100, 100]",
+                });
+            }
+        }
         self.support.validate()
     }
 

@@ -6,8 +6,8 @@
 //! | module | concept |
 //! |---|---|
 //! | [`observables`] | the measured rows `(x0, Ax, Ay, MA, phi0)` |
-//! | [`identify`] | fluid load from the pre-contact rows [6.1], contact start (Table 6.1) |
-//! | [`reconstruct`] | contact point, force, s1 and phase per row; quality measure [6.11] |
+//! | [`identify`](mod@identify) | fluid load from the pre-contact rows [6.1], contact start (Table 6.1) |
+//! | [`reconstruct`](mod@reconstruct) | contact point, force, s1 and phase per row; quality measure [6.11] |
 //! | [`noise`] | seeded sensor noise and the error-against-noise study |
 //! | [`thesis`] | the thesis's five-equation method [6.5-6.10] |
 //!

@@ -1,8 +1,9 @@
 //! Atomic file output: a file is either fully written or not there at all.
 //!
 //! [`write_atomic`] writes one file through a temporary sibling and a rename;
-//! [`OutputDir`] stages all files of one command in a temporary sibling directory and moves
-//! them into place only when the command succeeded.
+//! [`OutputDir`] stages all files of one command in a temporary sibling directory and swaps it
+//! in for the output folder as a whole only when the command succeeded, under a lock file
+//! that refuses a second concurrent writer.
 
 use std::fs;
 use std::io::Write;
@@ -51,20 +52,97 @@ fn sync_dir(dir: &Path) {
     }
 }
 
+/// The marker file of a folder written by `vibrissa`: only such a folder (or an empty one)
+/// is replaced by a later run; any other existing folder is refused, so that `--out ~` cannot
+/// delete a user's files.
+pub const MARKER: &str = ".vibrissa-output";
+
 /// A staged output directory: the files of one command are written into a temporary sibling
-/// directory and moved into the final directory by [`OutputDir::commit`]. If the value is
-/// dropped without a commit (an error happened), the staging directory is removed and the
-/// final directory is left as it was.
+/// directory, which [`OutputDir::commit`] swaps in for the final directory as a whole (the
+/// old folder is renamed aside, the staging folder renamed into place, the old one removed):
+/// nothing of an earlier run is left mixed in, and a failure before the commit leaves the old
+/// folder untouched. A lock file `.<name>.lock` beside the folder, created exclusively with
+/// the writer's pid, refuses a second concurrent writer (a lock whose process is gone is
+/// taken over). If the value is dropped without a commit, the staging directory and the
+/// lock are removed.
 #[derive(Debug)]
 pub struct OutputDir {
     target: PathBuf,
     staging: PathBuf,
+    lock: PathBuf,
     committed: bool,
+}
+
+/// Whether a process with this pid exists (Linux `/proc`; elsewhere assumed alive).
+fn process_alive(pid: u32) -> bool {
+    if cfg!(target_os = "linux") {
+        Path::new("/proc").join(pid.to_string()).exists()
+    } else {
+        true
+    }
+}
+
+/// Takes the lock file `lock` exclusively for this process.
+fn acquire_lock(lock: &Path, target: &Path) -> Result<(), CliError> {
+    // two attempts: the second after removing a stale lock
+    for _ in 0..2 {
+        match fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(lock)
+        {
+            Ok(mut f) => {
+                let _ = write!(f, "{}", std::process::id());
+                return Ok(());
+            }
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
+                let holder = fs::read_to_string(lock)
+                    .ok()
+                    .and_then(|s| s.trim().parse::<u32>().ok());
+                match holder {
+                    Some(pid) if !process_alive(pid) => {
+                        let _ = fs::remove_file(lock);
+                    }
+                    _ => {
+                        return Err(CliError::io(
+                            target,
+                            std::io::Error::new(
+                                std::io::ErrorKind::WouldBlock,
+                                format!(
+                                    "is being written by another vibrissa process{} (lock file {}); wait for it or choose another --out",
+                                    holder.map_or(String::new(), |p| format!(" (pid {p})")),
+                                    lock.display()
+                                ),
+                            ),
+                        ));
+                    }
+                }
+            }
+            Err(e) => return Err(CliError::io(lock, e)),
+        }
+    }
+    Err(CliError::io(
+        lock,
+        std::io::Error::new(std::io::ErrorKind::WouldBlock, "could not take the lock"),
+    ))
+}
+
+/// Whether `dir` may be replaced: empty, or written by vibrissa (has [`MARKER`]).
+fn replaceable(dir: &Path) -> Result<bool, CliError> {
+    if dir.join(MARKER).is_file() {
+        return Ok(true);
+    }
+    let mut entries = fs::read_dir(dir).map_err(|e| CliError::io(dir, e))?;
+    Ok(entries.next().is_none())
 }
 
 impl OutputDir {
     /// Prepares the staging directory for the final directory `path` (which may or may not
-    /// exist yet; its parent directories are created).
+    /// exist yet; its parent directories are created) and takes the folder's lock.
+    ///
+    /// # Errors
+    /// `path` is not a usable directory name, exists as a file, exists as a non-empty folder
+    /// not written by vibrissa, or is locked by another running writer.
     pub fn create(path: &Path) -> Result<Self, CliError> {
         let name = path
             .file_name()
@@ -87,22 +165,46 @@ impl OutputDir {
                 ),
             ));
         }
+        if path.is_dir() && !replaceable(path)? {
+            return Err(CliError::io(
+                path,
+                std::io::Error::new(
+                    std::io::ErrorKind::AlreadyExists,
+                    "exists, is not empty and was not written by vibrissa; refusing to replace it",
+                ),
+            ));
+        }
         let parent = match path.parent() {
             Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
             _ => PathBuf::from("."),
         };
         fs::create_dir_all(&parent).map_err(|e| CliError::io(&parent, e))?;
-        let mut staging_name = std::ffi::OsString::from(".");
-        staging_name.push(&name);
-        staging_name.push(format!(".staging-{}", std::process::id()));
-        let staging = parent.join(staging_name);
-        if staging.exists() {
-            fs::remove_dir_all(&staging).map_err(|e| CliError::io(&staging, e))?;
+        let sibling = |suffix: &str| {
+            let mut n = std::ffi::OsString::from(".");
+            n.push(&name);
+            n.push(suffix);
+            parent.join(n)
+        };
+        let lock = sibling(".lock");
+        acquire_lock(&lock, path)?;
+        let staging = sibling(&format!(".staging-{}", std::process::id()));
+        let prepared = (|| {
+            if staging.exists() {
+                fs::remove_dir_all(&staging).map_err(|e| CliError::io(&staging, e))?;
+            }
+            fs::create_dir(&staging).map_err(|e| CliError::io(&staging, e))?;
+            fs::write(staging.join(MARKER), b"written by vibrissa\n")
+                .map_err(|e| CliError::io(&staging, e))
+        })();
+        if let Err(e) = prepared {
+            let _ = fs::remove_dir_all(&staging);
+            let _ = fs::remove_file(&lock);
+            return Err(e);
         }
-        fs::create_dir(&staging).map_err(|e| CliError::io(&staging, e))?;
         Ok(OutputDir {
             target: path.to_path_buf(),
             staging,
+            lock,
             committed: false,
         })
     }
@@ -124,27 +226,55 @@ impl OutputDir {
         Ok(p)
     }
 
-    /// Moves every staged file into the final directory (replacing files of the same name,
-    /// leaving others alone) and returns the final paths, sorted.
+    /// Swaps the staged folder in for the final directory as a whole and returns the final
+    /// paths of the files written (the marker excluded), sorted. The earlier folder is
+    /// renamed aside first and restored if the swap fails.
     pub fn commit(mut self) -> Result<Vec<PathBuf>, CliError> {
         let mut files = Vec::new();
         collect_files(&self.staging, &mut files)?;
         files.sort();
-        fs::create_dir_all(&self.target).map_err(|e| CliError::io(&self.target, e))?;
-        let mut out = Vec::with_capacity(files.len());
-        for f in files {
-            let rel = f.strip_prefix(&self.staging).unwrap_or(&f);
-            let dest = self.target.join(rel);
-            if let Some(parent) = dest.parent() {
-                fs::create_dir_all(parent).map_err(|e| CliError::io(parent, e))?;
+        sync_dir(&self.staging);
+        let old = self.staging.with_file_name(format!(
+            ".{}.old-{}",
+            self.target_name(),
+            std::process::id()
+        ));
+        let had_old = self.target.exists();
+        if had_old {
+            if old.exists() {
+                fs::remove_dir_all(&old).map_err(|e| CliError::io(&old, e))?;
             }
-            fs::rename(&f, &dest).map_err(|e| CliError::io(&dest, e))?;
-            out.push(dest);
+            fs::rename(&self.target, &old).map_err(|e| CliError::io(&self.target, e))?;
         }
-        sync_dir(&self.target);
+        if let Err(e) = fs::rename(&self.staging, &self.target) {
+            if had_old {
+                let _ = fs::rename(&old, &self.target);
+            }
+            return Err(CliError::io(&self.target, e));
+        }
         self.committed = true;
-        fs::remove_dir_all(&self.staging).map_err(|e| CliError::io(&self.staging, e))?;
+        if let Some(parent) = self.target.parent() {
+            sync_dir(parent);
+        }
+        if had_old {
+            fs::remove_dir_all(&old).map_err(|e| CliError::io(&old, e))?;
+        }
+        let out = files
+            .iter()
+            .filter(|f| f.file_name().is_none_or(|n| n != MARKER))
+            .map(|f| {
+                let rel = f.strip_prefix(&self.staging).unwrap_or(f);
+                self.target.join(rel)
+            })
+            .collect();
         Ok(out)
+    }
+
+    fn target_name(&self) -> String {
+        self.target
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default()
     }
 }
 
@@ -153,6 +283,7 @@ impl Drop for OutputDir {
         if !self.committed {
             let _ = fs::remove_dir_all(&self.staging);
         }
+        let _ = fs::remove_file(&self.lock);
     }
 }
 

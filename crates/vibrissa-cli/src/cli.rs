@@ -88,16 +88,16 @@ pub enum LoadArg {
 /// Whisker flags shared by every command.
 #[derive(Debug, Clone, Default, Args)]
 pub struct WhiskerFlags {
-    /// Diameter ratio tip/base, 0 < T <= 1 [default: 1]
+    /// Diameter ratio tip/base, 0.01 <= T <= 1 (thinner tips are beyond the solver's resolution) [default: 1]
     #[arg(long, value_name = "T", allow_hyphen_values = true)]
     pub theta: Option<String>,
-    /// Slope A of the Cesaro pre-curvature kappa0(s) = A s + B [default: 0]
+    /// Slope A of the Cesaro pre-curvature kappa0(s) = A s + B, |A| <= 100 [default: 0]
     #[arg(long, value_name = "A", allow_hyphen_values = true)]
     pub a: Option<String>,
-    /// Offset B of the pre-curvature [default: 0]
+    /// Offset B of the pre-curvature, |B| <= 100 [default: 0]
     #[arg(long, value_name = "B", allow_hyphen_values = true)]
     pub b: Option<String>,
-    /// Base spring stiffness, `inf` for a rigid support [default: inf]
+    /// Base spring stiffness k >= 0.01, `inf` for a rigid support [default: inf]
     #[arg(long, value_name = "K", allow_hyphen_values = true)]
     pub k: Option<String>,
 }
@@ -105,10 +105,10 @@ pub struct WhiskerFlags {
 /// Tip-force flags (solve only).
 #[derive(Debug, Clone, Default, Args)]
 pub struct TipFlags {
-    /// Tip force magnitude f >= 0 [default: 0]
+    /// Tip force magnitude 0 <= f <= 1000 [default: 0]
     #[arg(long, value_name = "F", allow_hyphen_values = true)]
     pub f: Option<String>,
-    /// Tip force angle in degrees (0 pushes towards +x) [default: 0]
+    /// Tip force angle in degrees (0 pushes towards +x), reduced exactly modulo 360 [default: 0]
     #[arg(long = "beta-deg", value_name = "D", allow_hyphen_values = true)]
     pub beta_deg: Option<String>,
     /// Tip force direction preserving (dp) or angle preserving (ap) [default: dp]
@@ -119,10 +119,10 @@ pub struct TipFlags {
 /// Fluid-load flags.
 #[derive(Debug, Clone, Default, Args)]
 pub struct FluidFlags {
-    /// Fluid load per unit length q >= 0 [default: 0]
+    /// Fluid load per unit length 0 <= q <= 1000 [default: 0]
     #[arg(long, value_name = "Q", allow_hyphen_values = true)]
     pub q: Option<String>,
-    /// Fluid load angle in degrees (0 pushes towards +x) [default: 0]
+    /// Fluid load angle in degrees (0 pushes towards +x), reduced exactly modulo 360 [default: 0]
     #[arg(long = "alpha-deg", value_name = "D", allow_hyphen_values = true)]
     pub alpha_deg: Option<String>,
 }
@@ -130,12 +130,16 @@ pub struct FluidFlags {
 /// Method flags.
 #[derive(Debug, Clone, Default, Args)]
 pub struct MethodFlags {
-    /// Solution method: accurate (adaptive DOP853 shooting), rk4 (fixed-step shooting), fdm
-    /// (finite differences, the thesis's method) or fdm-richardson (FDM on n, 2n, 4n with two
-    /// Richardson levels, order 6) [default: accurate]
+    /// Solution method: accurate (adaptive DOP853 shooting, error estimated by a second shot;
+    /// falls back to fdm-richardson on refined grids where shooting is ill-conditioned, as
+    /// `stats.method_used` says; refused when the estimate exceeds 1e-8), rk4 (fixed-step
+    /// shooting), fdm (finite differences, the thesis's method) or fdm-richardson (FDM on n,
+    /// 2n, 4n with two Richardson levels, order 6); the fixed-grid methods are refused when
+    /// their estimate (from the doubled grid) exceeds 5e-2 [default: accurate]
     #[arg(long, value_name = "M")]
     pub method: Option<String>,
-    /// Grid intervals per unit length for rk4/fdm; output intervals for accurate [default: 100]
+    /// Grid intervals per unit length for rk4/fdm (<= 100000; fdm-richardson <= 25000);
+    /// output intervals for accurate [default: 100]
     #[arg(long, value_name = "N", allow_hyphen_values = true)]
     pub n: Option<String>,
 }

@@ -109,6 +109,22 @@ pub fn parse_number(flag: &'static str, raw: &str) -> Result<f64, CliError> {
 
 /// Parses a count typed for `flag`, at least `min`.
 pub fn parse_count(flag: &'static str, raw: &str, min: usize) -> Result<usize, CliError> {
+    let n = parse_count_unbounded(flag, raw, min)?;
+    if n > MAX_COUNT {
+        return Err(CliError::invalid_argument(
+            flag,
+            raw,
+            format!("must be at most {MAX_COUNT} (the memory and time of one run are bounded)"),
+        ));
+    }
+    Ok(n)
+}
+
+/// Largest count any flag accepts (grid intervals, contact points): bounds memory and run
+/// time.
+pub const MAX_COUNT: usize = 100_000;
+
+fn parse_count_unbounded(flag: &'static str, raw: &str, min: usize) -> Result<usize, CliError> {
     let n = raw
         .trim()
         .parse::<usize>()
@@ -373,12 +389,12 @@ impl Resolved {
         };
         let tip = TipForce {
             f,
-            beta: g.beta_deg.value.to_radians(),
+            beta: degrees_to_radians(g.beta_deg.value),
             kind: g.load,
         };
         let scene = Scene::new(
             whisker,
-            Loads::combined(tip, q, g.alpha_deg.value.to_radians()),
+            Loads::combined(tip, q, degrees_to_radians(g.alpha_deg.value)),
         );
         scene.validate().map_err(|e| self.culprit(&e))?;
         Ok(scene)
@@ -527,4 +543,15 @@ pub fn profile_arg(flag: &Option<String>, file: Option<&LoadedScene>) -> Option<
         }),
         (None, None) => None,
     }
+}
+
+/// An angle in degrees reduced exactly to `(-180, 180]` (`rem_euclid` is exact in floating
+/// point, and so is the subtraction of 360 from a value in `(180, 360)`), then converted to
+/// radians: `1e16` degrees is 280 = -80 degrees, not `1e16 * pi / 180` rounded.
+pub fn degrees_to_radians(deg: f64) -> f64 {
+    let mut r = deg.rem_euclid(360.0);
+    if r > 180.0 {
+        r -= 360.0;
+    }
+    r.to_radians()
 }

@@ -255,6 +255,55 @@ fn fails_cleanly(args: &[&str], needles: &[&str], setup: impl Fn(&Path)) {
 #[test]
 fn bad_inputs_fail_with_one_line_naming_the_culprit() {
     let none = |_: &Path| {};
+    // issue 12: crashes and hangs that now end at once with the culprit named
+    for (args, needles) in [
+        (
+            &["solve", "--q", "5", "--theta", "1e-9", "--out", "out"][..],
+            &["--theta", "1e-9"][..],
+        ),
+        (
+            &["solve", "--q", "5", "--theta", "1e-300", "--out", "out"],
+            &["--theta", "1e-300"],
+        ),
+        (
+            &["solve", "--q", "5", "--theta", "1e-3", "--out", "out"],
+            &["--theta", "1e-3"],
+        ),
+        (
+            &["solve", "--n", "18446744073709551615", "--out", "out"],
+            &["--n", "18446744073709551615"],
+        ),
+        (
+            &[
+                "solve",
+                "--method",
+                "fdm",
+                "--n",
+                "4294967296",
+                "--out",
+                "out",
+            ],
+            &["--n", "4294967296"],
+        ),
+        (&["solve", "--k", "1e-9", "--out", "out"], &["--k", "1e-9"]),
+        (&["solve", "--q", "1e9", "--out", "out"], &["--q", "1e9"]),
+        (
+            &[
+                "sweep",
+                "--profile",
+                "g1",
+                "--q",
+                "5",
+                "--points",
+                "18446744073709551615",
+                "--out",
+                "out",
+            ],
+            &["--points", "18446744073709551615"],
+        ),
+    ] {
+        fails_cleanly(args, needles, none);
+    }
     fails_cleanly(
         &["solve", "--theta", "-0.5", "--out", "out"],
         &["--theta", "-0.5"],
@@ -359,4 +408,52 @@ fn usage_errors_exit_2_and_solver_errors_name_the_solver() {
     let o = run(&["solve", "--help"], dir.path());
     assert!(o.status.success());
     assert!(String::from_utf8_lossy(&o.stdout).contains("Examples"));
+}
+
+/// Angles are reduced exactly in degrees before the conversion: 1e16 degrees is 280 degrees
+/// (1e16 = 27777777777777 * 360 + 280), 1e300 degrees a multiple of 360 plus what
+/// `rem_euclid` gives exactly; the answers are those of the reduced angles.
+#[test]
+fn huge_angles_are_reduced_exactly_in_degrees() {
+    let dir = tempfile::tempdir().unwrap();
+    let solve = |args: &[&str]| -> serde_json::Value {
+        let mut a = vec!["solve", "--json"];
+        a.extend_from_slice(args);
+        let o = run(&a, dir.path());
+        assert!(o.status.success(), "{}", stderr(&o));
+        serde_json::from_slice(&o.stdout).unwrap()
+    };
+    let big = solve(&["--q", "5", "--alpha-deg", "1e16"]);
+    let small = solve(&["--q", "5", "--alpha-deg", "280"]);
+    assert_eq!(big["base"], small["base"]);
+    // Ax = -q cos(280 deg) = -0.8682...
+    let ax = big["base"]["Ax"].as_f64().unwrap();
+    assert!((ax + 5.0 * 280f64.to_radians().cos()).abs() < 1e-12, "{ax}");
+    let r = 1e300f64.rem_euclid(360.0);
+    let big = solve(&["--f", "3", "--beta-deg", "1e300"]);
+    let reduced = solve(&["--f", "3", "--beta-deg", &format!("{r}")]);
+    assert_eq!(big["base"], reduced["base"]);
+    assert_eq!(big["tip"], reduced["tip"]);
+}
+
+/// Every solve reports its error estimate, tolerance and the method that produced it; the
+/// issue's slender case is answered right (fdm-richardson truth: tip (0.720214, 0.487868),
+/// MA 1.756058), by the fallback, which the stats say.
+#[test]
+fn solve_reports_its_error_estimate_and_the_method_used() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = run(
+        &["solve", "--q", "5", "--theta", "0.01", "--json"],
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let st = &v["stats"];
+    let est = st["error_estimate"].as_f64().unwrap();
+    let tol = st["tolerance"].as_f64().unwrap();
+    assert!(est <= tol && tol <= 1e-8, "{est} {tol}");
+    assert_eq!(st["method_used"], "fdm-richardson");
+    assert!((v["tip"]["x"].as_f64().unwrap() - 0.720214).abs() < 1e-6);
+    assert!((v["tip"]["y"].as_f64().unwrap() - 0.487868).abs() < 1e-6);
+    assert!((v["base"]["MA"].as_f64().unwrap() - 1.756058).abs() < 1e-6);
 }

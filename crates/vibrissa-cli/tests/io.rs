@@ -118,26 +118,77 @@ fn atomic_write_replaces_and_leaves_no_temporaries() {
 fn output_dir_commits_all_or_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("run");
-    // A failed command: nothing appears.
+    // A failed command: nothing appears, no staging folder or lock is left.
     {
         let o = OutputDir::create(&out).unwrap();
         write_atomic(&o.path_for("half.csv"), b"x").unwrap();
     }
     assert!(!out.exists());
     assert_eq!(fs::read_dir(dir.path()).unwrap().count(), 0);
-    // A successful one: files appear, existing unrelated files stay.
+    // A folder not written by vibrissa is never replaced.
     fs::create_dir(&out).unwrap();
     fs::write(out.join("keep.txt"), "k").unwrap();
-    fs::write(out.join("a.csv"), "old").unwrap();
+    let err = OutputDir::create(&out).unwrap_err().to_string();
+    assert!(err.contains("not written by vibrissa"), "{err}");
+    assert_eq!(fs::read_to_string(out.join("keep.txt")).unwrap(), "k");
+    fs::remove_dir_all(&out).unwrap();
+    // A first run writes a.csv and error.svg.
     let o = OutputDir::create(&out).unwrap();
+    write_atomic(&o.path_for("a.csv"), b"old").unwrap();
+    write_atomic(&o.path_for("error.svg"), b"<svg/>").unwrap();
+    o.commit().unwrap();
+    // A second run replaces the folder as a whole: nothing of the first is left mixed in.
+    let o = OutputDir::create(&out).unwrap();
+    // ... while it runs, a concurrent writer into the same folder is refused
+    let err = OutputDir::create(&out).unwrap_err().to_string();
+    assert!(err.contains("another vibrissa process"), "{err}");
     write_atomic(&o.path_for("a.csv"), b"new").unwrap();
     let sub = o.subdir("fig").unwrap();
     write_atomic(&sub.join("f.svg"), b"<svg/>").unwrap();
     let files = o.commit().unwrap();
     assert_eq!(files, vec![out.join("a.csv"), out.join("fig/f.svg")]);
     assert_eq!(fs::read_to_string(out.join("a.csv")).unwrap(), "new");
-    assert_eq!(fs::read_to_string(out.join("keep.txt")).unwrap(), "k");
+    assert!(!out.join("error.svg").exists());
+    // only the folder is left beside it (no lock, no staging, no old copy)
     assert_eq!(fs::read_dir(dir.path()).unwrap().count(), 1);
+    // the lock is released: a third run may write
+    drop(OutputDir::create(&out).unwrap());
+}
+
+/// Six writers into one folder, each writing a full set of files tagged with its id:
+/// every writer either commits or is refused by the lock, and the folder always holds one
+/// writer's complete set (never a mix).
+#[test]
+fn concurrent_writers_never_mix_their_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("shared");
+    for _round in 0..20 {
+        let handles: Vec<_> = (0..6)
+            .map(|id| {
+                let out = out.clone();
+                std::thread::spawn(move || -> bool {
+                    let Ok(o) = OutputDir::create(&out) else {
+                        return false;
+                    };
+                    for name in ["a.csv", "b.csv", "c.svg"] {
+                        write_atomic(&o.path_for(name), format!("{id}").as_bytes()).unwrap();
+                    }
+                    o.commit().is_ok()
+                })
+            })
+            .collect();
+        let committed = handles
+            .into_iter()
+            .map(|h| h.join().unwrap())
+            .filter(|&c| c)
+            .count();
+        assert!(committed >= 1 || out.exists());
+        let ids: Vec<String> = ["a.csv", "b.csv", "c.svg"]
+            .iter()
+            .map(|n| fs::read_to_string(out.join(n)).unwrap())
+            .collect();
+        assert!(ids.iter().all(|i| *i == ids[0]), "mixed output {ids:?}");
+    }
 }
 
 const GOOD: &str = r#"// A scene: the whisker, its loads, optional obstacle sweep and method settings.

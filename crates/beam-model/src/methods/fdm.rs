@@ -11,7 +11,7 @@ use crate::scene::Scene;
 use crate::solution::{BaseObservables, Elastica, EndState, Solution, SolveStats};
 use crate::support::Support;
 use crate::whisker::Whisker;
-use bvp_solvers::continuation::Continuation;
+use bvp_solvers::continuation::{BranchGuard, Continuation};
 use bvp_solvers::fdm::{BoundaryCondition, FdmOptions, FdmSolution, FdmSolver};
 use bvp_solvers::grid::UniformGrid;
 use std::f64::consts::FRAC_PI_2;
@@ -75,16 +75,36 @@ fn last_or(v: &[f64]) -> f64 {
     v.last().copied().unwrap_or(FRAC_PI_2)
 }
 
-/// Solves a scene with the FDM on `ceil(n s1)` intervals of `[0, s1]`.
-pub(crate) fn solve(scene: &Scene, n: usize) -> Result<Solution> {
+/// Grid intervals of `[0, s1]` for `n` intervals per unit length.
+pub(crate) fn intervals(n: usize, s1: f64) -> usize {
+    ((n as f64) * s1).ceil().max(4.0) as usize
+}
+
+/// Solves a scene with the FDM on `ceil(n s1)` intervals of `[0, s1]`, optionally warm-started from nodal angles `guess` on the same grid (e.g. a
+/// coarser solution interpolated): the guess is accepted when Newton converges from it
+/// within [`DIRECT_JUMP`] of it; otherwise the solve starts from zero load. Returns the
+/// solution and its nodal angles.
+pub(crate) fn solve_from(
+    scene: &Scene,
+    n: usize,
+    guess: Option<&[f64]>,
+) -> Result<(Solution, Vec<f64>)> {
     let w = &scene.whisker;
     let loads = &scene.loads;
     let s1 = loads.s1;
-    let intervals = ((n as f64) * s1).ceil().max(4.0) as usize;
-    let grid = UniformGrid::new(0.0, s1, intervals).map_err(|source| ModelError::Solver {
-        method: METHOD,
-        source,
-    })?;
+    let grid =
+        UniformGrid::new(0.0, s1, intervals(n, s1)).map_err(|source| ModelError::Solver {
+            method: METHOD,
+            source,
+        })?;
+    if let Some(g) = guess.filter(|g| g.len() == grid.len()) {
+        if let Ok((sol, it)) = solve_fixed(w, loads, &grid, g) {
+            if max_diff(&sol.y, g) <= DIRECT_JUMP {
+                let out = assemble(scene, &sol, it, 0, n);
+                return Ok((out, sol.y));
+            }
+        }
+    }
     let unloaded: Vec<f64> = grid.nodes().iter().map(|&s| w.phi_unloaded(s)).collect();
     let sev = super::shooting::severity(w, loads);
     // A direct solve from the unloaded shape is kept only when it stays in the near-linear
@@ -98,78 +118,35 @@ pub(crate) fn solve(scene: &Scene, n: usize) -> Result<Solution> {
     } else {
         None
     };
-    let (sol, iterations, continuation_steps) = match direct {
-        Some((sol, it)) => (sol, it, 0),
+    let (sol, iterations, continuation_steps, jumps) = match direct {
+        Some((sol, it)) => (sol, it, 0, 0),
         None => {
-            // Load continuation with a secant predictor; a corrector that lands far from its
-            // prediction has jumped to another branch and counts as a failure.
+            // Load continuation from the unloaded whisker (the one driver of bvp-solvers:
+            // secant predictor, jump guard), each corrector a Newton solve on the grid.
             let first = (1.0 / sev.ceil()).clamp(1e-3, 1.0);
             let cont = Continuation {
                 initial_step: first,
-                min_step: 1e-4,
+                min_step: 1e-8,
                 max_step: (2.0 * first).min(1.0),
             };
-            let mut reached = 0.0;
-            let zero = vec![0.0; unloaded.len()];
-            type State = (f64, Vec<f64>, Vec<f64>);
-            let r = cont.run(
-                0.0,
-                1.0,
-                (0.0, unloaded.clone(), zero),
-                |lambda, (l0, y0, slope): &State| {
-                    if lambda == 0.0 {
-                        return Ok((0.0, y0.clone(), slope.clone()));
-                    }
-                    let pred: Vec<f64> = y0
-                        .iter()
-                        .zip(slope)
-                        .map(|(y, d)| y + d * (lambda - l0))
-                        .collect();
-                    let (sol, it) = solve_fixed(w, &loads.scaled(lambda), &grid, &pred)?;
-                    let jump = max_diff(&sol.y, &pred);
-                    if jump > 0.2 + 0.5 * max_diff(&pred, y0) {
-                        return Err(ModelError::NoConvergence {
-                            method: METHOD,
-                            load_scale: lambda,
-                            iterations: it,
-                            residual: jump,
-                        });
-                    }
-                    reached = lambda;
-                    let slope = sol
-                        .y
-                        .iter()
-                        .zip(y0)
-                        .map(|(a, b)| (a - b) / (lambda - l0))
-                        .collect();
-                    Ok((lambda, sol.y, slope))
-                },
-            );
-            match r {
-                Ok(((_, y, _), stats)) => {
-                    let (sol, it) = solve_fixed(w, loads, &grid, &y)?;
-                    (sol, it, stats.steps)
-                }
-                Err(e) => {
-                    let (iterations, residual) = match e {
-                        ModelError::NoConvergence {
-                            iterations,
-                            residual,
-                            ..
-                        } => (iterations, residual),
-                        _ => (0, f64::NAN),
-                    };
-                    return Err(ModelError::NoConvergence {
-                        method: METHOD,
-                        load_scale: reached,
-                        iterations,
-                        residual,
-                    });
-                }
-            }
+            let (y, stats) = cont
+                .follow(
+                    0.0,
+                    1.0,
+                    unloaded,
+                    &BranchGuard::default(),
+                    |lambda, pred: &[f64]| {
+                        solve_fixed(w, &loads.scaled(lambda), &grid, pred).map(|(sol, _)| sol.y)
+                    },
+                )
+                .map_err(|e| ModelError::from_continuation(METHOD, e))?;
+            let (sol, it) = solve_fixed(w, loads, &grid, &y)?;
+            (sol, it, stats.steps, stats.jumps)
         }
     };
-    Ok(assemble(scene, &sol, iterations, continuation_steps, n))
+    let mut out = assemble(scene, &sol, iterations, continuation_steps, n);
+    out.stats.branch_jumps = jumps;
+    Ok((out, sol.y))
 }
 
 /// Positions by the trapezoidal rule (second order, like the FDM), moments
@@ -249,6 +226,9 @@ fn assemble(
             residual: sol.stats.residual,
             continuation_steps,
             evaluations: iterations * sol.grid.len(),
+            method_used: crate::solution::MethodKind::Fdm,
+            requested: crate::solution::MethodKind::Fdm,
+            ..SolveStats::default()
         },
     }
 }

@@ -11,7 +11,8 @@ pub(crate) mod shooting;
 
 use crate::error::{ModelError, Result};
 use crate::scene::Scene;
-use crate::solution::Solution;
+use crate::shot::Integration;
+use crate::solution::{MethodKind, Solution};
 use serde::{Deserialize, Serialize};
 
 /// A solution method of the forward problem.
@@ -51,6 +52,43 @@ impl Default for Method {
 
 /// The thesis's grid: h = 0.01.
 pub const DEFAULT_INTERVALS: usize = 100;
+
+/// Largest number of grid intervals (`fdm`, `rk4`) or output intervals (`accurate`) a
+/// method accepts: bounds the memory of one solve (a few MB).
+pub const MAX_INTERVALS: usize = 100_000;
+
+/// Smallest `accurate` integrator tolerance (DOP853 needs `tol >~ 10 eps`, and the error
+/// estimate integrates once more at `tol / 10`, floored at [`MIN_CHECK_TOL`]).
+pub const MIN_TOL: f64 = 1e-14;
+
+/// Tolerance floor of the check integration of `accurate`'s error estimate.
+pub const MIN_CHECK_TOL: f64 = 2.5e-15;
+
+/// `accurate` estimates its error by an embedded second solution: one more shot at
+/// `tol * CHECK_TOL_RATIO`.
+pub const CHECK_TOL_RATIO: f64 = 0.1;
+
+/// The bound on the error estimate of the fixed-grid methods (`fdm`, `rk4`,
+/// `fdm-richardson` on a user's grid): 5 %, twice the thesis's FDM-ANSYS discrepancy (2.55 %);
+/// beyond it the numbers are not the thesis's model.
+pub const FIXED_GRID_TOLERANCE: f64 = 5e-2;
+
+/// Right-hand-side evaluations `accurate`'s shooting may spend before it falls back to FDM
+/// with Richardson extrapolation (single shooting is ill-conditioned for thin tips under
+/// large loads and then needs many continuation steps).
+pub const SHOOTING_BUDGET: usize = 300_000;
+
+/// Right-hand-side evaluations the `rk4` continuation may spend (a few seconds at most).
+pub const RK4_BUDGET: usize = 20_000_000;
+
+/// Largest difference (tip, loaded end, base observables) between the FDM solutions on `n`
+/// and `2n` intervals, each reached by its own continuation from zero load, for them to count
+/// as the same equilibrium: same-branch solutions differ by the discretisation error (the
+/// fixed-grid tolerance at most), another branch by O(0.1..1).
+pub const BRANCH_AGREEMENT: f64 = FIXED_GRID_TOLERANCE;
+
+/// Finest grid (intervals of `[0, 1]`) of `accurate`'s FDM + Richardson fallback.
+pub const MAX_FALLBACK_INTERVALS: usize = 102_400;
 
 impl Method {
     /// `accurate` with tolerance 1e-12 and 100 output intervals.
@@ -94,7 +132,42 @@ impl Method {
         }
     }
 
+    /// The kind of this method, as reported in [`SolveStats::method_used`](crate::SolveStats).
+    pub fn kind(&self) -> MethodKind {
+        match self {
+            Method::Accurate { .. } => MethodKind::Accurate,
+            Method::Rk4 { .. } => MethodKind::Rk4,
+            Method::Fdm { .. } => MethodKind::Fdm,
+            Method::FdmRichardson { .. } => MethodKind::FdmRichardson,
+        }
+    }
+
+    /// The accuracy a solve must reach: its a-posteriori error estimate
+    /// ([`SolveStats::error_estimate`](crate::SolveStats)) is checked against this bound.
+    /// `accurate`: `max(1e4 tol, 1e-10)` (1e-8 at the default tol 1e-12); the fixed-grid
+    /// methods promise their discretisation, not an accuracy, and are refused only beyond
+    /// [`FIXED_GRID_TOLERANCE`].
+    pub fn tolerance(&self) -> f64 {
+        match *self {
+            Method::Accurate { tol, .. } => (1e4 * tol).max(1e-10),
+            _ => FIXED_GRID_TOLERANCE,
+        }
+    }
+
     fn validate(&self) -> Result<()> {
+        let n = self.intervals();
+        let max = match self {
+            Method::FdmRichardson { .. } => MAX_INTERVALS / 4,
+            _ => MAX_INTERVALS,
+        };
+        if n > max {
+            return Err(ModelError::InvalidParameter {
+                name: "n",
+                value: n as f64,
+                reason: "at most 100000 grid or output intervals (25000 for fdm-richardson, which also solves on 4n)",
+            });
+        }
+
         let n = self.intervals();
         if n < 4 {
             return Err(ModelError::InvalidParameter {
@@ -104,11 +177,11 @@ impl Method {
             });
         }
         if let Method::Accurate { tol, .. } = *self {
-            if !(tol > 0.0 && tol < 1.0) {
+            if !(MIN_TOL..=1e-2).contains(&tol) {
                 return Err(ModelError::InvalidParameter {
                     name: "tol",
                     value: tol,
-                    reason: "the integrator tolerance must be in (0, 1)",
+                    reason: "the integrator tolerance must be in [1e-14, 1e-2]",
                 });
             }
         }
@@ -117,32 +190,146 @@ impl Method {
 }
 
 /// Solves a scene with a method: the elastica [3.25] with its boundary conditions
-/// [3.21, 3.22], load continuation where the direct solve fails.
+/// [3.21, 3.22], on the equilibrium branch reached by loading from zero (load continuation
+/// with a branch guard where the direct solve is not near-linear).
+///
+/// Every solution carries an a-posteriori error estimate (see [`SolveStats`](crate::SolveStats))
+/// checked against [`Method::tolerance`]. `accurate` shoots with DOP853; where shooting fails,
+/// exceeds [`SHOOTING_BUDGET`] or its estimate exceeds the tolerance (thin tips under large
+/// loads), it falls back to FDM + Richardson on grids refined until the estimate meets the
+/// tolerance; `stats.method_used` then says `fdm-richardson`.
+///
+/// # Errors
+/// [`ModelError::InvalidParameter`] for a scene or method out of range;
+/// [`ModelError::Inaccurate`] when the estimate exceeds the tolerance; the solver's failure
+/// otherwise.
 pub fn solve(scene: &Scene, method: &Method) -> Result<Solution> {
     scene.validate()?;
     method.validate()?;
-    match *method {
-        Method::Accurate { tol, samples } => {
-            match shooting::solve(
-                scene,
-                &crate::shot::Integration::adaptive(tol),
-                samples,
-                "accurate",
-            ) {
-                Ok(sol) => Ok(sol),
-                // Single shooting is ill-conditioned for thin tips under large loads (the
-                // linearised equation grows like exp(sqrt(f)/theta^2) near the tip): fall
-                // back to the globally discretised FDM with Richardson extrapolation.
-                Err(e @ (ModelError::NoConvergence { .. } | ModelError::Solver { .. })) => {
-                    fdm_richardson(scene).map_err(|_| e)
-                }
-                Err(e) => Err(e),
+    let scene = &scene.normalised();
+    let tolerance = method.tolerance();
+    let mut sol = match *method {
+        Method::Accurate { tol, samples } => accurate(scene, tol, samples, tolerance)?,
+        Method::Rk4 { n } => {
+            let mut sol = shooting::solve(scene, &Integration::Rk4 { n }, n, "rk4", RK4_BUDGET)?;
+            let fine = Integration::Rk4 {
+                n: n.saturating_mul(2),
+            };
+            let (est, ev) = shooting::error_estimate(scene, &sol, &fine)?;
+            // RK4 is of order 4: the error of the n-step solution is 16/15 of its
+            // difference from the 2n-step one.
+            sol.stats.error_estimate = est * 16.0 / 15.0;
+            sol.stats.evaluations += ev;
+            sol.stats.method_used = MethodKind::Rk4;
+            sol
+        }
+        Method::Fdm { n } => {
+            let (mut sol, y) = fdm::solve_from(scene, n, None)?;
+            let fine_n = n.saturating_mul(2);
+            let guess = prolong(&y, fdm::intervals(fine_n, scene.loads.s1));
+            let (fine, _) = fdm::solve_from(scene, fine_n, Some(&guess))?;
+            // Order 2: the error of the n-grid solution is 4/3 of its difference from 2n.
+            sol.stats.error_estimate = difference(&sol, &fine) * 4.0 / 3.0;
+            sol.stats.evaluations += fine.stats.evaluations;
+            sol
+        }
+        Method::FdmRichardson { n } => fdm_richardson_on(scene, n)?,
+    };
+    sol.stats.requested = method.kind();
+    sol.stats.tolerance = tolerance;
+    check_estimate(scene, &sol)?;
+    Ok(sol)
+}
+
+/// Refuses a solution whose error estimate is not within its tolerance (NaN included).
+fn check_estimate(scene: &Scene, sol: &Solution) -> Result<()> {
+    let est = sol.stats.error_estimate;
+    if est <= sol.stats.tolerance {
+        return Ok(());
+    }
+    Err(ModelError::Inaccurate {
+        method: sol.stats.method_used.name(),
+        estimate: est,
+        tolerance: sol.stats.tolerance,
+        theta: scene.whisker.theta,
+        hint: match sol.stats.requested {
+            MethodKind::Accurate => "the tip boundary layer is not resolved within the budgets",
+            _ => "use a finer grid (--n) or the accurate method",
+        },
+    })
+}
+
+/// `accurate`: DOP853 shooting with an independent estimate (a second shot at
+/// `tol * CHECK_TOL_RATIO`);
+/// the FDM + Richardson fallback where shooting fails or does not meet `tolerance`.
+fn accurate(scene: &Scene, tol: f64, samples: usize, tolerance: f64) -> Result<Solution> {
+    let check_tol = (tol * CHECK_TOL_RATIO).max(MIN_CHECK_TOL);
+    let shot = shooting::solve_accurate(scene, tol, check_tol, samples, SHOOTING_BUDGET);
+    let shooting_evaluations = match &shot {
+        Ok(sol) if sol.stats.error_estimate <= tolerance => return shot,
+        Ok(sol) => sol.stats.evaluations,
+        Err(_) => 0,
+    };
+    // Single shooting is ill-conditioned for thin tips under large loads (the linearised
+    // equation grows like exp(sqrt(f)/theta^2) near the tip): fall back to the globally
+    // discretised FDM with Richardson extrapolation, refined until its estimate meets the
+    // tolerance.
+    let mut sol = match fdm_richardson_adaptive(scene, tolerance) {
+        Ok(sol) => sol,
+        // nothing better: report the shooting failure (or its too large estimate)
+        Err(e) => {
+            return match shot {
+                Ok(sol) => Err(ModelError::Inaccurate {
+                    method: "accurate",
+                    estimate: sol.stats.error_estimate,
+                    tolerance,
+                    theta: scene.whisker.theta,
+                    hint: "the fdm-richardson fallback failed as well",
+                }),
+                Err(_) => Err(e),
             }
         }
-        Method::Rk4 { n } => shooting::solve(scene, &crate::shot::Integration::Rk4 { n }, n, "rk4"),
-        Method::Fdm { n } => fdm::solve(scene, n),
-        Method::FdmRichardson { n } => fdm_richardson_on(scene, n),
+    };
+    sol.stats.evaluations += shooting_evaluations;
+    Ok(sol)
+}
+
+/// Largest difference of the tip, loaded end and base observables of two solutions.
+fn difference(a: &Solution, b: &Solution) -> f64 {
+    [
+        a.tip.x - b.tip.x,
+        a.tip.y - b.tip.y,
+        a.tip.phi - b.tip.phi,
+        a.loaded_end.x - b.loaded_end.x,
+        a.loaded_end.y - b.loaded_end.y,
+        a.loaded_end.phi - b.loaded_end.phi,
+        a.base.ma - b.base.ma,
+        a.base.phi0 - b.base.phi0,
+        a.base.ax - b.base.ax,
+        a.base.ay - b.base.ay,
+    ]
+    .iter()
+    .fold(
+        0.0,
+        |m, d| if d.is_nan() { f64::NAN } else { m.max(d.abs()) },
+    )
+}
+
+/// Linear interpolation of nodal values on a uniform grid onto a uniform grid of the same
+/// interval with `intervals` intervals (a warm start for a finer FDM grid).
+fn prolong(y: &[f64], intervals: usize) -> Vec<f64> {
+    let nc = y.len().saturating_sub(1);
+    if nc == 0 {
+        return vec![y.first().copied().unwrap_or(0.0); intervals + 1];
     }
+    (0..=intervals)
+        .map(|i| {
+            let t = i as f64 * nc as f64 / intervals as f64;
+            let j = (t.floor() as usize).min(nc - 1);
+            let w = t - j as f64;
+            (1.0 - w) * y[j] + w * y[j + 1]
+        })
+        .collect()
 }
 
 /// The solution of a scene whose tip angle `phi1` is already known (e.g. from a contact
@@ -157,11 +344,15 @@ pub fn shape_from_tip_angle(
     scene.validate()?;
     Method::Accurate { tol, samples }.validate()?;
     shooting::shape(
-        scene,
+        &scene.normalised(),
         phi1,
         &crate::shot::Integration::adaptive(tol),
         samples,
-        crate::solution::SolveStats::default(),
+        crate::solution::SolveStats {
+            method_used: MethodKind::Shape,
+            requested: MethodKind::Shape,
+            ..Default::default()
+        },
         "accurate",
     )
 }
@@ -182,7 +373,11 @@ pub fn shape_with(
         phi1,
         integration,
         samples,
-        crate::solution::SolveStats::default(),
+        crate::solution::SolveStats {
+            method_used: MethodKind::Shape,
+            requested: MethodKind::Shape,
+            ..Default::default()
+        },
         "shape",
     )
 }
@@ -190,47 +385,137 @@ pub fn shape_with(
 /// FDM on `n, 2n, 4n` intervals (`n = max(200, 40/theta)`, fine enough to resolve a thin tip)
 /// with two levels of Richardson extrapolation (the central scheme and the trapezoidal
 /// positions expand in even powers of h: order 2 -> 6) of the tip, the loaded end and the
-/// base observables; the elastica is the finest grid's. `stats.residual` holds the
-/// extrapolation's error estimate. The fallback of `accurate` where shooting fails.
+/// base observables; the elastica is the finest grid's. `stats.error_estimate` holds the
+/// extrapolation's error estimate.
 pub fn fdm_richardson(scene: &Scene) -> Result<Solution> {
-    let n0 = ((40.0 / scene.whisker.theta).ceil() as usize).max(200);
-    fdm_richardson_on(scene, n0)
+    scene.validate()?;
+    let n0 = ((40.0 / scene.whisker.theta).ceil() as usize).clamp(200, MAX_INTERVALS / 4);
+    let mut sol = fdm_richardson_on(&scene.normalised(), n0)?;
+    sol.stats.requested = MethodKind::FdmRichardson;
+    sol.stats.tolerance = FIXED_GRID_TOLERANCE;
+    check_estimate(scene, &sol)?;
+    Ok(sol)
+}
+
+/// FDM solutions on `n0 2^j`, the first by continuation from zero load, each next one
+/// warm-started from the previous one interpolated (no second continuation).
+struct GridLadder<'a> {
+    scene: &'a Scene,
+    levels: Vec<(Solution, Vec<f64>)>,
+    n: usize,
+}
+
+impl<'a> GridLadder<'a> {
+    /// The grids `n0` and `2 n0`, each solved by its own continuation from zero load: on a
+    /// grid that does not resolve the tip's boundary layer the discrete load path can reach
+    /// another equilibrium than the continuous one, and two grids that disagree by more than
+    /// [`BRANCH_AGREEMENT`] expose it ([`ModelError::BranchAmbiguous`]).
+    fn new(scene: &'a Scene, n0: usize, method: &'static str) -> Result<Self> {
+        let first = fdm::solve_from(scene, n0, None)?;
+        let second = fdm::solve_from(scene, n0.saturating_mul(2), None)?;
+        let distance = difference(&first.0, &second.0);
+        // NaN counts as a disagreement
+        if distance.is_nan() || distance > BRANCH_AGREEMENT {
+            return Err(ModelError::BranchAmbiguous {
+                method,
+                n: n0,
+                distance,
+            });
+        }
+        Ok(GridLadder {
+            scene,
+            levels: vec![first, second],
+            n: n0.saturating_mul(2),
+        })
+    }
+
+    fn refine(&mut self) -> Result<()> {
+        let n = self.n.saturating_mul(2);
+        let guess = self
+            .levels
+            .last()
+            .map(|(_, y)| prolong(y, fdm::intervals(n, self.scene.loads.s1)));
+        self.levels
+            .push(fdm::solve_from(self.scene, n, guess.as_deref())?);
+        self.n = n;
+        Ok(())
+    }
+
+    /// Richardson extrapolation (two levels, order 2 -> 6) of the last three grids.
+    fn extrapolate(&self) -> Result<Solution> {
+        let k = self.levels.len();
+        let sols = [
+            &self.levels[k - 3].0,
+            &self.levels[k - 2].0,
+            &self.levels[k - 1].0,
+        ];
+        let mut best = sols[2].clone();
+        let mut err: f64 = 0.0;
+        let mut set = |slot: &mut f64, get: &dyn Fn(&Solution) -> f64| -> Result<()> {
+            let v: Vec<f64> = sols.iter().map(|s| get(s)).collect();
+            let e = bvp_solvers::richardson::richardson(&v, 2, 2)?;
+            *slot = e.value;
+            err = if e.error_estimate.is_nan() {
+                f64::NAN
+            } else {
+                err.max(e.error_estimate.abs())
+            };
+            Ok(())
+        };
+        set(&mut best.tip.x, &|s| s.tip.x)?;
+        set(&mut best.tip.y, &|s| s.tip.y)?;
+        set(&mut best.tip.phi, &|s| s.tip.phi)?;
+        set(&mut best.loaded_end.x, &|s| s.loaded_end.x)?;
+        set(&mut best.loaded_end.y, &|s| s.loaded_end.y)?;
+        set(&mut best.loaded_end.phi, &|s| s.loaded_end.phi)?;
+        set(&mut best.base.ma, &|s| s.base.ma)?;
+        set(&mut best.base.phi0, &|s| s.base.phi0)?;
+        let (ax, ay) = self.scene.base_reactions(best.loaded_end.phi);
+        best.base.ax = ax;
+        best.base.ay = ay;
+        // the extrapolated phi1 moves an AP force's reactions by up to f |dphi1|
+        best.stats.error_estimate = err * (1.0 + self.scene.loads.tip.f);
+        best.stats.residual = sols[2].stats.residual;
+        best.stats.evaluations = self.levels.iter().map(|(s, _)| s.stats.evaluations).sum();
+        best.stats.continuation_steps = self.levels[0].0.stats.continuation_steps;
+        best.stats.branch_jumps = self.levels[0].0.stats.branch_jumps;
+        best.stats.method_used = MethodKind::FdmRichardson;
+        Ok(best)
+    }
 }
 
 /// FDM with two Richardson levels from a coarsest grid of `n0` intervals per unit length
 /// (method [`Method::FdmRichardson`]).
 fn fdm_richardson_on(scene: &Scene, n0: usize) -> Result<Solution> {
-    scene.validate()?;
-    let sols = [
-        fdm::solve(scene, n0)?,
-        fdm::solve(scene, 2 * n0)?,
-        fdm::solve(scene, 4 * n0)?,
-    ];
-    let extrapolate = |get: &dyn Fn(&Solution) -> f64| -> Result<(f64, f64)> {
-        let v: Vec<f64> = sols.iter().map(get).collect();
-        let e = bvp_solvers::richardson::richardson(&v, 2, 2)?;
-        Ok((e.value, e.error_estimate.abs()))
+    let mut ladder = GridLadder::new(scene, n0, "fdm-richardson")?;
+    ladder.refine()?;
+    ladder.extrapolate()
+}
+
+/// `accurate`'s fallback: FDM + Richardson on the last three of the grids `n0 2^j`
+/// (`n0 = max(100, 2/theta)`: two nodes across the tip's boundary layer), the first two by
+/// independent continuations from zero load that must reach the same equilibrium (else
+/// `n0` is doubled, up to a quarter of [`MAX_FALLBACK_INTERVALS`]), adding grids until the
+/// extrapolation's estimate meets `tolerance` or the finest grid reaches
+/// [`MAX_FALLBACK_INTERVALS`].
+fn fdm_richardson_adaptive(scene: &Scene, tolerance: f64) -> Result<Solution> {
+    let mut n0 = ((2.0 / scene.whisker.theta).ceil() as usize).max(100);
+    let mut ladder = loop {
+        match GridLadder::new(scene, n0, "fdm-richardson") {
+            Err(ModelError::BranchAmbiguous { .. }) if 8 * n0 <= MAX_FALLBACK_INTERVALS => {
+                n0 *= 2;
+            }
+            other => break other?,
+        }
     };
-    let mut best = sols[2].clone();
-    let mut err: f64 = 0.0;
-    let mut set = |slot: &mut f64, get: &dyn Fn(&Solution) -> f64| -> Result<()> {
-        let (v, e) = extrapolate(get)?;
-        *slot = v;
-        err = err.max(e);
-        Ok(())
-    };
-    set(&mut best.tip.x, &|s| s.tip.x)?;
-    set(&mut best.tip.y, &|s| s.tip.y)?;
-    set(&mut best.tip.phi, &|s| s.tip.phi)?;
-    set(&mut best.loaded_end.x, &|s| s.loaded_end.x)?;
-    set(&mut best.loaded_end.y, &|s| s.loaded_end.y)?;
-    set(&mut best.loaded_end.phi, &|s| s.loaded_end.phi)?;
-    set(&mut best.base.ma, &|s| s.base.ma)?;
-    set(&mut best.base.phi0, &|s| s.base.phi0)?;
-    let (ax, ay) = scene.base_reactions(best.loaded_end.phi);
-    best.base.ax = ax;
-    best.base.ay = ay;
-    best.stats.residual = err;
-    best.stats.evaluations = sols.iter().map(|s| s.stats.evaluations).sum();
-    Ok(best)
+    ladder.refine()?;
+    loop {
+        let sol = ladder.extrapolate()?;
+        if sol.stats.error_estimate <= tolerance
+            || ladder.n.saturating_mul(2) > MAX_FALLBACK_INTERVALS
+        {
+            return Ok(sol);
+        }
+        ladder.refine()?;
+    }
 }

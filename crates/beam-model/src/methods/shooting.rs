@@ -9,7 +9,7 @@ use crate::scene::Scene;
 use crate::shot::{shoot, shoot_path, Integration, ShotPath};
 use crate::solution::{BaseObservables, Elastica, EndState, Solution, SolveStats};
 use crate::whisker::Whisker;
-use bvp_solvers::continuation::Continuation;
+use bvp_solvers::continuation::{BranchGuard, Continuation};
 use bvp_solvers::integrator::{OdeSystem, Rk4};
 use std::f64::consts::FRAC_PI_2;
 
@@ -20,6 +20,13 @@ pub(crate) struct TipSolve {
     pub iterations: usize,
     pub residual: f64,
     pub evaluations: usize,
+    /// `(phi0, m0, dx, dy)` at `phi1` from the Newton shots (linearly extrapolated from the
+    /// last shot when Newton's last step was not shot).
+    pub values: [f64; 4],
+    /// Their derivatives with respect to `phi1` (from the last shot with sensitivities).
+    pub sens: [f64; 4],
+    /// Continuation steps rejected as branch jumps.
+    pub branch_jumps: usize,
 }
 
 const MAX_NEWTON: usize = 40;
@@ -33,10 +40,21 @@ pub(crate) fn newton_tip_angle(
     guess: f64,
     method: &'static str,
 ) -> Result<TipSolve> {
-    newton_to(whisker, loads, integration, guess, method, 1e-13, false)
+    newton_to(
+        whisker,
+        loads,
+        integration,
+        guess,
+        method,
+        1e-13,
+        false,
+        1.0,
+    )
 }
 
-/// Newton on the tip angle to the residual tolerance `tol` (relative to `1 + |m0|/k`).
+/// Newton on the tip angle to the residual tolerance `tol` (relative to `1 + |m0|/k`);
+/// `load_scale` is reported with a failure.
+#[allow(clippy::too_many_arguments)]
 fn newton_to(
     whisker: &Whisker,
     loads: &Loads,
@@ -45,6 +63,7 @@ fn newton_to(
     method: &'static str,
     tol: f64,
     verify_last: bool,
+    load_scale: f64,
 ) -> Result<TipSolve> {
     let c = whisker.support.compliance();
     let mut p = guess;
@@ -57,12 +76,17 @@ fn newton_to(
         let dr = shot.sens[0][0] - c * shot.sens[0][1];
         last_r = r.abs();
         let scale = 1.0 + shot.m0.abs() * c;
+        let sens = shot.sens[0];
+        let values = [shot.phi0, shot.m0, shot.dx, shot.dy];
         if r.abs() <= tol * scale {
             return Ok(TipSolve {
                 phi1: p,
                 iterations: it,
                 residual: r.abs(),
                 evaluations,
+                values,
+                sens,
+                branch_jumps: 0,
             });
         }
         if !(dr.is_finite() && dr != 0.0) {
@@ -73,11 +97,18 @@ fn newton_to(
         if verify_last && r.abs() <= 1e-7 * scale {
             // Quadratic convergence: this step brings the residual to ~r^2, far below the
             // tolerance; the caller's final shot verifies it instead of one more shot here.
+            let mut values = values;
+            for (v, d) in values.iter_mut().zip(sens) {
+                *v += d * step;
+            }
             return Ok(TipSolve {
                 phi1: p,
                 iterations: it + 1,
                 residual: f64::NAN,
                 evaluations,
+                values,
+                sens,
+                branch_jumps: 0,
             });
         }
         if step.abs() <= 4.0 * f64::EPSILON * p.abs().max(1.0) {
@@ -90,6 +121,9 @@ fn newton_to(
                     iterations: it + 1,
                     residual: r.abs(),
                     evaluations: evaluations + shot.evaluations,
+                    values: [shot.phi0, shot.m0, shot.dx, shot.dy],
+                    sens,
+                    branch_jumps: 0,
                 });
             }
             last_r = r.abs();
@@ -98,7 +132,7 @@ fn newton_to(
     }
     Err(ModelError::NoConvergence {
         method,
-        load_scale: 1.0,
+        load_scale,
         iterations: MAX_NEWTON,
         residual: last_r,
     })
@@ -115,15 +149,16 @@ pub(crate) fn severity(whisker: &Whisker, loads: &Loads) -> f64 {
 
 /// Newton on the tip angle, on the branch connected to the unloaded whisker: a direct solve
 /// for mild loads, otherwise load continuation in a scale factor lambda in [0, 1] on f and q
-/// with a secant predictor, each corrector warm-started from the prediction. A corrector that
-/// lands far from its prediction has jumped branches and counts as a failure (the step is
-/// halved).
-pub(crate) fn solve_tip_angle(
+/// ([`Continuation::follow`]: secant predictor, each corrector warm-started from the
+/// prediction, a corrector that lands far from its prediction has jumped branches and counts
+/// as a failure), stopped after `budget` right-hand-side evaluations.
+pub(crate) fn solve_tip_angle_within(
     whisker: &Whisker,
     loads: &Loads,
     integration: &Integration,
     guess: Option<f64>,
     method: &'static str,
+    budget: usize,
 ) -> Result<(TipSolve, usize)> {
     let unloaded = whisker.phi_unloaded(loads.s1);
     let sev = severity(whisker, loads);
@@ -135,8 +170,7 @@ pub(crate) fn solve_tip_angle(
         // A direct solve is kept only near the unloaded shape (at most 0.5 rad of rotation at
         // either end); otherwise it may have landed on another branch and continuation decides.
         if let Ok(t) = newton_tip_angle(whisker, loads, integration, unloaded, method) {
-            let shot = shoot(whisker, loads, t.phi1, Sensitivities::None, integration)?;
-            if (t.phi1 - unloaded).abs() <= 0.5 && (shot.phi0 - FRAC_PI_2).abs() <= 0.5 {
+            if (t.phi1 - unloaded).abs() <= 0.5 && (t.values[0] - FRAC_PI_2).abs() <= 0.5 {
                 return Ok((t, 0));
             }
         }
@@ -144,87 +178,61 @@ pub(crate) fn solve_tip_angle(
     let first = (1.0 / sev.ceil()).clamp(1e-3, 1.0);
     let cont = Continuation {
         initial_step: first,
-        min_step: 1e-4,
+        min_step: 1e-8,
         max_step: (2.0 * first).min(1.0),
     };
-    let mut reached = 0.0;
-    let mut last_err: Option<ModelError> = None;
     let mut evaluations = 0;
     let loose = match integration {
         Integration::Dop853(d) => Integration::adaptive(d.rtol.max(1e-8)),
         other => other.clone(),
     };
-    // state: (lambda, phi1, d phi1 / d lambda)
-    let result = cont.run(
-        0.0,
+    let (phi1, stats) = cont
+        .follow(
+            0.0,
+            1.0,
+            vec![unloaded],
+            &BranchGuard::default(),
+            |lambda, pred: &[f64]| {
+                if evaluations > budget {
+                    return Err(ModelError::Budget {
+                        method,
+                        what: "right-hand-side evaluations",
+                        limit: budget,
+                    });
+                }
+                // intermediate load steps only guide the branch: a looser integrator and
+                // residual, the full accuracy is restored by the final Newton at lambda = 1
+                let t = newton_to(
+                    whisker,
+                    &loads.scaled(lambda),
+                    &loose,
+                    pred[0],
+                    method,
+                    1e-8,
+                    false,
+                    lambda,
+                )?;
+                evaluations += t.evaluations;
+                Ok(vec![t.phi1])
+            },
+        )
+        .map_err(|e| {
+            // the budget stops the run at once, whatever the step size
+            ModelError::from_continuation(method, e)
+        })?;
+    let mut t = newton_to(
+        whisker,
+        loads,
+        integration,
+        phi1[0],
+        method,
+        1e-13,
+        true,
         1.0,
-        (0.0, unloaded, 0.0),
-        |lambda, &(l0, p0, slope): &(f64, f64, f64)| {
-            if lambda == 0.0 {
-                return Ok((0.0, unloaded, 0.0));
-            }
-            let pred = p0 + slope * (lambda - l0);
-            // intermediate load steps only guide the branch: a looser integrator and
-            // residual, the full accuracy is restored by the final Newton at lambda = 1
-            let t = newton_to(
-                whisker,
-                &loads.scaled(lambda),
-                &loose,
-                pred,
-                method,
-                1e-8,
-                false,
-            );
-            match t {
-                Ok(t) => {
-                    evaluations += t.evaluations;
-                    let jump = (t.phi1 - pred).abs();
-                    if jump > 0.2 + 0.5 * (pred - p0).abs() {
-                        let e = ModelError::NoConvergence {
-                            method,
-                            load_scale: lambda,
-                            iterations: t.iterations,
-                            residual: jump,
-                        };
-                        last_err = Some(e.clone());
-                        return Err(e);
-                    }
-                    reached = lambda;
-                    Ok((lambda, t.phi1, (t.phi1 - p0) / (lambda - l0)))
-                }
-                Err(e) => {
-                    last_err = Some(e.clone());
-                    Err(e)
-                }
-            }
-        },
-    );
-    match result {
-        Ok(((_, phi1, _), stats)) => {
-            let mut t = newton_to(whisker, loads, integration, phi1, method, 1e-13, true)?;
-            t.evaluations += evaluations;
-            Ok((t, stats.steps))
-        }
-        Err(_) => Err(match last_err {
-            Some(ModelError::NoConvergence {
-                iterations,
-                residual,
-                ..
-            }) => ModelError::NoConvergence {
-                method,
-                load_scale: reached,
-                iterations,
-                residual,
-            },
-            Some(e) => e,
-            None => ModelError::NoConvergence {
-                method,
-                load_scale: reached,
-                iterations: MAX_NEWTON,
-                residual: f64::NAN,
-            },
-        }),
-    }
+    )?;
+    t.evaluations += evaluations;
+    t.branch_jumps = stats.jumps;
+    Ok((t, stats.steps))
 }
 
 /// The load-free segment `(s1, 1]`: `phi = phi1 + A (s^2 - s1^2)/2 + B (s - s1)`,
@@ -254,39 +262,161 @@ impl OdeSystem for FreeSegment {
     }
 }
 
-/// Solves a scene by shooting and samples the elastica.
+/// Solves a scene by shooting and samples the elastica; the continuation stops with
+/// [`ModelError::Budget`] after `budget` right-hand-side evaluations. `stats.residual` is
+/// the base residual [3.21, 3.22] of the returned (final) shot.
 pub(crate) fn solve(
     scene: &Scene,
     integration: &Integration,
     samples: usize,
     method: &'static str,
+    budget: usize,
 ) -> Result<Solution> {
     let w = &scene.whisker;
     let loads = &scene.loads;
-    let (tip, continuation_steps) = solve_tip_angle(w, loads, integration, None, method)?;
-    let stats = SolveStats {
+    let (tip, continuation_steps) =
+        solve_tip_angle_within(w, loads, integration, None, method, budget)?;
+    let mut stats = SolveStats {
         iterations: tip.iterations,
         residual: tip.residual,
         continuation_steps,
         evaluations: tip.evaluations,
+        branch_jumps: tip.branch_jumps,
+        ..SolveStats::default()
     };
     let mut sol = shape(scene, tip.phi1, integration, samples, stats, method)?;
     // The final shot verifies the base condition [3.21, 3.22] of the last Newton step.
-    let m0 = -sol.base.ma;
-    let r = w.support.residual(sol.base.phi0, m0).abs();
-    if r > 1e-12 * (1.0 + m0.abs() * w.support.compliance()) {
+    let scale = |sol: &Solution| 1.0 + sol.base.ma.abs() * w.support.compliance();
+    let residual = |sol: &Solution| w.support.residual(sol.base.phi0, -sol.base.ma).abs();
+    if residual(&sol) > 1e-12 * scale(&sol) {
         let t = newton_tip_angle(w, loads, integration, tip.phi1, method)?;
-        let stats = SolveStats {
-            iterations: tip.iterations + t.iterations,
-            residual: t.residual,
-            continuation_steps,
-            evaluations: tip.evaluations + t.evaluations,
-        };
+        stats.iterations += t.iterations;
+        stats.evaluations += t.evaluations;
         sol = shape(scene, t.phi1, integration, samples, stats, method)?;
-    } else {
-        sol.stats.residual = r;
     }
+    sol.stats.residual = residual(&sol);
     Ok(sol)
+}
+
+/// `accurate`: Newton on the tip angle with DOP853 at `tol` and the elastica from a dense
+/// shot at `tol` (re-solved if that shot's base residual exceeds 1e-12), then an embedded
+/// second solution: one more shot from the same tip angle at the tighter tolerance
+/// `check_tol`, corrected by one Newton step `dphi1 = -R_check / R'` on the base condition
+/// [3.21, 3.22] (with the derivative `R'` of the last Newton shot). The error estimate is the
+/// largest difference of the corrected `(phi0, m0, x1, y1, phi1)` from the returned ones
+/// (plus the tip's and an AP force's dependence on phi1): independent of the solve's own
+/// residual.
+pub(crate) fn solve_accurate(
+    scene: &Scene,
+    tol: f64,
+    check_tol: f64,
+    samples: usize,
+    budget: usize,
+) -> Result<Solution> {
+    let w = &scene.whisker;
+    let loads = &scene.loads;
+    let method = "accurate";
+    let integration = Integration::adaptive(tol);
+    let (tip, continuation_steps) =
+        solve_tip_angle_within(w, loads, &integration, None, method, budget)?;
+    let mut stats = SolveStats {
+        iterations: tip.iterations,
+        residual: tip.residual,
+        continuation_steps,
+        evaluations: tip.evaluations,
+        branch_jumps: tip.branch_jumps,
+        method_used: crate::solution::MethodKind::Accurate,
+        ..SolveStats::default()
+    };
+    let mut sens = tip.sens;
+    let mut sol = shape(scene, tip.phi1, &integration, samples, stats, method)?;
+    // The final shot verifies the base condition [3.21, 3.22] of the last Newton step.
+    let c = w.support.compliance();
+    let scale = |sol: &Solution| 1.0 + sol.base.ma.abs() * c;
+    let residual = |sol: &Solution| w.support.residual(sol.base.phi0, -sol.base.ma).abs();
+    if residual(&sol) > 1e-12 * scale(&sol) {
+        let t = newton_tip_angle(w, loads, &integration, tip.phi1, method)?;
+        stats.iterations += t.iterations;
+        stats.evaluations += t.evaluations;
+        sens = t.sens;
+        sol = shape(scene, t.phi1, &integration, samples, stats, method)?;
+    }
+    sol.stats.residual = residual(&sol);
+    // the embedded second solution
+    let shot = shoot(
+        w,
+        loads,
+        sol.loaded_end.phi,
+        Sensitivities::None,
+        &Integration::adaptive(check_tol),
+    )?;
+    sol.stats.evaluations += shot.evaluations;
+    let r = w.support.residual(shot.phi0, shot.m0);
+    let dr = sens[0] - c * sens[1];
+    let d = if dr.is_finite() && dr != 0.0 {
+        -r / dr
+    } else {
+        f64::INFINITY
+    };
+    let diffs = [
+        shot.phi0 + sens[0] * d - sol.base.phi0,
+        shot.m0 + sens[1] * d + sol.base.ma,
+        shot.dx + sens[2] * d - sol.loaded_end.x,
+        shot.dy + sens[3] * d - sol.loaded_end.y,
+        d,
+    ];
+    let mut est = diffs.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+    if !est.is_finite() {
+        est = f64::INFINITY;
+    }
+    est += d.abs() * (1.0 - loads.s1);
+    if loads.tip.kind == crate::loads::LoadKind::Ap {
+        est = est.max(d.abs() * loads.tip.f);
+    }
+    sol.stats.error_estimate = est;
+    Ok(sol)
+}
+
+/// A-posteriori error estimate of a shooting solution, independent of its residual: a
+/// second shot from the same tip angle with the integrator `check` (tighter tolerance or
+/// finer grid), corrected by one Newton step on the base condition [3.21, 3.22] with the
+/// exact derivative `dR/dphi1`, gives a second solution `(phi1', phi0', m0', x', y')`; the
+/// estimate is the largest difference from `sol` (the tip beyond `s1` moves with phi1 by at
+/// most `(1 - s1) |dphi1|`, an AP force's reactions by `f |dphi1|`). Returns the estimate
+/// and the evaluations spent.
+pub(crate) fn error_estimate(
+    scene: &Scene,
+    sol: &Solution,
+    check: &Integration,
+) -> Result<(f64, usize)> {
+    let w = &scene.whisker;
+    let loads = &scene.loads;
+    let phi1 = sol.loaded_end.phi;
+    let shot = shoot(w, loads, phi1, Sensitivities::TipAngle, check)?;
+    let c = w.support.compliance();
+    let r = w.support.residual(shot.phi0, shot.m0);
+    let dr = shot.sens[0][0] - c * shot.sens[0][1];
+    if !(dr.is_finite() && dr != 0.0) {
+        return Ok((f64::INFINITY, shot.evaluations));
+    }
+    let d = -r / dr;
+    let sens = shot.sens[0];
+    let diffs = [
+        shot.phi0 + sens[0] * d - sol.base.phi0,
+        shot.m0 + sens[1] * d + sol.base.ma,
+        shot.dx + sens[2] * d - sol.loaded_end.x,
+        shot.dy + sens[3] * d - sol.loaded_end.y,
+        d,
+    ];
+    let mut est = diffs.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+    if !est.is_finite() {
+        est = f64::INFINITY;
+    }
+    est += d.abs() * (1.0 - loads.s1);
+    if loads.tip.kind == crate::loads::LoadKind::Ap {
+        est = est.max(d.abs() * loads.tip.f);
+    }
+    Ok((est, shot.evaluations))
 }
 
 /// The elastica, tip and observables for a known tip angle `phi1` (one integration from
@@ -307,6 +437,9 @@ pub(crate) fn shape(
         iterations: stats.iterations,
         residual: stats.residual,
         evaluations: stats.evaluations,
+        values: [f64::NAN; 4],
+        sens: [f64::NAN; 4],
+        branch_jumps: 0,
     };
     let (shot, path) = shoot_path(w, loads, phi1, Sensitivities::None, integration, true)?;
     stats.evaluations += shot.evaluations;

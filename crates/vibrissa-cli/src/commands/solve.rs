@@ -83,6 +83,10 @@ pub fn solution_json(r: &Resolved, sol: &Solution) -> Value {
             "residual": num(sol.stats.residual),
             "continuation_steps": sol.stats.continuation_steps,
             "evaluations": sol.stats.evaluations,
+            "error_estimate": num(sol.stats.error_estimate),
+            "tolerance": num(sol.stats.tolerance),
+            "method_used": sol.stats.method_used.name(),
+            "branch_jumps": sol.stats.branch_jumps,
         },
         "scene": {
             "theta": num(s.whisker.theta),
@@ -123,15 +127,26 @@ pub fn solution_json(r: &Resolved, sol: &Solution) -> Value {
 
 fn human_summary(r: &Resolved, sol: &Solution) -> String {
     let mut out = format!(
-        "solve: {} (n = {}), {} iterations, residual {:.2e}{}\n",
+        "solve: {} (n = {}){}, {} iterations, residual {:.2e}, estimated error {:.1e} (tolerance {:.0e}){}\n",
         r.method.name(),
         r.method.intervals(),
+        if sol.stats.fell_back() {
+            format!(" -> fell back to {}", sol.stats.method_used.name())
+        } else {
+            String::new()
+        },
         sol.stats.iterations,
         sol.stats.residual,
+        sol.stats.error_estimate,
+        sol.stats.tolerance,
         if sol.stats.continuation_steps > 0 {
             format!(", {} continuation steps", sol.stats.continuation_steps)
         } else {
             String::new()
+        } + if sol.stats.branch_jumps > 0 {
+            "; other equilibria exist along the load path (the one returned is reached by loading from zero)"
+        } else {
+            ""
         }
     );
     out += &format!(

@@ -46,6 +46,16 @@ pub fn run(args: &SweepArgs) -> Result<(), CliError> {
         (None, Some(s)) => s.points,
         (None, None) => DEFAULT_POINTS,
     };
+    if points > crate::resolve::MAX_COUNT {
+        return Err(CliError::invalid_argument(
+            "sweep.points",
+            points.to_string(),
+            format!(
+                "must be at most {} (the memory and time of one run are bounded)",
+                crate::resolve::MAX_COUNT
+            ),
+        ));
+    }
     let r = resolve_model(&args.model, file)?;
     check_sweep_loads(&r)?;
     let contour = profile.parse()?;

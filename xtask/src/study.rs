@@ -5,21 +5,29 @@
 //! elsewhere.
 //!
 //! ```no_run
-//! use beam_model::{scenarios, study};
+//! use beam_model::scenarios;
+//! use xtask::study;
 //! for (name, scene) in scenarios::reference_scenes() {
 //!     let points = study::work_precision(&scene, name).unwrap();
 //!     println!("{}", study::to_csv(&points));
 //! }
 //! ```
 
-use crate::error::{finite, ModelError, Result};
-use crate::loads::{Loads, TipForce};
-use crate::methods::{solve, Method, DEFAULT_INTERVALS};
-use crate::scene::Scene;
-use crate::solution::Solution;
-use crate::support::Support;
-use crate::units::Preset;
-use crate::whisker::Whisker;
+use beam_model::methods::{solve, Method, DEFAULT_INTERVALS};
+use beam_model::{Loads, ModelError, Preset, Result, Scene, Solution, Support, TipForce, Whisker};
+
+/// Checks that `value` is finite, naming the parameter otherwise.
+fn finite(name: &'static str, value: f64) -> Result<f64> {
+    if value.is_finite() {
+        Ok(value)
+    } else {
+        Err(ModelError::InvalidParameter {
+            name,
+            value,
+            reason: "must be a finite number",
+        })
+    }
+}
 use std::fmt::Write as _;
 use std::time::{Duration, Instant};
 
@@ -138,7 +146,8 @@ pub fn work_precision(scene: &Scene, name: &str) -> Result<Vec<WorkPoint>> {
         let point = match time_solve(scene, &method) {
             Ok((seconds, sol)) => WorkPoint {
                 scene: name.to_string(),
-                method: method.name(),
+                // the method that produced the numbers (a fallback is credited to its method)
+                method: sol.stats.method_used.name(),
                 setting: setting(&method),
                 error: (sol.tip.x - reference.tip.x)
                     .abs()
@@ -269,6 +278,13 @@ pub enum Outcome {
     /// Converged, but the tip is more than [`WRONG_TOL`] from the `accurate` reference: a
     /// different equilibrium branch or a grid too coarse.
     Wrong,
+    /// Solved on the reference branch, but by another method than the one mapped (the
+    /// method's fallback, e.g. `accurate` -> `fdm-richardson` where shooting is
+    /// ill-conditioned): the cell credits the method that produced the numbers.
+    FellBack {
+        /// The method that produced the numbers.
+        method_used: &'static str,
+    },
 }
 
 impl Outcome {
@@ -299,13 +315,14 @@ pub struct StabilityMap {
 }
 
 impl StabilityMap {
-    /// Number of cells with each outcome: (converged, failed, wrong).
+    /// Number of cells with each outcome: (converged, failed, wrong). A cell solved by a
+    /// fallback counts as failed: the mapped method did not produce its numbers.
     pub fn counts(&self) -> (usize, usize, usize) {
         let mut c = (0, 0, 0);
         for o in self.cells.iter().flatten() {
             match o {
                 Outcome::Converged { .. } => c.0 += 1,
-                Outcome::Failed => c.1 += 1,
+                Outcome::Failed | Outcome::FellBack { .. } => c.1 += 1,
                 Outcome::Wrong => c.2 += 1,
             }
         }
@@ -369,9 +386,7 @@ fn map_cell(methods: &[Method], reference_method: &Method, scene: &Scene) -> (bo
                 (Method::Accurate { tol, .. }, Method::Accurate { tol: rt, .. }, r)
                     if tol == rt =>
                 {
-                    return r.as_ref().map_or(Outcome::Failed, |r| Outcome::Converged {
-                        continuation_steps: r.stats.continuation_steps,
-                    });
+                    return r.as_ref().map_or(Outcome::Failed, converged);
                 }
                 _ => solve(scene, method),
             };
@@ -382,13 +397,24 @@ fn map_cell(methods: &[Method], reference_method: &Method, scene: &Scene) -> (bo
                 {
                     Outcome::Wrong
                 }
-                (Ok(sol), _) => Outcome::Converged {
-                    continuation_steps: sol.stats.continuation_steps,
-                },
+                (Ok(sol), _) => converged(&sol),
             }
         })
         .collect();
     (reference.is_some(), outcomes)
+}
+
+/// A solution's outcome: converged, or fell back to another method.
+fn converged(sol: &Solution) -> Outcome {
+    if sol.stats.fell_back() {
+        Outcome::FellBack {
+            method_used: sol.stats.method_used.name(),
+        }
+    } else {
+        Outcome::Converged {
+            continuation_steps: sol.stats.continuation_steps,
+        }
+    }
 }
 
 /// Stability maps of several methods over the same grid, sharing one `accurate` reference

@@ -1,0 +1,252 @@
+//! Dense output: Hairer's 7th-order continuous extension of each accepted step (three extra
+//! stages `k14..k16`), stored per step in [`OdeSolution`] and evaluated by [`OdeSolution::eval`].
+
+use super::coef::*;
+use crate::integrator::OdeSystem;
+
+/// Result of a [`Dop853`](super::Dop853) integration: the end state and (optionally) the dense output.
+#[derive(Clone, Debug)]
+pub struct OdeSolution {
+    /// Where the integration ended (`s1`, or the event location).
+    pub s_end: f64,
+    /// State at `s_end`.
+    pub u_end: Vec<f64>,
+    /// Work counters.
+    pub stats: super::IntegrationStats,
+    pub(super) dim: usize,
+    pub(super) s_start: f64,
+    pub(super) u_start: Vec<f64>,
+    /// Step start points plus the end (len = steps + 1), empty if not dense.
+    pub(super) points: Vec<f64>,
+    /// Step sizes (len = steps).
+    pub(super) hs: Vec<f64>,
+    /// 8 * dim interpolation coefficients per step.
+    pub(super) cont: Vec<f64>,
+    pub(super) dense: bool,
+}
+
+/// Evaluates the DOP853 dense output of one step with coefficients `rc` (8 blocks of `n`).
+#[inline]
+pub(super) fn dense_eval(rc: &[f64], n: usize, theta: f64, out: &mut [f64]) {
+    let t1 = 1.0 - theta;
+    for (i, o) in out.iter_mut().enumerate().take(n) {
+        let r = |j: usize| rc[j * n + i];
+        *o = r(0)
+            + theta
+                * (r(1)
+                    + t1 * (r(2)
+                        + theta
+                            * (r(3) + t1 * (r(4) + theta * (r(5) + t1 * (r(6) + theta * r(7)))))));
+    }
+}
+
+impl OdeSolution {
+    /// Dense output at `s` inside the integrated span (`None` outside, or if the solution was
+    /// computed with `dense == false`). The interpolant is Hairer's 7th-order continuous
+    /// extension, evaluated on the step containing `s`.
+    pub fn eval(&self, s: f64) -> Option<Vec<f64>> {
+        let mut out = vec![0.0; self.dim];
+        if self.eval_into(s, &mut out) {
+            Some(out)
+        } else {
+            None
+        }
+    }
+
+    /// As [`OdeSolution::eval`], writing into `out` (length `dim`); returns `false` (and leaves
+    /// `out` unspecified) if `s` is outside the span, not dense, or `out` has the wrong length.
+    pub fn eval_into(&self, s: f64, out: &mut [f64]) -> bool {
+        if !self.dense || out.len() != self.dim || !s.is_finite() {
+            return false;
+        }
+        let dir = if self.s_end >= self.s_start {
+            1.0
+        } else {
+            -1.0
+        };
+        let t = dir * (s - self.s_start);
+        if t < 0.0 || t > dir * (self.s_end - self.s_start) {
+            return false;
+        }
+        let nsteps = self.hs.len();
+        if nsteps == 0 {
+            out.copy_from_slice(&self.u_start);
+            return true;
+        }
+        if s == self.s_end {
+            out.copy_from_slice(&self.u_end);
+            return true;
+        }
+        // last step whose start is <= s (in the integration direction)
+        let idx = self.points[..nsteps]
+            .partition_point(|&p| dir * (p - self.s_start) <= t)
+            .saturating_sub(1)
+            .min(nsteps - 1);
+        let theta = (s - self.points[idx]) / self.hs[idx];
+        let n = self.dim;
+        dense_eval(&self.cont[idx * 8 * n..(idx + 1) * 8 * n], n, theta, out);
+        true
+    }
+
+    /// Accepted step end points, including the start (and ending at `s_end`); empty if the
+    /// integration was not dense.
+    pub fn step_points(&self) -> &[f64] {
+        &self.points
+    }
+
+    /// State dimension.
+    pub fn dim(&self) -> usize {
+        self.dim
+    }
+}
+
+/// Computes the 8 blocks of dense-output coefficients of the step `[x, x + h]` into `rc`
+/// (uses `k1..k13`, evaluates the extra stages `k14..k16`).
+#[allow(clippy::too_many_arguments)]
+pub(super) fn prepare<S: OdeSystem + ?Sized>(
+    sys: &S,
+    x: f64,
+    h: f64,
+    y: &[f64],
+    ynew: &[f64],
+    k: &mut [f64],
+    tmp: &mut [f64],
+    rc: &mut [f64],
+) {
+    let n = y.len();
+    combo(
+        y,
+        h,
+        k,
+        [
+            (0, A141),
+            (6, A147),
+            (7, A148),
+            (8, A149),
+            (9, A1410),
+            (10, A1411),
+            (11, A1412),
+            (12, A1413),
+        ],
+        tmp,
+    );
+    sys.rhs(x + C14 * h, tmp, &mut k[13 * n..14 * n]);
+    combo(
+        y,
+        h,
+        k,
+        [
+            (0, A151),
+            (5, A156),
+            (6, A157),
+            (7, A158),
+            (10, A1511),
+            (11, A1512),
+            (12, A1513),
+            (13, A1514),
+        ],
+        tmp,
+    );
+    sys.rhs(x + C15 * h, tmp, &mut k[14 * n..15 * n]);
+    combo(
+        y,
+        h,
+        k,
+        [
+            (0, A161),
+            (5, A166),
+            (6, A167),
+            (7, A168),
+            (8, A169),
+            (12, A1613),
+            (13, A1614),
+            (14, A1615),
+        ],
+        tmp,
+    );
+    sys.rhs(x + C16 * h, tmp, &mut k[15 * n..16 * n]);
+    for i in 0..n {
+        let ydiff = ynew[i] - y[i];
+        let bspl = h * k[i] - ydiff;
+        rc[i] = y[i];
+        rc[n + i] = ydiff;
+        rc[2 * n + i] = bspl;
+        rc[3 * n + i] = ydiff - h * k[12 * n + i] - bspl;
+        rc[4 * n + i] = h * lin(
+            k,
+            n,
+            i,
+            [
+                (0, D41),
+                (5, D46),
+                (6, D47),
+                (7, D48),
+                (8, D49),
+                (9, D410),
+                (10, D411),
+                (11, D412),
+                (12, D413),
+                (13, D414),
+                (14, D415),
+                (15, D416),
+            ],
+        );
+        rc[5 * n + i] = h * lin(
+            k,
+            n,
+            i,
+            [
+                (0, D51),
+                (5, D56),
+                (6, D57),
+                (7, D58),
+                (8, D59),
+                (9, D510),
+                (10, D511),
+                (11, D512),
+                (12, D513),
+                (13, D514),
+                (14, D515),
+                (15, D516),
+            ],
+        );
+        rc[6 * n + i] = h * lin(
+            k,
+            n,
+            i,
+            [
+                (0, D61),
+                (5, D66),
+                (6, D67),
+                (7, D68),
+                (8, D69),
+                (9, D610),
+                (10, D611),
+                (11, D612),
+                (12, D613),
+                (13, D614),
+                (14, D615),
+                (15, D616),
+            ],
+        );
+        rc[7 * n + i] = h * lin(
+            k,
+            n,
+            i,
+            [
+                (0, D71),
+                (5, D76),
+                (6, D77),
+                (7, D78),
+                (8, D79),
+                (9, D710),
+                (10, D711),
+                (11, D712),
+                (12, D713),
+                (13, D714),
+                (14, D715),
+                (15, D716),
+            ],
+        );
+    }
+}

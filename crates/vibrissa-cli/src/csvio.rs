@@ -297,12 +297,43 @@ pub fn parse_table(
         Ok(rec) => rec.iter().any(|f| !f.is_empty()),
         Err(_) => true,
     });
-    let line_of_err = |e: &csv::Error| e.position().map_or(1, |p| p.line() as usize);
+    // 1-based file lines. The csv crate reports where a record's reading began (right
+    // after the previous record, before skipped blank and comment lines): step over those
+    // to the record's first line.
+    let bytes = text.as_bytes();
+    let newlines: Vec<usize> = bytes
+        .iter()
+        .enumerate()
+        .filter(|(_, b)| **b == b'\n')
+        .map(|(i, _)| i)
+        .collect();
+    let line_at = |byte: u64| {
+        let mut i = (byte as usize).min(bytes.len());
+        loop {
+            while i < bytes.len() && (bytes[i] == b'\n' || bytes[i] == b'\r') {
+                i += 1;
+            }
+            let end = bytes[i..]
+                .iter()
+                .position(|&b| b == b'\n')
+                .map_or(bytes.len(), |k| i + k);
+            let line = &bytes[i..end];
+            let skip = line.first() == Some(&b'#')
+                || (!line.is_empty() && line.iter().all(u8::is_ascii_whitespace));
+            if skip && end < bytes.len() {
+                i = end;
+            } else {
+                break;
+            }
+        }
+        newlines.partition_point(|&k| k < i) + 1
+    };
+    let line_of_err = |e: &csv::Error| e.position().map_or(1, |p| line_at(p.byte()));
     let (header_line, header) = match records.next() {
         None => return Err(err(1, None, "the file is empty: no header line".to_string())),
         Some(Err(e)) => return Err(err(line_of_err(&e), None, csv_reason(&e))),
         Some(Ok(rec)) => (
-            rec.position().map_or(1, |p| p.line() as usize),
+            rec.position().map_or(1, |p| line_at(p.byte())),
             rec.iter().map(str::to_string).collect::<Vec<_>>(),
         ),
     };
@@ -340,7 +371,7 @@ pub fn parse_table(
     let mut last_line = header_line;
     for rec in records {
         let rec = rec.map_err(|e| err(line_of_err(&e), None, csv_reason(&e)))?;
-        let line = rec.position().map_or(last_line + 1, |p| p.line() as usize);
+        let line = rec.position().map_or(last_line + 1, |p| line_at(p.byte()));
         last_line = line;
         if rec.len() != header.len() {
             return Err(err(
@@ -515,7 +546,7 @@ mod tests {
     #[test]
     fn quoted_fields_and_writer() {
         let t = parse_table(
-            " a , b \n x , \"b,c\" \n",
+            " a , b \n x ,\"b,c\"\n",
             Path::new("q.csv"),
             &[],
             1,

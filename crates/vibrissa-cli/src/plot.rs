@@ -762,7 +762,7 @@ impl Axis {
         let step = [1.0, 2.0, 2.5, 5.0, 10.0]
             .iter()
             .map(|m| m * mag)
-            .find(|s| *s >= raw)
+            .find(|s| *s >= raw * (1.0 - 1e-9))
             .unwrap_or(10.0 * mag);
         let first = (self.lo / step).ceil() as i64;
         let last = (self.hi / step).floor() as i64;

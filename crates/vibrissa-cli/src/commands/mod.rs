@@ -625,7 +625,7 @@ pub fn sweep_summary_in(res: &SweepResult, requested: usize, units: &UnitSystem)
         ref s => separation_name(s),
     };
     format!(
-        "{} rows ({} before contact + {} in contact: {} requested + {} event rows), first \
+        "{} rows ({} before contact + {} in contact: {} requested + {} at events), first \
          contact {}{}, separation {}{}, phases {}",
         n.rows,
         n.pre_contact,

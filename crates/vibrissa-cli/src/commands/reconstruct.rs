@@ -333,15 +333,17 @@ pub fn summary_line_in(
     let (na, nb) = phase_counts(&rec.points);
     let qs = units.scale(Quantity::LineLoad);
     let qu = unit_suffix(units, Quantity::LineLoad);
-    let q = if rec.q_given {
-        format!("q = {}{qu} (given)", rec.identification.q * qs)
-    } else {
-        format!("q = {:.10e}{qu} (identified)", rec.identification.q * qs)
+    let q = match (rec.q_given, units.is_physical()) {
+        (true, _) => format!("q = {}{qu} (given)", rec.identification.q * qs),
+        (false, true) => format!("q = {:.10e}{qu} (identified)", rec.identification.q * qs),
+        (false, false) => format!("q = {:.10}{qu} (identified)", rec.identification.q * qs),
     };
+    let pre = rec.identification.first_contact_row;
     format!(
-        "{q}, {rows} rows, contact from row {}: {} contact rows reconstructed ({method} \
-         method), phases A {na} / B {nb}, max residual {:.2e}",
-        rec.identification.first_contact_row + 1,
+        "{q}; {rows} rows: rows 1-{pre} without contact force (flow only), rows {}-{rows} \
+         reconstructed: {} contact points ({method} method), phases A {na} / B {nb}, max \
+         residual {:.2e}",
+        pre + 1,
         rec.points.len(),
         max_of(&rec.points.iter().map(|p| p.residual).collect::<Vec<_>>()),
         method = method.name(),

@@ -238,13 +238,13 @@ pub fn write_sweep_outputs(
     notes.extend(scene_unit_notes(&units));
     notes.push(format!(
         "observables.csv: x0, s1, xc, yc in {l}; Ax, Ay, f in {f}; MA in {m}; phi0, psi in rad \
-         (observables.units.csv).",
+         (observables.units.csv; 1 = dimensionless).",
         l = units.unit(Quantity::Length),
         f = units.unit(Quantity::Force),
         m = units.unit(Quantity::Moment)
     ));
     notes.push(format!(
-        "Rows: {} = {} before contact + {} in contact ({} requested points + {} event rows).",
+        "Rows: {} = {} before contact + {} in contact ({} requested points + {} at events).",
         n.rows, n.pre_contact, n.contact, n.requested, n.event_rows
     ));
     let scene = output_scene(r, Some(spec), Some(points));
@@ -272,7 +272,8 @@ pub fn scene_title(r: &Resolved, profile: &str) -> String {
     }
     s += &format!(", θ = {}", g.theta.value);
     if g.k.value.is_finite() {
-        s += &format!(", k = {}", g.k.value);
+        let k_unit = if u.is_physical() { " N m/rad" } else { "" };
+        s += &format!(", k = {}{k_unit}", g.k.value);
     } else {
         s += ", rigid support";
     }

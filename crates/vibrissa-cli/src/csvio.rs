@@ -330,7 +330,13 @@ pub fn parse_table(
     };
     let line_of_err = |e: &csv::Error| e.position().map_or(1, |p| line_at(p.byte()));
     let (header_line, header) = match records.next() {
-        None => return Err(err(1, None, "the file is empty: no header line".to_string())),
+        None => {
+            return Err(err(
+                1,
+                None,
+                "the file is empty: no header line".to_string(),
+            ))
+        }
         Some(Err(e)) => return Err(err(line_of_err(&e), None, csv_reason(&e))),
         Some(Ok(rec)) => (
             rec.position().map_or(1, |p| line_at(p.byte())),
@@ -452,7 +458,8 @@ fn csv_reason(e: &csv::Error) -> String {
         _ => {
             // The csv crate's message repeats the position; keep what follows it.
             let s = e.to_string();
-            s.rsplit_once("): ").map_or(s.clone(), |(_, r)| r.to_string())
+            s.rsplit_once("): ")
+                .map_or(s.clone(), |(_, r)| r.to_string())
         }
     }
 }
@@ -545,16 +552,11 @@ mod tests {
 
     #[test]
     fn quoted_fields_and_writer() {
-        let t = parse_table(
-            " a , b \n x ,\"b,c\"\n",
-            Path::new("q.csv"),
-            &[],
-            1,
-        )
-        .unwrap();
+        let t = parse_table(" a , b \n x ,\"b,c\"\n", Path::new("q.csv"), &[], 1).unwrap();
         assert_eq!(t.text_column("b").unwrap(), &["b,c"]);
         let mut w = CsvWriter::new(&["name", "v"]);
-        w.push_row(&[Cell::Text("a,\"b\""), Cell::Num(0.5)]).unwrap();
+        w.push_row(&[Cell::Text("a,\"b\""), Cell::Num(0.5)])
+            .unwrap();
         assert_eq!(w.as_str(), "name,v\n\"a,\"\"b\"\"\",0.5\n");
     }
 }

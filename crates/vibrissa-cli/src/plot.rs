@@ -599,13 +599,26 @@ impl Svg {
         );
     }
 
-    fn polyline(&mut self, pts: &[(f64, f64)], stroke: &str, width: f64, dash: Option<&str>, clip: &str) {
+    fn polyline(
+        &mut self,
+        pts: &[(f64, f64)],
+        stroke: &str,
+        width: f64,
+        dash: Option<&str>,
+        clip: &str,
+    ) {
         if pts.len() < 2 {
             return;
         }
         let mut d = String::new();
         for (i, p) in pts.iter().enumerate() {
-            let _ = write!(d, "{}{} {}", if i == 0 { "M" } else { " L" }, c(p.0), c(p.1));
+            let _ = write!(
+                d,
+                "{}{} {}",
+                if i == 0 { "M" } else { " L" },
+                c(p.0),
+                c(p.1)
+            );
         }
         let dash = dash.map_or(String::new(), |d| format!(" stroke-dasharray=\"{d}\""));
         let _ = writeln!(
@@ -736,12 +749,25 @@ impl Axis {
     /// Tick values and labels, about `target` of them.
     fn ticks(&self, target: usize) -> Vec<(f64, String)> {
         if self.log {
-            let (a, b) = (self.lo.log10().ceil() as i32, self.hi.log10().floor() as i32);
+            let (a, b) = (
+                self.lo.log10().ceil() as i32,
+                self.hi.log10().floor() as i32,
+            );
             let decades = (b - a + 1).max(0) as usize;
             let step = decades.div_ceil(target.max(1)).max(1) as i32;
+            // One notation per axis: plain numbers if every decade is between 0.01 and
+            // 1000, else 1eN throughout.
+            let plain = a >= -2 && b <= 3;
+            let decade = |e: i32| {
+                if plain {
+                    format_tick(10f64.powi(e))
+                } else {
+                    format!("1e{e}")
+                }
+            };
             let mut out: Vec<(f64, String)> = (a..=b)
                 .step_by(step as usize)
-                .map(|e| (10f64.powi(e), format_tick(10f64.powi(e))))
+                .map(|e| (10f64.powi(e), decade(e)))
                 .collect();
             if decades < 2 {
                 for e in (a - 1)..=b {
@@ -766,7 +792,13 @@ impl Axis {
             .unwrap_or(10.0 * mag);
         let first = (self.lo / step).ceil() as i64;
         let last = (self.hi / step).floor() as i64;
-        let digits = (-(step.log10().floor()) as i32 + if (step / mag - 2.5).abs() < 1e-9 { 1 } else { 0 }).max(0) as usize;
+        let digits = (-(step.log10().floor()) as i32
+            + if (step / mag - 2.5).abs() < 1e-9 {
+                1
+            } else {
+                0
+            })
+        .max(0) as usize;
         let big = self.lo.abs().max(self.hi.abs());
         (first..=last)
             .map(|k| {
@@ -898,7 +930,15 @@ fn draw_legend_entry(svg: &mut Svg, x: f64, cy: f64, e: &Entry<'_>) {
                 );
             }
         }
-        svg.text(sx1 + 6.0, cy + 4.0, e.label(), LEGEND_SIZE, "start", "#202020", false);
+        svg.text(
+            sx1 + 6.0,
+            cy + 4.0,
+            e.label(),
+            LEGEND_SIZE,
+            "start",
+            "#202020",
+            false,
+        );
     }
 }
 
@@ -925,12 +965,28 @@ fn draw_heading(svg: &mut Svg, area: Rect, title: &str, note: &str) -> f64 {
     let mut y = area.y + PAD;
     if !title.is_empty() {
         y += TITLE_SIZE;
-        svg.text(area.x + area.w / 2.0, y, title, TITLE_SIZE, "middle", "#000000", false);
+        svg.text(
+            area.x + area.w / 2.0,
+            y,
+            title,
+            TITLE_SIZE,
+            "middle",
+            "#000000",
+            false,
+        );
         y += 4.0;
     }
     if !note.is_empty() {
         y += NOTE_SIZE;
-        svg.text(area.x + area.w / 2.0, y, note, NOTE_SIZE, "middle", "#555555", false);
+        svg.text(
+            area.x + area.w / 2.0,
+            y,
+            note,
+            NOTE_SIZE,
+            "middle",
+            "#555555",
+            false,
+        );
         y += 3.0;
     }
     y - area.y
@@ -968,7 +1024,15 @@ fn draw_axes(
             svg.line((px, r.y), (px, r.y + r.h), "#e6e6e6", 1.0, None);
         }
         svg.line((px, r.y + r.h), (px, r.y + r.h + 4.0), "#404040", 1.0, None);
-        svg.text(px, r.y + r.h + 6.0 + TICK_SIZE, label, TICK_SIZE, "middle", "#303030", false);
+        svg.text(
+            px,
+            r.y + r.h + 6.0 + TICK_SIZE,
+            label,
+            TICK_SIZE,
+            "middle",
+            "#303030",
+            false,
+        );
     }
     let mut ytick_w: f64 = 0.0;
     for (v, label) in yt {
@@ -977,7 +1041,15 @@ fn draw_axes(
             svg.line((r.x, py), (r.x + r.w, py), "#e6e6e6", 1.0, None);
         }
         svg.line((r.x - 4.0, py), (r.x, py), "#404040", 1.0, None);
-        svg.text(r.x - 6.0, py + TICK_SIZE * 0.36, label, TICK_SIZE, "end", "#303030", false);
+        svg.text(
+            r.x - 6.0,
+            py + TICK_SIZE * 0.36,
+            label,
+            TICK_SIZE,
+            "end",
+            "#303030",
+            false,
+        );
         ytick_w = ytick_w.max(text_width(label, TICK_SIZE));
     }
     svg.rect(r, "none", Some("#404040"));
@@ -991,7 +1063,15 @@ fn draw_axes(
         false,
     );
     let lx = r.x - 6.0 - ytick_w - 6.0 - 3.0;
-    svg.text(lx, r.y + r.h / 2.0, y_label, LABEL_SIZE, "middle", "#000000", true);
+    svg.text(
+        lx,
+        r.y + r.h / 2.0,
+        y_label,
+        LABEL_SIZE,
+        "middle",
+        "#000000",
+        true,
+    );
 }
 
 /// The centre of an event label of width `w` over the line at `px`, kept inside `area`.
@@ -1095,7 +1175,10 @@ fn draw_chart(svg: &mut Svg, area: Rect, chart: &Chart, id: usize) -> Result<(),
             let w = text_width(&m.label, EVENT_SIZE);
             let px = label_x(xa.px(m.x), w, area);
             let (a, _) = (px - w / 2.0, px + w / 2.0);
-            let row = row_ends.iter().position(|&e| e + 6.0 < a).unwrap_or(row_ends.len());
+            let row = row_ends
+                .iter()
+                .position(|&e| e + 6.0 < a)
+                .unwrap_or(row_ends.len());
             if row == row_ends.len() {
                 row_ends.push(f64::NEG_INFINITY);
             }
@@ -1127,7 +1210,17 @@ fn draw_chart(svg: &mut Svg, area: Rect, chart: &Chart, id: usize) -> Result<(),
     };
     let xt = xa.ticks(tick_target(rect.w));
     let yt = ya.ticks(tick_target(rect.h));
-    draw_axes(svg, rect, &xa, &ya, &xt, &yt, &chart.x_label, &chart.y_label, true);
+    draw_axes(
+        svg,
+        rect,
+        &xa,
+        &ya,
+        &xt,
+        &yt,
+        &chart.x_label,
+        &chart.y_label,
+        true,
+    );
     let clip = format!("plot{id}");
     svg.clip(&clip, rect);
     let to_px = |p: (f64, f64)| (xa.px(p.0), ya.px(p.1));
@@ -1285,7 +1378,17 @@ fn draw_heatmap(svg: &mut Svg, area: Rect, map: &HeatMap, _id: usize) -> Result<
     }
     let xt = xa.ticks(tick_target(rect.w));
     let yt = ya.ticks(tick_target(rect.h));
-    draw_axes(svg, rect, &xa, &ya, &xt, &yt, &map.x_label, &map.y_label, false);
+    draw_axes(
+        svg,
+        rect,
+        &xa,
+        &ya,
+        &xt,
+        &yt,
+        &map.x_label,
+        &map.y_label,
+        false,
+    );
     draw_legend(svg, rect.x + rect.w + PAD, rect.y, &entries);
     Ok(())
 }

@@ -541,7 +541,10 @@ pub fn read_points_file(path: &Path, units: &UnitSystem) -> Result<(Vec<f64>, Ve
             .cloned()
     };
     let (Some(xname), Some(yname)) = (find("x"), find("y")) else {
-        let numeric_header = head.header.iter().all(|h| parse_f64(h, head.delimiter).is_some());
+        let numeric_header = head
+            .header
+            .iter()
+            .all(|h| parse_f64(h, head.delimiter).is_some());
         let reason = if numeric_header {
             format!(
                 "the first line holds numbers, not a header: a points file starts with a \

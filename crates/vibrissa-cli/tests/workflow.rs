@@ -39,7 +39,12 @@ fn scenes_dir() -> PathBuf {
 fn table(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
     let text = fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     let mut lines = text.lines();
-    let header = lines.next().unwrap().split(',').map(str::to_string).collect();
+    let header = lines
+        .next()
+        .unwrap()
+        .split(',')
+        .map(str::to_string)
+        .collect();
     let rows = lines
         .map(|l| l.split(',').map(str::to_string).collect())
         .collect();
@@ -94,7 +99,11 @@ fn points_files_name_their_columns_with_units_and_any_delimiter() {
     // Tabs, units in brackets, an extra column, a comment line; metres.
     let mut tab = String::from("# measured contour\nx [m]\ty [m]\tquality\n");
     for &xv in &xs {
-        tab += &format!("{}\t{}\tgood\n", xv * L_BETA_MM / 1e3, g1(xv) * L_BETA_MM / 1e3);
+        tab += &format!(
+            "{}\t{}\tgood\n",
+            xv * L_BETA_MM / 1e3,
+            g1(xv) * L_BETA_MM / 1e3
+        );
     }
     let p = dir.path().join("tab.tsv");
     fs::write(&p, &tab).unwrap();
@@ -117,10 +126,20 @@ fn points_file_errors_name_file_line_and_what_is_wrong() {
     };
     let d = UnitSystem::DIMENSIONLESS;
     let e = err("noheader.csv", "-1,1\n0,0.5\n1,1\n2,2.5\n", &d);
-    assert!(e.contains("noheader.csv:1: the first line holds numbers"), "{e}");
+    assert!(
+        e.contains("noheader.csv:1: the first line holds numbers"),
+        "{e}"
+    );
     let e = err("names.csv", "a;b\n-1;1\n0;0.5\n1;1\n2;2.5\n", &d);
-    assert!(e.contains("names.csv:1: the header must name an x and a y column"), "{e}");
-    let e = err("bad.csv", "x_mm;y_mm\n-1;1\n0;abc\n1;1\n2;2.5\n", &physical_beta());
+    assert!(
+        e.contains("names.csv:1: the header must name an x and a y column"),
+        "{e}"
+    );
+    let e = err(
+        "bad.csv",
+        "x_mm;y_mm\n-1;1\n0;abc\n1;1\n2;2.5\n",
+        &physical_beta(),
+    );
     assert_eq!(
         e,
         format!(
@@ -129,14 +148,20 @@ fn points_file_errors_name_file_line_and_what_is_wrong() {
         )
     );
     let e = err("order.csv", "x,y\n-1,1\n1,0.5\n0.5,1\n2,2.5\n", &d);
-    assert!(e.contains("order.csv:4: column `x`: x = 0.5 does not increase"), "{e}");
+    assert!(
+        e.contains("order.csv:4: column `x`: x = 0.5 does not increase"),
+        "{e}"
+    );
     let e = err("mm.csv", "x_mm,y_mm\n-1,1\n0,0.5\n1,1\n2,2.5\n", &d);
     assert!(
         e.contains("mm.csv:1: column `x_mm`: values in `mm` need a physical scene"),
         "{e}"
     );
     let e = err("short.csv", "x,y\n-1,1\n0,0.5\n", &d);
-    assert!(e.contains("short.csv:3: expected at least 4 data rows, found 2"), "{e}");
+    assert!(
+        e.contains("short.csv:3: expected at least 4 data rows, found 2"),
+        "{e}"
+    );
     let e = err("ragged.csv", "x\ty\n-1\t1\n0\n", &d);
     assert!(
         e.contains("ragged.csv:3: expected 2 fields as in the header, found 1 (tab separated)"),
@@ -194,7 +219,16 @@ fn reconstruct_dir_round_trip_dimensionless() {
     let v = round_trip(
         cwd,
         &[
-            "--profile", "g1", "--q", "5", "--theta", "0.75", "--k", "20", "--points", "24",
+            "--profile",
+            "g1",
+            "--q",
+            "5",
+            "--theta",
+            "0.75",
+            "--k",
+            "20",
+            "--points",
+            "24",
         ],
         5.0,
     );
@@ -206,14 +240,26 @@ fn reconstruct_dir_round_trip_dimensionless() {
     );
     // The scene states every parameter, the true point count included.
     let scene = fs::read_to_string(cwd.join("out/scene.ron")).unwrap();
-    for needle in ["theta: 0.75", "k: Some(20.0)", "q: 5.0", "points: 24", "\"g1\""] {
+    for needle in [
+        "theta: 0.75",
+        "k: Some(20.0)",
+        "q: 5.0",
+        "points: 24",
+        "\"g1\"",
+    ] {
         assert!(scene.contains(needle), "scene.ron lacks {needle}:\n{scene}");
     }
     // Flags still override the folder's scene: a wrong taper makes the rows inconsistent.
-    let o = run(&["reconstruct", "out", "--theta", "0.5", "--out", "bad"], cwd);
+    let o = run(
+        &["reconstruct", "out", "--theta", "0.5", "--out", "bad"],
+        cwd,
+    );
     assert!(!o.status.success());
     let e = stderr(&o);
-    assert!(e.contains("observables.csv:") && e.contains("no consistent contact point"), "{e}");
+    assert!(
+        e.contains("observables.csv:") && e.contains("no consistent contact point"),
+        "{e}"
+    );
     assert!(!cwd.join("bad").exists());
 }
 
@@ -240,10 +286,7 @@ fn reconstruct_dir_round_trip_physical() {
         "(whisker: (theta: 0.75, k: Some(20.0)))",
     )
     .unwrap();
-    let o = run(
-        &["reconstruct", "out", "dimless.ron", "--out", "bad"],
-        cwd,
-    );
+    let o = run(&["reconstruct", "out", "dimless.ron", "--out", "bad"], cwd);
     assert!(!o.status.success());
     let e = stderr(&o);
     assert!(
@@ -264,7 +307,17 @@ fn rows_are_counted_the_same_way_in_text_json_and_csv() {
     let dir = tempfile::tempdir().unwrap();
     let cwd = dir.path();
     let args = [
-        "sweep", "--profile", "g1", "--q", "5", "--theta", "0.75", "--k", "20", "--points", "12",
+        "sweep",
+        "--profile",
+        "g1",
+        "--q",
+        "5",
+        "--theta",
+        "0.75",
+        "--k",
+        "20",
+        "--points",
+        "12",
     ];
     let mut a = args.to_vec();
     a.extend(["--json", "--out", "j"]);
@@ -302,7 +355,10 @@ fn rows_are_counted_the_same_way_in_text_json_and_csv() {
     // The events of the JSON name rows of the CSV.
     for e in v["events"].as_array().unwrap() {
         let row = e["row"].as_u64().unwrap() as usize;
-        assert_eq!(num(&rows[row - 1][col(&h, "x0")]), e["x0"].as_f64().unwrap());
+        assert_eq!(
+            num(&rows[row - 1][col(&h, "x0")]),
+            e["x0"].as_f64().unwrap()
+        );
     }
     // reconstruct numbers rows the same way: its first reconstructed row is a contact row
     // with a contact force, right after the flow-only rows.
@@ -311,7 +367,10 @@ fn rows_are_counted_the_same_way_in_text_json_and_csv() {
     assert!(r1 == first || r1 == first + 1, "{r1} vs {first}");
     assert!(num(&rows[r1 - 1][col(&h, "f")]) > 0.0);
     assert_eq!(v2["rows"].as_u64().unwrap() as usize, rows.len());
-    assert_eq!(v2["points"].as_u64().unwrap() as usize, rows.len() - (r1 - 1));
+    assert_eq!(
+        v2["points"].as_u64().unwrap() as usize,
+        rows.len() - (r1 - 1)
+    );
 }
 
 #[test]
@@ -356,7 +415,15 @@ fn figures_come_as_svg_and_png_with_symbols_units_and_events() {
     // A rigid support: phi0 = pi/2 throughout, so no phi0 panel.
     let o = run(
         &[
-            "sweep", "--profile", "g1", "--q", "5", "--points", "20", "--out", "rigid",
+            "sweep",
+            "--profile",
+            "g1",
+            "--q",
+            "5",
+            "--points",
+            "20",
+            "--out",
+            "rigid",
         ],
         cwd,
     );
@@ -377,7 +444,16 @@ fn figures_come_as_svg_and_png_with_symbols_units_and_events() {
     // An elastic support has the phi0 panel.
     let o = run(
         &[
-            "sweep", "--profile", "g1", "--q", "5", "--k", "20", "--points", "20", "--out",
+            "sweep",
+            "--profile",
+            "g1",
+            "--q",
+            "5",
+            "--k",
+            "20",
+            "--points",
+            "20",
+            "--out",
             "spring",
         ],
         cwd,
@@ -386,7 +462,12 @@ fn figures_come_as_svg_and_png_with_symbols_units_and_events() {
     let svg = fs::read_to_string(cwd.join("spring/observables.svg")).unwrap();
     assert!(svg.contains("φ₀ [rad]"));
     let shapes = fs::read_to_string(cwd.join("spring/shapes.svg")).unwrap();
-    for needle in ["obstacle contour", "sweep direction", "first contact", "contact points"] {
+    for needle in [
+        "obstacle contour",
+        "sweep direction",
+        "first contact",
+        "contact points",
+    ] {
         assert!(shapes.contains(needle), "shapes.svg lacks {needle}");
     }
     // Sub-pixel coordinates: the curves' paths use fractional pixel positions.
@@ -425,7 +506,15 @@ fn a_table_over_pm_2_5_sweeps_and_reconstructs() {
     round_trip(
         cwd,
         &[
-            "--profile", "points:g1.csv", "--q", "5", "--theta", "0.75", "--k", "20", "--points",
+            "--profile",
+            "points:g1.csv",
+            "--q",
+            "5",
+            "--theta",
+            "0.75",
+            "--k",
+            "20",
+            "--points",
             "30",
         ],
         5.0,
@@ -443,8 +532,16 @@ fn a_circle_post_of_radius_0_6_sweeps_and_reconstructs() {
     round_trip(
         dir.path(),
         &[
-            "--profile", "circle:0,1.3,0.6", "--q", "1", "--theta", "0.75", "--k", "20",
-            "--points", "30",
+            "--profile",
+            "circle:0,1.3,0.6",
+            "--q",
+            "1",
+            "--theta",
+            "0.75",
+            "--k",
+            "20",
+            "--points",
+            "30",
         ],
         1.0,
     );

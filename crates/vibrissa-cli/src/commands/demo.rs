@@ -75,7 +75,7 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
     let files = out.commit()?;
 
     println!(
-        "demo: theta = 0.75, k = 20, q = 5, contour g1 ({} contact points)",
+        "demo: theta = 0.75, k = 20, q = 5, contour g1 ({} contact rows requested)",
         args.points
     );
     println!(
@@ -123,15 +123,17 @@ pub fn reconstruct_step(
     let q_true = resolved.q();
     let id = &rec.identification;
     summary.push(format!(
-        "identification: q = {:.12} (true {q_true}, error {:.2e}), contact from row {} of {} rows",
+        "identification: q = {:.12} (true {q_true}, error {:.2e}) from rows 1-{} (no contact \
+         force), rows {}-{} reconstructed",
         id.q,
         (id.q - q_true).abs(),
+        id.first_contact_row,
         id.first_contact_row + 1,
         rows.len()
     ));
     let (na, nb) = phase_counts(&rec.points);
     summary.push(format!(
-        "reconstruction ({}): {} contact rows, phases A {na} / B {nb}, max residual {:.2e}",
+        "reconstruction ({}): {} contact points, phases A {na} / B {nb}, max residual {:.2e}",
         settings.method.name(),
         rec.points.len(),
         max_of(&rec.points.iter().map(|p| p.residual).collect::<Vec<_>>()),

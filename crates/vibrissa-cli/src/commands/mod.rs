@@ -86,7 +86,10 @@ pub fn write_elastica_csv_in(
     path: &Path,
 ) -> Result<(), CliError> {
     let e = &sol.elastica;
-    let sc: Vec<f64> = ELASTICA_QUANTITIES.iter().map(|q| units.scale(*q)).collect();
+    let sc: Vec<f64> = ELASTICA_QUANTITIES
+        .iter()
+        .map(|q| units.scale(*q))
+        .collect();
     let mut w = CsvWriter::new(&ELASTICA_HEADER);
     for i in 0..e.len() {
         w.push_numbers(&[
@@ -227,11 +230,7 @@ pub fn write_observables_csv_in(
 
 /// The scene that produced an output folder, with every parameter as resolved (flags over
 /// the scene file over the defaults) in the scene's units.
-pub fn output_scene(
-    r: &Resolved,
-    profile: Option<String>,
-    points: Option<usize>,
-) -> SceneFile {
+pub fn output_scene(r: &Resolved, profile: Option<String>, points: Option<usize>) -> SceneFile {
     let g = &r.given;
     // The unit system exactly as the scene file gave it (a preset name stays a preset name;
     // the resolved dimensions are stated in the comment lines of [`scene_unit_notes`]).
@@ -432,7 +431,13 @@ fn event_marks(res: &SweepResult, x_scale: f64) -> Vec<Mark> {
         .collect()
 }
 
-fn chart_of(title: &str, y_label: &str, series: Vec<Series>, x_label: &str, marks: &[Mark]) -> Chart {
+fn chart_of(
+    title: &str,
+    y_label: &str,
+    series: Vec<Series>,
+    x_label: &str,
+    marks: &[Mark],
+) -> Chart {
     let mut c = Chart::new(title, x_label, y_label);
     for s in series {
         c = c.with(s);

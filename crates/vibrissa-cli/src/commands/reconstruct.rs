@@ -10,8 +10,8 @@ use profile_recon::{
 };
 
 use crate::atomic::OutputDir;
-use crate::commands::recon_io;
 use crate::cli::{ModelFlags, ReconstructArgs};
+use crate::commands::recon_io;
 use crate::csvio::{read_table, Cell, CsvWriter, Table};
 use crate::error::CliError;
 use crate::plot::{write_svg, Chart, Series, Style};

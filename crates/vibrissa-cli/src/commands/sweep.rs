@@ -11,14 +11,14 @@ use contact_sim::{sweep_with_progress, Phase, Profile, SweepProgress, SweepResul
 use crate::atomic::{write_atomic, OutputDir};
 use crate::cli::SweepArgs;
 use crate::commands::{
-    first_contact_name, output_scene, phase_name, scene_unit_notes, separation_name,
-    sweep_events, sweep_summary_in, write_observables_csv_in, write_scene_ron,
-    write_sweep_figures, FigureContext, RowCounts,
+    first_contact_name, output_scene, phase_name, scene_unit_notes, separation_name, sweep_events,
+    sweep_summary_in, write_observables_csv_in, write_scene_ron, write_sweep_figures,
+    FigureContext, RowCounts,
 };
 use crate::error::CliError;
 use crate::plot::{write_svg, Chart, Mark, Series, Style};
-use crate::units::{Quantity, UnitSystem};
 use crate::resolve::{parse_count, profile_arg, resolve_model, LoadedScene, ProfileArg, Resolved};
+use crate::units::{Quantity, UnitSystem};
 
 /// Default number of contact points.
 pub const DEFAULT_POINTS: usize = 200;
@@ -76,7 +76,8 @@ fn num(v: f64) -> serde_json::Value {
 pub fn sweep_json(res: &SweepResult, requested: usize, units: &UnitSystem) -> serde_json::Value {
     let n = RowCounts::of(res, requested);
     let l = units.scale(Quantity::Length);
-    let x0_of = |row: Option<usize>| row.map_or(serde_json::Value::Null, |r| num(res.points[r - 1].x0 * l));
+    let x0_of =
+        |row: Option<usize>| row.map_or(serde_json::Value::Null, |r| num(res.points[r - 1].x0 * l));
     let events: Vec<serde_json::Value> = sweep_events(res)
         .into_iter()
         .map(|e| {

@@ -1415,7 +1415,14 @@ mod tests {
 
     #[test]
     fn constant_data_gets_distinct_ticks() {
-        let (lo, hi) = axis_range([1.5707963267948966, 1.5707963267949].into_iter(), false);
+        let (lo, hi) = axis_range(
+            [
+                std::f64::consts::FRAC_PI_2,
+                std::f64::consts::FRAC_PI_2 + 3e-13,
+            ]
+            .into_iter(),
+            false,
+        );
         let a = Axis {
             lo,
             hi,

@@ -219,12 +219,10 @@ pub fn round_sig(v: f64) -> f64 {
 /// `x [mm]`, `x/mm` and `x mm` all give `("x", "mm")`; `y` gives `("y", "")`.
 pub fn split_name_unit(name: &str) -> (String, String) {
     let name = name.trim();
-    let cut = name
-        .find(|c: char| matches!(c, '_' | ' ' | '(' | '[' | '/'))
-        .unwrap_or(name.len());
+    let cut = name.find(['_', ' ', '(', '[', '/']).unwrap_or(name.len());
     let (sym, rest) = name.split_at(cut);
     let unit = rest
-        .trim_matches(|c: char| matches!(c, '_' | ' ' | '(' | ')' | '[' | ']' | '/'))
+        .trim_matches(['_', ' ', '(', ')', '[', ']', '/'])
         .to_string();
     (sym.trim().to_string(), unit)
 }

@@ -132,7 +132,7 @@ pub(crate) fn forward(
     integrator: &Dop853,
 ) -> Result<Forward> {
     let (f, psi) = force(row, q, s1);
-    let loads = contact_loads(FluidLoad { q: q, alpha: 0.0 }, psi, f, s1);
+    let loads = contact_loads(FluidLoad { q, alpha: 0.0 }, psi, f, s1);
     let ode = WhiskerOde::new(*whisker, loads, 0.0, Sensitivities::None);
     let u0 = [row.phi0, -row.ma, row.x0, 0.0];
     let sol = integrator.integrate(&ode, 0.0, s1, &u0)?;

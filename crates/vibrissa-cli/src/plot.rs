@@ -1085,7 +1085,7 @@ fn label_x(px: f64, w: f64, area: Rect) -> f64 {
 }
 
 fn tick_target(pixels: f64) -> usize {
-    ((pixels / 90.0).round() as usize).clamp(3, 8)
+    ((pixels / 70.0).round() as usize).clamp(4, 9)
 }
 
 fn draw_chart(svg: &mut Svg, area: Rect, chart: &Chart, id: usize) -> Result<(), String> {
@@ -1454,8 +1454,16 @@ mod tests {
             p0: 0.0,
             p1: 500.0,
         };
+        // One notation per axis: 1e4 needs scientific notation, so every decade gets it.
         let labels: Vec<String> = l.ticks(6).into_iter().map(|t| t.1).collect();
-        assert_eq!(labels, ["1", "10", "100", "1000", "10000"]);
+        assert_eq!(labels, ["1e0", "1e1", "1e2", "1e3", "1e4"]);
+        let l = Axis {
+            lo: 0.05,
+            hi: 500.0,
+            ..l
+        };
+        let labels: Vec<String> = l.ticks(6).into_iter().map(|t| t.1).collect();
+        assert_eq!(labels, ["0.1", "1", "10", "100"]);
     }
 
     #[test]

@@ -429,7 +429,8 @@ fn figures_come_as_svg_and_png_with_symbols_units_and_events() {
     );
     stdout(&o);
     let svg = fs::read_to_string(cwd.join("rigid/observables.svg")).unwrap();
-    assert!(!svg.contains("φ₀"), "a rigid support has no phi0 panel");
+    assert!(!svg.contains("φ₀ [rad]"), "a rigid support has no phi0 panel");
+    assert!(svg.contains("φ₀ = π/2 throughout (rigid support, no panel)"));
     for needle in [
         "base position x₀ [–]",
         "Ax [–]",

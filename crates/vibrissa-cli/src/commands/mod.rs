@@ -520,11 +520,14 @@ pub fn write_sweep_figures(
             &marks,
         ));
     }
-    let note = format!(
+    let mut note = format!(
         "{}; the base moves towards −x (right to left); {}",
         ctx.scene,
         u.describe()
     );
+    if charts.len() == 3 {
+        note += "; φ₀ = π/2 throughout (rigid support, no panel)";
+    }
     let heading = Heading {
         title: "Base observables along the sweep".to_string(),
         note: note.clone(),

@@ -94,7 +94,12 @@ pub fn run(args: &ReconstructArgs) -> Result<(), CliError> {
         &rec.points,
         truth.as_ref(),
         errors.as_deref(),
-        &format!("from {title}"),
+        &format!(
+            "q = {:.6}{} {}",
+            rec.identification.q * units.scale(Quantity::LineLoad),
+            unit_suffix(&units, Quantity::LineLoad),
+            if rec.q_given { "given" } else { "identified" }
+        ),
         &units,
         |n| out.path_for(n),
     )?;

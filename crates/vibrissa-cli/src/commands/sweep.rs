@@ -56,12 +56,13 @@ pub fn run(args: &SweepArgs) -> Result<(), CliError> {
         v["files"] = serde_json::Value::from(files.len());
         println!("{v}");
     } else {
+        // The summary line comes last (spec/cli.md: stdout ends with it).
+        println!("wrote {} files to {}", files.len(), args.out.display());
         println!(
             "sweep {}: {}",
             profile.spec,
             sweep_summary_in(&res, points, &units)
         );
-        println!("wrote {} files to {}", files.len(), args.out.display());
     }
     Ok(())
 }

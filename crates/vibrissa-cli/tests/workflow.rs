@@ -565,3 +565,23 @@ fn a_physical_table_in_mm_with_semicolons_sweeps() {
     fs::write(cwd.join("beta.ron"), scene).unwrap();
     round_trip(cwd, &["beta.ron", "--points", "30"], 0.003);
 }
+
+#[test]
+fn reconstruct_dir_names_what_the_folder_lacks() {
+    let dir = tempfile::tempdir().unwrap();
+    let cwd = dir.path();
+    fs::create_dir(cwd.join("empty")).unwrap();
+    let o = run(&["reconstruct", "empty", "--out", "rec"], cwd);
+    assert_eq!(o.status.code(), Some(2));
+    let e = stderr(&o);
+    assert!(
+        e.contains("empty/observables.csv: a sweep folder needs observables.csv"),
+        "{e}"
+    );
+    fs::write(cwd.join("empty/observables.csv"), "x0,Ax,Ay,MA,phi0\n").unwrap();
+    let o = run(&["reconstruct", "empty", "--out", "rec"], cwd);
+    let e = stderr(&o);
+    assert!(e.contains("empty/scene.ron: a sweep folder needs its scene.ron"), "{e}");
+    assert_eq!(e.trim_end().lines().count(), 1, "{e}");
+    assert!(!cwd.join("rec").exists());
+}

@@ -29,12 +29,20 @@ fn accurate() -> Method {
 /// Runs chapter 4; every figure that fails is recorded in the report and the others go on.
 pub fn run(out: &OutputDir, report: &mut Report, _ctx: &mut Ctx) -> Result<(), Failure> {
     // Work-precision first and alone, so that its timings are not disturbed by other work.
+    let step = |i, what| common::step(4, i, 7, what);
+    step(1, "work-precision charts");
     work_precision(out, report);
+    step(2, "Figs. 4.3, 4.4");
     fig_4_3_4_4(out, report);
+    step(3, "Fig. 4.7");
     fig_4_7(out, report);
+    step(4, "tip-coordinate figures");
     tip_figures(out, report);
+    step(5, "elastica figures");
     elastica_figures(out, report);
+    step(6, "Tables 4.2, 4.3 (ANSYS)");
     ansys_tables(out, report);
+    step(7, "stability maps");
     stability_maps(out, report);
     // Thesis order: Figs. 4.3-4.29, Tables 4.2-4.3, then the beam-model issue's charts.
     report.entries.sort_by_key(|e| order_key(&e.figure));
@@ -149,8 +157,17 @@ fn tip_figure(
     let mut charts = Vec::new();
     let mut w = CsvWriter::new(&["row", "family", "method", load_label, "x1", "y1", "phi1"]);
     for (r, row) in rows.iter().enumerate() {
-        let mut cx = Chart::new(format!("{} x1", row.title), load_label, "x1");
-        let mut cy = Chart::new(format!("{} y1", row.title), load_label, "y1");
+        let load_axis = format!("{load_label} [–]");
+        let mut cx = Chart::new(
+            format!("{} x1", row.title),
+            load_axis.as_str(),
+            "tip x₁ [–]",
+        );
+        let mut cy = Chart::new(
+            format!("{} y1", row.title),
+            load_axis.as_str(),
+            "tip y₁ [–]",
+        );
         for (f, fam) in row.families.iter().enumerate() {
             for (m, (_, mname, style)) in data.methods.iter().enumerate() {
                 let tips = &data.tips[r][f][m];
@@ -289,8 +306,18 @@ fn fig_4_3_4_4(out: &OutputDir, report: &mut Report) {
         (0, 2, "|fdm - accurate|"),
         (1, 2, "|rk4 - accurate|"),
     ];
-    let mut cx = Chart::new("Fig. 4.4: error of x1", "f", "absolute difference").log(false, true);
-    let mut cy = Chart::new("Fig. 4.4: error of y1", "f", "absolute difference").log(false, true);
+    let mut cx = Chart::new(
+        "Fig. 4.4: error of x1",
+        "f [–]",
+        "absolute difference |Δx₁| [–]",
+    )
+    .log(false, true);
+    let mut cy = Chart::new(
+        "Fig. 4.4: error of y1",
+        "f [–]",
+        "absolute difference |Δy₁| [–]",
+    )
+    .log(false, true);
     let mut w = CsvWriter::new(&["pair", "f", "dx1", "dy1"]);
     for (c, &(a, b, name)) in pairs.iter().enumerate() {
         let dx = diff(a, b, false);
@@ -604,7 +631,7 @@ fn elastica_figure(
         } else {
             p.clone()
         };
-        let mut chart = Chart::new(title, "x", "y").equal_aspect();
+        let mut chart = Chart::new(title, "x [–]", "y [–]").equal_aspect();
         let mut color = 0;
         for (i, c) in cases.iter().enumerate() {
             let (cp, cl) = split(&c.label);
@@ -807,8 +834,8 @@ fn work_precision(out: &OutputDir, report: &mut Report) {
         };
         let mut chart = Chart::new(
             format!("work-precision: {name}"),
-            "seconds per solve",
-            "tip error",
+            "time per solve [s]",
+            "tip error [–]",
         )
         .log(true, true);
         for (c, m) in ["fdm", "rk4", "accurate", "fdm-richardson"]
@@ -891,10 +918,10 @@ fn heatmap(m: &StabilityMap) -> HeatMap {
         .collect();
     HeatMap {
         title: format!("{} ({}, k = {})", m.method, m.kind.name(), m.k),
-        x_label: "theta".to_string(),
+        x_label: "conicity θ [–]".to_string(),
         y_label: match m.kind {
-            LoadAxis::Fluid => "q",
-            _ => "f",
+            LoadAxis::Fluid => "fluid load q [–]",
+            _ => "tip force f [–]",
         }
         .to_string(),
         x_values: m.thetas.clone(),

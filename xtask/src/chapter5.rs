@@ -29,7 +29,9 @@ pub const GROUPS: [(&str, &str, [&str; 3]); 11] = [
 
 /// Runs chapter 5.
 pub fn run(out: &OutputDir, report: &mut Report, ctx: &mut Ctx) -> Result<(), Failure> {
+    common::step(5, 1, 2, "the chapter-5 sweeps");
     let runs = ctx.sweeps().to_vec();
+    common::step(5, 2, 2, "figures and tables of the sweeps");
     // Fig. 5.8: case 1 on g1, q = 5.
     sketch(out, report, "5.8", &runs, |r| {
         r.case.case == "1" && r.case.profile_name == "g1" && r.case.label == "q=5"
@@ -95,9 +97,45 @@ const QUANTITIES: [(&str, Obs); 6] = [
     ("f", |p| p.f),
 ];
 
+/// The axis label (symbol and unit; the thesis's variables are dimensionless) of a quantity.
+fn axis_label(name: &str) -> &'static str {
+    match name {
+        "Ax" => "horizontal base force Ax [–]",
+        "Ay" => "vertical base force Ay [–]",
+        "MA" => "base moment MA [–]",
+        "phi0" => "base angle φ₀ [rad]",
+        "s1" => "loaded arc length s₁ [–]",
+        _ => "contact force f [–]",
+    }
+}
+
+/// Whether quantity `q` stays constant (to rounding) over every sweep of the group, as phi0
+/// does on a rigid support: such a panel says nothing and is left out.
+fn constant_over(group: &[&SweepRun], q: usize) -> bool {
+    let get = QUANTITIES[q].1;
+    group.iter().all(|r| match &r.result {
+        Ok(s) => {
+            let (lo, hi) = s
+                .points
+                .iter()
+                .map(get)
+                .filter(|v| v.is_finite())
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+                    (a.min(v), b.max(v))
+                });
+            hi - lo <= 1e-8
+        }
+        Err(_) => true,
+    })
+}
+
 fn chart_of(group: &[&SweepRun], q: usize, title: &str) -> Chart {
     let (name, get) = QUANTITIES[q];
-    let mut c = Chart::new(format!("{title}: {name}"), "x0", name);
+    let mut c = Chart::new(
+        format!("{title}: {name}"),
+        "base position x₀ [–]",
+        axis_label(name),
+    );
     for (i, r) in group.iter().enumerate() {
         if let Ok(s) = &r.result {
             let pts = s.points.iter().map(|p| (p.x0, get(p))).collect();
@@ -172,10 +210,21 @@ fn observables(
             entry.fail(format!("no sweep cases for {title}"));
             continue;
         }
-        let charts = [
-            chart_of(group, 2 * k, &title),
-            chart_of(group, 2 * k + 1, &title),
-        ];
+        // A constant panel (phi0 on a rigid support) is left out; the other says why.
+        let mut charts = Vec::new();
+        let mut constant = Vec::new();
+        for q in [2 * k, 2 * k + 1] {
+            if constant_over(group, q) {
+                constant.push(QUANTITIES[q].0);
+            } else {
+                charts.push(chart_of(group, q, &title));
+            }
+        }
+        if let Some(first) = charts.first_mut() {
+            if constant.contains(&"phi0") {
+                first.note = "φ₀ = π/2 throughout (rigid support): its panel is left out".into();
+            }
+        }
         let stem = format!("fig{}", fig.replace('.', "_"));
         let r = common::svg(out, entry, &format!("{stem}.svg"), &charts, 2);
         note_err(entry, &stem, r);
@@ -285,8 +334,8 @@ fn sketch(
                 "case {} ({}) {}",
                 r.case.case, r.case.profile_name, r.case.label
             ),
-            "x",
-            "y",
+            "x [–]",
+            "y [–]",
         )
         .equal_aspect();
         let (mut xmin, mut xmax) = (f64::INFINITY, f64::NEG_INFINITY);

@@ -81,8 +81,11 @@ struct Recon {
 
 /// Runs chapter 6.
 pub fn run(out: &OutputDir, report: &mut Report, ctx: &mut Ctx) -> Result<(), Failure> {
+    common::step(6, 1, 3, "the chapter-5 sweeps (shared with chapter 5)");
     let runs = ctx.sweeps().to_vec();
+    common::step(6, 2, 3, "Table 6.1");
     table_6_1(out, report, &runs);
+    common::step(6, 3, 3, "reconstructions (both methods, every case)");
     // Reconstruct every case with both methods (in parallel).
     let jobs: Vec<(usize, ReconMethod)> = (0..runs.len())
         .flat_map(|i| METHODS.iter().map(move |&m| (i, m)))
@@ -228,8 +231,8 @@ fn error_figure(
         let r = &runs[i];
         let mut chart = Chart::new(
             format!("{} ({})", r.case.label, r.case.profile_name),
-            "x_rec",
-            "e = |y_rec - g(x_rec)|",
+            "reconstructed x_rec [–]",
+            "e = |y_rec − g(x_rec)| [–]",
         )
         .log(false, true);
         let mut row = vec![r.case.label.clone()];

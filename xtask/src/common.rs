@@ -22,12 +22,43 @@ pub fn threads() -> usize {
     std::thread::available_parallelism().map_or(1, |n| n.get().clamp(1, 8))
 }
 
+/// The step being computed, named in the progress lines of [`par_map`].
+static STEP: Mutex<String> = Mutex::new(String::new());
+
+/// Starts a step of a chapter: prints `xtask: chapter C [i/n] what ...` on stderr and names
+/// the step in the progress counts of the parallel maps that follow.
+pub fn step(chapter: u32, i: usize, n: usize, what: &str) {
+    let label = format!("chapter {chapter} [{i}/{n}] {what}");
+    eprintln!("xtask: {label} ...");
+    if let Ok(mut g) = STEP.lock() {
+        *g = label;
+    }
+}
+
 /// Maps `f` over `items` on [`threads`] threads, keeping the order. A panic inside `f` is
-/// caught and gives `None` for that item (the others continue).
+/// caught and gives `None` for that item (the others continue). A map that runs longer than
+/// a second prints its count of items done on stderr, at most once a second.
 pub fn par_map<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<Option<R>> {
     let n = items.len();
     let workers = threads().min(n.max(1));
     let next = AtomicUsize::new(0);
+    let done = AtomicUsize::new(0);
+    let started = Instant::now();
+    let last_print = Mutex::new(started);
+    let label = STEP.lock().map(|g| g.clone()).unwrap_or_default();
+    let report = |k: usize| {
+        if let Ok(mut last) = last_print.lock() {
+            if last.elapsed().as_secs_f64() >= 1.0
+                || (k == n && started.elapsed().as_secs_f64() >= 1.0)
+            {
+                *last = Instant::now();
+                eprintln!(
+                    "xtask:   {label}: {k}/{n} done ({:.0} s)",
+                    started.elapsed().as_secs_f64()
+                );
+            }
+        }
+    };
     let results: Mutex<Vec<Option<R>>> = Mutex::new((0..n).map(|_| None).collect());
     let work = || loop {
         let i = next.fetch_add(1, Ordering::Relaxed);
@@ -38,6 +69,7 @@ pub fn par_map<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec
         if let Ok(mut g) = results.lock() {
             g[i] = r;
         }
+        report(done.fetch_add(1, Ordering::Relaxed) + 1);
     };
     if workers <= 1 {
         work();

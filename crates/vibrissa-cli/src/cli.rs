@@ -32,18 +32,29 @@ Examples:
   vibrissa sweep --profile points:contour.csv --theta 0.75 --k 20 --q 5 --out out/tab
   vibrissa sweep scenes/c5-tapered-precurved-elastic-g1.ron --points 50 --out out/c5
 
-Profiles: g1, g2, ge, parabola:a,xv,yv, cosh:a,c,xv,d, circle:xc,yc,r, points:FILE.csv
-(a CSV file with columns x,y).";
+Profiles: g1, g2, ge, parabola:a,xv,yv, cosh:a,c,xv,d, circle:xc,yc,r, points:FILE.csv.
+A points file is a CSV table whose header names the x and y columns, units allowed
+(x,y or x_mm;y_mm or x [mm]<TAB>y [mm]); comma, tab or semicolon separated; it need only
+cover the part of the contour the whisker touches. In a physical scene (units:
+Physical(...)) profile numbers and points without units are in mm; g1, g2, ge are in
+whisker lengths. Outputs are in the scene's units (mm, N, N mm for a physical scene);
+each CSV has a NAME.units.csv beside it.
+
+Rows: --points N gives N contact rows + event rows + 10 rows before contact; rows are
+numbered from 1 (row r is line r + 1 of observables.csv) in the text, the JSON and the CSV.";
 
 const RECONSTRUCT_EXAMPLES: &str = "\
 Examples:
+  vibrissa reconstruct out/g1 --out out/g1-recon          a sweep folder, no further flags
   vibrissa reconstruct out/g1/observables.csv --out out/recon
   vibrissa reconstruct obs.csv scenes/c1-uniform-rigid-g1.ron --q 5 --profile g1 --json --out out/recon
   vibrissa reconstruct noisy.csv --theta 0.75 --k 20 --tolerance none --out out/noisy
 
-The log needs the columns x0,Ax,Ay,MA,phi0 (any order; other columns are ignored). Whisker
-values come from the scene file and the flags; loads in the scene are ignored (q is
-identified from the rows before contact unless --q is given).";
+The log needs the columns x0,Ax,Ay,MA,phi0 (any order; other columns are ignored; comma,
+tab or semicolon separated). Whisker values come from the scene file (DIR/scene.ron for a
+sweep folder) and the flags; loads in the scene are ignored (q is identified from the rows
+before contact unless --q is given). A log's units come from NAME.units.csv beside it, else
+the scene's units (mm, N, N mm for a physical scene); the outputs are in the scene's units.";
 
 const DEMO_EXAMPLES: &str = "\
 Examples:
@@ -173,7 +184,8 @@ pub struct SolveArgs {
     /// Print one JSON object on stdout instead of a human summary.
     #[arg(long)]
     pub json: bool,
-    /// Write elastica.csv (s,x,y,phi,kappa,m) and elastica.svg into DIR.
+    /// Write elastica.csv (s,x,y,phi,kappa,m, with elastica.units.csv), scene.ron and the
+    /// figure elastica.svg/.png into DIR (mm, N mm for a physical scene).
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
 }
@@ -190,11 +202,18 @@ pub struct SweepArgs {
     /// The obstacle contour (required here or in the scene file).
     #[arg(long, value_name = "P")]
     pub profile: Option<String>,
-    /// Contact rows, evenly spaced in the base position x0 from the first contact to the
-    /// separation (both included), 2..=100000; one row per phase switch is added [default: 200]
+    /// Contact rows, 2..=100000, evenly spaced in the base position x0 from the first contact
+    /// to the separation (both included). One row is added at each phase switch; 10 rows
+    /// before contact (flow only) come first. The summary counts them all [default: 200]
     #[arg(long, value_name = "N", allow_hyphen_values = true)]
     pub points: Option<String>,
-    /// Output directory: observables.csv, observables.svg, contact.svg, shapes.svg.
+    /// Print one JSON object on stdout (first_contact, separation, phases, rows, the row
+    /// counts and the events) instead of the summary line.
+    #[arg(long)]
+    pub json: bool,
+    /// Output directory: observables.csv (+ observables.units.csv), scene.ron (every
+    /// parameter, to reconstruct the folder with `vibrissa reconstruct DIR`), and the
+    /// figures observables, contact, shapes as SVG and PNG.
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
 }
@@ -202,8 +221,9 @@ pub struct SweepArgs {
 /// `vibrissa reconstruct`.
 #[derive(Debug, Clone, Args)]
 pub struct ReconstructArgs {
-    /// The observables log (columns x0,Ax,Ay,MA,phi0 at least).
-    #[arg(value_name = "OBSERVABLES.csv")]
+    /// The observables log (columns x0,Ax,Ay,MA,phi0 at least), or a sweep folder DIR: then
+    /// DIR/observables.csv is reconstructed with the whisker of DIR/scene.ron.
+    #[arg(value_name = "OBSERVABLES.csv|DIR")]
     pub observables: PathBuf,
     /// A RON scene file with the whisker; flags override what it sets.
     #[arg(value_name = "SCENE.ron")]
@@ -242,7 +262,7 @@ pub struct DemoArgs {
     /// Output directory.
     #[arg(long, value_name = "DIR", default_value = "vibrissa-demo")]
     pub out: PathBuf,
-    /// Contact points of the demo sweep.
+    /// Contact rows of the demo sweep (event rows are added, as for `sweep --points`).
     #[arg(long, value_name = "N", default_value_t = 120)]
     pub points: usize,
 }

@@ -2,8 +2,9 @@
 //!
 //! - [`error`]: [`CliError`], the one-line errors of the binary and their exit codes;
 //! - [`atomic`]: atomic file writes and staged output directories;
-//! - [`csvio`]: round-trip exact CSV writing and lenient, precise CSV reading;
-//! - [`plot`]: declarative charts, panels and categorical maps rendered to SVG;
+//! - [`csvio`]: round-trip exact CSV writing and lenient, precise CSV reading (`csv` crate);
+//! - [`plot`]: declarative charts, panels and categorical maps rendered to SVG and PNG;
+//! - [`units`]: the units of every output (dimensionless or mm, N, N mm) and their sidecars;
 //! - [`scene_file`]: the RON scene format;
 //! - [`cli`]: the command-line grammar;
 //! - [`resolve`]: scene file + flags -> model values (physical units included);
@@ -17,5 +18,6 @@ pub mod error;
 pub mod plot;
 pub mod resolve;
 pub mod scene_file;
+pub mod units;
 
 pub use error::CliError;

@@ -67,11 +67,11 @@ fn csv_reader_is_lenient_about_foreign_files() {
 fn csv_errors_name_file_line_and_column() {
     assert_eq!(
         csv_err("x0,Ax\n1,2\n", &["x0", "Ay"], 1),
-        "obs.csv:1: column `Ay`: missing required column (the header has: x0,Ax)"
+        "obs.csv:1: column `Ay`: missing required column (the header has: x0,Ax; comma separated)"
     );
     assert_eq!(
         csv_err("x0,Ax\n1,2\n3\n", &["x0"], 1),
-        "obs.csv:3: expected 2 fields as in the header, found 1"
+        "obs.csv:3: expected 2 fields as in the header, found 1 (comma separated)"
     );
     assert_eq!(
         csv_err("x0,Ax\n1,2\n3,abc\n", &["x0", "Ax"], 1),

@@ -105,8 +105,9 @@ fn sweep_reconstruct_round_trip() {
     let contact: Vec<&Vec<String>> = orows.iter().filter(|r| r[pi] != "none").collect();
     assert_eq!(rrows.len(), contact.len());
     assert_eq!(v["points"].as_u64().unwrap() as usize, contact.len());
+    // Rows are numbered from 1 as in the sweep's text and JSON.
     let first = v["first_contact_row"].as_u64().unwrap() as usize;
-    assert_eq!(orows.len() - first, contact.len());
+    assert_eq!(orows.len() - (first - 1), contact.len());
     for (r, o) in rrows.iter().zip(&contact) {
         assert_eq!(r[0], o[xi]);
         let (a, b) = (r[0].parse::<f64>().unwrap(), o[xi].parse::<f64>().unwrap());

@@ -11,17 +11,18 @@ use beam_model::solve;
 use contact_sim::{Profile, SweepResult};
 use profile_recon::{contour_error, from_sweep, reconstruct, ReconSettings};
 
-use crate::atomic::{write_atomic, OutputDir};
+use crate::atomic::OutputDir;
 use crate::cli::{DemoArgs, ModelFlags};
 use crate::commands::reconstruct::{
     max_of, phase_counts, write_reconstruction_csv, write_reconstruction_figures, RECON_CSV,
 };
 use crate::commands::solve::write_solution_files;
 use crate::commands::sweep::{run_sweep, write_sweep_outputs};
-use crate::commands::sweep_summary;
+use crate::commands::sweep_summary_in;
 use crate::error::CliError;
 use crate::resolve::{profile_arg, resolve_model, LoadedScene, Resolved};
 use crate::scene_file::SceneFile;
+use crate::units::UnitSystem;
 
 /// The built-in demo scene (also written to `scene.ron` in the output folder).
 pub const DEMO_SCENE: &str = "\
@@ -57,7 +58,7 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
         source: None,
     })?;
     let r = resolve_model(&ModelFlags::default(), Some(file))?;
-    let contour = profile.parse()?;
+    let contour = profile.parse(&r.units())?;
 
     // 1. The free whisker under the flow.
     let free = solve(&r.scene, &r.method).map_err(|e| r.culprit(&e))?;
@@ -65,23 +66,26 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
     let res = run_sweep(&r, &contour, &profile, args.points)?;
 
     let out = OutputDir::create(&args.out)?;
-    write_atomic(&out.path_for("scene.ron"), DEMO_SCENE.as_bytes())?;
+    // write_sweep_outputs writes scene.ron with the points actually used.
     write_solution_files(&r, &free, &out)?;
-    write_sweep_outputs(&r, &contour, &res, &profile.spec, &out)?;
+    write_sweep_outputs(&r, &contour, &res, &profile, args.points, &out)?;
     // 3. Identification and reconstruction.
     let mut summary = Vec::new();
     reconstruct_step(&r, &contour, &res, &out, &mut summary)?;
     let files = out.commit()?;
 
     println!(
-        "demo: theta = 0.75, k = 20, q = 5, contour g1 ({} contact points)",
+        "demo: theta = 0.75, k = 20, q = 5, contour g1 ({} contact rows requested)",
         args.points
     );
     println!(
         "  free whisker under the flow: tip ({:.5}, {:.5}), MA = {:.5}, phi0 = {:.5}",
         free.tip.x, free.tip.y, free.base.ma, free.base.phi0
     );
-    println!("  sweep: {}", sweep_summary(&res));
+    println!(
+        "  sweep: {}",
+        sweep_summary_in(&res, args.points, &UnitSystem::DIMENSIONLESS)
+    );
     for line in &summary {
         println!("  {line}");
     }
@@ -109,21 +113,27 @@ pub fn reconstruct_step(
     })?;
     let errors = contour_error(&rec.points, contour);
     write_reconstruction_csv(&rec.points, Some(&errors), &out.path_for(RECON_CSV))?;
-    write_reconstruction_figures(&rec.points, Some(contour), Some(&errors), "demo, g1", |n| {
-        out.path_for(n)
-    })?;
+    write_reconstruction_figures(
+        &rec.points,
+        Some(contour),
+        Some(&errors),
+        "demo: contour g1, q = 5",
+        |n| out.path_for(n),
+    )?;
     let q_true = resolved.q();
     let id = &rec.identification;
     summary.push(format!(
-        "identification: q = {:.12} (true {q_true}, error {:.2e}), contact from row {} of {}",
+        "identification: q = {:.12} (true {q_true}, error {:.2e}) from rows 1-{} (no contact \
+         force), rows {}-{} reconstructed",
         id.q,
         (id.q - q_true).abs(),
+        id.first_contact_row,
         id.first_contact_row + 1,
         rows.len()
     ));
     let (na, nb) = phase_counts(&rec.points);
     summary.push(format!(
-        "reconstruction ({}): {} points, phases A {na} / B {nb}, max residual {:.2e}",
+        "reconstruction ({}): {} contact points, phases A {na} / B {nb}, max residual {:.2e}",
         settings.method.name(),
         rec.points.len(),
         max_of(&rec.points.iter().map(|p| p.residual).collect::<Vec<_>>()),

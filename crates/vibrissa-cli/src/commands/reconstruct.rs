@@ -11,10 +11,12 @@ use profile_recon::{
 
 use crate::atomic::OutputDir;
 use crate::cli::{ModelFlags, ReconstructArgs};
+use crate::commands::recon_io;
 use crate::csvio::{read_table, Cell, CsvWriter, Table};
 use crate::error::CliError;
 use crate::plot::{write_svg, Chart, Series, Style};
 use crate::resolve::{parse_number, resolve_model, LoadedScene, ProfileArg, Resolved};
+use crate::units::{Quantity, UnitSystem};
 
 /// The columns an observables log must have.
 pub const REQUIRED_COLUMNS: [&str; 5] = ["x0", "Ax", "Ay", "MA", "phi0"];
@@ -33,7 +35,8 @@ pub const DEFAULT_TOLERANCE_THESIS: f64 = 1e-3;
 pub fn run(args: &ReconstructArgs) -> Result<(), CliError> {
     let method = parse_method(args.method.as_deref())?;
     let tol = parse_tolerance(args.tolerance.as_deref(), method)?;
-    let file = LoadedScene::load_opt(args.scene.as_deref())?;
+    let (log_path, scene_path) = recon_io::resolve_input(&args.observables, args.scene.as_deref())?;
+    let file = LoadedScene::load_opt(scene_path.as_deref())?;
     // The whisker from the scene and the flags; `--q` (if given) goes through the same
     // resolution so that physical units and range checks apply to it.
     let mut flags = ModelFlags {
@@ -43,18 +46,20 @@ pub fn run(args: &ReconstructArgs) -> Result<(), CliError> {
     flags.fluid.q = args.q.clone();
     let r = resolve_model(&flags, file)?;
     let q = args.q.as_ref().map(|_| r.q());
+    let units = r.units();
     let truth = match &args.profile {
         Some(spec) => Some(
             ProfileArg {
                 spec: spec.clone(),
                 file: None,
             }
-            .parse()?,
+            .parse(&units)?,
         ),
         None => None,
     };
 
-    let table = read_table(&args.observables, &REQUIRED_COLUMNS, 2)?;
+    let mut table = read_table(&log_path, &REQUIRED_COLUMNS, 2)?;
+    let x0_given = recon_io::to_model_units(&mut table, &units)?;
     let rows = rows_of(&table)?;
     let settings = ReconSettings {
         method,
@@ -66,17 +71,36 @@ pub fn run(args: &ReconstructArgs) -> Result<(), CliError> {
     let errors = truth.as_ref().map(|p| contour_error(&rec.points, p));
 
     let out = OutputDir::create(&args.out)?;
-    write_reconstruction_csv(&rec.points, errors.as_deref(), &out.path_for(RECON_CSV))?;
+    recon_io::write_reconstruction_csv_in(
+        &rec.points,
+        errors.as_deref(),
+        &units,
+        &x0_given,
+        &out.path_for(RECON_CSV),
+    )?;
+    recon_io::write_recon_scene(
+        &r,
+        rec.identification.q,
+        args.profile.clone(),
+        &log_path,
+        &out.path_for(recon_io::SCENE_RON),
+    )?;
     let title = args
         .observables
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_else(|| "observables".to_string());
-    write_reconstruction_figures(
+    write_reconstruction_figures_in(
         &rec.points,
         truth.as_ref(),
         errors.as_deref(),
-        &title,
+        &format!(
+            "q = {:.6}{} {}",
+            rec.identification.q * units.scale(Quantity::LineLoad),
+            unit_suffix(&units, Quantity::LineLoad),
+            if rec.q_given { "given" } else { "identified" }
+        ),
+        &units,
         |n| out.path_for(n),
     )?;
     let files = out.commit()?;
@@ -86,27 +110,37 @@ pub fn run(args: &ReconstructArgs) -> Result<(), CliError> {
     let max_residual = max_of(&rec.points.iter().map(|p| p.residual).collect::<Vec<_>>());
     if args.json {
         let mut v = serde_json::json!({
-            "q": rec.identification.q,
+            "q": rec.identification.q * units.scale(Quantity::LineLoad),
+            "q_dimensionless": rec.identification.q,
             "q_given": rec.q_given,
+            "units": if units.is_physical() { "physical" } else { "dimensionless" },
             "points": rec.points.len(),
-            "first_contact_row": rec.identification.first_contact_row,
-            "first_contact_line": table.line_of(rec.identification.first_contact_row),
+            "rows": table.rows(),
+            "first_contact_row": rec.identification.first_contact_row + 1,
             "method": method.name(),
             "max_residual": json_number(max_residual),
             "phases": {"A": na, "B": nb},
             "out": args.out.display().to_string(),
         });
         if let Some(e) = max_error {
-            v["max_error"] = json_number(e);
+            v["max_error"] = json_number(e * units.scale(Quantity::Length));
         }
         if !rec.q_given {
             v["model_mismatch"] = json_number(rec.identification.model_mismatch);
         }
         println!("{v}");
     } else {
-        println!("reconstruct {}: {}", title, summary_line(&rec, method));
+        println!(
+            "reconstruct {}: {}",
+            title,
+            summary_line_in(&rec, method, table.rows(), &units)
+        );
         if let Some(e) = max_error {
-            println!("max contour error e = {e:.3e} (eq. 6.11)");
+            println!(
+                "max contour error e = {:.3e}{} (eq. 6.11)",
+                e * units.scale(Quantity::Length),
+                unit_suffix(&units, Quantity::Length)
+            );
         }
         println!("wrote {} files to {}", files.len(), args.out.display());
     }
@@ -285,6 +319,42 @@ pub fn summary_line(rec: &Reconstruction, method: ReconMethod) -> String {
     )
 }
 
+/// `" mm"` etc., or nothing for dimensionless values.
+fn unit_suffix(units: &UnitSystem, q: Quantity) -> String {
+    match units.unit(q) {
+        "1" | "" => String::new(),
+        u => format!(" {u}"),
+    }
+}
+
+/// The one-line summary of a reconstruction of a log of `rows` rows, q in `units`; rows
+/// numbered from 1 as in the log (row r on line r + 1).
+pub fn summary_line_in(
+    rec: &Reconstruction,
+    method: ReconMethod,
+    rows: usize,
+    units: &UnitSystem,
+) -> String {
+    let (na, nb) = phase_counts(&rec.points);
+    let qs = units.scale(Quantity::LineLoad);
+    let qu = unit_suffix(units, Quantity::LineLoad);
+    let q = match (rec.q_given, units.is_physical()) {
+        (true, _) => format!("q = {}{qu} (given)", rec.identification.q * qs),
+        (false, true) => format!("q = {:.10e}{qu} (identified)", rec.identification.q * qs),
+        (false, false) => format!("q = {:.10}{qu} (identified)", rec.identification.q * qs),
+    };
+    let pre = rec.identification.first_contact_row;
+    format!(
+        "{q}; {rows} rows: rows 1-{pre} without contact force (flow only), rows {}-{rows} \
+         reconstructed: {} contact points ({method} method), phases A {na} / B {nb}, max \
+         residual {:.2e}",
+        pre + 1,
+        rec.points.len(),
+        max_of(&rec.points.iter().map(|p| p.residual).collect::<Vec<_>>()),
+        method = method.name(),
+    )
+}
+
 /// Writes `reconstruction.csv`: `x0,x,y,s1,f,psi,phase` (+ `error`), x0 copied exactly.
 pub fn write_reconstruction_csv(
     points: &[ReconPoint],
@@ -315,7 +385,8 @@ pub fn write_reconstruction_csv(
 }
 
 /// Writes `reconstruction.svg` (the reconstructed points, with the true contour if known)
-/// and, with errors, `error.svg` (e against x, log scale). Returns the file names written.
+/// and, with errors, `error.svg` (e against x, log scale), dimensionless. Returns the file
+/// names written.
 pub fn write_reconstruction_figures(
     points: &[ReconPoint],
     truth: Option<&Profile>,
@@ -323,7 +394,35 @@ pub fn write_reconstruction_figures(
     title: &str,
     path_for: impl Fn(&str) -> PathBuf,
 ) -> Result<Vec<&'static str>, CliError> {
-    let mut chart = Chart::new(format!("reconstructed contour ({title})"), "x", "y");
+    write_reconstruction_figures_in(
+        points,
+        truth,
+        errors,
+        title,
+        &UnitSystem::DIMENSIONLESS,
+        path_for,
+    )
+}
+
+/// [`write_reconstruction_figures`] with the axes in `units` (SVG and PNG).
+pub fn write_reconstruction_figures_in(
+    points: &[ReconPoint],
+    truth: Option<&Profile>,
+    errors: Option<&[f64]>,
+    title: &str,
+    units: &UnitSystem,
+    path_for: impl Fn(&str) -> PathBuf,
+) -> Result<Vec<&'static str>, CliError> {
+    let l = units.scale(Quantity::Length);
+    let mut chart = Chart::new(
+        format!("reconstructed contour ({title})"),
+        units.label("x", Quantity::Length),
+        units.label("y", Quantity::Length),
+    )
+    .note(format!(
+        "each point from one contact row's base observables alone; {}",
+        units.describe()
+    ));
     if let Some(p) = truth {
         let xs = points.iter().map(|p| p.x).filter(|x| x.is_finite());
         let (lo, hi) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
@@ -336,17 +435,18 @@ pub fn write_reconstruction_figures(
             let line: Vec<(f64, f64)> = (0..=300)
                 .map(|i| {
                     let x = a + (b - a) * i as f64 / 300.0;
-                    (x, p.y(x))
+                    (x * l, p.y(x) * l)
                 })
                 .collect();
             chart = chart.with(Series::new("true contour", line, Style::Line).color(7));
         }
     }
-    for (phase, name, color) in [(Phase::A, "phase A", 0), (Phase::B, "phase B", 1)] {
+    for (phase, color) in [(Phase::A, 0), (Phase::B, 1)] {
+        let name = format!("reconstructed, {}", crate::commands::phase_name(phase));
         let pts: Vec<(f64, f64)> = points
             .iter()
             .filter(|p| p.phase == phase)
-            .map(|p| (p.x, p.y))
+            .map(|p| (p.x * l, p.y * l))
             .collect();
         if !pts.is_empty() {
             chart = chart.with(Series::new(name, pts, Style::Points).color(color));
@@ -355,10 +455,19 @@ pub fn write_reconstruction_figures(
     write_svg(&chart, &path_for("reconstruction.svg"), (800, 560))?;
     let mut written = vec!["reconstruction.svg"];
     if let Some(e) = errors {
-        let pts: Vec<(f64, f64)> = points.iter().zip(e).map(|(p, &e)| (p.x, e)).collect();
-        let chart = Chart::new(format!("contour error e = |y - g(x)| ({title})"), "x", "e")
-            .log(false, true)
-            .with(Series::new("e (eq. 6.11)", pts, Style::LinePoints).color(3));
+        let pts: Vec<(f64, f64)> = points
+            .iter()
+            .zip(e)
+            .map(|(p, &e)| (p.x * l, e * l))
+            .collect();
+        let chart = Chart::new(
+            format!("contour error e = |y − g(x)| ({title})"),
+            units.label("x", Quantity::Length),
+            units.label("e", Quantity::Length),
+        )
+        .note("thesis eq. 6.11; points with e = 0 are not shown on the log axis")
+        .log(false, true)
+        .with(Series::new("e (eq. 6.11)", pts, Style::LinePoints).color(3));
         write_svg(&chart, &path_for("error.svg"), (800, 480))?;
         written.push("error.svg");
     }

@@ -6,7 +6,10 @@ use serde_json::{json, Value};
 
 use crate::atomic::OutputDir;
 use crate::cli::SolveArgs;
-use crate::commands::{list_files, write_elastica_csv, write_elastica_svg};
+use crate::commands::{
+    list_files, output_scene, scene_unit_notes, write_elastica_csv_in, write_elastica_figure,
+    write_scene_ron,
+};
 use crate::error::CliError;
 use crate::resolve::{resolve_model, LoadedScene, Resolved};
 
@@ -38,7 +41,19 @@ pub fn run(args: &SolveArgs) -> Result<(), CliError> {
 
 /// Writes `elastica.csv` and `elastica.svg` of a solution into the staged directory.
 pub fn write_solution_files(r: &Resolved, sol: &Solution, out: &OutputDir) -> Result<(), CliError> {
-    write_elastica_csv(sol, &out.path_for("elastica.csv"))?;
+    let units = r.units();
+    write_elastica_csv_in(sol, &units, &out.path_for("elastica.csv"))?;
+    write_scene_ron(
+        &out.path_for("scene.ron"),
+        &output_scene(r, None, None),
+        &[
+            format!(
+                "Written by vibrissa {} (`solve`): the scene of the files beside it.",
+                env!("CARGO_PKG_VERSION")
+            ),
+            scene_unit_notes(&units).join(" "),
+        ],
+    )?;
     // The unloaded shape for reference (a cheap, always convergent solve).
     let unloaded = solve(
         &Scene::new(r.scene.whisker, Loads::none()),
@@ -46,14 +61,15 @@ pub fn write_solution_files(r: &Resolved, sol: &Solution, out: &OutputDir) -> Re
     )
     .ok();
     let title = format!(
-        "elastica ({}, n = {})",
+        "elastica ({} method, n = {})",
         r.method.name(),
         r.method.intervals()
     );
-    write_elastica_svg(
+    write_elastica_figure(
         sol,
         unloaded.as_ref(),
         &title,
+        &units,
         &out.path_for("elastica.svg"),
     )
 }

@@ -8,12 +8,17 @@ use beam_model::{shape_from_tip_angle, FluidLoad, Scene};
 use contact_sim::phase::contact_loads;
 use contact_sim::{sweep_with_progress, Phase, Profile, SweepProgress, SweepResult, SweepSettings};
 
-use crate::atomic::OutputDir;
+use crate::atomic::{write_atomic, OutputDir};
 use crate::cli::SweepArgs;
-use crate::commands::{sweep_summary, write_observables_csv, write_sweep_figures};
+use crate::commands::{
+    first_contact_name, output_scene, phase_name, scene_unit_notes, separation_name, sweep_events,
+    sweep_summary_in, write_observables_csv_in, write_scene_ron, write_sweep_figures,
+    FigureContext, RowCounts,
+};
 use crate::error::CliError;
-use crate::plot::{write_svg, Chart, Series, Style};
+use crate::plot::{write_svg, Chart, Mark, Series, Style};
 use crate::resolve::{parse_count, profile_arg, resolve_model, LoadedScene, ProfileArg, Resolved};
+use crate::units::{Quantity, UnitSystem};
 
 /// Default number of contact points.
 pub const DEFAULT_POINTS: usize = 200;
@@ -58,14 +63,73 @@ pub fn run(args: &SweepArgs) -> Result<(), CliError> {
     }
     let r = resolve_model(&args.model, file)?;
     check_sweep_loads(&r)?;
-    let contour = profile.parse()?;
+    let units = r.units();
+    let contour = profile.parse(&units)?;
     let res = run_sweep(&r, &contour, &profile, points)?;
     let out = OutputDir::create(&args.out)?;
-    write_sweep_outputs(&r, &contour, &res, &profile.spec, &out)?;
+    write_sweep_outputs(&r, &contour, &res, &profile, points, &out)?;
     let files = out.commit()?;
-    println!("sweep {}: {}", profile.spec, sweep_summary(&res));
-    println!("wrote {} files to {}", files.len(), args.out.display());
+    if args.json {
+        let mut v = sweep_json(&res, points, &units);
+        v["profile"] = serde_json::Value::String(profile.spec.clone());
+        v["out"] = serde_json::Value::String(args.out.display().to_string());
+        v["files"] = serde_json::Value::from(files.len());
+        println!("{v}");
+    } else {
+        // The summary line comes last (spec/cli.md: stdout ends with it).
+        println!("wrote {} files to {}", files.len(), args.out.display());
+        println!(
+            "sweep {}: {}",
+            profile.spec,
+            sweep_summary_in(&res, points, &units)
+        );
+    }
     Ok(())
+}
+
+fn num(v: f64) -> serde_json::Value {
+    serde_json::Number::from_f64(v).map_or(serde_json::Value::Null, serde_json::Value::Number)
+}
+
+/// The JSON summary of a sweep (`sweep --json`): `first_contact`, `separation`, `phases`,
+/// `rows` and the row counts and positions of the events, rows numbered from 1 as in
+/// [`RowCounts`], positions and loads in `units`.
+pub fn sweep_json(res: &SweepResult, requested: usize, units: &UnitSystem) -> serde_json::Value {
+    let n = RowCounts::of(res, requested);
+    let l = units.scale(Quantity::Length);
+    let x0_of =
+        |row: Option<usize>| row.map_or(serde_json::Value::Null, |r| num(res.points[r - 1].x0 * l));
+    let events: Vec<serde_json::Value> = sweep_events(res)
+        .into_iter()
+        .map(|e| {
+            serde_json::json!({
+                "event": e.label,
+                "row": e.index + 1,
+                "x0": num(res.points[e.index].x0 * l),
+            })
+        })
+        .collect();
+    serde_json::json!({
+        "first_contact": first_contact_name(res.first_contact),
+        "first_contact_row": n.first_contact_row,
+        "first_contact_x0": x0_of(n.first_contact_row),
+        "separation": separation_name(&res.separation),
+        "separation_row": n.separation_row,
+        "separation_x0": x0_of(n.separation_row),
+        "phases": res.phase_pattern(),
+        "rows": n.rows,
+        "pre_contact_rows": n.pre_contact,
+        "contact_rows": n.contact,
+        "points_requested": n.requested,
+        "event_rows": n.event_rows,
+        "events": events,
+        "q": num(res.q * units.scale(Quantity::LineLoad)),
+        "alpha_deg": num(res.alpha.to_degrees()),
+        "units": if units.is_physical() { "physical" } else { "dimensionless" },
+        "length_unit": units.unit(Quantity::Length),
+        "force_unit": units.unit(Quantity::Force),
+        "moment_unit": units.unit(Quantity::Moment),
+    })
 }
 
 /// The sweep computes the contact force itself: refuses a tip force, and a flow angle outside
@@ -130,12 +194,16 @@ pub fn run_sweep(
         points,
         ..SweepSettings::default()
     };
-    // A progress bar on stderr only when it is a terminal: a spinner while the coarse pass
-    // looks for the separation, then a bar over the requested contact points.
+    // Progress on stderr only when it is a terminal: the coarse pass that looks for the
+    // separation counts its contour steps, then a bar counts the requested contact points.
     let bar = std::io::stderr().is_terminal().then(|| {
         let pb = indicatif::ProgressBar::new_spinner();
+        pb.set_style(
+            indicatif::ProgressStyle::with_template("{spinner} {msg} ({elapsed})")
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_spinner()),
+        );
         pb.set_message(format!(
-            "sweeping past {}: finding the separation",
+            "sweeping past {}: coarse pass, finding the separation: 0 steps",
             profile.spec
         ));
         pb.enable_steady_tick(Duration::from_millis(120));
@@ -150,14 +218,17 @@ pub fn run_sweep(
         &mut |p| {
             let Some(pb) = &bar else { return };
             match p {
-                SweepProgress::Coarse { .. } => pb.tick(),
+                SweepProgress::Coarse { steps } => pb.set_message(format!(
+                    "sweeping past {}: coarse pass, finding the separation: {steps} steps",
+                    profile.spec
+                )),
                 SweepProgress::Fine { done, total } => {
                     if !fine_started {
                         fine_started = true;
                         pb.set_length(total as u64);
                         pb.set_style(
                             indicatif::ProgressStyle::with_template(
-                                "{msg} [{bar:40}] {pos}/{len} points ({elapsed})",
+                                "{msg} [{bar:40}] {pos}/{len} contact points ({elapsed})",
                             )
                             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
                         );
@@ -174,38 +245,117 @@ pub fn run_sweep(
     res.map_err(|e| r.contact_culprit(e, profile))
 }
 
-/// Writes `observables.csv`, `observables.svg`, `contact.svg` and `shapes.svg` into `out`.
+/// Writes a sweep's folder into `out`: `observables.csv` (in the scene's units) with its
+/// units sidecar `observables.units.csv`, `scene.ron` (every parameter, units included, the
+/// true point count; a points profile is copied beside it as `profile.csv`), and the figures
+/// `observables`, `contact` and `shapes` as SVG and PNG.
 pub fn write_sweep_outputs(
     r: &Resolved,
     contour: &Profile,
     res: &SweepResult,
-    title: &str,
+    profile: &ProfileArg,
+    points: usize,
     out: &OutputDir,
 ) -> Result<(), CliError> {
-    write_observables_csv(res, &out.path_for("observables.csv"))?;
-    write_sweep_figures(res, title, |n| out.path_for(n))?;
-    write_shapes_svg(r, contour, res, title, &out.path_for("shapes.svg"))
+    let units = r.units();
+    write_observables_csv_in(res, &units, &out.path_for("observables.csv"))?;
+    let spec = match profile.points_path() {
+        Some(path) => {
+            let bytes = std::fs::read(&path).map_err(|e| CliError::io(&path, e))?;
+            write_atomic(&out.path_for("profile.csv"), &bytes)?;
+            "points:profile.csv".to_string()
+        }
+        None => profile.spec.trim().to_string(),
+    };
+    let n = RowCounts::of(res, points);
+    let mut notes = vec![
+        format!(
+            "Written by vibrissa {} (`sweep`): the scene that produced the files beside it.",
+            env!("CARGO_PKG_VERSION")
+        ),
+        "Reconstruct them with `vibrissa reconstruct DIR` (this folder).".to_string(),
+    ];
+    notes.extend(scene_unit_notes(&units));
+    notes.push(format!(
+        "observables.csv: x0, s1, xc, yc in {l}; Ax, Ay, f in {f}; MA in {m}; phi0, psi in rad \
+         (observables.units.csv; 1 = dimensionless).",
+        l = units.unit(Quantity::Length),
+        f = units.unit(Quantity::Force),
+        m = units.unit(Quantity::Moment)
+    ));
+    notes.push(format!(
+        "Rows: {} = {} before contact + {} in contact ({} requested points + {} at events).",
+        n.rows, n.pre_contact, n.contact, n.requested, n.event_rows
+    ));
+    let scene = output_scene(r, Some(spec), Some(points));
+    write_scene_ron(&out.path_for("scene.ron"), &scene, &notes)?;
+    let ctx = FigureContext {
+        units,
+        scene: scene_title(r, &profile.spec),
+        rigid: r.scene.whisker.support.stiffness().is_infinite(),
+    };
+    write_sweep_figures(res, &ctx, |n| out.path_for(n))?;
+    write_shapes_svg(r, contour, res, &ctx, &out.path_for("shapes.svg"))
 }
 
-/// The contour with the whisker at a few positions of the sweep (thesis Fig. 5.7 style).
+/// Names a sweep's scene in figure notes: `contour g1, q = 5, theta = 0.75, k = 20`.
+pub fn scene_title(r: &Resolved, profile: &str) -> String {
+    let g = &r.given;
+    let u = r.units();
+    let q_unit = match u.unit(Quantity::LineLoad) {
+        "1" => String::new(),
+        x => format!(" {x}"),
+    };
+    let mut s = format!("contour {profile}, q = {}{q_unit}", g.q.value);
+    if g.alpha_deg.value != 0.0 {
+        s += &format!(" at {}°", g.alpha_deg.value);
+    }
+    s += &format!(", θ = {}", g.theta.value);
+    if g.k.value.is_finite() {
+        let k_unit = if u.is_physical() { " N m/rad" } else { "" };
+        s += &format!(", k = {}{k_unit}", g.k.value);
+    } else {
+        s += ", rigid support";
+    }
+    s
+}
+
+/// The whisker at the events and a few positions between them, with the obstacle, the
+/// contact points and the sweep direction (thesis Fig. 5.7 style).
 fn write_shapes_svg(
     r: &Resolved,
     contour: &Profile,
     res: &SweepResult,
-    title: &str,
+    ctx: &FigureContext,
     path: &std::path::Path,
 ) -> Result<(), CliError> {
-    let contact: Vec<_> = res.contact_points().collect();
-    let mut chart = Chart::new(format!("whisker shapes ({title})"), "x", "y").equal_aspect();
-    let picks = 6usize.min(contact.len());
+    let l = ctx.units.scale(Quantity::Length);
+    let contact: Vec<usize> = (0..res.points.len())
+        .filter(|&i| res.points[i].phase != Phase::None)
+        .collect();
+    let events = sweep_events(res);
+    // Rows to draw: every event and evenly spaced rows between, 8 in all at most.
+    let mut picks: Vec<usize> = events.iter().map(|e| e.index).collect();
+    let extra = 8usize.saturating_sub(picks.len()).min(contact.len());
+    for k in 0..extra {
+        let i = contact[(k + 1) * contact.len() / (extra + 1)];
+        picks.push(i);
+    }
+    picks.sort_unstable();
+    picks.dedup();
+    let mut chart = Chart::new(
+        "whisker shapes along the sweep",
+        ctx.units.label("x", Quantity::Length),
+        ctx.units.label("y", Quantity::Length),
+    )
+    .equal_aspect()
+    .note(format!("{}; {}", ctx.scene, ctx.units.describe()));
     let mut xs = vec![];
-    for i in 0..picks {
-        let idx = if picks == 1 {
-            0
-        } else {
-            i * (contact.len() - 1) / (picks - 1)
-        };
-        let p = contact[idx];
+    let mut named = [false; 3];
+    let mut contact_pts = Vec::new();
+    let mut bases = Vec::new();
+    for &i in &picks {
+        let p = &res.points[i];
         let scene = Scene::new(
             r.scene.whisker,
             contact_loads(
@@ -218,7 +368,7 @@ fn write_shapes_svg(
                 p.s1,
             ),
         );
-        let Ok(sol) = shape_from_tip_angle(&scene, p.phi1, 1e-10, 100) else {
+        let Ok(sol) = shape_from_tip_angle(&scene, p.phi1, 1e-10, 200) else {
             continue;
         };
         // Draw only shapes that pass through their contact point.
@@ -231,32 +381,66 @@ fn write_shapes_svg(
             .x
             .iter()
             .zip(&sol.elastica.y)
-            .map(|(x, y)| (x + p.x0, *y))
+            .map(|(x, y)| ((x + p.x0) * l, *y * l))
             .collect();
-        xs.extend(pts.iter().map(|q| q.0));
-        let name = if i == 0 { "whisker" } else { "" };
-        let color = if p.phase == Phase::B { 1 } else { 0 };
-        chart = chart.with(Series::new(name, pts, Style::Line).color(color));
+        xs.extend(pts.iter().map(|q| q.0 / l));
+        let idx = if p.phase == Phase::B { 2 } else { 1 };
+        let name = if named[idx] {
+            String::new()
+        } else {
+            named[idx] = true;
+            format!("whisker, {}", phase_name(p.phase))
+        };
+        chart = chart.with(Series::new(name, pts, Style::Line).color(if idx == 2 { 1 } else { 0 }));
+        contact_pts.push((p.xc * l, p.yc * l));
+        bases.push((p.x0 * l, 0.0));
+    }
+    if xs.is_empty() {
+        return Ok(());
     }
     let (lo, hi) = xs
         .iter()
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
             (a.min(x), b.max(x))
         });
-    if lo.is_finite() && hi.is_finite() {
-        let (dlo, dhi) = contour.domain();
-        let (a, b) = ((lo - 0.2).max(dlo), (hi + 0.2).min(dhi));
-        let line: Vec<(f64, f64)> = (0..=300)
-            .map(|i| {
-                let x = a + (b - a) * i as f64 / 300.0;
-                (x, contour.y(x))
-            })
-            .filter(|p| p.1.is_finite() && p.1 < 1.6)
-            .collect();
-        chart = chart.with(Series::new("contour", line, Style::Line).color(7));
+    let (dlo, dhi) = contour.domain();
+    let (a, b) = ((lo - 0.2).max(dlo), (hi + 0.2).min(dhi));
+    let ymax = 1.25;
+    let line: Vec<(f64, f64)> = (0..=400)
+        .map(|i| {
+            let x = a + (b - a) * i as f64 / 400.0;
+            (x, contour.y(x))
+        })
+        .filter(|p| p.1.is_finite() && p.1 < ymax)
+        .map(|(x, y)| (x * l, y * l))
+        .collect();
+    chart = chart.with(Series::new("obstacle contour", line, Style::Line).color(7));
+    chart = chart.with(Series::new("contact points", contact_pts, Style::Points).color(5));
+    chart = chart.with(Series::new("base positions", bases, Style::Points).color(7));
+    let last = events.len().saturating_sub(1);
+    for (k, e) in events.iter().enumerate() {
+        let p = &res.points[e.index];
+        let color = match k {
+            0 => 2,
+            k if k == last => 3,
+            k => [4, 8, 9, 6][(k - 1) % 4],
+        };
+        chart = chart.mark(Mark::point(p.xc * l, p.yc * l, e.label.clone(), color));
     }
-    if chart.series.is_empty() {
-        return Ok(());
-    }
-    write_svg(&chart, path, (800, 640))
+    let first_x0 = contact.first().map_or(hi, |&i| res.points[i].x0);
+    let span = (hi - lo).max(0.2);
+    chart = chart.mark(Mark::arrow(
+        (first_x0 + 0.05 * span) * l,
+        -0.08 * l,
+        -0.3 * span * l,
+        0.0,
+        "sweep direction (base moves towards −x)",
+        7,
+    ));
+    // The figure's height follows the data (equal scales): whisker lengths above the base
+    // line, the arrow below it.
+    let (xspan, yspan) = ((b - a).max(0.5), 1.4);
+    let plot_w = 1000.0 - 380.0;
+    let height = (plot_w * yspan / xspan + 170.0).clamp(420.0, 900.0) as u32;
+    write_svg(&chart, path, (1000, height))
 }

@@ -1,0 +1,165 @@
+//! The inputs and outputs of `vibrissa reconstruct` that concern folders and units: a sweep
+//! folder as input (`reconstruct DIR`), a log's units (its `NAME.units.csv` sidecar, else
+//! the scene's units) and the reconstruction written in the scene's units with its own
+//! sidecar and `scene.ron`.
+
+use std::path::{Path, PathBuf};
+
+use profile_recon::ReconPoint;
+
+use crate::commands::{output_scene, scene_unit_notes, write_scene_ron, write_units_of};
+use crate::csvio::{read_units_sidecar, units_sidecar_path, Cell, CsvWriter, Table};
+use crate::error::CliError;
+use crate::resolve::Resolved;
+use crate::units::{column_factors, Quantity, UnitSystem};
+
+/// The file name of a sweep folder's log.
+pub const OBSERVABLES_CSV: &str = "observables.csv";
+
+/// The file name of a folder's scene.
+pub const SCENE_RON: &str = "scene.ron";
+
+/// The log and the scene to read for `reconstruct INPUT [SCENE]`: a folder gives its
+/// `observables.csv` and, unless a scene is given, its `scene.ron`.
+pub fn resolve_input(
+    input: &Path,
+    scene: Option<&Path>,
+) -> Result<(PathBuf, Option<PathBuf>), CliError> {
+    if !input.is_dir() {
+        return Ok((input.to_path_buf(), scene.map(Path::to_path_buf)));
+    }
+    let log = input.join(OBSERVABLES_CSV);
+    if !log.is_file() {
+        return Err(CliError::io(
+            &log,
+            std::io::Error::new(
+                std::io::ErrorKind::NotFound,
+                format!(
+                    "a sweep folder needs {OBSERVABLES_CSV} (written by `vibrissa sweep --out DIR`)"
+                ),
+            ),
+        ));
+    }
+    let scene = match scene {
+        Some(s) => Some(s.to_path_buf()),
+        None => {
+            let s = input.join(SCENE_RON);
+            if !s.is_file() {
+                return Err(CliError::io(
+                    &s,
+                    std::io::Error::new(
+                        std::io::ErrorKind::NotFound,
+                        "a sweep folder needs its scene.ron for the whisker (or give SCENE.ron)",
+                    ),
+                ));
+            }
+            Some(s)
+        }
+    };
+    Ok((log, scene))
+}
+
+/// The quantities of the columns `reconstruct` reads.
+const INPUT_QUANTITIES: [(&str, Quantity); 5] = [
+    ("x0", Quantity::Length),
+    ("Ax", Quantity::Force),
+    ("Ay", Quantity::Force),
+    ("MA", Quantity::Moment),
+    ("phi0", Quantity::Angle),
+];
+
+/// Converts the columns x0, Ax, Ay, MA, phi0 of a log to the model's dimensionless variables:
+/// by the units of its sidecar `NAME.units.csv` if there is one, else from the scene's units
+/// (`units`). Returns the x0 column as given, to be copied exactly into the outputs.
+pub fn to_model_units(table: &mut Table, units: &UnitSystem) -> Result<Vec<f64>, CliError> {
+    let sidecar = units_sidecar_path(&table.path);
+    let given = read_units_sidecar(&sidecar)?.unwrap_or_default();
+    let factors = column_factors(&given, &INPUT_QUANTITIES, units, &sidecar)?;
+    let x0 = table.column("x0").map(<[f64]>::to_vec).unwrap_or_default();
+    for ((name, _), f) in INPUT_QUANTITIES.iter().zip(factors) {
+        if f != 1.0 {
+            if let Some(col) = table.numeric.get_mut(*name) {
+                col.iter_mut().for_each(|v| *v *= f);
+            }
+        }
+    }
+    Ok(x0)
+}
+
+/// The quantities of the `reconstruction.csv` columns (`error` last, if present).
+const RECON_QUANTITIES: [Quantity; 8] = [
+    Quantity::Length,
+    Quantity::Length,
+    Quantity::Length,
+    Quantity::Length,
+    Quantity::Force,
+    Quantity::Angle,
+    Quantity::Text,
+    Quantity::Length,
+];
+
+/// Writes `reconstruction.csv` in `units` (x0 copied exactly from `x0_given`, the log's x0
+/// column as given) and its units sidecar.
+pub fn write_reconstruction_csv_in(
+    points: &[ReconPoint],
+    errors: Option<&[f64]>,
+    units: &UnitSystem,
+    x0_given: &[f64],
+    path: &Path,
+) -> Result<(), CliError> {
+    let mut header: Vec<&str> = super::reconstruct::RECONSTRUCTION_HEADER.to_vec();
+    if errors.is_some() {
+        header.push("error");
+    }
+    let (l, fs) = (units.scale(Quantity::Length), units.scale(Quantity::Force));
+    let mut w = CsvWriter::new(&header);
+    for (i, p) in points.iter().enumerate() {
+        let x0 = x0_given.get(p.row).copied().unwrap_or(p.x0 * l);
+        let mut row = vec![
+            Cell::Num(x0),
+            Cell::Num(p.x * l),
+            Cell::Num(p.y * l),
+            Cell::Num(p.s1 * l),
+            Cell::Num(p.f * fs),
+            Cell::Num(p.psi),
+            Cell::Text(p.phase.label()),
+        ];
+        if let Some(e) = errors {
+            row.push(Cell::Num(e.get(i).copied().unwrap_or(f64::NAN) * l));
+        }
+        w.push_row(&row)?;
+    }
+    w.write(path)?;
+    write_units_of(path, &header, &RECON_QUANTITIES[..header.len()], units)
+}
+
+/// Writes the `scene.ron` of a reconstruction folder: the whisker used, the identified (or
+/// given) fluid load `q` (dimensionless; written in the scene's units) and the true contour
+/// if one was given.
+pub fn write_recon_scene(
+    r: &Resolved,
+    q: f64,
+    profile: Option<String>,
+    log: &Path,
+    path: &Path,
+) -> Result<(), CliError> {
+    let units = r.units();
+    let mut scene = output_scene(r, profile, None);
+    scene.loads.q = q * units.scale(Quantity::LineLoad);
+    let mut notes = vec![
+        format!(
+            "Written by vibrissa {} (`reconstruct`): the whisker that reconstructed {}.",
+            env!("CARGO_PKG_VERSION"),
+            log.display()
+        ),
+        "loads.q is the fluid load identified from the log (or given with --q).".to_string(),
+    ];
+    notes.extend(scene_unit_notes(&units));
+    notes.push(format!(
+        "reconstruction.csv: x0, x, y, s1 (and error) in {}; f in {}; psi in rad \
+         (reconstruction.units.csv).",
+        units.unit(Quantity::Length),
+        units.unit(Quantity::Force)
+    ));
+    write_scene_ron(path, &scene, &notes)
+}

@@ -429,7 +429,10 @@ fn figures_come_as_svg_and_png_with_symbols_units_and_events() {
     );
     stdout(&o);
     let svg = fs::read_to_string(cwd.join("rigid/observables.svg")).unwrap();
-    assert!(!svg.contains("φ₀ [rad]"), "a rigid support has no phi0 panel");
+    assert!(
+        !svg.contains("φ₀ [rad]"),
+        "a rigid support has no phi0 panel"
+    );
     assert!(svg.contains("φ₀ = π/2 throughout (rigid support, no panel)"));
     for needle in [
         "base position x₀ [–]",
@@ -494,7 +497,7 @@ fn figures_come_as_svg_and_png_with_symbols_units_and_events() {
 }
 
 #[test]
-#[ignore = "needs issue-10 sweep"]
+
 fn a_table_over_pm_2_5_sweeps_and_reconstructs() {
     let dir = tempfile::tempdir().unwrap();
     let cwd = dir.path();
@@ -527,7 +530,7 @@ fn a_table_over_pm_2_5_sweeps_and_reconstructs() {
 }
 
 #[test]
-#[ignore = "needs issue-10 sweep"]
+
 fn a_circle_post_of_radius_0_6_sweeps_and_reconstructs() {
     let dir = tempfile::tempdir().unwrap();
     round_trip(
@@ -549,7 +552,7 @@ fn a_circle_post_of_radius_0_6_sweeps_and_reconstructs() {
 }
 
 #[test]
-#[ignore = "needs issue-10 sweep"]
+
 fn a_physical_table_in_mm_with_semicolons_sweeps() {
     let dir = tempfile::tempdir().unwrap();
     let cwd = dir.path();
@@ -581,7 +584,10 @@ fn reconstruct_dir_names_what_the_folder_lacks() {
     fs::write(cwd.join("empty/observables.csv"), "x0,Ax,Ay,MA,phi0\n").unwrap();
     let o = run(&["reconstruct", "empty", "--out", "rec"], cwd);
     let e = stderr(&o);
-    assert!(e.contains("empty/scene.ron: a sweep folder needs its scene.ron"), "{e}");
+    assert!(
+        e.contains("empty/scene.ron: a sweep folder needs its scene.ron"),
+        "{e}"
+    );
     assert_eq!(e.trim_end().lines().count(), 1, "{e}");
     assert!(!cwd.join("rec").exists());
 }

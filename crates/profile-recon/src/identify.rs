@@ -7,7 +7,9 @@
 //! base with the row's own `phi0`, `MA` ends with `m(1) = 0`), both within the noise level.
 //! The noise level is given, or estimated from the log itself as the median, over the rows,
 //! of the best hypothesis' residual relative to its sensitivity (every row, pre-contact or
-//! not, fits exactly one hypothesis up to the noise).
+//! not, fits exactly one hypothesis up to the noise), capped by a model-free reference (the
+//! scatter of the third differences of the columns along `x0`): a wrong whisker makes every
+//! residual large, which must not pass for noise.
 //!
 //! Steps: (1) seed: the row that fits the free whisker under its OWN flow
 //! `q = hypot(Ax, Ay)`, `alpha = atan2(Ay, -Ax)` best; (2) every row evaluated under the
@@ -149,6 +151,52 @@ fn is_pre_contact(e: &RowEval, level: f64) -> bool {
     e.f_z <= K_SIGMA * level && za.is_some_and(|h| h.z <= K_SIGMA * level)
 }
 
+/// Model-free noise level of a log: rows sorted by `x0`, the third divided difference of each
+/// column over consecutive quadruples, normalised so that white noise of standard deviation
+/// `sigma` gives `N(0, sigma^2)`; per column the median magnitude over `0.6745` relative to the
+/// column scale, the largest over the columns. The smooth part of a log adds `O(h^3)`, so
+/// this is an upper reference, not an estimate for exact logs; infinite with fewer than 4
+/// distinct `x0`.
+fn smoothness_noise(rows: &[ObservableRow], scales: &NoiseScales) -> f64 {
+    let mut order: Vec<usize> = (0..rows.len()).collect();
+    order.sort_by(|&a, &b| rows[a].x0.total_cmp(&rows[b].x0));
+    order.dedup_by(|a, b| (rows[*a].x0 - rows[*b].x0).abs() <= 1e-12 * (1.0 + rows[*b].x0.abs()));
+    if order.len() < 4 {
+        return f64::INFINITY;
+    }
+    let col = |r: &ObservableRow, j: usize| [r.ax, r.ay, r.ma, r.phi0][j];
+    let mut worst: f64 = 0.0;
+    for j in 0..4 {
+        if scales.0[j] == 0.0 {
+            continue;
+        }
+        let mut d: Vec<f64> = order
+            .windows(4)
+            .map(|q| {
+                let x: Vec<f64> = q.iter().map(|&i| rows[i].x0).collect();
+                let w: Vec<f64> = (0..4)
+                    .map(|i| {
+                        1.0 / (0..4)
+                            .filter(|&k| k != i)
+                            .map(|k| x[i] - x[k])
+                            .product::<f64>()
+                    })
+                    .collect();
+                let norm = w.iter().map(|v| v * v).sum::<f64>().sqrt();
+                let v: f64 = q.iter().zip(&w).map(|(&i, wi)| wi * col(&rows[i], j)).sum();
+                (v / norm).abs()
+            })
+            .filter(|v| v.is_finite())
+            .collect();
+        if d.is_empty() {
+            continue;
+        }
+        d.sort_by(f64::total_cmp);
+        worst = worst.max(d[d.len() / 2] / 0.6745 / scales.0[j]);
+    }
+    worst.max(NOISE_FLOOR)
+}
+
 /// Identification with the evaluations of every row (module docs).
 pub(crate) fn identify_rows(
     whisker: &Whisker,
@@ -216,17 +264,24 @@ pub(crate) fn identify_rows(
     };
     let mut flow = seed;
     let mut evals = eval_all(flow)?;
-    let mut level = settings.noise.unwrap_or_else(|| estimate_noise(&evals));
-    let level_of = |evals: &[RowEval]| settings.noise.unwrap_or_else(|| estimate_noise(evals));
+    let reference = smoothness_noise(rows, &scales);
+    let level_of = |evals: &[RowEval]| {
+        settings
+            .noise
+            .unwrap_or_else(|| estimate_noise(evals).min(reference).max(NOISE_FLOOR))
+    };
+    let mut level = level_of(&evals);
     let mut pre: Vec<usize> = (0..rows.len())
         .filter(|&i| is_pre_contact(&evals[i], level))
         .collect();
     if known.q.is_none() || known.alpha.is_none() {
-        // An estimated level can come out low (a row with an ill-conditioned spurious
-        // hypothesis fits too well); the seed row is the free whisker at some level: raise the
-        // level until a row is pre-contact, at most to MAX_NOISE.
-        while pre.is_empty() && settings.noise.is_none() && level < MAX_NOISE {
-            level *= 2.0;
+        // The model-based estimate can come out low (a row with an ill-conditioned spurious
+        // hypothesis fits too well): without any pre-contact row the level is raised, but
+        // never beyond the model-free reference of the log's smoothness (so that a wrong
+        // whisker, whose residuals look like noise to the model, finds no free row).
+        let reference = reference.min(MAX_NOISE);
+        while pre.is_empty() && settings.noise.is_none() && level < reference {
+            level = (level * 2.0).min(reference);
             pre = (0..rows.len())
                 .filter(|&i| is_pre_contact(&evals[i], level))
                 .collect();

@@ -10,6 +10,9 @@
 //! - phase B: every root `s1` of the moment condition `m(s1) = 0` on `(0, 1)`, all of them
 //!   bracketed on the dense output (each step cut in [`SAMPLES`] parts) and located by Brent;
 //!   consistent when the contact is tangential, `phi(s1) = psi(s1)`; the point is `r(s1)`.
+//!   Extrema of `m` towards zero (roots of `m'`, bracketed the same way) are hypotheses too,
+//!   with `m(s1)` as one more residual: as `f -> 0` in phase B (a release) the root of `m` is
+//!   double and has no sign change.
 //!
 //! The phase is the hypothesis with the smallest residual relative to its own noise
 //! sensitivity (`z = |residual| / sigma_unit`), not the slope-jump rule [6.10] and not a
@@ -219,7 +222,8 @@ impl RowEval {
             psi: b.psi,
             phase: b.phase,
             residual: b.residual,
-            sigma: level * b.sigma_unit,
+            // an inconsistent row implies its own noise level z
+            sigma: level.max(b.z) * b.sigma_unit,
             alternatives,
             evaluations: self.evaluations,
         })
@@ -257,6 +261,13 @@ pub(crate) fn evaluate(
     }
     let mut u = [0.0; 4];
     let mut prev: (f64, f64) = (0.0, -row.ma);
+    let slope = |s: f64, u: &[f64]| {
+        let mut du = [0.0; 4];
+        ode.rhs(s, u, &mut du);
+        du[1]
+    };
+    let mut prev_slope = slope(0.0, &[row.phi0, -row.ma, row.x0, 0.0]);
+    let mut touching: Vec<f64> = Vec::new();
     let opts = RootOptions {
         xtol: 1e-15,
         ftol: 0.0,
@@ -292,9 +303,32 @@ pub(crate) fn evaluate(
                     }
                 }
             }
+            // an extremum of m towards zero without a sign change (a double root as f -> 0,
+            // e.g. a release in phase B): m' changes sign where |m| is smallest
+            let ms = slope(s, &u);
+            if prev_slope.signum() != ms.signum() && m.signum() == m_prev.signum() {
+                let towards_zero = (m > 0.0 && prev_slope < 0.0) || (m < 0.0 && prev_slope > 0.0);
+                if towards_zero && s < 1.0 {
+                    let mut buf = [0.0; 4];
+                    let d_at = |t: f64| -> Result<f64> {
+                        Ok(if sol.eval_into(t, &mut buf) {
+                            slope(t, &buf)
+                        } else {
+                            f64::NAN
+                        })
+                    };
+                    if let Ok(r) = brent(d_at, s_prev, s, &opts) {
+                        if r.x > 0.0 && r.x < 1.0 {
+                            touching.push(r.x);
+                        }
+                    }
+                }
+            }
+            prev_slope = ms;
             prev = (s, m);
         }
     }
+    hyp_s.extend(touching.iter().map(|&t| (Phase::B, t)));
     // the Jacobian: variational equations up to the last hypothesis
     let s_jac = hyp_s.iter().map(|h| h.1).fold(0.0, f64::max);
     let jac_sol = if s_jac > 0.0 {
@@ -312,7 +346,8 @@ pub(crate) fn evaluate(
     let mut hyps = Vec::with_capacity(hyp_s.len());
     let mut du = [0.0; 4];
     let mut jv = [0.0; 20];
-    for &(phase, s) in &hyp_s {
+    for (k, &(phase, s)) in hyp_s.iter().enumerate() {
+        let touch = k >= hyp_s.len() - touching.len();
         if !sol.eval_into(s, &mut u) {
             continue;
         }
@@ -322,7 +357,6 @@ pub(crate) fn evaluate(
         let (f, psi) = contact_force(row, flow, s);
         let (sp, cp) = phi.sin_cos();
         let d = wrap(phi - psi);
-        let cos_d = d.cos();
         // derivative of f sin(phi - psi) = Q sin phi - P cos phi along s
         let g_s = -q_sin_cos(flow.q, sa) * sp + flow.q * ca * cp + dm_s * dphi_s;
         let have_jac = jac_sol.as_ref().is_some_and(|j| j.eval_into(s, &mut jv));
@@ -345,21 +379,35 @@ pub(crate) fn evaluate(
                 // d [f sin(phi - psi)] at fixed s
                 let dg = dq * sp - dp * cp + dm_s * dphi;
                 match phase {
+                    Phase::B if touch => {
+                        // at an extremum of m the location moves to second order: derivatives
+                        // at fixed s1; m itself is a residual there
+                        var_r += (dg * sc).powi(2);
+                        var_v += (dm * sc).powi(2);
+                        var_xy += (dx * sc).powi(2) + (dy * sc).powi(2);
+                    }
                     Phase::B => {
                         let ds = if dm_s != 0.0 { -dm / dm_s } else { 0.0 };
-                        let dr = (dg + g_s * ds) / cos_d;
+                        let dr = dg + g_s * ds;
                         var_r += (dr * sc).powi(2);
                         var_xy += ((dx + cp * ds) * sc).powi(2) + ((dy + sp * ds) * sc).powi(2);
                     }
                     _ => {
                         var_r += (dm * sc).powi(2);
-                        var_v += (dg / cos_d * sc).powi(2);
+                        var_v += (dg * sc).powi(2);
                         var_xy += (dx * sc).powi(2) + (dy * sc).powi(2);
                     }
                 }
             }
         }
         let (z, residual) = match phase {
+            Phase::B if touch => {
+                let zm = m.abs() / var_v.sqrt().max(tiny);
+                (
+                    ((f * d).abs() / var_r.sqrt().max(tiny)).max(zm),
+                    d.abs().max(m.abs()),
+                )
+            }
             Phase::B => ((f * d).abs() / var_r.sqrt().max(tiny), d.abs()),
             _ => {
                 // A needs phi(1) >= psi: a violation (weighted by f) counts like a residual
@@ -376,7 +424,11 @@ pub(crate) fn evaluate(
             psi,
             residual,
             z: if z.is_nan() { f64::INFINITY } else { z },
-            sigma_unit: if have_jac { var_xy.sqrt() } else { f64::INFINITY },
+            sigma_unit: if have_jac {
+                var_xy.sqrt()
+            } else {
+                f64::INFINITY
+            },
         });
     }
     // the phase-A force and the free-whisker check
@@ -388,7 +440,11 @@ pub(crate) fn evaluate(
     } else {
         (f64::NAN, f64::NAN, f64::NAN)
     };
-    let m1 = if reached { sol.u_end[1].abs() } else { f64::NAN };
+    let m1 = if reached {
+        sol.u_end[1].abs()
+    } else {
+        f64::NAN
+    };
     Ok(RowEval {
         f_z: fa.hypot(fb) / f_unit,
         m1,

@@ -1,9 +1,9 @@
 //! Sensor noise: reconstruction from observables with added Gaussian noise (seeded), and
 //! the study of the reconstruction error against the noise level.
 
+use crate::common::{contour_error, ReconSettings};
 use crate::error::Result;
 use crate::observables::ObservableRow;
-use crate::common::{contour_error, ReconSettings};
 use crate::reconstruct::reconstruct;
 use beam_model::Whisker;
 use contact_sim::Profile;

@@ -91,7 +91,8 @@ pub fn reconstruct_with(
             // the thesis's rule [6.10] reads the rows in the order of the sweep
             let mut order = contact.clone();
             order.sort_by(|&a, &b| rows[a].x0.total_cmp(&rows[b].x0).then(a.cmp(&b)));
-            let mut pts = crate::thesis::reconstruct_rows(whisker, id.flow(), rows, &order, settings)?;
+            let mut pts =
+                crate::thesis::reconstruct_rows(whisker, id.flow(), rows, &order, settings)?;
             // error estimate: distance to the accurate point of the same row plus its own
             let integrator = Dop853::new(1e-12, 1e-12).with_dense(true);
             for p in &mut pts {

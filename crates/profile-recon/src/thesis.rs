@@ -50,9 +50,9 @@
 //! Every FDM solve starts from the FDM solution at the best point so far (the previous row's at
 //! the start of a row), which keeps the evaluations on one branch of the Dirichlet problem.
 
+use crate::common::{contact_force, ReconPoint, ReconSettings};
 use crate::error::{ReconError, Result};
 use crate::observables::ObservableRow;
-use crate::common::{contact_force, ReconPoint, ReconSettings};
 use beam_model::equations::WhiskerFdmProblem;
 use beam_model::{solve as solve_model, FluidLoad, Loads, Method, Scene, Whisker};
 use bvp_solvers::fdm::{BoundaryCondition, FdmOptions, FdmSolver};
@@ -436,11 +436,7 @@ pub fn reconstruct_rows(
     let level = settings.noise.unwrap_or(crate::identify::NOISE_FLOOR);
     let noticeable = (100.0 * level).max(1e-7) * (1.0 + q);
     let (fs, _) = crate::common::force_components(row0, flow, 1.0);
-    let mut phase = if -fs > noticeable {
-        Phase::B
-    } else {
-        Phase::A
-    };
+    let mut phase = if -fs > noticeable { Phase::B } else { Phase::A };
     // Warm start of the first row: force balance with s1 = 1, free tip under the flow.
     let free = solve_model(
         &Scene::new(*whisker, Loads::fluid(q, flow.alpha)),

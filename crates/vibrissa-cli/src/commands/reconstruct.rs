@@ -5,8 +5,8 @@ use std::path::{Path, PathBuf};
 
 use contact_sim::{Phase, Profile};
 use profile_recon::{
-    contour_error, reconstruct_with, KnownFlow, ObservableRow, ReconError, ReconMethod,
-    ReconPoint, ReconSettings, Reconstruction, Streamer,
+    contour_error, reconstruct_with, KnownFlow, ObservableRow, ReconError, ReconMethod, ReconPoint,
+    ReconSettings, Reconstruction, Streamer,
 };
 
 use crate::atomic::OutputDir;
@@ -400,7 +400,10 @@ fn run_stream(args: &ReconstructArgs) -> Result<(), CliError> {
         for (j, &c) in idx.iter().enumerate() {
             let cell = cells.get(c).copied().unwrap_or("");
             v[j] = cell.parse::<f64>().map_err(|_| {
-                stdin_err(n, format!("{}: `{cell}` is not a number", REQUIRED_COLUMNS[j]))
+                stdin_err(
+                    n,
+                    format!("{}: `{cell}` is not a number", REQUIRED_COLUMNS[j]),
+                )
             })?;
         }
         lines.push(n);
@@ -449,7 +452,10 @@ pub fn summary_line(rec: &Reconstruction, method: ReconMethod) -> String {
         format!("q = {:.10} (identified)", rec.identification.q)
     };
     let q = if rec.alpha_given {
-        format!("{q}, alpha = {} deg (given)", rec.identification.alpha.to_degrees())
+        format!(
+            "{q}, alpha = {} deg (given)",
+            rec.identification.alpha.to_degrees()
+        )
     } else {
         format!(
             "{q}, alpha = {:.8} deg (identified)",

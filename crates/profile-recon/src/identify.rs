@@ -31,7 +31,7 @@ use serde::{Deserialize, Serialize};
 /// solver's tolerance (the sweep solves to 1e-11; the free rows of one sweep differ by ~1e-12).
 pub const NOISE_FLOOR: f64 = 1e-11;
 /// Integrator tolerance of the first pass over the rows that picks the seed row.
-const SEED_TOL: f64 = 1e-8;
+const SEED_TOL: f64 = 1e-6;
 /// Rows of the first pass checked again at full tolerance.
 const SEED_CANDIDATES: usize = 3;
 /// Largest relative noise level the identification raises an estimate to.
@@ -247,14 +247,27 @@ pub(crate) fn identify_rows(
                 .collect();
             fits.sort_by(|a, b| a.0.total_cmp(&b.0));
             let fine = Dop853::new(settings.tol, settings.tol);
-            let mut best = (f64::INFINITY, FluidLoad { q: 0.0, alpha: 0.0 });
-            for &(_, i) in fits.iter().take(SEED_CANDIDATES) {
-                let (fit, flow) = free_fit(whisker, &rows[i], &known, &scales, &fine);
-                if fit < best.0 {
-                    best = (fit, flow);
-                }
-            }
-            best.1
+            let mut cands: Vec<(f64, usize)> = fits
+                .iter()
+                .take(SEED_CANDIDATES)
+                .map(|&(_, i)| (free_fit(whisker, &rows[i], &known, &scales, &fine).0, i))
+                .collect();
+            cands.sort_by(|a, b| a.0.total_cmp(&b.0));
+            // The free rows all show the same forces: the seed is the mean over the rows
+            // whose forces lie within a generous radius of the best candidate's (the
+            // model-free noise reference), so that one near-free row (a release with
+            // f ~ 1e-10) cannot outvote the others.
+            let b = cands.first().map_or(0, |c| c.1);
+            let radius = K_SIGMA
+                * smoothness_noise(rows, &scales).clamp(1e-9, MAX_NOISE)
+                * scales.0[0].hypot(scales.0[1]);
+            let good: Vec<usize> = (0..rows.len())
+                .filter(|&i| (rows[i].ax - rows[b].ax).hypot(rows[i].ay - rows[b].ay) <= radius)
+                .collect();
+            let n = good.len().max(1) as f64;
+            let ax = good.iter().map(|&i| rows[i].ax).sum::<f64>() / n;
+            let ay = good.iter().map(|&i| rows[i].ay).sum::<f64>() / n;
+            with_known(free_flow(ax, ay), &known)
         }
     };
     let eval_all = |flow: FluidLoad| -> Result<Vec<RowEval>> {
@@ -309,8 +322,9 @@ pub(crate) fn identify_rows(
             let ax = pre.iter().map(|&i| rows[i].ax).sum::<f64>() / n;
             let ay = pre.iter().map(|&i| rows[i].ay).sum::<f64>() / n;
             let next = with_known(free_flow(ax, ay), &known);
-            // a move far inside the noise changes no point beyond its error estimate
-            let small = 0.1 * level * scales.0[0].hypot(scales.0[1]);
+            // a move within one noise standard deviation of a row's forces changes no point
+            // beyond its error estimate
+            let small = level * scales.0[0].hypot(scales.0[1]);
             let moved = (next.q - flow.q).abs() > small
                 || (next.alpha - flow.alpha).abs() * flow.q.max(next.q) > small;
             if !moved {

@@ -24,8 +24,9 @@ use beam_model::{FluidLoad, Whisker};
 use bvp_solvers::integrator::Dop853;
 use contact_sim::Phase;
 
-/// Relative noise level of a stream when none is given.
-pub const STREAM_NOISE: f64 = 1e-9;
+/// Relative noise level of a stream when none is given: the exact-log floor of the batch
+/// identification (a noisy sensor must say its level, `ReconSettings::noise`).
+pub const STREAM_NOISE: f64 = crate::identify::NOISE_FLOOR;
 
 /// An incremental reconstruction (module docs).
 pub struct Streamer {

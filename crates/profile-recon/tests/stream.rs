@@ -62,9 +62,13 @@ fn stream_equals_batch_under_an_oblique_flow() {
                 .find(|b| b.row == row)
                 .unwrap_or_else(|| panic!("{name}: row {row} not in the batch"));
             let t = &truth.points[row];
-            assert!((p.x - b.x).hypot(p.y - b.y) < 1e-11, "{name} row {row}");
+            let d = (p.x - b.x).hypot(p.y - b.y);
+            assert!(d < 1e-10, "{name} row {row}: {d:e} from the batch point");
             assert!((p.x - t.xc).hypot(p.y - t.yc) < 1e-9, "{name} row {row}");
-            assert_eq!(p.phase, t.phase, "{name} row {row}");
+            // at a phase switch (s1 = 1 in phase B) both phases are right
+            if (t.s1 - 1.0).abs() > 1e-6 {
+                assert_eq!(p.phase, t.phase, "{name} row {row}");
+            }
         }
     }
 }

@@ -8,7 +8,10 @@
 //! (`q = hypot(Ax, Ay)`, `alpha = atan2(Ay, -Ax)`, `m(1) = 0` within the noise) fixes the
 //! flow; the held rows are then reconstructed and returned together. Later pre-contact rows
 //! do not change the flow (the points already returned stay valid). At the end of the stream
-//! ([`Streamer::finish`]) rows still held are reconstructed as a batch log.
+//! ([`Streamer::finish`]) rows still held are reconstructed as a batch log. Without a given
+//! flow the stream therefore depends on the order of the rows (a release row with a force at
+//! the noise level, arriving first, would fix the flow); a sensor's stream starts free, and a
+//! robot that knows its flow should give it.
 //!
 //! The noise level is `ReconSettings::noise` ([`STREAM_NOISE`] if not given: a stream cannot
 //! be estimated ahead); the noise scales of the columns are the largest magnitudes seen so

@@ -49,8 +49,16 @@ fn stream_equals_batch_under_an_oblique_flow() {
             false,
         ),
         ("identified", rows.clone(), KnownFlow::default(), false),
-        // reversed: the contact rows come first and wait for the first free row
-        ("reversed", reversed, KnownFlow::default(), true),
+        // reversed, flow given: every row decided on arrival
+        (
+            "reversed",
+            reversed,
+            KnownFlow {
+                q: Some(3.0),
+                alpha: Some(0.3),
+            },
+            true,
+        ),
     ] {
         let pts = stream(&input, &w, known);
         assert_eq!(pts.len(), batch.points.len(), "{name}");

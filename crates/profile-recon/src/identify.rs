@@ -32,8 +32,6 @@ use serde::{Deserialize, Serialize};
 pub const NOISE_FLOOR: f64 = 1e-11;
 /// Integrator tolerance of the first pass over the rows that picks the seed row.
 const SEED_TOL: f64 = 1e-6;
-/// Rows of the first pass checked again at full tolerance.
-const SEED_CANDIDATES: usize = 3;
 /// Largest relative noise level the identification raises an estimate to.
 pub const MAX_NOISE: f64 = 1e-2;
 
@@ -246,23 +244,15 @@ pub(crate) fn identify_rows(
                 .map(|(i, r)| (free_fit(whisker, r, &known, &scales, &coarse).0, i))
                 .collect();
             fits.sort_by(|a, b| a.0.total_cmp(&b.0));
-            let fine = Dop853::new(settings.tol, settings.tol);
-            let mut cands: Vec<(f64, usize)> = fits
+            // The free rows all fit equally well (they show the same forces): the seed is
+            // the mean over every row whose fit is within the first pass's precision of the
+            // best, so that one near-free row (a release with f ~ 1e-10) cannot outvote the
+            // others; the pre-contact rows then fix the flow exactly (step 5).
+            let best = fits.first().map_or(f64::INFINITY, |c| c.0);
+            let good: Vec<usize> = fits
                 .iter()
-                .take(SEED_CANDIDATES)
-                .map(|&(_, i)| (free_fit(whisker, &rows[i], &known, &scales, &fine).0, i))
-                .collect();
-            cands.sort_by(|a, b| a.0.total_cmp(&b.0));
-            // The free rows all show the same forces: the seed is the mean over the rows
-            // whose forces lie within a generous radius of the best candidate's (the
-            // model-free noise reference), so that one near-free row (a release with
-            // f ~ 1e-10) cannot outvote the others.
-            let b = cands.first().map_or(0, |c| c.1);
-            let radius = K_SIGMA
-                * smoothness_noise(rows, &scales).clamp(1e-9, MAX_NOISE)
-                * scales.0[0].hypot(scales.0[1]);
-            let good: Vec<usize> = (0..rows.len())
-                .filter(|&i| (rows[i].ax - rows[b].ax).hypot(rows[i].ay - rows[b].ay) <= radius)
+                .filter(|c| c.0 <= 10.0 * best + 10.0 * SEED_TOL)
+                .map(|c| c.1)
                 .collect();
             let n = good.len().max(1) as f64;
             let ax = good.iter().map(|&i| rows[i].ax).sum::<f64>() / n;

@@ -32,7 +32,9 @@ pub fn reconstruct(
 /// Checks a point against `consistency_tol` (module docs).
 fn check(p: &ReconPoint, row: &ObservableRow, z: f64, level: f64, tol: Option<f64>) -> Result<()> {
     let Some(tol) = tol else { return Ok(()) };
-    if p.residual > tol && !(z <= K_SIGMA * level) {
+    // NaN z (no hypothesis) is not consistent
+    let consistent = z <= K_SIGMA * level;
+    if p.residual > tol && !consistent {
         return Err(ReconError::InconsistentRow {
             row: p.row,
             x0: row.x0,

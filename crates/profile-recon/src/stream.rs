@@ -99,7 +99,8 @@ impl Streamer {
         })?;
         if let Some(tol) = self.settings.consistency_tol {
             let told = self.settings.noise.unwrap_or(crate::identify::NOISE_FLOOR);
-            if p.residual > tol && !(e.best_z() <= K_SIGMA * told) {
+            let consistent = e.best_z() <= K_SIGMA * told;
+            if p.residual > tol && !consistent {
                 return Err(ReconError::InconsistentRow {
                     row: i,
                     x0: row.x0,

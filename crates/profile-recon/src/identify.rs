@@ -233,6 +233,7 @@ pub(crate) fn identify_rows(
     let scales = NoiseScales::of(rows);
     let integrator = Dop853::new(settings.tol, settings.tol).with_dense(true);
     // (1) seed flow
+    let mut best_row: Option<usize> = None;
     let seed = match (known.q, known.alpha) {
         (Some(q), Some(alpha)) => FluidLoad { q, alpha },
         _ => {
@@ -248,12 +249,22 @@ pub(crate) fn identify_rows(
             // the mean over every row whose fit is within the first pass's precision of the
             // best, so that one near-free row (a release with f ~ 1e-10) cannot outvote the
             // others; the pre-contact rows then fix the flow exactly (step 5).
+            // (and whose forces lie within the model-free noise reference of the best row's)
             let best = fits.first().map_or(f64::INFINITY, |c| c.0);
+            let b = fits.first().map_or(0, |c| c.1);
+            let radius = K_SIGMA
+                * smoothness_noise(rows, &scales).clamp(1e-9, MAX_NOISE)
+                * scales.0[0].hypot(scales.0[1]);
             let good: Vec<usize> = fits
                 .iter()
-                .filter(|c| c.0 <= 10.0 * best + 10.0 * SEED_TOL)
+                .filter(|c| {
+                    let r = &rows[c.1];
+                    c.0 <= 10.0 * best + 10.0 * SEED_TOL
+                        && (r.ax - rows[b].ax).hypot(r.ay - rows[b].ay) <= radius
+                })
                 .map(|c| c.1)
                 .collect();
+            best_row = Some(b);
             let n = good.len().max(1) as f64;
             let ax = good.iter().map(|&i| rows[i].ax).sum::<f64>() / n;
             let ay = good.iter().map(|&i| rows[i].ay).sum::<f64>() / n;
@@ -288,6 +299,23 @@ pub(crate) fn identify_rows(
             pre = (0..rows.len())
                 .filter(|&i| is_pre_contact(&evals[i], level))
                 .collect();
+        }
+        // fallback: the best row's own flow (it is the free whisker at some level)
+        if pre.is_empty() && settings.noise.is_none() {
+            if let Some(b) = best_row {
+                flow = with_known(free_flow(rows[b].ax, rows[b].ay), &known);
+                evals = eval_all(flow)?;
+                level = level_of(&evals);
+                pre = (0..rows.len())
+                    .filter(|&i| is_pre_contact(&evals[i], level))
+                    .collect();
+                while pre.is_empty() && level < reference {
+                    level = (level * 2.0).min(reference);
+                    pre = (0..rows.len())
+                        .filter(|&i| is_pre_contact(&evals[i], level))
+                        .collect();
+                }
+            }
         }
         if pre.is_empty() {
             match known.q {

@@ -7,10 +7,10 @@
 //! |---|---|
 //! | [`observables`] | the measured rows `(x0, Ax, Ay, MA, phi0)` |
 //! | [`common`] | settings, points, the force balance [6.8, 6.9], quality measure [6.11], row numbering |
-//! | [`identify`] | flow `(q, alpha)`, noise level and pre-contact rows from the model [6.1] (Table 6.1) |
+//! | [`identify`](mod@identify) | flow `(q, alpha)`, noise level and pre-contact rows from the model [6.1] (Table 6.1) |
 //! | [`accurate`] | method `accurate`: each row on its own, all phase-B roots bracketed, error estimate |
 //! | [`thesis`] | method `thesis`: the thesis's five equations [6.5-6.10] |
-//! | [`reconstruct`] | identification then one point per contact row with either method |
+//! | [`reconstruct`](mod@reconstruct) | identification then one point per contact row with either method |
 //! | [`stream`] | rows one at a time, each point as soon as it is known |
 //! | [`noise`] | seeded sensor noise and the error-against-noise study |
 //!

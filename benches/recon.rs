@@ -1,19 +1,18 @@
 //! Reconstruction of the 200-point sweep of g1 under q = 5 (uniform rigid whisker) with the
-//! accurate method: identification plus one contact point per row. Target: < 10 ms.
+//! accurate method: identification plus one contact point per row (target: no slower than
+//! the 5.5 ms of the neighbour-seeded version it replaced). And the latency of the stream
+//! mode: one row in, its contact point out (`Streamer::push`, flow known), the time a robot
+//! waits per sensor row.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use vibrissa::beam_model::Whisker;
-use vibrissa::contact_sim::{sweep, Profile, SweepSettings};
-use vibrissa::profile_recon::{from_sweep, reconstruct, ReconSettings};
+use vibrissa::contact_sim::{sweep, Phase, Profile, SweepSettings};
+use vibrissa::profile_recon::{from_sweep, reconstruct, KnownFlow, ReconSettings, Streamer};
 
 fn recon_g1(c: &mut Criterion) {
     let whisker = Whisker::uniform();
-    let truth = match sweep(
-        &whisker,
-        beam_model::FluidLoad { q: 5.0, alpha: 0.0 },
-        &Profile::g1(),
-        &SweepSettings::default(),
-    ) {
+    let flow = beam_model::FluidLoad { q: 5.0, alpha: 0.0 };
+    let truth = match sweep(&whisker, flow, &Profile::g1(), &SweepSettings::default()) {
         Ok(t) => t,
         Err(e) => {
             eprintln!("recon/g1: sweep failed: {e}");
@@ -27,6 +26,27 @@ fn recon_g1(c: &mut Criterion) {
     group.bench_function("g1/q=5/200-points/accurate", |b| {
         b.iter(|| reconstruct(black_box(&whisker), black_box(&rows), None, &settings))
     });
+    // stream latency: one contact row of each phase through a running stream
+    let known = KnownFlow {
+        q: Some(5.0),
+        alpha: Some(0.0),
+    };
+    for phase in [Phase::A, Phase::B] {
+        let Some(k) = truth.points.iter().position(|p| p.phase == phase) else {
+            continue;
+        };
+        let Ok(mut stream) = Streamer::new(&whisker, known, &settings) else {
+            continue;
+        };
+        // the rows before it set the stream's column scales
+        for r in &rows[..k] {
+            let _ = stream.push(*r);
+        }
+        let row = rows[k];
+        group.bench_function(format!("stream/row-latency/phase-{}", phase.label()), |b| {
+            b.iter(|| stream.push(black_box(row)))
+        });
+    }
     group.finish();
 }
 

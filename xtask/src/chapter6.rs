@@ -4,7 +4,8 @@
 use std::time::Instant;
 
 use profile_recon::{
-    contour_error, from_sweep, identify, reconstruct, ReconMethod, ReconPoint, ReconSettings,
+    contour_error, from_sweep, identify, reconstruct, KnownFlow, ReconMethod, ReconPoint,
+    ReconSettings,
 };
 use vibrissa_cli::atomic::OutputDir;
 use vibrissa_cli::csvio::{Cell, CsvWriter};
@@ -149,7 +150,12 @@ fn table_6_1(out: &OutputDir, report: &mut Report, runs: &[SweepRun]) {
     for r in runs {
         let thesis = thesis_dq(r.case.case, r.case.profile_name, &r.case.label);
         let (qi, dq) = match &r.result {
-            Ok(s) => match identify(&r.case.whisker, &from_sweep(s), 1e-9) {
+            Ok(s) => match identify(
+                &r.case.whisker,
+                &from_sweep(s),
+                KnownFlow::default(),
+                &ReconSettings::default(),
+            ) {
                 Ok(id) => (id.q, r.case.q - id.q),
                 Err(e) => {
                     entry.fail(format!("identify {}: {e}", r.name()));

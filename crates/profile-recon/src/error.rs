@@ -26,16 +26,19 @@ pub enum ReconError {
     /// A value of the log is not finite.
     #[error("row {row}: {column} is not a finite number ({value})")]
     NonFinite {
-        /// 1-based row of the log (data rows, header excluded).
+        /// 0-based index of the row (the crate's row convention).
         row: usize,
         /// The column name.
         column: &'static str,
         /// The value.
         value: f64,
     },
-    /// No row before contact: the fluid load cannot be identified from the log.
-    #[error("no pre-contact rows at the start of the log: the fluid load cannot be identified (give it explicitly)")]
-    NoPreContactRows,
+    /// No row is the free whisker under a flow: the fluid load cannot be identified [6.1].
+    #[error("none of the {rows} rows is the free whisker under a flow (no pre-contact row): the fluid load cannot be identified (give q and alpha explicitly)")]
+    NoPreContactRows {
+        /// Rows in the log.
+        rows: usize,
+    },
     /// No contact row in the log.
     #[error("the log has no contact rows (all {rows} rows show the flow alone)")]
     NoContactRows {
@@ -45,7 +48,7 @@ pub enum ReconError {
     /// A contact row admits no consistent contact point.
     #[error("row {row} (x0 = {x0}): no consistent contact point (best residual {residual:.3e} with phase {phase})")]
     InconsistentRow {
-        /// 1-based row of the log.
+        /// 0-based index of the row (the crate's row convention).
         row: usize,
         /// Its base position.
         x0: f64,

@@ -6,10 +6,13 @@
 //! | module | concept |
 //! |---|---|
 //! | [`observables`] | the measured rows `(x0, Ax, Ay, MA, phi0)` |
-//! | [`identify`](mod@identify) | fluid load from the pre-contact rows [6.1], contact start (Table 6.1) |
-//! | [`reconstruct`](mod@reconstruct) | contact point, force, s1 and phase per row; quality measure [6.11] |
+//! | [`common`] | settings, points, the force balance [6.8, 6.9], quality measure [6.11], row numbering |
+//! | [`identify`](mod@identify) | flow `(q, alpha)`, noise level and pre-contact rows from the model [6.1] (Table 6.1) |
+//! | [`accurate`] | method `accurate`: each row on its own, all phase-B roots bracketed, error estimate |
+//! | [`thesis`] | method `thesis`: the thesis's five equations [6.5-6.10] |
+//! | [`reconstruct`](mod@reconstruct) | identification then one point per contact row with either method |
+//! | [`stream`] | rows one at a time, each point as soon as it is known |
 //! | [`noise`] | seeded sensor noise and the error-against-noise study |
-//! | [`thesis`] | the thesis's five-equation method [6.5-6.10] |
 //!
 //! ```
 //! use beam_model::Whisker;
@@ -25,17 +28,23 @@
 //! assert!(contour_error(&rec.points, &Profile::g2()).iter().all(|e| *e < 1e-9));
 //! ```
 
+pub mod accurate;
+pub mod common;
 pub mod error;
 pub mod identify;
 pub mod noise;
 pub mod observables;
 pub mod reconstruct;
+pub mod stream;
 pub mod thesis;
 
+pub use common::{
+    contact_force, contour_error, free_flow, KnownFlow, NoiseScales, ReconMethod, ReconPoint,
+    ReconSettings, Reconstruction,
+};
 pub use error::{ReconError, Result};
 pub use identify::{identify, Identification};
 pub use noise::{add_noise, noise_study, NoiseResult};
 pub use observables::{from_sweep, ObservableRow};
-pub use reconstruct::{
-    contour_error, reconstruct, ReconMethod, ReconPoint, ReconSettings, Reconstruction,
-};
+pub use reconstruct::{reconstruct, reconstruct_with};
+pub use stream::Streamer;

@@ -1,9 +1,10 @@
 //! Sensor noise: reconstruction from observables with added Gaussian noise (seeded), and
 //! the study of the reconstruction error against the noise level.
 
+use crate::common::{contour_error, ReconSettings};
 use crate::error::Result;
 use crate::observables::ObservableRow;
-use crate::reconstruct::{contour_error, reconstruct, ReconSettings};
+use crate::reconstruct::reconstruct;
 use beam_model::Whisker;
 use contact_sim::Profile;
 use rand::rngs::StdRng;
@@ -53,7 +54,7 @@ pub struct NoiseResult {
 }
 
 /// Reconstructs noisy copies of `rows` at each level (never failing on inconsistency: the
-/// residuals are reported) and measures the contour error against `profile`.
+/// residuals are reported; the noise level is estimated from each log, not told) and measures the contour error against `profile`.
 pub fn noise_study(
     whisker: &Whisker,
     rows: &[ObservableRow],
@@ -70,10 +71,6 @@ pub fn noise_study(
         .iter()
         .map(|&level| {
             let noisy = add_noise(rows, level, seed);
-            let settings = ReconSettings {
-                noise_floor: settings.noise_floor.max(level * 1e-3),
-                ..settings
-            };
             let rec = reconstruct(whisker, &noisy, None, &settings)?;
             let mut e = contour_error(&rec.points, profile);
             e.retain(|v| v.is_finite());

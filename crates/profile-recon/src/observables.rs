@@ -20,7 +20,8 @@ pub struct ObservableRow {
 }
 
 impl ObservableRow {
-    /// Checks that every value is finite, naming row (1-based) and column otherwise.
+    /// Checks that every value is finite, naming the row (0-based index, the crate's row
+    /// convention) and the column otherwise.
     pub fn validate(&self, row: usize) -> Result<()> {
         for (column, value) in [
             ("x0", self.x0),

@@ -9,7 +9,7 @@
 //! **Model evaluation.** For given `(psi, f, s1, phi1)` the BVP [3.25] on `[0, s1]` is solved
 //! by central finite differences with Dirichlet conditions at both ends, `phi(0) = phi0` (the
 //! observed base angle: the support model is not needed) and `phi(s1) = phi1`, under the
-//! contact loads (DP force at `beta = pi/2 - psi`, flow `q` at `alpha = 0` on `[0, s1]`). It
+//! contact loads (DP force at `beta = pi/2 - psi`, flow `q` at `alpha` on `[0, s1]`). It
 //! gives the curvatures `kappa0 = phi'(0)`, `kappa1 = phi'(s1)` and, by the trapezoidal rule,
 //! the contact point `(x1, y1)`. The grid has 100 intervals on `[0, s1]` (`h = s1/100 <= 0.01`,
 //! the thesis's `h = 0.01` for `s1 = 1`): a fixed count rather than `ceil(100 s1)` keeps the
@@ -20,8 +20,8 @@
 //!   not differentiable at its zero);
 //! - [6.6] `m1 = e(s1)^4 (kappa1 - A s1 - B) = 0`;
 //! - [6.7] `MA + m(0) = 0` with `m(0) = kappa0 - B`;
-//! - [6.8] `Ax + q s1 + f sin psi = 0`;
-//! - [6.9] `Ay - f cos psi = 0`.
+//! - [6.8] `Ax + q s1 cos alpha + f sin psi = 0`;
+//! - [6.9] `Ay - q s1 sin alpha - f cos psi = 0`.
 //!
 //! The exact model satisfies all six at the true contact, but the FDM one does so only up to
 //! its `O(h^2)` discretisation error (both `phi0` and `MA` are imposed, one condition more than
@@ -50,9 +50,9 @@
 //! Every FDM solve starts from the FDM solution at the best point so far (the previous row's at
 //! the start of a row), which keeps the evaluations on one branch of the Dirichlet problem.
 
+use crate::common::{contact_force, ReconPoint, ReconSettings};
 use crate::error::{ReconError, Result};
 use crate::observables::ObservableRow;
-use crate::reconstruct::{force, ReconPoint, ReconSettings};
 use beam_model::equations::WhiskerFdmProblem;
 use beam_model::{solve as solve_model, FluidLoad, Loads, Method, Scene, Whisker};
 use bvp_solvers::fdm::{BoundaryCondition, FdmOptions, FdmSolver};
@@ -65,8 +65,6 @@ use std::cell::{Cell, RefCell};
 
 /// FDM intervals on `[0, s1]` (the thesis's `h = 0.01` for `s1 = 1`).
 pub const INTERVALS: usize = 100;
-/// Trust-region tolerance on the residual norm (the thesis reached `1e-4`).
-pub const TOLERANCE: f64 = 1e-8;
 /// Slope-jump threshold `a_diff` of [6.10].
 pub const A_DIFF: f64 = 1.0;
 /// Trust-region iteration budget per row and phase.
@@ -75,7 +73,7 @@ const MAX_ITERS: u64 = 100;
 /// suspect: the other phase is tried too and the smaller residual kept.
 pub const SUSPECT: f64 = 1e-3;
 /// Trial points without a relative improvement of [`IMPROVEMENT`] after which a least-squares
-/// solve that cannot reach [`TOLERANCE`] ends at its best point.
+/// solve that cannot reach `ReconSettings::tol` ends at its best point.
 pub const STALL_TRIALS: usize = 12;
 /// Relative improvement of the residual norm that counts as progress.
 pub const IMPROVEMENT: f64 = 1e-10;
@@ -114,7 +112,8 @@ struct Track {
 /// Rows of [6.5-6.9] for one observable row and one phase hypothesis.
 struct RowSystem<'a> {
     whisker: &'a Whisker,
-    q: f64,
+    flow: FluidLoad,
+    tol: f64,
     row: &'a ObservableRow,
     phase: Phase,
     track: RefCell<Track>,
@@ -126,14 +125,15 @@ impl<'a> RowSystem<'a> {
     /// (nodes at `s = i s1 / INTERVALS`), empty for a linear start.
     fn new(
         whisker: &'a Whisker,
-        q: f64,
+        (flow, tol): (FluidLoad, f64),
         row: &'a ObservableRow,
         phase: Phase,
         reference: Vec<f64>,
     ) -> Self {
         RowSystem {
             whisker,
-            q,
+            flow,
+            tol,
             row,
             phase,
             track: RefCell::new(Track {
@@ -169,15 +169,7 @@ impl<'a> RowSystem<'a> {
     /// The FDM solve of [3.25] on `[0, s1]` with `phi(0) = phi0`, `phi(s1) = phi1`.
     fn fdm(&self, psi: f64, f: f64, s1: f64, phi1: f64) -> Result<Fdm> {
         let grid = UniformGrid::new(0.0, s1, INTERVALS)?;
-        let loads = contact_loads(
-            FluidLoad {
-                q: self.q,
-                alpha: 0.0,
-            },
-            psi,
-            f,
-            s1,
-        );
+        let loads = contact_loads(self.flow, psi, f, s1);
         let problem = WhiskerFdmProblem::new(*self.whisker, loads, phi1);
         let phi0 = self.row.phi0;
         let guess: Vec<f64> = {
@@ -237,21 +229,22 @@ impl<'a> RowSystem<'a> {
         r[1] = m.y1 - u[1]; // [6.5], y component
         r[2] = w.stiffness(s1) * (m.kappa1 - w.kappa0(s1)); // [6.6]
         r[3] = self.row.ma + w.stiffness(0.0) * (m.kappa0 - w.b); // [6.7]
-        r[4] = self.row.ax + self.q * s1 + f * sp; // [6.8]
-        r[5] = self.row.ay - f * cp; // [6.9]
+        let (sa, ca) = self.flow.alpha.sin_cos();
+        r[4] = self.row.ax + self.flow.q * s1 * ca + f * sp; // [6.8]
+        r[5] = self.row.ay - self.flow.q * s1 * sa - f * cp; // [6.9]
     }
 
     /// Solves the row from `start`.
     fn run(self, start: &[f64]) -> Result<Solved> {
         let opts = TrustRegionOptions {
-            tol: TOLERANCE,
+            tol: self.tol,
             max_iters: MAX_ITERS,
             initial_radius: 0.1,
             max_radius: 10.0,
         };
         let (u, residual, iterations) = match trust_region::solve(&self, start, &opts) {
             Ok(sol) => (sol.x, sol.residual_norm, sol.iterations as usize),
-            // The least-squares minimum above TOLERANCE (the FDM level): the best point found.
+            // The least-squares minimum above the tolerance (the FDM level): the best point found.
             Err(ReconError::Bvp(BvpError::NoConvergence { .. }))
                 if self.track.borrow().best.is_finite() =>
             {
@@ -389,22 +382,24 @@ fn other(phase: Phase) -> Phase {
     }
 }
 
-/// Slope `dAy/dx0` between rows `i - 1` and `i`.
-fn slope(rows: &[ObservableRow], i: usize) -> f64 {
-    (rows[i].ay - rows[i - 1].ay) / (rows[i].x0 - rows[i - 1].x0)
+/// Slope `dAy/dx0` between rows `a` and `b`.
+fn slope(a: &ObservableRow, b: &ObservableRow) -> f64 {
+    (b.ay - a.ay) / (b.x0 - a.x0)
 }
 
-/// Reconstructs the contact rows `rows[first..]` by the thesis's method (module docs): five
-/// unknowns per row [6.3, 6.4] from the six residuals of [6.5-6.9] by the trust region around
-/// FDM solves of [3.25], warm-started from the previous row, phases by [6.10].
+/// Reconstructs the contact rows `rows[order[k]]` (`order`: 0-based indices sorted by `x0`,
+/// the order of a sweep) by the thesis's method (module docs): five unknowns per row
+/// [6.3, 6.4] from the six residuals of [6.5-6.9] by the trust region (tolerance
+/// `settings.tol`) around FDM solves of [3.25], warm-started from the previous row, phases by
+/// [6.10]. The flow `(q, alpha)` enters the loads and the force balance [6.8, 6.9].
 ///
 /// The first row starts from force balance with `s1 = 1` [6.8, 6.9] and the free tip of the
-/// whisker under the flow `q` (thesis 6.1); if neither phase is consistent there, phase B is
+/// whisker under the flow (thesis 6.1); if neither phase is consistent there, phase B is
 /// restarted from a few `s1 < 1` with the contact point on the free whisker (a tangential first
 /// contact far from the tip).
 ///
 /// # Errors
-/// - [`ReconError::TooFewRows`] without contact rows (`first >= rows.len()`);
+/// - [`ReconError::TooFewRows`] without contact rows (`order` empty);
 /// - [`ReconError::NonFinite`] for a non-finite observable;
 /// - [`ReconError::Model`] if the free whisker cannot be solved;
 /// - [`ReconError::InconsistentRow`] if neither phase can be solved at a row, or (with
@@ -412,36 +407,42 @@ fn slope(rows: &[ObservableRow], i: usize) -> f64 {
 /// - [`ReconError::Bvp`] for other solver failures.
 pub fn reconstruct_rows(
     whisker: &Whisker,
-    q: f64,
+    flow: FluidLoad,
     rows: &[ObservableRow],
-    first: usize,
+    order: &[usize],
     settings: &ReconSettings,
 ) -> Result<Vec<ReconPoint>> {
-    if first >= rows.len() {
+    let Some(&first) = order.first() else {
         return Err(ReconError::TooFewRows {
             found: 0,
             needed: 1,
             what: "the thesis method needs at least one contact row",
         });
-    }
-    for (i, r) in rows.iter().enumerate() {
-        r.validate(i + 1)?;
-    }
-    let row0 = &rows[first];
-    // First phase (6.2.1, Remark 6.3): the flow acts on [0, s1] only in phase B, so Ax rises
-    // above -q at a tangential first contact.
-    let noticeable = (100.0 * settings.noise_floor).max(1e-7) * (1.0 + q);
-    let mut phase = if row0.ax > -q + noticeable {
-        Phase::B
-    } else {
-        Phase::A
     };
+    for &i in order {
+        rows.get(i)
+            .ok_or(ReconError::TooFewRows {
+                found: rows.len(),
+                needed: i + 1,
+                what: "a contact row index is beyond the log",
+            })?
+            .validate(i)?;
+    }
+    let q = flow.q;
+    let row0 = &rows[first];
+    // First phase (6.2.1, Remark 6.3): the flow acts on [0, s1] only in phase B, so the
+    // contact force of [6.8] at s1 = 1 points away from the contour (f sin psi < 0) at a
+    // tangential first contact.
+    let level = settings.noise.unwrap_or(crate::identify::NOISE_FLOOR);
+    let noticeable = (100.0 * level).max(1e-7) * (1.0 + q);
+    let (fs, _) = crate::common::force_components(row0, flow, 1.0);
+    let mut phase = if -fs > noticeable { Phase::B } else { Phase::A };
     // Warm start of the first row: force balance with s1 = 1, free tip under the flow.
     let free = solve_model(
-        &Scene::new(*whisker, Loads::fluid(q, 0.0)),
+        &Scene::new(*whisker, Loads::fluid(q, flow.alpha)),
         &Method::accurate(),
     )?;
-    let (f0, psi0) = force(row0, q, 1.0);
+    let (f0, psi0) = contact_force(row0, flow, 1.0);
     let mut prev = vec![
         row0.x0 + free.tip.x,
         free.tip.y,
@@ -455,12 +456,15 @@ pub fn reconstruct_rows(
     ];
     let mut prev_phase = phase;
     let mut prev_shape: Vec<f64> = Vec::new();
-    let mut points = Vec::with_capacity(rows.len() - first);
+    let mut points = Vec::with_capacity(order.len());
     let mut just_switched = false;
-    for (i, row) in rows.iter().enumerate().skip(first) {
+    let system = (flow, settings.tol);
+    for (k, &i) in order.iter().enumerate() {
+        let row = &rows[i];
         // [6.10]: slope jump of Ay ahead of the step (contact rows only).
-        if i >= first + 2 {
-            let delta = (slope(rows, i) - slope(rows, i - 1)).abs();
+        if k >= 2 {
+            let (a, b, c) = (&rows[order[k - 2]], &rows[order[k - 1]], row);
+            let delta = (slope(b, c) - slope(a, b)).abs();
             if !just_switched && delta > A_DIFF {
                 phase = other(phase);
                 just_switched = true;
@@ -469,7 +473,7 @@ pub fn reconstruct_rows(
             }
         }
         let attempt = |ph: Phase, u: &[f64]| -> Result<Solved> {
-            RowSystem::new(whisker, q, row, ph, prev_shape.clone()).run(u)
+            RowSystem::new(whisker, system, row, ph, prev_shape.clone()).run(u)
         };
         let start_for = |ph: Phase| -> Vec<f64> {
             if ph == prev_phase {
@@ -501,7 +505,7 @@ pub fn reconstruct_rows(
                             _ => f64::NAN,
                         };
                         return Err(ReconError::InconsistentRow {
-                            row: i + 1,
+                            row: i,
                             x0: row.x0,
                             residual,
                             phase: if phase == Phase::B { 'B' } else { 'A' },
@@ -513,16 +517,16 @@ pub fn reconstruct_rows(
         // First row without a consistent hypothesis: a tangential first contact far from the
         // tip (s1 well below 1) is out of reach of the start s1 = 1; restart phase B from a few
         // s1 on the free whisker (contact point r(s1), force balance [6.8, 6.9]).
-        if i == first && !chosen.good() {
+        if k == 0 && !chosen.good() {
             for s1 in FIRST_ROW_S1 {
-                let k = free
+                let j = free
                     .elastica
                     .s
                     .iter()
                     .position(|&s| s >= s1)
                     .unwrap_or(free.elastica.s.len().saturating_sub(1));
-                let (f, psi) = force(row, q, s1);
-                let (Some(&x), Some(&y)) = (free.elastica.x.get(k), free.elastica.y.get(k)) else {
+                let (f, psi) = contact_force(row, flow, s1);
+                let (Some(&x), Some(&y)) = (free.elastica.x.get(j), free.elastica.y.get(j)) else {
                     continue;
                 };
                 if let Ok(b) = attempt(Phase::B, &[row.x0 + x, y, psi, f, s1]) {
@@ -539,7 +543,7 @@ pub fn reconstruct_rows(
         if let Some(tol) = settings.consistency_tol {
             if chosen.residual.is_nan() || chosen.residual > tol {
                 return Err(ReconError::InconsistentRow {
-                    row: i + 1,
+                    row: i,
                     x0: row.x0,
                     residual: chosen.residual,
                     phase: if chosen.phase == Phase::B { 'B' } else { 'A' },
@@ -557,6 +561,8 @@ pub fn reconstruct_rows(
             psi: chosen.u[2],
             phase: chosen.phase,
             residual: chosen.residual,
+            sigma: f64::NAN,
+            alternatives: 0,
             evaluations: chosen.iterations,
         });
         prev_phase = chosen.phase;

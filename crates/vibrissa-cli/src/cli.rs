@@ -49,6 +49,7 @@ Examples:
   vibrissa reconstruct out/g1/observables.csv --out out/recon
   vibrissa reconstruct obs.csv scenes/c1-uniform-rigid-g1.ron --q 5 --profile g1 --json --out out/recon
   vibrissa reconstruct noisy.csv --theta 0.75 --k 20 --tolerance none --out out/noisy
+  sensor | vibrissa reconstruct --stream scenes/c1-uniform-rigid-g1.ron --q 5 --alpha-deg 0
 
 The log needs the columns x0,Ax,Ay,MA,phi0 (any order; other columns are ignored; comma,
 tab or semicolon separated). Whisker values come from the scene file (DIR/scene.ron for a
@@ -222,9 +223,10 @@ pub struct SweepArgs {
 #[derive(Debug, Clone, Args)]
 pub struct ReconstructArgs {
     /// The observables log (columns x0,Ax,Ay,MA,phi0 at least), or a sweep folder DIR: then
-    /// DIR/observables.csv is reconstructed with the whisker of DIR/scene.ron.
-    #[arg(value_name = "OBSERVABLES.csv|DIR")]
-    pub observables: PathBuf,
+    /// DIR/observables.csv is reconstructed with the whisker of DIR/scene.ron. Not with
+    /// --stream.
+    #[arg(value_name = "OBSERVABLES.csv|DIR", required_unless_present = "stream")]
+    pub observables: Option<PathBuf>,
     /// A RON scene file with the whisker; flags override what it sets.
     #[arg(value_name = "SCENE.ron")]
     pub scene: Option<PathBuf>,
@@ -234,6 +236,19 @@ pub struct ReconstructArgs {
     /// The fluid load q; identified from the log when not given.
     #[arg(long, value_name = "Q", allow_hyphen_values = true)]
     pub q: Option<String>,
+    /// The flow angle in degrees, in (-90, 90); identified from the log when not given
+    /// (0 when only --q is given and no row is pre-contact).
+    #[arg(long = "alpha-deg", value_name = "D", allow_hyphen_values = true)]
+    pub alpha_deg: Option<String>,
+    /// Relative noise level of the log (standard deviation over each column's largest
+    /// magnitude); estimated from the log when not given.
+    #[arg(long, value_name = "L", allow_hyphen_values = true)]
+    pub noise: Option<String>,
+    /// Read the log from standard input row by row (header line first) and write each
+    /// contact point to standard output as soon as it is known (CSV, the header of
+    /// reconstruction.csv); the positional argument is then the scene.
+    #[arg(long)]
+    pub stream: bool,
     /// The true contour, to compute the reconstruction error (eq. 6.11): adds an `error`
     /// column and error.svg.
     #[arg(long, value_name = "P")]
@@ -251,9 +266,9 @@ pub struct ReconstructArgs {
     #[arg(long)]
     pub json: bool,
     /// Output directory: reconstruction.csv, reconstruction.svg (and error.svg with
-    /// --profile).
-    #[arg(long, value_name = "DIR")]
-    pub out: PathBuf,
+    /// --profile); not with --stream.
+    #[arg(long, value_name = "DIR", required_unless_present = "stream")]
+    pub out: Option<PathBuf>,
 }
 
 /// `vibrissa demo`.

@@ -100,14 +100,22 @@ fn sweep_reconstruct_round_trip() {
     let rec = fs::read_to_string(cwd.join("rec/reconstruction.csv")).unwrap();
     assert!(rec.starts_with("x0,x,y,s1,f,psi,phase,error\n"), "{rec}");
     let (rh, rrows) = parse(&rec);
-    // One row per contact row of the input, in order, x0 bit-identical.
-    let (pi, xi) = (col(&oh, "phase"), col(&oh, "x0"));
-    let contact: Vec<&Vec<String>> = orows.iter().filter(|r| r[pi] != "none").collect();
+    // One row per contact row of the input, in order, x0 bit-identical. A row whose contact
+    // force is below the log's precision (f = 0 at the first touch, ~1e-12 at a release) is
+    // the free whisker within the noise: pre-contact by the model (spec/model.md).
+    let (fi, pi, xi) = (col(&oh, "f"), col(&oh, "phase"), col(&oh, "x0"));
+    let force = |r: &Vec<String>| r[fi].parse::<f64>().unwrap();
+    let contact: Vec<&Vec<String>> = orows
+        .iter()
+        .filter(|r| r[pi] != "none" && force(r) > 1e-9)
+        .collect();
     assert_eq!(rrows.len(), contact.len());
     assert_eq!(v["points"].as_u64().unwrap() as usize, contact.len());
     // Rows are numbered from 1 as in the sweep's text and JSON.
     let first = v["first_contact_row"].as_u64().unwrap() as usize;
-    assert_eq!(orows.len() - (first - 1), contact.len());
+    let first_true = orows.iter().position(|r| force(r) > 1e-9).unwrap();
+    assert_eq!(first, first_true + 1);
+    assert!(v["alpha_deg"].as_f64().unwrap().abs() < 1e-7);
     for (r, o) in rrows.iter().zip(&contact) {
         assert_eq!(r[0], o[xi]);
         let (a, b) = (r[0].parse::<f64>().unwrap(), o[xi].parse::<f64>().unwrap());
@@ -289,4 +297,69 @@ fn bad_logs_fail_with_one_line_and_no_output() {
         &["--profile", "zz", "--out", "rec"],
     );
     assert_fails(&o, &["--profile"], cwd);
+}
+
+/// `--stream`: the log on standard input (reversed, as another sensor order), each contact
+/// point on standard output; the same points as the batch reconstruction, flow given or
+/// identified from the first free row.
+#[test]
+fn stream_gives_the_batch_points() {
+    use std::io::Write;
+    use std::process::Stdio;
+    let dir = tempfile::tempdir().unwrap();
+    let cwd = dir.path();
+    let obs = sweep(cwd);
+    let o = reconstruct(cwd, "sw/observables.csv", &["--out", "rec"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let batch = fs::read_to_string(cwd.join("rec/reconstruction.csv")).unwrap();
+    let (_, brows) = parse(&batch);
+    let mut lines: Vec<&str> = obs.lines().collect();
+    let header = lines.remove(0);
+    lines.reverse();
+    let input = std::iter::once(header)
+        .chain(lines)
+        .map(|l| format!("{l}\n"))
+        .collect::<String>();
+    for extra in [&["--q", "5", "--alpha-deg", "0"][..], &[][..]] {
+        let mut args = vec!["reconstruct", "--stream"];
+        args.extend(WHISKER);
+        args.extend(extra);
+        let mut child = Command::new(env!("CARGO_BIN_EXE_vibrissa"))
+            .args(&args)
+            .current_dir(cwd)
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        child
+            .stdin
+            .take()
+            .unwrap()
+            .write_all(input.as_bytes())
+            .unwrap();
+        let o = child.wait_with_output().unwrap();
+        assert!(o.status.success(), "{}", stderr(&o));
+        let text = String::from_utf8_lossy(&o.stdout).into_owned();
+        assert!(text.starts_with("x0,x,y,s1,f,psi,phase\n"), "{text}");
+        let (_, srows) = parse(&text);
+        assert_eq!(srows.len(), brows.len(), "{extra:?}");
+        for s in &srows {
+            let b = brows.iter().find(|b| b[0] == s[0]).expect("same x0");
+            for k in 1..3 {
+                let (x, y) = (s[k].parse::<f64>().unwrap(), b[k].parse::<f64>().unwrap());
+                assert!((x - y).abs() < 1e-10, "{extra:?}: {s:?} vs {b:?}");
+            }
+            assert_eq!(s[6], b[6]);
+        }
+    }
+    // a flow angle out of range is refused, naming the flag
+    let o = reconstruct(
+        cwd,
+        "sw/observables.csv",
+        &["--alpha-deg", "95", "--out", "rec4"],
+    );
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("--alpha-deg"), "{}", stderr(&o));
+    assert!(!cwd.join("rec4").exists());
 }

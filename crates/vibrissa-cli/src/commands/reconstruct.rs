@@ -5,8 +5,8 @@ use std::path::{Path, PathBuf};
 
 use contact_sim::{Phase, Profile};
 use profile_recon::{
-    contour_error, reconstruct, ObservableRow, ReconError, ReconMethod, ReconPoint, ReconSettings,
-    Reconstruction,
+    contour_error, reconstruct_with, KnownFlow, ObservableRow, ReconError, ReconMethod, ReconPoint,
+    ReconSettings, Reconstruction, Streamer,
 };
 
 use crate::atomic::OutputDir;
@@ -33,9 +33,21 @@ pub const DEFAULT_TOLERANCE_THESIS: f64 = 1e-3;
 
 /// Runs `vibrissa reconstruct`.
 pub fn run(args: &ReconstructArgs) -> Result<(), CliError> {
+    if args.stream {
+        return run_stream(args);
+    }
+    let (Some(observables), Some(out_dir)) = (&args.observables, &args.out) else {
+        return Err(CliError::invalid_argument(
+            "OBSERVABLES.csv",
+            "",
+            "the observables log and --out are needed (or --stream)",
+        ));
+    };
     let method = parse_method(args.method.as_deref())?;
     let tol = parse_tolerance(args.tolerance.as_deref(), method)?;
-    let (log_path, scene_path) = recon_io::resolve_input(&args.observables, args.scene.as_deref())?;
+    let (log_path, scene_path) = recon_io::resolve_input(observables, args.scene.as_deref())?;
+    let alpha = parse_alpha(args.alpha_deg.as_deref())?;
+    let noise = parse_noise(args.noise.as_deref())?;
     let file = LoadedScene::load_opt(scene_path.as_deref())?;
     // The whisker from the scene and the flags; `--q` (if given) goes through the same
     // resolution so that physical units and range checks apply to it.
@@ -64,13 +76,14 @@ pub fn run(args: &ReconstructArgs) -> Result<(), CliError> {
     let settings = ReconSettings {
         method,
         consistency_tol: tol,
+        noise,
         ..ReconSettings::default()
     };
-    let rec = reconstruct(&r.scene.whisker, &rows, q, &settings)
+    let rec = reconstruct_with(&r.scene.whisker, &rows, KnownFlow { q, alpha }, &settings)
         .map_err(|e| recon_culprit(e, &table, &r, args, tol))?;
     let errors = truth.as_ref().map(|p| contour_error(&rec.points, p));
 
-    let out = OutputDir::create(&args.out)?;
+    let out = OutputDir::create(out_dir)?;
     recon_io::write_reconstruction_csv_in(
         &rec.points,
         errors.as_deref(),
@@ -85,8 +98,7 @@ pub fn run(args: &ReconstructArgs) -> Result<(), CliError> {
         &log_path,
         &out.path_for(recon_io::SCENE_RON),
     )?;
-    let title = args
-        .observables
+    let title = observables
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_else(|| "observables".to_string());
@@ -114,13 +126,18 @@ pub fn run(args: &ReconstructArgs) -> Result<(), CliError> {
             "q_dimensionless": rec.identification.q,
             "q_given": rec.q_given,
             "units": if units.is_physical() { "physical" } else { "dimensionless" },
+            "alpha_deg": rec.identification.alpha.to_degrees(),
+            "alpha_given": rec.alpha_given,
+            "noise": json_number(rec.identification.noise),
+            "noise_estimated": rec.identification.noise_estimated,
+            "max_sigma": json_number(max_of(&rec.points.iter().map(|p| p.sigma).collect::<Vec<_>>())),
             "points": rec.points.len(),
             "rows": table.rows(),
             "first_contact_row": rec.identification.first_contact_row + 1,
             "method": method.name(),
             "max_residual": json_number(max_residual),
             "phases": {"A": na, "B": nb},
-            "out": args.out.display().to_string(),
+            "out": out_dir.display().to_string(),
         });
         if let Some(e) = max_error {
             v["max_error"] = json_number(e * units.scale(Quantity::Length));
@@ -142,7 +159,7 @@ pub fn run(args: &ReconstructArgs) -> Result<(), CliError> {
                 unit_suffix(&units, Quantity::Length)
             );
         }
-        println!("wrote {} files to {}", files.len(), args.out.display());
+        println!("wrote {} files to {}", files.len(), out_dir.display());
     }
     Ok(())
 }
@@ -226,12 +243,8 @@ fn recon_culprit(
         column: column.map(str::to_string),
         reason,
     };
-    // `row` of the library's errors is 1-based over the data rows.
-    let line_of = |row: usize| {
-        row.checked_sub(1)
-            .and_then(|i| table.line_of(i))
-            .unwrap_or(first_line)
-    };
+    // `row` of the library's errors is the 0-based index of the data row.
+    let line_of = |row: usize| table.line_of(row).unwrap_or(first_line);
     match err {
         ReconError::NonFinite { row, column, value } => at(
             line_of(row),
@@ -254,11 +267,11 @@ fn recon_culprit(
             ),
         ),
         ReconError::TooFewRows { .. } => at(last_line, None, err.to_string()),
-        ReconError::NoPreContactRows => at(
+        ReconError::NoPreContactRows { .. } => at(
             first_line,
             None,
-            "the log starts in contact (Ay != 0 in the first row): the fluid load cannot be \
-             identified; give it with --q"
+            "no row is the free whisker under a flow (no pre-contact row): the fluid load \
+             cannot be identified; give it with --q and --alpha-deg (or check the whisker)"
                 .to_string(),
         ),
         ReconError::NoContactRows { .. } => at(last_line, None, err.to_string()),
@@ -274,9 +287,172 @@ fn recon_culprit(
                 format!("identified fluid load q = {value}: {reason}"),
             ),
         },
+        ReconError::InvalidParameter {
+            name: "alpha",
+            reason,
+            ..
+        } => CliError::invalid_argument(
+            "--alpha-deg",
+            args.alpha_deg.clone().unwrap_or_default(),
+            reason,
+        ),
+        ReconError::InvalidParameter {
+            name: "noise",
+            reason,
+            ..
+        } => CliError::invalid_argument("--noise", args.noise.clone().unwrap_or_default(), reason),
         ReconError::Model(e) => r.culprit(&e),
         other => CliError::solver(other),
     }
+}
+
+fn parse_alpha(raw: Option<&str>) -> Result<Option<f64>, CliError> {
+    let Some(raw) = raw else { return Ok(None) };
+    let d = parse_number("--alpha-deg", raw)?;
+    if !(d.is_finite() && d.abs() < 90.0) {
+        return Err(CliError::invalid_argument(
+            "--alpha-deg",
+            raw,
+            "the flow angle must lie in (-90, 90) degrees",
+        ));
+    }
+    Ok(Some(d.to_radians()))
+}
+
+fn parse_noise(raw: Option<&str>) -> Result<Option<f64>, CliError> {
+    let Some(raw) = raw else { return Ok(None) };
+    let l = parse_number("--noise", raw)?;
+    if !(l.is_finite() && l >= 0.0) {
+        return Err(CliError::invalid_argument(
+            "--noise",
+            raw,
+            "the relative noise level must be a number >= 0",
+        ));
+    }
+    Ok(Some(l))
+}
+
+/// `vibrissa reconstruct --stream`: rows from standard input (a header line naming the
+/// columns first), each contact point to standard output as soon as it is known.
+fn run_stream(args: &ReconstructArgs) -> Result<(), CliError> {
+    use std::io::{BufRead, Write};
+    let method = parse_method(args.method.as_deref())?;
+    if method != ReconMethod::Accurate {
+        return Err(CliError::invalid_argument(
+            "--method",
+            method.name(),
+            "the stream reconstructs each row on its own: method accurate only",
+        ));
+    }
+    let tol = parse_tolerance(args.tolerance.as_deref(), method)?;
+    let alpha = parse_alpha(args.alpha_deg.as_deref())?;
+    let noise = parse_noise(args.noise.as_deref())?;
+    // the one positional argument is the scene
+    let scene = args.scene.as_deref().or(args.observables.as_deref());
+    let file = LoadedScene::load_opt(scene)?;
+    let mut flags = ModelFlags {
+        whisker: args.whisker.clone(),
+        ..ModelFlags::default()
+    };
+    flags.fluid.q = args.q.clone();
+    let r = resolve_model(&flags, file)?;
+    let q = args.q.as_ref().map(|_| r.q());
+    let settings = ReconSettings {
+        method,
+        consistency_tol: tol,
+        noise,
+        ..ReconSettings::default()
+    };
+    let stdin_err = |line: usize, reason: String| CliError::Csv {
+        path: PathBuf::from("<stdin>"),
+        line,
+        column: None,
+        reason,
+    };
+    let mut stream = Streamer::new(&r.scene.whisker, KnownFlow { q, alpha }, &settings)
+        .map_err(|e| stdin_err(0, e.to_string()))?;
+    let stdout = std::io::stdout();
+    let mut out = stdout.lock();
+    let write = |out: &mut std::io::StdoutLock, points: &[ReconPoint]| -> Result<(), CliError> {
+        for p in points {
+            writeln!(
+                out,
+                "{},{},{},{},{},{},{}",
+                p.x0,
+                p.x,
+                p.y,
+                p.s1,
+                p.f,
+                p.psi,
+                p.phase.label()
+            )
+            .and_then(|_| out.flush())
+            .map_err(|e| stdin_err(0, format!("cannot write to standard output: {e}")))?;
+        }
+        Ok(())
+    };
+    writeln!(out, "{}", RECONSTRUCTION_HEADER.join(","))
+        .and_then(|_| out.flush())
+        .map_err(|e| stdin_err(0, format!("cannot write to standard output: {e}")))?;
+    let mut columns: Option<(char, [usize; 5])> = None;
+    // line numbers of the data rows (the library's 0-based row index -> input line)
+    let mut lines: Vec<usize> = Vec::new();
+    let at_row = |lines: &[usize], e: ReconError| -> CliError {
+        let row = match &e {
+            ReconError::NonFinite { row, .. } | ReconError::InconsistentRow { row, .. } => {
+                Some(*row)
+            }
+            _ => None,
+        };
+        let line = row.and_then(|r| lines.get(r).copied()).unwrap_or(0);
+        stdin_err(line, e.to_string())
+    };
+    for (k, line) in std::io::stdin().lock().lines().enumerate() {
+        let n = k + 1;
+        let line = line.map_err(|e| stdin_err(n, format!("cannot read: {e}")))?;
+        let line = line.trim_end_matches('\r');
+        if line.trim().is_empty() {
+            continue;
+        }
+        let Some((sep, idx)) = columns else {
+            let sep = [',', '\t', ';']
+                .into_iter()
+                .find(|c| line.contains(*c))
+                .unwrap_or(',');
+            let names: Vec<&str> = line.split(sep).map(str::trim).collect();
+            let mut idx = [0usize; 5];
+            for (j, want) in REQUIRED_COLUMNS.iter().enumerate() {
+                idx[j] = names.iter().position(|h| h == want).ok_or_else(|| {
+                    stdin_err(n, format!("missing required column {want} in the header"))
+                })?;
+            }
+            columns = Some((sep, idx));
+            continue;
+        };
+        let cells: Vec<&str> = line.split(sep).map(str::trim).collect();
+        let mut v = [0.0f64; 5];
+        for (j, &c) in idx.iter().enumerate() {
+            let cell = cells.get(c).copied().unwrap_or("");
+            v[j] = cell.parse::<f64>().map_err(|_| {
+                stdin_err(
+                    n,
+                    format!("{}: `{cell}` is not a number", REQUIRED_COLUMNS[j]),
+                )
+            })?;
+        }
+        lines.push(n);
+        let row = ObservableRow {
+            x0: v[0],
+            ax: v[1],
+            ay: v[2],
+            ma: v[3],
+            phi0: v[4],
+        };
+        let points = stream.push(row).map_err(|e| at_row(&lines, e))?;
+        write(&mut out, &points)?;
+    }
+    let points = stream.finish().map_err(|e| at_row(&lines, e))?;
+    write(&mut out, &points)
 }
 
 /// Number of phase-A and phase-B points.
@@ -308,6 +484,17 @@ pub fn summary_line(rec: &Reconstruction, method: ReconMethod) -> String {
         format!("q = {} (given)", rec.identification.q)
     } else {
         format!("q = {:.10} (identified)", rec.identification.q)
+    };
+    let q = if rec.alpha_given {
+        format!(
+            "{q}, alpha = {} deg (given)",
+            rec.identification.alpha.to_degrees()
+        )
+    } else {
+        format!(
+            "{q}, alpha = {:.8} deg (identified)",
+            rec.identification.alpha.to_degrees()
+        )
     };
     format!(
         "{q}, contact from row {}, {} points ({method} method), phases A {na} / B {nb}, \

@@ -1,0 +1,471 @@
+//! Method `accurate`: the observables ARE the initial values of the first-order system at the
+//! base, `(phi, m, x, y)(0) = (phi0, -MA, x0, 0)` (spec/model.md, thesis ch. 6 reformulated).
+//!
+//! For a contact at `s1` the internal force at `s < s1` is fixed by the base reaction and the
+//! flow on `[0, s]` alone [6.8, 6.9]: it does not depend on `s1`. So ONE integration from the
+//! base over `[0, 1]` (under the phase-A loads of the row) gives the state of every phase
+//! hypothesis at once:
+//! - phase A (`s1 = 1`): consistent when `m(1) = 0` [6.6] and `phi(1) >= psi`; the contact
+//!   point is `r(1)`;
+//! - phase B: every root `s1` of the moment condition `m(s1) = 0` on `(0, 1)`, all of them
+//!   bracketed on the dense output (each step cut in [`SAMPLES`] parts, and each part with an
+//!   extremum of `m` cut there, so that two close roots are not lost) and located by Brent;
+//!   consistent when the contact is tangential, `phi(s1) = psi(s1)`; the point is `r(s1)`.
+//!   Extrema of `m` towards zero (roots of `m'`, bracketed the same way) are hypotheses too,
+//!   with `m(s1)` as one more residual: as `f -> 0` in phase B (a release) the root of `m` is
+//!   double and has no sign change.
+//!
+//! The phase is the hypothesis with the smallest residual relative to its own noise
+//! sensitivity (`z = |residual| / sigma_unit`), not the slope-jump rule [6.10] and not a
+//! neighbouring row: every row is reconstructed on its own. The Jacobian of the residuals and of
+//! the contact point with respect to `(Ax, Ay, MA, phi0)` comes from the variational equations
+//! of the same system, integrated once more at a loose tolerance ([`JACOBIAN_TOL`]: an error
+//! estimate needs a few digits); it gives both the `z` of each hypothesis and the error
+//! estimate of the point (the noise level propagated through it, roots moved by
+//! `ds1 = -dm / m'(s1)`).
+
+use crate::common::{contact_force, force_components, NoiseScales, ReconPoint};
+use crate::error::Result;
+use crate::observables::ObservableRow;
+use beam_model::{FluidLoad, Whisker};
+use bvp_solvers::integrator::{Dop853, OdeSolution, OdeSystem};
+use bvp_solvers::roots::{brent, RootOptions};
+use contact_sim::Phase;
+
+/// Sub-intervals per integration step scanned for sign changes of `m`.
+pub const SAMPLES: usize = 3;
+/// Winding of `phi` away from `phi0` (rad) beyond which the integration stops: no physical
+/// contact lies beyond (this keeps a thin tip under a wrong hypothesis from spiralling).
+pub const MAX_WINDING: f64 = 12.0;
+/// Number of standard deviations within which a hypothesis counts as consistent.
+pub const K_SIGMA: f64 = 6.0;
+/// Integrator tolerance of the variational equations (the Jacobian of the error estimate).
+pub const JACOBIAN_TOL: f64 = 1e-5;
+
+/// The first-order system [3.25] integrated from the base with the base reaction of a row:
+/// the internal force at `s` is `(P, Q)(s) = (-Ax - q s cos alpha, Ay - q s sin alpha)` in the
+/// form of [6.8, 6.9] (the force balance of `[0, s]`, valid up to any contact `s1 >= s`), so
+///
+/// ```text
+/// phi' = m / e^4 + A s + B,  m' = P sin phi + Q cos phi,  x' = cos phi,  y' = sin phi,
+/// ```
+///
+/// with `(phi, m, x, y)(0) = (phi0, -MA, x0, 0)`; optionally followed by the variational
+/// equations with respect to `(Ax, Ay, MA, phi0)` (4 components each).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct BaseOde {
+    whisker: Whisker,
+    ax: f64,
+    ay: f64,
+    q_cos: f64,
+    q_sin: f64,
+    sens: bool,
+}
+
+impl BaseOde {
+    pub(crate) fn new(whisker: &Whisker, flow: FluidLoad, row: &ObservableRow, sens: bool) -> Self {
+        let (sa, ca) = flow.alpha.sin_cos();
+        BaseOde {
+            whisker: *whisker,
+            ax: row.ax,
+            ay: row.ay,
+            q_cos: flow.q * ca,
+            q_sin: flow.q * sa,
+            sens,
+        }
+    }
+
+    /// `(P, Q)(s)`.
+    #[inline]
+    fn force(&self, s: f64) -> (f64, f64) {
+        (-self.ax - self.q_cos * s, self.ay - self.q_sin * s)
+    }
+
+    /// Initial state for `row`.
+    fn initial(&self, row: &ObservableRow) -> Vec<f64> {
+        let mut u = vec![0.0; self.dim()];
+        u[..4].copy_from_slice(&[row.phi0, -row.ma, row.x0, 0.0]);
+        if self.sens {
+            u[4 * 3 + 1] = -1.0; // d m(0) / d MA
+            u[4 * 4] = 1.0; // d phi(0) / d phi0
+        }
+        u
+    }
+}
+
+impl OdeSystem for BaseOde {
+    fn dim(&self) -> usize {
+        if self.sens {
+            20
+        } else {
+            4
+        }
+    }
+
+    #[inline]
+    fn rhs(&self, s: f64, u: &[f64], du: &mut [f64]) {
+        let w = &self.whisker;
+        let (phi, m) = (u[0], u[1]);
+        let e = w.diameter(s);
+        let e2 = e * e;
+        let inv_e4 = 1.0 / (e2 * e2);
+        let (sp, cp) = phi.sin_cos();
+        let (p, q) = self.force(s);
+        du[0] = m * inv_e4 + w.a * s + w.b;
+        du[1] = p * sp + q * cp;
+        du[2] = cp;
+        du[3] = sp;
+        if !self.sens {
+            return;
+        }
+        let jm = p * cp - q * sp;
+        for j in 0..4 {
+            let o = 4 * (j + 1);
+            let (dphi, dm) = (u[o], u[o + 1]);
+            // dP/dAx = -1, dQ/dAy = 1
+            let explicit = match j {
+                0 => -sp,
+                1 => cp,
+                _ => 0.0,
+            };
+            du[o] = dm * inv_e4;
+            du[o + 1] = jm * dphi + explicit;
+            du[o + 2] = -sp * dphi;
+            du[o + 3] = cp * dphi;
+        }
+    }
+}
+
+/// Integrates [`BaseOde`] from the base to `s_end` (at most 1; the state part stops early
+/// if `phi` winds by [`MAX_WINDING`]) with dense output.
+pub(crate) fn base_ivp(
+    whisker: &Whisker,
+    flow: FluidLoad,
+    row: &ObservableRow,
+    integrator: &Dop853,
+) -> Result<OdeSolution> {
+    let ode = BaseOde::new(whisker, flow, row, false);
+    let u0 = ode.initial(row);
+    let phi0 = row.phi0;
+    let (sol, _) = integrator.integrate_until(&ode, 0.0, 1.0, &u0, |_, u| {
+        MAX_WINDING - (u[0] - phi0).abs()
+    })?;
+    Ok(sol)
+}
+
+/// One phase hypothesis of a row.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Hypothesis {
+    pub phase: Phase,
+    pub s1: f64,
+    pub x: f64,
+    pub y: f64,
+    pub f: f64,
+    pub psi: f64,
+    /// Reported residual (A: |m(1)|, B: |phi - psi|).
+    pub residual: f64,
+    /// Residual over its noise sensitivity at unit relative noise.
+    pub z: f64,
+    /// Standard deviation of the point at unit relative noise.
+    pub sigma_unit: f64,
+}
+
+/// Everything the identification and the reconstruction need of one row under one flow.
+#[derive(Clone, Debug)]
+pub(crate) struct RowEval {
+    /// Phase-A contact force `f` of [6.8, 6.9] at `s1 = 1` over its sensitivity (pre-contact
+    /// rows: within the noise of 0).
+    pub f_z: f64,
+    /// `|m(1)|` (the free-whisker check when `f = 0`), NaN if the integration stopped early.
+    pub m1: f64,
+    /// Tip state `(x(1) - x0, y(1), phi(1))` (the free tip for a pre-contact row).
+    pub tip: (f64, f64, f64),
+    /// All hypotheses (A first if the integration reached `s = 1`).
+    pub hyps: Vec<Hypothesis>,
+    /// Integrations spent.
+    pub evaluations: usize,
+}
+
+impl RowEval {
+    /// The chosen hypothesis at relative noise `level`: among the hypotheses consistent
+    /// within [`K_SIGMA`] standard deviations, the best determined one (smallest error
+    /// estimate: near a phase switch, or as `f -> 0`, several fit and their points agree to
+    /// within their error estimates); without any consistent one, the smallest `z`.
+    pub fn chosen(&self, level: f64) -> Option<&Hypothesis> {
+        let consistent = self
+            .hyps
+            .iter()
+            .filter(|h| h.z <= K_SIGMA * level)
+            .min_by(|a, b| a.sigma_unit.total_cmp(&b.sigma_unit));
+        consistent.or_else(|| self.hyps.iter().min_by(|a, b| a.z.total_cmp(&b.z)))
+    }
+
+    /// The smallest `z` (infinite without hypotheses).
+    pub fn best_z(&self) -> f64 {
+        self.hyps.iter().map(|h| h.z).fold(f64::INFINITY, f64::min)
+    }
+
+    /// The reconstructed point of row `i` at relative noise `level`.
+    pub fn point(&self, i: usize, row: &ObservableRow, level: f64) -> Option<ReconPoint> {
+        let b = self.chosen(level)?;
+        let alternatives = self
+            .hyps
+            .iter()
+            .filter(|h| !std::ptr::eq(*h, b) && h.z <= K_SIGMA * level)
+            .count();
+        Some(ReconPoint {
+            row: i,
+            x0: row.x0,
+            x: b.x,
+            y: b.y,
+            s1: b.s1,
+            f: b.f,
+            psi: b.psi,
+            phase: b.phase,
+            residual: b.residual,
+            // an inconsistent row implies its own noise level z
+            sigma: level.max(b.z) * b.sigma_unit,
+            alternatives,
+            evaluations: self.evaluations,
+        })
+    }
+}
+
+/// `phi - psi` wrapped to `(-pi, pi]`.
+fn wrap(d: f64) -> f64 {
+    let t = std::f64::consts::TAU;
+    let r = d.rem_euclid(t);
+    if r > std::f64::consts::PI {
+        r - t
+    } else {
+        r
+    }
+}
+
+/// Evaluates every phase hypothesis of `row` under `flow`, with the Jacobian of each with
+/// respect to the observables (variational equations, columns scaled by `scales`).
+pub(crate) fn evaluate(
+    whisker: &Whisker,
+    flow: FluidLoad,
+    row: &ObservableRow,
+    scales: &NoiseScales,
+    integrator: &Dop853,
+) -> Result<RowEval> {
+    let sol = base_ivp(whisker, flow, row, integrator)?;
+    let ode = BaseOde::new(whisker, flow, row, false);
+    let reached = sol.s_end >= 1.0;
+    let mut evaluations = 1;
+    // hypotheses: A (if s = 1 was reached) and every root of m on (0, s_end)
+    let mut hyp_s: Vec<(Phase, f64)> = Vec::new();
+    if reached {
+        hyp_s.push((Phase::A, 1.0));
+    }
+    let mut u = [0.0; 4];
+    let mut prev: (f64, f64) = (0.0, -row.ma);
+    let slope = |s: f64, u: &[f64]| {
+        let mut du = [0.0; 4];
+        ode.rhs(s, u, &mut du);
+        du[1]
+    };
+    let mut prev_slope = slope(0.0, &[row.phi0, -row.ma, row.x0, 0.0]);
+    let mut touching: Vec<f64> = Vec::new();
+    let opts = RootOptions {
+        xtol: 1e-15,
+        ftol: 0.0,
+        max_iter: 200,
+    };
+    // m and m' on the dense output
+    let m_at = |t: f64| -> Result<f64> {
+        let mut buf = [0.0; 4];
+        Ok(if sol.eval_into(t, &mut buf) {
+            buf[1]
+        } else {
+            f64::NAN
+        })
+    };
+    let d_at = |t: f64| -> Result<f64> {
+        let mut buf = [0.0; 4];
+        Ok(if sol.eval_into(t, &mut buf) {
+            slope(t, &buf)
+        } else {
+            f64::NAN
+        })
+    };
+    let root = |a: f64, b: f64, hyp_s: &mut Vec<(Phase, f64)>| {
+        if let Ok(r) = brent(m_at, a, b, &opts) {
+            if r.x > 0.0 && r.x < 1.0 {
+                hyp_s.push((Phase::B, r.x));
+            }
+        }
+    };
+    for w in sol.step_points().windows(2) {
+        for k in 0..SAMPLES {
+            let s = w[0] + (w[1] - w[0]) * (k + 1) as f64 / SAMPLES as f64;
+            if !sol.eval_into(s, &mut u) {
+                continue;
+            }
+            let m = u[1];
+            let ms = slope(s, &u);
+            let (s_prev, m_prev) = prev;
+            if m_prev != 0.0 && m_prev.signum() != m.signum() {
+                // a sign change of m in (0, 1): a phase-B root (m(1) = 0 is phase A)
+                if m == 0.0 {
+                    if s < 1.0 {
+                        hyp_s.push((Phase::B, s));
+                    }
+                } else {
+                    root(s_prev, s, &mut hyp_s);
+                }
+            } else if prev_slope.signum() != ms.signum() && s < 1.0 {
+                // an extremum of m inside the sub-interval: two roots if it crosses zero,
+                // else, if it turns towards zero, a double-root hypothesis (a release in
+                // phase B as f -> 0 has no sign change of m)
+                let towards_zero =
+                    (m_prev > 0.0 && prev_slope < 0.0) || (m_prev < 0.0 && prev_slope > 0.0);
+                if towards_zero {
+                    if let Ok(e) = brent(d_at, s_prev, s, &opts) {
+                        let me = m_at(e.x).unwrap_or(f64::NAN);
+                        if me.signum() != m.signum() && me != 0.0 {
+                            root(s_prev, e.x, &mut hyp_s);
+                            root(e.x, s, &mut hyp_s);
+                        } else if e.x > 0.0 && e.x < 1.0 {
+                            touching.push(e.x);
+                        }
+                    }
+                }
+            }
+            prev_slope = ms;
+            prev = (s, m);
+        }
+    }
+    hyp_s.extend(touching.iter().map(|&t| (Phase::B, t)));
+    // the Jacobian: variational equations up to the last hypothesis
+    let s_jac = hyp_s.iter().map(|h| h.1).fold(0.0, f64::max);
+    let jac_sol = if s_jac > 0.0 {
+        evaluations += 1;
+        let sode = BaseOde::new(whisker, flow, row, true);
+        Dop853::new(JACOBIAN_TOL, JACOBIAN_TOL)
+            .with_dense(true)
+            .integrate(&sode, 0.0, s_jac, &sode.initial(row))
+            .ok()
+    } else {
+        None
+    };
+    let tiny = f64::MIN_POSITIVE;
+    let (sa, ca) = flow.alpha.sin_cos();
+    let mut hyps = Vec::with_capacity(hyp_s.len());
+    let mut du = [0.0; 4];
+    let mut jv = [0.0; 20];
+    for (k, &(phase, s)) in hyp_s.iter().enumerate() {
+        let touch = k >= hyp_s.len() - touching.len();
+        if !sol.eval_into(s, &mut u) {
+            continue;
+        }
+        let (phi, m, x, y) = (u[0], u[1], u[2], u[3]);
+        ode.rhs(s, &u, &mut du);
+        let (dphi_s, dm_s) = (du[0], du[1]);
+        let (f, psi) = contact_force(row, flow, s);
+        let (sp, cp) = phi.sin_cos();
+        let d = wrap(phi - psi);
+        // derivative of f sin(phi - psi) = Q sin phi - P cos phi along s
+        let g_s = -q_sin_cos(flow.q, sa) * sp + flow.q * ca * cp + dm_s * dphi_s;
+        let have_jac = jac_sol.as_ref().is_some_and(|j| j.eval_into(s, &mut jv));
+        let mut var_r = 0.0;
+        let mut var_v = 0.0;
+        let mut var_xy = 0.0;
+        if have_jac {
+            for j in 0..4 {
+                let sc = scales.0[j];
+                if sc == 0.0 {
+                    continue;
+                }
+                let o = 4 * (j + 1);
+                let (dphi, dm, dx, dy) = (jv[o], jv[o + 1], jv[o + 2], jv[o + 3]);
+                let (dp, dq) = match j {
+                    0 => (-1.0, 0.0),
+                    1 => (0.0, 1.0),
+                    _ => (0.0, 0.0),
+                };
+                // d [f sin(phi - psi)] at fixed s
+                let dg = dq * sp - dp * cp + dm_s * dphi;
+                match phase {
+                    Phase::B if touch => {
+                        // at an extremum of m the location moves to second order: derivatives
+                        // at fixed s1; m itself is a residual there
+                        var_r += (dg * sc).powi(2);
+                        var_v += (dm * sc).powi(2);
+                        var_xy += (dx * sc).powi(2) + (dy * sc).powi(2);
+                    }
+                    Phase::B => {
+                        let ds = if dm_s != 0.0 { -dm / dm_s } else { 0.0 };
+                        let dr = dg + g_s * ds;
+                        var_r += (dr * sc).powi(2);
+                        var_xy += ((dx + cp * ds) * sc).powi(2) + ((dy + sp * ds) * sc).powi(2);
+                    }
+                    _ => {
+                        var_r += (dm * sc).powi(2);
+                        var_v += (dg * sc).powi(2);
+                        var_xy += (dx * sc).powi(2) + (dy * sc).powi(2);
+                    }
+                }
+            }
+        }
+        let (z, residual) = match phase {
+            Phase::B if touch => {
+                let zm = m.abs() / var_v.sqrt().max(tiny);
+                (
+                    ((f * d).abs() / var_r.sqrt().max(tiny)).max(zm),
+                    d.abs().max(m.abs()),
+                )
+            }
+            Phase::B => ((f * d).abs() / var_r.sqrt().max(tiny), d.abs()),
+            _ => {
+                // A needs phi(1) >= psi: a violation (weighted by f) counts like a residual
+                let viol = (-(f * d)).max(0.0) / var_v.sqrt().max(tiny);
+                ((m.abs() / var_r.sqrt().max(tiny)).max(viol), m.abs())
+            }
+        };
+        hyps.push(Hypothesis {
+            phase,
+            s1: s,
+            x,
+            y,
+            f,
+            psi,
+            residual,
+            z: if z.is_nan() { f64::INFINITY } else { z },
+            sigma_unit: if have_jac {
+                var_xy.sqrt()
+            } else {
+                f64::INFINITY
+            },
+        });
+    }
+    // the phase-A force and the free-whisker check
+    let (fa, fb) = force_components(row, flow, 1.0);
+    let f_unit = scales.0[0].max(scales.0[1]).max(tiny);
+    let tip = if reached {
+        let u = &sol.u_end;
+        (u[2] - row.x0, u[3], u[0])
+    } else {
+        (f64::NAN, f64::NAN, f64::NAN)
+    };
+    let m1 = if reached {
+        sol.u_end[1].abs()
+    } else {
+        f64::NAN
+    };
+    Ok(RowEval {
+        f_z: fa.hypot(fb) / f_unit,
+        m1,
+        tip,
+        hyps,
+        evaluations,
+    })
+}
+
+/// `q sin alpha`.
+#[inline]
+fn q_sin_cos(q: f64, sa: f64) -> f64 {
+    q * sa
+}

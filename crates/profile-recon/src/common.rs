@@ -1,0 +1,170 @@
+//! Types shared by both reconstruction methods: settings, reconstructed points, the force
+//! balance of a contact row [6.8, 6.9] and the noise scales of a log.
+//!
+//! **Row numbers.** Everywhere in this crate (`ReconPoint::row`, the `row` of every
+//! [`ReconError`](crate::ReconError), `Identification::pre_contact`) a row number is the
+//! 0-based index of the row in the slice given to the library. Front ends map it to their own
+//! numbering (the CLI names the line of the file).
+
+use crate::observables::ObservableRow;
+use beam_model::FluidLoad;
+use contact_sim::Phase;
+use serde::{Deserialize, Serialize};
+
+/// Reconstruction method.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum ReconMethod {
+    /// Initial-value route from the base (spec/model.md): one integration per row, all
+    /// phase-B roots bracketed, ~1e-12 on exact logs.
+    Accurate,
+    /// The thesis's five equations [6.5-6.9] around FDM solves with a trust region and the
+    /// slope-jump phase rule [6.10].
+    Thesis,
+}
+
+impl ReconMethod {
+    /// The CLI name.
+    pub fn name(&self) -> &'static str {
+        match self {
+            ReconMethod::Accurate => "accurate",
+            ReconMethod::Thesis => "thesis",
+        }
+    }
+}
+
+/// Settings of a reconstruction; each method honours every field.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ReconSettings {
+    /// The method.
+    pub method: ReconMethod,
+    /// Solver tolerance: the integrator tolerance of `accurate` (and of the identification's
+    /// free-whisker checks), the trust-region tolerance on the residual norm of `thesis`
+    /// [6.5-6.9] (which its FDM model cannot get below ~1e-5: a smaller value only costs time).
+    pub tol: f64,
+    /// Relative noise level of the log (standard deviation of each of `Ax, Ay, MA, phi0` over
+    /// that column's largest magnitude, the convention of [`add_noise`](crate::add_noise));
+    /// `None` estimates it from the log (the rows' model residuals).
+    pub noise: Option<f64>,
+    /// Fail on a contact row whose best residual exceeds this and is not explained by the
+    /// GIVEN noise level (`noise`, else the exact-log floor): None never fails and reports
+    /// residuals and error estimates (the setting for noisy logs of unknown noise).
+    pub consistency_tol: Option<f64>,
+}
+
+impl Default for ReconSettings {
+    fn default() -> Self {
+        ReconSettings {
+            method: ReconMethod::Accurate,
+            tol: 1e-12,
+            noise: None,
+            consistency_tol: Some(1e-6),
+        }
+    }
+}
+
+/// What is known about the flow before the log is read: `None` is identified from the
+/// pre-contact rows [6.1].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct KnownFlow {
+    /// The fluid load q >= 0.
+    pub q: Option<f64>,
+    /// The flow angle alpha (rad), in (-pi/2, pi/2).
+    pub alpha: Option<f64>,
+}
+
+/// One reconstructed contour point.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ReconPoint {
+    /// 0-based index of the input row (the crate's one row convention, module docs).
+    pub row: usize,
+    /// The row's base position, copied exactly.
+    pub x0: f64,
+    /// Reconstructed contact point x.
+    pub x: f64,
+    /// Reconstructed contact point y.
+    pub y: f64,
+    /// Contact arc length.
+    pub s1: f64,
+    /// Contact force.
+    pub f: f64,
+    /// Contour angle at the contact point.
+    pub psi: f64,
+    /// Decided phase.
+    pub phase: Phase,
+    /// Consistency residual of the chosen hypothesis (A: `|m(1)|` [6.6]; B:
+    /// `|phi(s1) - psi|`; thesis: the residual norm of [6.5-6.9]).
+    pub residual: f64,
+    /// Error estimate (one standard deviation) of the contact point `(x, y)`: the noise level
+    /// propagated through the row's Jacobian `d(x, y)/d(Ax, Ay, MA, phi0)` (accurate); the
+    /// FDM level of the residual for `thesis` (its points are biased by `O(h^2)`).
+    pub sigma: f64,
+    /// Other phase hypotheses (A, or another root of the phase-B moment condition) that are
+    /// consistent within the noise too: `> 0` means the row is ambiguous at this noise level.
+    pub alternatives: usize,
+    /// Integrations (accurate) or solver iterations (thesis) spent on the row.
+    pub evaluations: usize,
+}
+
+/// A reconstructed contour.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Reconstruction {
+    /// The identification (flow given or identified, pre-contact rows, noise level).
+    pub identification: crate::identify::Identification,
+    /// Whether q was given rather than identified.
+    pub q_given: bool,
+    /// Whether alpha was given rather than identified.
+    pub alpha_given: bool,
+    /// One point per contact row, in the order of the input rows.
+    pub points: Vec<ReconPoint>,
+}
+
+/// Contact force and contour angle `(f, psi)` for a contact at `s1` [6.8, 6.9] with the flow
+/// `(q, alpha)` acting on `[0, s1]`: `f sin psi = -Ax - q s1 cos alpha`,
+/// `f cos psi = Ay - q s1 sin alpha` (the base reaction balances the force
+/// `f (sin psi, -cos psi)` and the flow `q (cos alpha, -sin alpha)` per length).
+pub fn contact_force(row: &ObservableRow, flow: FluidLoad, s1: f64) -> (f64, f64) {
+    let (a, b) = force_components(row, flow, s1);
+    (a.hypot(b), a.atan2(b))
+}
+
+/// `(f sin psi, f cos psi)` of [6.8, 6.9].
+pub(crate) fn force_components(row: &ObservableRow, flow: FluidLoad, s1: f64) -> (f64, f64) {
+    let (sa, ca) = flow.alpha.sin_cos();
+    (-row.ax - flow.q * s1 * ca, row.ay - flow.q * s1 * sa)
+}
+
+/// The flow of a free whisker with these base forces [6.1]: `q = hypot(Ax, Ay)`,
+/// `alpha = atan2(Ay, -Ax)` (alpha = 0 for q = 0).
+pub fn free_flow(ax: f64, ay: f64) -> FluidLoad {
+    let q = ax.hypot(ay);
+    let alpha = if q > 0.0 { ay.atan2(-ax) } else { 0.0 };
+    FluidLoad { q, alpha }
+}
+
+/// The quality measure [6.11]: `e = |y_rec - g(x_rec)|` per reconstructed point.
+pub fn contour_error(points: &[ReconPoint], profile: &contact_sim::Profile) -> Vec<f64> {
+    points
+        .iter()
+        .map(|p| (p.y - profile.y(p.x)).abs())
+        .collect()
+}
+
+/// Full-scale magnitudes of the columns `Ax, Ay, MA, phi0`: the noise of column `j` at
+/// relative level `l` has standard deviation `l * scale[j]` (the convention of
+/// [`add_noise`](crate::add_noise)).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct NoiseScales(pub [f64; 4]);
+
+impl NoiseScales {
+    /// The largest magnitude of each column over `rows` (as [`add_noise`](crate::add_noise):
+    /// a column that is zero throughout, such as `phi0` on a rigid support, carries no noise).
+    pub fn of(rows: &[ObservableRow]) -> Self {
+        let mut s = [0.0f64; 4];
+        for r in rows {
+            for (k, v) in [r.ax, r.ay, r.ma, r.phi0].into_iter().enumerate() {
+                s[k] = s[k].max(v.abs());
+            }
+        }
+        NoiseScales(s)
+    }
+}

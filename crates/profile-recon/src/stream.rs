@@ -1,0 +1,172 @@
+//! Streaming reconstruction: rows arrive one at a time, as a sensor sends them, and each
+//! contact row's point is returned as soon as it is known (method `accurate`, each row on its
+//! own [6.5-6.9]).
+//!
+//! With the flow known (`q` and `alpha` given), every row is decided at once: pre-contact
+//! (the free whisker under the flow within the noise [6.1]) or a contact point. Otherwise the
+//! rows are held back until the first row that is the free whisker under its own flow
+//! (`q = hypot(Ax, Ay)`, `alpha = atan2(Ay, -Ax)`, `m(1) = 0` within the noise) fixes the
+//! flow; the held rows are then reconstructed and returned together. Later pre-contact rows
+//! do not change the flow (the points already returned stay valid). At the end of the stream
+//! ([`Streamer::finish`]) rows still held are reconstructed as a batch log. Without a given
+//! flow the stream therefore depends on the order of the rows (a release row with a force at
+//! the noise level, arriving first, would fix the flow); a sensor's stream starts free, and a
+//! robot that knows its flow should give it.
+//!
+//! The noise level is `ReconSettings::noise` ([`STREAM_NOISE`] if not given: a stream cannot
+//! be estimated ahead); the noise scales of the columns are the largest magnitudes seen so
+//! far.
+
+use crate::accurate::{evaluate, K_SIGMA};
+use crate::common::{free_flow, KnownFlow, NoiseScales, ReconPoint, ReconSettings};
+use crate::error::{ReconError, Result};
+use crate::identify::check_known;
+use crate::observables::ObservableRow;
+use crate::reconstruct::reconstruct_with;
+use beam_model::{FluidLoad, Whisker};
+use bvp_solvers::integrator::Dop853;
+use contact_sim::Phase;
+
+/// Relative noise level of a stream when none is given: the exact-log floor of the batch
+/// identification (a noisy sensor must say its level, `ReconSettings::noise`).
+pub const STREAM_NOISE: f64 = crate::identify::NOISE_FLOOR;
+
+/// An incremental reconstruction (module docs).
+pub struct Streamer {
+    whisker: Whisker,
+    known: KnownFlow,
+    settings: ReconSettings,
+    level: f64,
+    flow: Option<FluidLoad>,
+    integrator: Dop853,
+    scales: [f64; 4],
+    /// Rows received (the next row's 0-based index).
+    count: usize,
+    /// Rows held back until the flow is known: (index, row).
+    held: Vec<(usize, ObservableRow)>,
+}
+
+impl Streamer {
+    /// A stream for `whisker`; `known` fixes q and/or alpha, `settings.noise` the noise
+    /// level (else [`STREAM_NOISE`]).
+    ///
+    /// # Errors
+    /// [`ReconError::InvalidParameter`] / [`ReconError::Model`] for bad parameters.
+    pub fn new(whisker: &Whisker, known: KnownFlow, settings: &ReconSettings) -> Result<Self> {
+        whisker.validate()?;
+        check_known(&known)?;
+        let flow = match (known.q, known.alpha) {
+            (Some(q), Some(alpha)) => Some(FluidLoad { q, alpha }),
+            _ => None,
+        };
+        Ok(Streamer {
+            whisker: *whisker,
+            known,
+            settings: *settings,
+            level: settings.noise.unwrap_or(STREAM_NOISE),
+            flow,
+            integrator: Dop853::new(settings.tol, settings.tol).with_dense(true),
+            scales: [0.0; 4],
+            count: 0,
+            held: Vec::new(),
+        })
+    }
+
+    /// The flow, once known.
+    pub fn flow(&self) -> Option<FluidLoad> {
+        self.flow
+    }
+
+    /// Rows received so far.
+    pub fn rows(&self) -> usize {
+        self.count
+    }
+
+    /// Decides row `i` under `flow`: `None` if pre-contact, else its point.
+    fn decide(&self, flow: FluidLoad, i: usize, row: &ObservableRow) -> Result<Option<ReconPoint>> {
+        let scales = NoiseScales(self.scales);
+        let e = evaluate(&self.whisker, flow, row, &scales, &self.integrator)?;
+        let level = self.level;
+        let za = e.hyps.iter().find(|h| h.phase == Phase::A);
+        if e.f_z <= K_SIGMA * level && za.is_some_and(|h| h.z <= K_SIGMA * level) {
+            return Ok(None);
+        }
+        let p = e.point(i, row, level).ok_or(ReconError::InconsistentRow {
+            row: i,
+            x0: row.x0,
+            residual: f64::NAN,
+            phase: 'A',
+        })?;
+        if let Some(tol) = self.settings.consistency_tol {
+            let told = self.settings.noise.unwrap_or(crate::identify::NOISE_FLOOR);
+            let consistent = e.best_z() <= K_SIGMA * told;
+            if p.residual > tol && !consistent {
+                return Err(ReconError::InconsistentRow {
+                    row: i,
+                    x0: row.x0,
+                    residual: p.residual,
+                    phase: if p.phase == Phase::A { 'A' } else { 'B' },
+                });
+            }
+        }
+        Ok(Some(p))
+    }
+
+    /// Takes the next row; returns the points that became known (none, this row's, or the
+    /// held rows' once the flow is fixed), in the order of the rows.
+    ///
+    /// # Errors
+    /// [`ReconError::NonFinite`] for a non-finite value; [`ReconError::InconsistentRow`] with
+    /// `consistency_tol`; solver errors.
+    pub fn push(&mut self, row: ObservableRow) -> Result<Vec<ReconPoint>> {
+        let i = self.count;
+        row.validate(i)?;
+        self.count += 1;
+        for (k, v) in [row.ax, row.ay, row.ma, row.phi0].into_iter().enumerate() {
+            self.scales[k] = self.scales[k].max(v.abs());
+        }
+        if let Some(flow) = self.flow {
+            return Ok(self.decide(flow, i, &row)?.into_iter().collect());
+        }
+        // the flow is not known yet: is this row the free whisker under its own flow?
+        let own = free_flow(row.ax, row.ay);
+        let flow = FluidLoad {
+            q: self.known.q.unwrap_or(own.q),
+            alpha: self.known.alpha.unwrap_or(own.alpha),
+        };
+        if self.decide(flow, i, &row)?.is_none() {
+            self.flow = Some(flow);
+            let held = std::mem::take(&mut self.held);
+            let mut out = Vec::new();
+            for (j, r) in held {
+                if let Some(p) = self.decide(flow, j, &r)? {
+                    out.push(p);
+                }
+            }
+            return Ok(out);
+        }
+        self.held.push((i, row));
+        Ok(Vec::new())
+    }
+
+    /// Ends the stream: rows still held (the flow never fixed by a pre-contact row) are
+    /// reconstructed as a batch log ([`reconstruct_with`]).
+    ///
+    /// # Errors
+    /// As [`reconstruct_with`] on the held rows.
+    pub fn finish(self) -> Result<Vec<ReconPoint>> {
+        if self.held.is_empty() {
+            return Ok(Vec::new());
+        }
+        let rows: Vec<ObservableRow> = self.held.iter().map(|(_, r)| *r).collect();
+        let rec = reconstruct_with(&self.whisker, &rows, self.known, &self.settings)?;
+        Ok(rec
+            .points
+            .into_iter()
+            .map(|mut p| {
+                p.row = self.held[p.row].0;
+                p
+            })
+            .collect())
+    }
+}

@@ -368,7 +368,7 @@ pub(crate) fn evaluate(
         let (sp, cp) = phi.sin_cos();
         let d = wrap(phi - psi);
         // derivative of f sin(phi - psi) = Q sin phi - P cos phi along s
-        let g_s = -q_sin_cos(flow.q, sa) * sp + flow.q * ca * cp + dm_s * dphi_s;
+        let g_s = -flow.q * sa * sp + flow.q * ca * cp + dm_s * dphi_s;
         let have_jac = jac_sol.as_ref().is_some_and(|j| j.eval_into(s, &mut jv));
         let mut var_r = 0.0;
         let mut var_v = 0.0;
@@ -462,10 +462,4 @@ pub(crate) fn evaluate(
         hyps,
         evaluations,
     })
-}
-
-/// `q sin alpha`.
-#[inline]
-fn q_sin_cos(q: f64, sa: f64) -> f64 {
-    q * sa
 }

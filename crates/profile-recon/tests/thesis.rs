@@ -88,11 +88,37 @@ fn round_trip(name: &str, profile: &str, label: &str, points: usize) -> Trip {
             phases_ok += 1;
         }
     }
+    // A row where the thesis's least squares fails (a residual far above the FDM level) is
+    // flagged by that residual and by its error estimate, which covers its error; the
+    // figures below are over the rows the method does not flag.
+    let mut flagged = 0;
+    for (p, e) in rec.points.iter().zip(&e) {
+        if p.residual >= 2e-3 {
+            flagged += 1;
+            assert!(
+                p.sigma >= *e,
+                "case {name} {label}: row {} flagged (residual {:.2e}) but its estimate {:.2e} does not cover its error {e:.2e}",
+                p.row,
+                p.residual,
+                p.sigma
+            );
+        }
+    }
+    assert!(flagged <= 1, "case {name} {label}: {flagged} rows failed");
+    let kept = |v: f64, p: &profile_recon::ReconPoint| if p.residual < 2e-3 { v } else { 0.0 };
     Trip {
         points: rec.points.len(),
-        max_e: e.iter().copied().fold(0.0, f64::max),
+        max_e: e
+            .iter()
+            .zip(&rec.points)
+            .map(|(v, p)| kept(*v, p))
+            .fold(0.0, f64::max),
         max_e_accurate: e_acc.iter().copied().fold(0.0, f64::max),
-        max_residual: rec.points.iter().map(|p| p.residual).fold(0.0, f64::max),
+        max_residual: rec
+            .points
+            .iter()
+            .map(|p| kept(p.residual, p))
+            .fold(0.0, f64::max),
         phases_ok,
         iterations: rec.points.iter().map(|p| p.evaluations).sum(),
         seconds,

@@ -5,8 +5,10 @@
 //! stated tolerance (`stats.tolerance`), and the estimate must bound the error (up to the
 //! reference's own uncertainty).
 //!
-//! `slender_battery_subset` runs in CI; `slender_battery_full` (#[ignore], ~10 min on one
-//! core) covers theta 0.01..1 x loads x supports x pre-curvature:
+//! `slender_battery_subset` runs in CI; `slender_battery_full` (#[ignore], ~4 min on one
+//! busy core) covers theta 0.01..1 x loads x supports x pre-curvature (390 cases; measured:
+//! 350 accepted, worst error 8.7e-9, 40 refused or failed at theta <= 0.03 under tip forces,
+//! 6 accepted AP cases without an FDM reference within 1e-6):
 //! `cargo test --release -p beam-model --test battery -- --ignored --nocapture`.
 
 mod support;
@@ -230,7 +232,7 @@ fn slender_battery_subset() {
 }
 
 #[test]
-#[ignore = "about ten minutes; run with --ignored"]
+#[ignore = "about four minutes; run with --ignored"]
 fn slender_battery_full() {
     let t = run(
         &[0.01, 0.015, 0.02, 0.03, 0.05, 0.075, 0.1, 0.2, 0.5, 1.0],

@@ -235,11 +235,7 @@ pub(crate) fn trace(branch: &Branch, first: Node, ctl: &StepControl) -> Result<T
             };
             let (ga, gb) = (g(&cur), g(&node));
             let w = ga / (ga - gb);
-            let p = [
-                cur.u[0] + w * (node.u[0] - cur.u[0]),
-                cur.u[1] + w * (node.u[1] - cur.u[1]),
-                cur.u[2] + w * (node.u[2] - cur.u[2]),
-            ];
+            let p = crate::branch::lerp(&cur.u, &node.u, w);
             if let Ok(mut at) = branch.correct(cur.phase, p, c, true) {
                 if ev == Event::Release {
                     // f = 0 to the corrector's tolerance: the release row carries f = 0

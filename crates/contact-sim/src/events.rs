@@ -101,7 +101,7 @@ pub(crate) fn locate(
         if !(s > sa && s < sb) {
             s = 0.5 * (sa + sb);
         }
-        let p = [a.u[0] + s * d[0], a.u[1] + s * d[1], a.u[2] + s * d[2]];
+        let p = crate::branch::lerp(&a.u, &b.u, s);
         let node = branch.correct(
             a.phase,
             p,

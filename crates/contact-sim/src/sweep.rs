@@ -433,11 +433,7 @@ fn tangential_first_node(branch: &Branch, u: [f64; 3], x0: f64) -> Result<Node> 
         let guess = match prev {
             Some(p) if p.x0() != cur.x0() => {
                 let w = (target - cur.x0()) / (cur.x0() - p.x0());
-                [
-                    cur.u[0] + w * (cur.u[0] - p.u[0]),
-                    cur.u[1] + w * (cur.u[1] - p.u[1]),
-                    cur.u[2] + w * (cur.u[2] - p.u[2]),
-                ]
+                crate::branch::lerp(&cur.u, &p.u, -w)
             }
             _ => cur.u,
         };
@@ -506,11 +502,8 @@ fn rows(
         // (cubic from four, quadratic from three) when they exist, else interpolation
         // between the bracketing nodes.
         let w = (a.x0() - target) / (a.x0() - b.x0());
-        let mut guess = [
-            ua[0] + w * (ub[0] - ua[0]),
-            ua[1] + w * (ub[1] - ua[1]),
-            ua[2] + w * (ub[2] - ua[2]),
-        ];
+        let lin = crate::branch::lerp(&ua, &ub, w);
+        let mut guess = lin;
         let mut jac = if w < 0.5 { a.jac } else { b.jac };
         let same: Vec<&Node> = recent
             .iter()
@@ -537,11 +530,6 @@ fn rows(
         }
         // Broyden's method from the prediction; Newton from it, from the interpolation
         // between the bracketing nodes, and from the nearer node as fallbacks.
-        let lin = [
-            ua[0] + w * (ub[0] - ua[0]),
-            ua[1] + w * (ub[1] - ua[1]),
-            ua[2] + w * (ub[2] - ua[2]),
-        ];
         let near = if w < 0.5 { ua } else { ub };
         let node = match branch.broyden_at_base(phase, guess, target, &jac) {
             Some(n) => n,

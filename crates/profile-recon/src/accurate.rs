@@ -168,6 +168,16 @@ pub(crate) struct Hypothesis {
     pub z: f64,
     /// Standard deviation of the point at unit relative noise.
     pub sigma_unit: f64,
+    /// Square-root part of the point's error (a double root: noise `dm` in the moment moves
+    /// it by `sqrt(2 dm / |m''|)`), at unit relative noise; 0 for simple roots and phase A.
+    pub sigma_sqrt: f64,
+}
+
+impl Hypothesis {
+    /// Error estimate (one standard deviation) of the point at relative noise `level`.
+    pub fn sigma(&self, level: f64) -> f64 {
+        level * self.sigma_unit + level.sqrt() * self.sigma_sqrt
+    }
 }
 
 /// Everything the identification and the reconstruction need of one row under one flow.
@@ -196,7 +206,7 @@ impl RowEval {
             .hyps
             .iter()
             .filter(|h| h.z <= K_SIGMA * level)
-            .min_by(|a, b| a.sigma_unit.total_cmp(&b.sigma_unit));
+            .min_by(|a, b| a.sigma(level).total_cmp(&b.sigma(level)));
         consistent.or_else(|| self.hyps.iter().min_by(|a, b| a.z.total_cmp(&b.z)))
     }
 
@@ -224,7 +234,7 @@ impl RowEval {
             phase: b.phase,
             residual: b.residual,
             // an inconsistent row implies its own noise level z
-            sigma: level.max(b.z) * b.sigma_unit,
+            sigma: b.sigma(level.max(b.z)),
             alternatives,
             evaluations: self.evaluations,
         })
@@ -328,7 +338,13 @@ pub(crate) fn evaluate(
                         if me.signum() != m.signum() && me != 0.0 {
                             root(s_prev, e.x, &mut hyp_s);
                             root(e.x, s, &mut hyp_s);
-                        } else if e.x > 0.0 && e.x < 1.0 {
+                        }
+                        // the extremum itself is the double-root hypothesis whether or not
+                        // it dips across zero: at a release (f = 0) the log's last digits
+                        // decide that, and the two roots of a shallow dip are determined
+                        // only to the square root of the precision (its `z` rules it out
+                        // when the dip is beyond the noise)
+                        if e.x > 0.0 && e.x < 1.0 {
                             touching.push(e.x);
                         }
                     }
@@ -438,6 +454,14 @@ pub(crate) fn evaluate(
                 var_xy.sqrt()
             } else {
                 f64::INFINITY
+            },
+            sigma_sqrt: if touch {
+                // m'' = P' sin phi + Q' cos phi + (P cos phi - Q sin phi) phi'
+                let (p, q) = ode.force(s);
+                let m2 = -flow.q * ca * sp - flow.q * sa * cp + (p * cp - q * sp) * dphi_s;
+                (2.0 * var_v.sqrt() / m2.abs().max(tiny)).sqrt()
+            } else {
+                0.0
             },
         });
     }

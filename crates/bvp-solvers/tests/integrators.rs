@@ -177,6 +177,47 @@ fn dop853_error_scales_with_tolerance() {
 }
 
 #[test]
+fn dop853_lazy_dense_output_equals_the_eager_one_once_refined() {
+    let eager = Dop853::new(1e-12, 1e-12)
+        .with_dense(true)
+        .integrate(&ExpSin, 0.0, 6.0, &[1.0])
+        .unwrap();
+    let mut lazy = Dop853::new(1e-12, 1e-12)
+        .with_lazy_dense()
+        .integrate(&ExpSin, 0.0, 6.0, &[1.0])
+        .unwrap();
+    // the same steps and end; three right-hand-side evaluations fewer per step
+    assert_eq!(lazy.step_points(), eager.step_points());
+    assert_eq!(lazy.u_end, eager.u_end);
+    let steps = lazy.steps();
+    assert_eq!(lazy.stats.rhs_evals + 3 * steps, eager.stats.rhs_evals);
+    let (mut u, mut du) = ([0.0], [0.0]);
+    let mut cubic_err: f64 = 0.0;
+    for i in 0..steps {
+        let (a, b) = (lazy.step_points()[i], lazy.step_points()[i + 1]);
+        let mid = 0.5 * (a + b);
+        // not refined: no 7th-order value, but the cubic Hermite interpolant, exact at the ends
+        assert!(!lazy.is_refined(i));
+        assert!(!lazy.eval_into(mid, &mut u));
+        assert!(lazy.eval_cubic_into(a, &mut u, &mut du));
+        assert!((u[0] - a.sin().exp()).abs() < 1e-11);
+        assert!((du[0] - a.cos() * a.sin().exp()).abs() < 1e-10);
+        assert!(lazy.eval_cubic_into(mid, &mut u, &mut du));
+        cubic_err = cubic_err.max((u[0] - mid.sin().exp()).abs());
+        // refined: bit for bit the eager interpolant
+        lazy.refine(&ExpSin, i);
+        assert!(lazy.is_refined(i));
+        for frac in [0.1, 0.5, 0.9] {
+            let s = a + frac * (b - a);
+            assert_eq!(lazy.eval(s), eager.eval(s), "step {i} at {s}");
+        }
+    }
+    // the cubic is O(h^4): far from the 7th-order accuracy, close enough to scan with
+    assert!(cubic_err > 1e-10 && cubic_err < 1e-3, "{cubic_err:e}");
+    assert_eq!(lazy.stats.rhs_evals, eager.stats.rhs_evals);
+}
+
+#[test]
 fn dop853_backward() {
     let u2 = [2f64.sin().exp()];
     let sol = Dop853::new(1e-13, 1e-13)

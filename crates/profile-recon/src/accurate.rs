@@ -40,7 +40,7 @@ pub const MAX_WINDING: f64 = 12.0;
 /// Number of standard deviations within which a hypothesis counts as consistent.
 pub const K_SIGMA: f64 = 6.0;
 /// Integrator tolerance of the variational equations (the Jacobian of the error estimate).
-pub const JACOBIAN_TOL: f64 = 1e-5;
+pub const JACOBIAN_TOL: f64 = 1e-3;
 
 /// The first-order system [3.25] integrated from the base with the base reaction of a row:
 /// the internal force at `s` is `(P, Q)(s) = (-Ax - q s cos alpha, Ay - q s sin alpha)` in the
@@ -252,6 +252,46 @@ fn wrap(d: f64) -> f64 {
     }
 }
 
+/// The steps of a lazy base integration on which `m` may have a root or an extremum: the
+/// cubic Hermite part of the step's interpolant (exact at the ends, `O(h^4)` inside) at the
+/// ends and at the thirds comes within twice the step's variation of `m` (its range there,
+/// or `h |m'|`) of zero, or `m'` changes sign there. Elsewhere `m` keeps its sign and its
+/// direction with a margin that the cubic's error cannot close on an accepted step, and
+/// the scan of [`evaluate`] has nothing to find.
+fn close_steps(sol: &OdeSolution) -> Vec<bool> {
+    let pts = sol.step_points();
+    let mut u = [0.0; 4];
+    let mut du = [0.0; 4];
+    pts.windows(2)
+        .enumerate()
+        .map(|(idx, w)| {
+            let h = (w[1] - w[0]).abs();
+            let (mut lo, mut hi, mut amin, mut dmax) =
+                (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, 0.0f64);
+            let mut dsign = 0.0f64;
+            let mut turns = false;
+            for k in 0..=SAMPLES {
+                if !sol.eval_cubic_on(idx, k as f64 / SAMPLES as f64, &mut u, &mut du) {
+                    return true;
+                }
+                let (m, d) = (u[1], du[1]);
+                if !(m.is_finite() && d.is_finite()) {
+                    return true;
+                }
+                lo = lo.min(m);
+                hi = hi.max(m);
+                amin = amin.min(m.abs());
+                dmax = dmax.max(d.abs());
+                if d == 0.0 || (dsign != 0.0 && d.signum() != dsign) {
+                    turns = true;
+                }
+                dsign = d.signum();
+            }
+            turns || amin <= 2.0 * (hi - lo).max(h * dmax)
+        })
+        .collect()
+}
+
 /// Evaluates every phase hypothesis of `row` under `flow`, with the Jacobian of each with
 /// respect to the observables (variational equations, columns scaled by `scales`).
 pub(crate) fn evaluate(
@@ -261,99 +301,141 @@ pub(crate) fn evaluate(
     scales: &NoiseScales,
     integrator: &Dop853,
 ) -> Result<RowEval> {
-    let sol = base_ivp(whisker, flow, row, integrator)?;
+    // lazy dense output: the cubic part of every step scans for roots and extrema of m, the
+    // complete 7th-order interpolant is made only on the steps that may hold one
+    let lazy = Dop853 {
+        dense: true,
+        lazy_dense: true,
+        ..integrator.clone()
+    };
+    let mut sol = base_ivp(whisker, flow, row, &lazy)?;
     let ode = BaseOde::new(whisker, flow, row, false);
     let reached = sol.s_end >= 1.0;
     let mut evaluations = 1;
+    let close = close_steps(&sol);
+    for (idx, &c) in close.iter().enumerate() {
+        if c {
+            sol.refine(&ode, idx);
+        }
+    }
     // hypotheses: A (if s = 1 was reached) and every root of m on (0, s_end)
     let mut hyp_s: Vec<(Phase, f64)> = Vec::new();
     if reached {
         hyp_s.push((Phase::A, 1.0));
     }
-    let mut u = [0.0; 4];
-    let mut prev: (f64, f64) = (0.0, -row.ma);
-    let slope = |s: f64, u: &[f64]| {
-        let mut du = [0.0; 4];
-        ode.rhs(s, u, &mut du);
-        du[1]
-    };
-    let mut prev_slope = slope(0.0, &[row.phi0, -row.ma, row.x0, 0.0]);
     let mut touching: Vec<f64> = Vec::new();
-    let opts = RootOptions {
-        xtol: 1e-15,
-        ftol: 0.0,
-        max_iter: 200,
-    };
-    // m and m' on the dense output
-    let m_at = |t: f64| -> Result<f64> {
-        let mut buf = [0.0; 4];
-        Ok(if sol.eval_into(t, &mut buf) {
-            buf[1]
-        } else {
-            f64::NAN
-        })
-    };
-    let d_at = |t: f64| -> Result<f64> {
-        let mut buf = [0.0; 4];
-        Ok(if sol.eval_into(t, &mut buf) {
-            slope(t, &buf)
-        } else {
-            f64::NAN
-        })
-    };
-    let root = |a: f64, b: f64, hyp_s: &mut Vec<(Phase, f64)>| {
-        if let Ok(r) = brent(m_at, a, b, &opts) {
-            if r.x > 0.0 && r.x < 1.0 {
-                hyp_s.push((Phase::B, r.x));
+    {
+        let sol = &sol;
+        let mut u = [0.0; 4];
+        let mut du_c = [0.0; 4];
+        let mut prev: (f64, f64) = (0.0, -row.ma);
+        let slope = |s: f64, u: &[f64]| {
+            let mut du = [0.0; 4];
+            ode.rhs(s, u, &mut du);
+            du[1]
+        };
+        let mut prev_slope = slope(0.0, &[row.phi0, -row.ma, row.x0, 0.0]);
+        let opts = RootOptions {
+            xtol: 1e-15,
+            ftol: 0.0,
+            max_iter: 200,
+        };
+        // m and m' on the dense output
+        let m_at = |t: f64| -> Result<f64> {
+            let mut buf = [0.0; 4];
+            Ok(if sol.eval_into(t, &mut buf) {
+                buf[1]
+            } else {
+                f64::NAN
+            })
+        };
+        let d_at = |t: f64| -> Result<f64> {
+            let mut buf = [0.0; 4];
+            Ok(if sol.eval_into(t, &mut buf) {
+                slope(t, &buf)
+            } else {
+                f64::NAN
+            })
+        };
+        let root = |a: f64, b: f64, hyp_s: &mut Vec<(Phase, f64)>| {
+            if let Ok(r) = brent(m_at, a, b, &opts) {
+                if r.x > 0.0 && r.x < 1.0 {
+                    hyp_s.push((Phase::B, r.x));
+                }
             }
-        }
-    };
-    for w in sol.step_points().windows(2) {
-        for k in 0..SAMPLES {
-            let s = w[0] + (w[1] - w[0]) * (k + 1) as f64 / SAMPLES as f64;
-            if !sol.eval_into(s, &mut u) {
+        };
+        for (idx, w) in sol.step_points().windows(2).enumerate() {
+            if !close[idx] {
+                // m keeps its sign and its direction on this step: only its end is carried
+                if sol.eval_cubic_on(idx, 1.0, &mut u, &mut du_c) {
+                    prev = (w[1], u[1]);
+                    prev_slope = du_c[1];
+                }
                 continue;
             }
-            let m = u[1];
-            let ms = slope(s, &u);
-            let (s_prev, m_prev) = prev;
-            if m_prev != 0.0 && m_prev.signum() != m.signum() {
-                // a sign change of m in (0, 1): a phase-B root (m(1) = 0 is phase A)
-                if m == 0.0 {
-                    if s < 1.0 {
-                        hyp_s.push((Phase::B, s));
-                    }
+            for k in 0..SAMPLES {
+                // the last sample exactly at the step's end (stored exactly, refined or not)
+                let s = if k + 1 == SAMPLES {
+                    w[1]
                 } else {
-                    root(s_prev, s, &mut hyp_s);
+                    w[0] + (w[1] - w[0]) * (k + 1) as f64 / SAMPLES as f64
+                };
+                if !sol.eval_into(s, &mut u) {
+                    continue;
                 }
-            } else if prev_slope.signum() != ms.signum() && s < 1.0 {
-                // an extremum of m inside the sub-interval: two roots if it crosses zero,
-                // else, if it turns towards zero, a double-root hypothesis (a release in
-                // phase B as f -> 0 has no sign change of m)
-                let towards_zero =
-                    (m_prev > 0.0 && prev_slope < 0.0) || (m_prev < 0.0 && prev_slope > 0.0);
-                if towards_zero {
-                    if let Ok(e) = brent(d_at, s_prev, s, &opts) {
-                        let me = m_at(e.x).unwrap_or(f64::NAN);
-                        if me.signum() != m.signum() && me != 0.0 {
-                            root(s_prev, e.x, &mut hyp_s);
-                            root(e.x, s, &mut hyp_s);
+                let m = u[1];
+                let ms = slope(s, &u);
+                let (s_prev, m_prev) = prev;
+                if m_prev != 0.0 && m_prev.signum() != m.signum() {
+                    // a sign change of m in (0, 1): a phase-B root (m(1) = 0 is phase A)
+                    if m == 0.0 {
+                        if s < 1.0 {
+                            hyp_s.push((Phase::B, s));
                         }
-                        // the extremum itself is the double-root hypothesis whether or not
-                        // it dips across zero: at a release (f = 0) the log's last digits
-                        // decide that, and the two roots of a shallow dip are determined
-                        // only to the square root of the precision (its `z` rules it out
-                        // when the dip is beyond the noise)
-                        if e.x > 0.0 && e.x < 1.0 {
-                            touching.push(e.x);
+                    } else {
+                        root(s_prev, s, &mut hyp_s);
+                    }
+                } else if prev_slope.signum() != ms.signum() && s < 1.0 {
+                    // an extremum of m inside the sub-interval: two roots if it crosses zero,
+                    // else, if it turns towards zero, a double-root hypothesis (a release in
+                    // phase B as f -> 0 has no sign change of m)
+                    let towards_zero =
+                        (m_prev > 0.0 && prev_slope < 0.0) || (m_prev < 0.0 && prev_slope > 0.0);
+                    if towards_zero {
+                        if let Ok(e) = brent(d_at, s_prev, s, &opts) {
+                            let me = m_at(e.x).unwrap_or(f64::NAN);
+                            if me.signum() != m.signum() && me != 0.0 {
+                                root(s_prev, e.x, &mut hyp_s);
+                                root(e.x, s, &mut hyp_s);
+                            }
+                            // the extremum itself is the double-root hypothesis whether or not
+                            // it dips across zero: at a release (f = 0) the log's last digits
+                            // decide that, and the two roots of a shallow dip are determined
+                            // only to the square root of the precision (its `z` rules it out
+                            // when the dip is beyond the noise)
+                            if e.x > 0.0 && e.x < 1.0 {
+                                touching.push(e.x);
+                            }
                         }
                     }
                 }
+                prev_slope = ms;
+                prev = (s, m);
             }
-            prev_slope = ms;
-            prev = (s, m);
         }
     }
+    // a root found at the end of a close step belongs to the next step: complete that one too
+    for &(_, s) in hyp_s.iter() {
+        if let Some(i) = sol.step_index(s) {
+            sol.refine(&ode, i);
+        }
+    }
+    for &s in &touching {
+        if let Some(i) = sol.step_index(s) {
+            sol.refine(&ode, i);
+        }
+    }
+    let mut u = [0.0; 4];
     hyp_s.extend(touching.iter().map(|&t| (Phase::B, t)));
     // the Jacobian: variational equations up to the last hypothesis
     let s_jac = hyp_s.iter().map(|h| h.1).fold(0.0, f64::max);
@@ -361,9 +443,18 @@ pub(crate) fn evaluate(
         evaluations += 1;
         let sode = BaseOde::new(whisker, flow, row, true);
         Dop853::new(JACOBIAN_TOL, JACOBIAN_TOL)
-            .with_dense(true)
+            .with_lazy_dense()
             .integrate(&sode, 0.0, s_jac, &sode.initial(row))
             .ok()
+            .map(|mut j| {
+                // the interpolant is needed at the hypotheses only
+                for &(_, s) in &hyp_s {
+                    if let Some(i) = j.step_index(s) {
+                        j.refine(&sode, i);
+                    }
+                }
+                j
+            })
     } else {
         None
     };

@@ -231,7 +231,12 @@ pub(crate) fn identify_rows(
         r.validate(i)?;
     }
     let scales = NoiseScales::of(rows);
-    let integrator = Dop853::new(settings.tol, settings.tol).with_dense(true);
+    // a first step of 1/20 of the unit whisker (the accepted steps at tol 1e-12 are ~1/15..1/30;
+    // a step too long is only rejected and shortened): saves Hairer's initial-step guess
+    let integrator = Dop853 {
+        h_init: Some(0.05),
+        ..Dop853::new(settings.tol, settings.tol).with_dense(true)
+    };
     // (1) seed flow
     let mut best_row: Option<usize> = None;
     let seed = match (known.q, known.alpha) {

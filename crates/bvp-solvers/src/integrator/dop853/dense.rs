@@ -20,8 +20,15 @@ pub struct OdeSolution {
     pub(super) points: Vec<f64>,
     /// Step sizes (len = steps).
     pub(super) hs: Vec<f64>,
-    /// 8 * dim interpolation coefficients per step.
+    /// 8 * dim interpolation coefficients per step (lazy: the last 4 blocks only once the
+    /// step is refined).
     pub(super) cont: Vec<f64>,
+    /// Lazy dense output: the stages [`LAZY_SLOTS`] of each step (9 * dim per step).
+    pub(super) stages: Vec<f64>,
+    /// Lazy dense output: whether each step's interpolant is complete (empty: all are).
+    pub(super) refined: Vec<bool>,
+    /// Lazy dense output: work space of [`OdeSolution::refine`].
+    pub(super) scratch: Vec<f64>,
     pub(super) dense: bool,
 }
 
@@ -77,15 +84,121 @@ impl OdeSolution {
             out.copy_from_slice(&self.u_end);
             return true;
         }
-        // last step whose start is <= s (in the integration direction)
-        let idx = self.points[..nsteps]
-            .partition_point(|&p| dir * (p - self.s_start) <= t)
-            .saturating_sub(1)
-            .min(nsteps - 1);
-        let theta = (s - self.points[idx]) / self.hs[idx];
+        let idx = self.step_at(t, dir);
         let n = self.dim;
+        if !self.is_refined(idx) {
+            // a step's start is stored exactly (the interpolant's value at theta = 0)
+            if s == self.points[idx] {
+                out.copy_from_slice(&self.cont[idx * 8 * n..idx * 8 * n + n]);
+                return true;
+            }
+            return false;
+        }
+        let theta = (s - self.points[idx]) / self.hs[idx];
         dense_eval(&self.cont[idx * 8 * n..(idx + 1) * 8 * n], n, theta, out);
         true
+    }
+
+    /// The last step whose start is `<= s` (`t = dir (s - s_start)` inside the span).
+    fn step_at(&self, t: f64, dir: f64) -> usize {
+        let nsteps = self.hs.len();
+        self.points[..nsteps]
+            .partition_point(|&p| dir * (p - self.s_start) <= t)
+            .saturating_sub(1)
+            .min(nsteps - 1)
+    }
+
+    /// Index of the step containing `s` (`None` outside the span or without dense output).
+    pub fn step_index(&self, s: f64) -> Option<usize> {
+        if !self.dense || self.hs.is_empty() || !s.is_finite() {
+            return None;
+        }
+        let dir = if self.s_end >= self.s_start {
+            1.0
+        } else {
+            -1.0
+        };
+        let t = dir * (s - self.s_start);
+        if t < 0.0 || t > dir * (self.s_end - self.s_start) {
+            return None;
+        }
+        Some(self.step_at(t, dir))
+    }
+
+    /// Number of stored steps.
+    pub fn steps(&self) -> usize {
+        self.hs.len()
+    }
+
+    /// Whether step `idx` has its complete 7th-order interpolant (always, unless the output
+    /// is lazy, [`Dop853::with_lazy_dense`](super::Dop853::with_lazy_dense)).
+    pub fn is_refined(&self, idx: usize) -> bool {
+        self.refined.get(idx).copied().unwrap_or(true)
+    }
+
+    /// Completes the 7th-order interpolant of step `idx` of a lazy dense output (the three
+    /// extra stages `k14..k16` of Hairer's `DOP853`). `sys` must be the system that was
+    /// integrated. Nothing happens for a refined step or an index out of range.
+    pub fn refine<S: OdeSystem + ?Sized>(&mut self, sys: &S, idx: usize) {
+        if self.is_refined(idx) || idx >= self.hs.len() {
+            return;
+        }
+        let n = self.dim;
+        // scratch: the 16 stage slots, y, and the stage argument
+        self.scratch.resize(18 * n, 0.0);
+        let (k, rest) = self.scratch.split_at_mut(16 * n);
+        let (y, tmp) = rest.split_at_mut(n);
+        let st = &self.stages[idx * 9 * n..(idx + 1) * 9 * n];
+        for (b, &slot) in LAZY_SLOTS.iter().enumerate() {
+            k[slot * n..(slot + 1) * n].copy_from_slice(&st[b * n..(b + 1) * n]);
+        }
+        let rc = &mut self.cont[idx * 8 * n..(idx + 1) * 8 * n];
+        y.copy_from_slice(&rc[..n]);
+        extend(sys, self.points[idx], self.hs[idx], y, k, tmp, rc);
+        self.refined[idx] = true;
+        self.stats.rhs_evals += 3;
+    }
+
+    /// The cubic Hermite interpolant of the step containing `s` (exact at the step's ends,
+    /// error `O(h^4)` inside; the first four terms of Hairer's interpolant) into `out`, and its
+    /// derivative `du/ds` into `dout`; available on every step of a dense output, refined or
+    /// not. Returns `false` as [`OdeSolution::eval_into`] does.
+    pub fn eval_cubic_into(&self, s: f64, out: &mut [f64], dout: &mut [f64]) -> bool {
+        if out.len() != self.dim || dout.len() != self.dim {
+            return false;
+        }
+        let Some(idx) = self.step_index(s) else {
+            return false;
+        };
+        let th = (s - self.points[idx]) / self.hs[idx];
+        self.eval_cubic_on(idx, th, out, dout)
+    }
+
+    /// As [`OdeSolution::eval_cubic_into`] on step `idx` at `theta = (s - start) / h` in
+    /// `[0, 1]` (no search for the step); `false` for an index out of range.
+    pub fn eval_cubic_on(&self, idx: usize, theta: f64, out: &mut [f64], dout: &mut [f64]) -> bool {
+        let n = self.dim;
+        if idx >= self.hs.len() || out.len() != n || dout.len() != n {
+            return false;
+        }
+        let h = self.hs[idx];
+        let th = theta;
+        let rc = &self.cont[idx * 8 * n..idx * 8 * n + 4 * n];
+        for i in 0..n {
+            let (r0, r1, r2, r3) = (rc[i], rc[n + i], rc[2 * n + i], rc[3 * n + i]);
+            out[i] = r0 + th * (r1 + (1.0 - th) * (r2 + th * r3));
+            dout[i] = (r1 + (1.0 - 2.0 * th) * r2 + th * (2.0 - 3.0 * th) * r3) / h;
+        }
+        true
+    }
+
+    /// Lazy dense output: keeps the stages of the step just stored.
+    pub(super) fn store_stages(&mut self, k: &[f64], complete: bool) {
+        let n = self.dim;
+        for &slot in LAZY_SLOTS.iter() {
+            self.stages.extend_from_slice(&k[slot * n..(slot + 1) * n]);
+        }
+        self.refined.push(complete);
     }
 
     /// Accepted step end points, including the start (and ending at `s_end`); empty if the
@@ -109,6 +222,39 @@ pub(super) fn prepare<S: OdeSystem + ?Sized>(
     h: f64,
     y: &[f64],
     ynew: &[f64],
+    k: &mut [f64],
+    tmp: &mut [f64],
+    rc: &mut [f64],
+) {
+    hermite(h, y, ynew, k, rc);
+    extend(sys, x, h, y, k, tmp, rc);
+}
+
+/// The first 4 blocks of the dense-output coefficients of the step `[x, x + h]` (uses `k1`
+/// and `k13`): alone they are the cubic Hermite interpolant of the step's ends.
+pub(super) fn hermite(h: f64, y: &[f64], ynew: &[f64], k: &[f64], rc: &mut [f64]) {
+    let n = y.len();
+    for i in 0..n {
+        let ydiff = ynew[i] - y[i];
+        let bspl = h * k[i] - ydiff;
+        rc[i] = y[i];
+        rc[n + i] = ydiff;
+        rc[2 * n + i] = bspl;
+        rc[3 * n + i] = ydiff - h * k[12 * n + i] - bspl;
+    }
+}
+
+/// Stage slots (0-based) that [`extend`] reads besides the three it computes: `k1`, `k6..k13`.
+pub(super) const LAZY_SLOTS: [usize; 9] = [0, 5, 6, 7, 8, 9, 10, 11, 12];
+
+/// The last 4 blocks of the dense-output coefficients of the step `[x, x + h]` from `y`
+/// and the stages `k1, k6..k13` in `k`: evaluates the extra stages `k14..k16`.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn extend<S: OdeSystem + ?Sized>(
+    sys: &S,
+    x: f64,
+    h: f64,
+    y: &[f64],
     k: &mut [f64],
     tmp: &mut [f64],
     rc: &mut [f64],
@@ -166,12 +312,6 @@ pub(super) fn prepare<S: OdeSystem + ?Sized>(
     );
     sys.rhs(x + C16 * h, tmp, &mut k[15 * n..16 * n]);
     for i in 0..n {
-        let ydiff = ynew[i] - y[i];
-        let bspl = h * k[i] - ydiff;
-        rc[i] = y[i];
-        rc[n + i] = ydiff;
-        rc[2 * n + i] = bspl;
-        rc[3 * n + i] = ydiff - h * k[12 * n + i] - bspl;
         rc[4 * n + i] = h * lin(
             k,
             n,

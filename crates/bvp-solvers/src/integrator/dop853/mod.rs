@@ -44,6 +44,10 @@ pub struct Dop853 {
     pub max_steps: usize,
     /// Store the dense output for [`OdeSolution::eval`].
     pub dense: bool,
+    /// With `dense`: store only the cubic Hermite part of each step's interpolant and the
+    /// stages its completion needs; [`OdeSolution::refine`] completes a step on demand
+    /// (three right-hand-side evaluations per refined step instead of per step).
+    pub lazy_dense: bool,
 }
 
 /// Work counters of an adaptive integration.
@@ -96,12 +100,26 @@ impl Dop853 {
             h_init: None,
             max_steps: 100_000,
             dense: false,
+            lazy_dense: false,
         }
     }
 
     /// Sets whether the dense output is stored.
     pub fn with_dense(self, dense: bool) -> Self {
         Self { dense, ..self }
+    }
+
+    /// Stores a lazy dense output (implies `dense`): each step keeps its cubic Hermite
+    /// interpolant ([`OdeSolution::eval_cubic_into`]) and the stages from which
+    /// [`OdeSolution::refine`] completes Hairer's 7th-order interpolant where it is needed
+    /// ([`OdeSolution::eval_into`] reports `false` on a step not refined yet). For callers
+    /// that scan a solution cheaply and look closely at a few steps only.
+    pub fn with_lazy_dense(self) -> Self {
+        Self {
+            dense: true,
+            lazy_dense: true,
+            ..self
+        }
     }
 
     fn check(&self) -> Result<()> {
@@ -246,14 +264,30 @@ impl Dop853 {
             points: Vec::new(),
             hs: Vec::new(),
             cont: Vec::new(),
+            stages: Vec::new(),
+            refined: Vec::new(),
+            scratch: Vec::new(),
             dense: self.dense,
         };
         if self.dense {
+            // room for a typical integration (vector growth was ~4 % of a short one)
+            const GUESS: usize = 32;
+            sol.points.reserve(GUESS + 1);
             sol.points.push(s0);
+            sol.hs.reserve(GUESS);
+            sol.cont.reserve(GUESS * 8 * n);
+            if self.lazy_dense {
+                sol.stages.reserve(GUESS * 9 * n);
+                sol.refined.reserve(GUESS);
+            }
         }
         if s0 == s1 {
             return Ok((sol, None));
         }
+        // full interpolants of every step (eager dense output), or the cubic part only (lazy
+        // dense output, events: completed on the step where an event is located)
+        let eager = self.dense && !self.lazy_dense;
+        let lazy = self.dense && self.lazy_dense;
         let need_cont = self.dense || event.is_some();
         let Work {
             mut k,
@@ -359,10 +393,13 @@ impl Dop853 {
                     s: xph,
                 });
             }
-            if need_cont {
+            if eager {
                 dense::prepare(sys, x, h, &y, &ynew, &mut k, &mut tmp, &mut rc);
                 stats.rhs_evals += 3;
+            } else if need_cont {
+                dense::hermite(h, &y, &ynew, &k, &mut rc);
             }
+            let mut complete = eager;
 
             if let Some(ev) = event.as_mut() {
                 let g_new = ev(xph, &ynew);
@@ -373,6 +410,11 @@ impl Dop853 {
                     });
                 }
                 if events::crossed(g_old, g_new) {
+                    if !complete {
+                        dense::extend(sys, x, h, &y, &mut k, &mut tmp, &mut rc);
+                        stats.rhs_evals += 3;
+                        complete = true;
+                    }
                     let s_ev = events::locate(ev, g_new, x, h, posneg, &rc, n, &mut tmp)?;
                     let mut u_ev = vec![0.0; n];
                     if s_ev == xph {
@@ -384,6 +426,9 @@ impl Dop853 {
                         sol.points.push(s_ev);
                         sol.hs.push(h);
                         sol.cont.extend_from_slice(&rc);
+                        if lazy {
+                            sol.store_stages(&k, complete);
+                        }
                     }
                     sol.s_end = s_ev;
                     sol.u_end.copy_from_slice(&u_ev);
@@ -397,6 +442,9 @@ impl Dop853 {
                 sol.points.push(if last { s1 } else { xph });
                 sol.hs.push(h);
                 sol.cont.extend_from_slice(&rc);
+                if lazy {
+                    sol.store_stages(&k, complete);
+                }
             }
             // FSAL: k1 <- k13
             k.copy_within(12 * n..13 * n, 0);

@@ -39,6 +39,13 @@ pub const SAMPLES: usize = 3;
 pub const MAX_WINDING: f64 = 12.0;
 /// Number of standard deviations within which a hypothesis counts as consistent.
 pub const K_SIGMA: f64 = 6.0;
+/// Arcs back from the tip at which a phase-A row is checked for a phase-B look-alike:
+/// `TIP_FIRST * TIP_RATIO^k`, `k < TIP_GRID`, from 1e-5 to 0.5 of the whisker (and the
+/// zeros of the tangency residual between them).
+pub const TIP_GRID: usize = 16;
+const TIP_FIRST: f64 = 1e-5;
+/// `(0.5 / 1e-5)^(1 / 15)`.
+const TIP_RATIO: f64 = 2.057_143_874_950_285;
 /// Integrator tolerance of the variational equations (the Jacobian of the error estimate).
 pub const JACOBIAN_TOL: f64 = 1e-3;
 
@@ -171,12 +178,38 @@ pub(crate) struct Hypothesis {
     /// Square-root part of the point's error (a double root: noise `dm` in the moment moves
     /// it by `sqrt(2 dm / |m''|)`), at unit relative noise; 0 for simple roots and phase A.
     pub sigma_sqrt: f64,
+    /// Signed consistency residual `r` (A: `m(1)`; B: `Q sin phi - P cos phi` at `s1`; 0 for
+    /// the double root of a release) and its derivatives with respect to `(Ax, Ay, MA, phi0)`.
+    pub r: f64,
+    /// `dr / d(Ax, Ay, MA, phi0)` (zero without the Jacobian).
+    pub dr: [f64; 4],
+    /// Length of the linear projection's move of the point (see [`evaluate`]).
+    pub shift: f64,
+    /// Phase A: for arcs `delta` back from the tip ([`TIP_GRID`] of them, geometric from
+    /// 1e-5 to 0.5), the relative noise level at which a phase-B contact at `1 - delta` fits
+    /// the row as well, for [`Hypothesis::tip_ambiguity`]; infinite otherwise.
+    pub tip: [(f64, f64); TIP_GRID],
 }
 
 impl Hypothesis {
     /// Error estimate (one standard deviation) of the point at relative noise `level`.
     pub fn sigma(&self, level: f64) -> f64 {
         level * self.sigma_unit + level.sqrt() * self.sigma_sqrt
+    }
+
+    /// Phase A at relative noise `level`: how far back from the tip a phase-B contact fits the
+    /// same row, the largest arc `delta` at which both phase-B conditions, `m(1 - delta) = 0`
+    /// and `g = f sin(phi - psi) = 0` there, hold within 3 standard deviations (those of
+    /// `m(1)` and `g(1)`). Under noise a small tangential contact force short of the tip
+    /// and a tip contact can give the same observables; the point is only known to within
+    /// that arc (0 for phase B, for an exact log, or when no such contact fits).
+    pub fn tip_ambiguity(&self, level: f64) -> f64 {
+        // look-alikes within 3 standard deviations (a 6-sigma one is not a likely truth)
+        self.tip
+            .iter()
+            .filter(|(_, need)| *need * K_SIGMA <= 3.0 * level)
+            .map(|(d, _)| *d)
+            .fold(0.0, f64::max)
     }
 }
 
@@ -200,14 +233,41 @@ impl RowEval {
     /// The chosen hypothesis at relative noise `level`: among the hypotheses consistent
     /// within [`K_SIGMA`] standard deviations, the best determined one (smallest error
     /// estimate: near a phase switch, or as `f -> 0`, several fit and their points agree to
-    /// within their error estimates); without any consistent one, the smallest `z`.
+    /// within their error estimates); if consistent hypotheses disagree beyond their error
+    /// estimates, the most likely one (smallest `z`), whose error estimate then covers the
+    /// others ([`RowEval::ambiguity`]); without any consistent one, the smallest `z`.
     pub fn chosen(&self, level: f64) -> Option<&Hypothesis> {
-        let consistent = self
+        let consistent: Vec<&Hypothesis> = self
             .hyps
             .iter()
             .filter(|h| h.z <= K_SIGMA * level)
-            .min_by(|a, b| a.sigma(level).total_cmp(&b.sigma(level)));
-        consistent.or_else(|| self.hyps.iter().min_by(|a, b| a.z.total_cmp(&b.z)))
+            .collect();
+        let by_z = |a: &&Hypothesis, b: &&Hypothesis| a.z.total_cmp(&b.z);
+        let Some(best) = consistent
+            .iter()
+            .copied()
+            .min_by(|a, b| a.sigma(level).total_cmp(&b.sigma(level)))
+        else {
+            return self.hyps.iter().min_by(by_z);
+        };
+        let agree = consistent.iter().all(|c| {
+            (c.x - best.x).hypot(c.y - best.y) <= K_SIGMA * (best.sigma(level) + c.sigma(level))
+        });
+        if agree {
+            Some(best)
+        } else {
+            consistent.into_iter().min_by(by_z)
+        }
+    }
+
+    /// The largest distance from `b`'s point to the point of another hypothesis consistent at
+    /// `level` (0 if none): a row that several phases fit is only known to within that.
+    pub fn ambiguity(&self, b: &Hypothesis, level: f64) -> f64 {
+        self.hyps
+            .iter()
+            .filter(|h| !std::ptr::eq(*h, b) && h.z <= K_SIGMA * level)
+            .map(|h| (h.x - b.x).hypot(h.y - b.y))
+            .fold(0.0, f64::max)
     }
 
     /// The smallest `z` (infinite without hypotheses).
@@ -215,29 +275,78 @@ impl RowEval {
         self.hyps.iter().map(|h| h.z).fold(f64::INFINITY, f64::min)
     }
 
-    /// The reconstructed point of row `i` at relative noise `level`.
+    /// The reconstructed point of row `i` at relative noise `level`, from the linear
+    /// projection of the chosen hypothesis (no further integration).
     pub fn point(&self, i: usize, row: &ObservableRow, level: f64) -> Option<ReconPoint> {
         let b = self.chosen(level)?;
+        Some(self.make_point(i, row, level, b, b, 0))
+    }
+
+    /// As [`RowEval::point`], with the chosen hypothesis projected to the consistent
+    /// observables by [`project`] where its linear projection moves the point by more than
+    /// [`PROJECT_MIN`] (noisy logs).
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn projected_point(
+        &self,
+        i: usize,
+        row: &ObservableRow,
+        level: f64,
+        whisker: &Whisker,
+        flow: FluidLoad,
+        scales: &NoiseScales,
+        integrator: &Dop853,
+    ) -> Result<Option<ReconPoint>> {
+        let Some(b) = self.chosen(level) else {
+            return Ok(None);
+        };
+        if b.shift <= PROJECT_MIN {
+            return Ok(Some(self.make_point(i, row, level, b, b, 0)));
+        }
+        let (p, evals) = project(whisker, flow, row, scales, integrator, b)?;
+        Ok(Some(self.make_point(
+            i,
+            row,
+            level,
+            b,
+            &p.unwrap_or(*b),
+            evals,
+        )))
+    }
+
+    /// The point of hypothesis `b` (its values from `v`, its projection).
+    fn make_point(
+        &self,
+        i: usize,
+        row: &ObservableRow,
+        level: f64,
+        b: &Hypothesis,
+        v: &Hypothesis,
+        extra: usize,
+    ) -> ReconPoint {
         let alternatives = self
             .hyps
             .iter()
             .filter(|h| !std::ptr::eq(*h, b) && h.z <= K_SIGMA * level)
             .count();
-        Some(ReconPoint {
+        ReconPoint {
             row: i,
             x0: row.x0,
-            x: b.x,
-            y: b.y,
-            s1: b.s1,
-            f: b.f,
-            psi: b.psi,
+            x: v.x,
+            y: v.y,
+            s1: v.s1,
+            f: v.f,
+            psi: v.psi,
             phase: b.phase,
             residual: b.residual,
-            // an inconsistent row implies its own noise level z
-            sigma: b.sigma(level.max(b.z)),
+            // an inconsistent row implies its own noise level z; an ambiguous row is known to
+            // within the spread of the hypotheses that fit it
+            sigma: v
+                .sigma(level.max(b.z))
+                .max(self.ambiguity(b, level))
+                .max(b.tip_ambiguity(level)),
             alternatives,
-            evaluations: self.evaluations,
-        })
+            evaluations: self.evaluations + extra,
+        }
     }
 }
 
@@ -290,6 +399,59 @@ fn close_steps(sol: &OdeSolution) -> Vec<bool> {
             turns || amin <= 2.0 * (hi - lo).max(h * dmax)
         })
         .collect()
+}
+
+/// For [`Hypothesis::tip`]: at `s = 1 - delta` on a grid of `delta`, the relative noise level
+/// `max(|m(s)| / sd_m, |g(s)| / sd_g) / K_SIGMA` at which the phase-B conditions hold there
+/// (`g = Q sin phi - P cos phi`; `sd_m`, `sd_g` the standard deviations of `m(1)`, `g(1)` at
+/// unit noise; the cubic part of the interpolant is accurate enough for a level).
+fn tip_levels(sol: &OdeSolution, ode: &BaseOde, sd_m: f64, sd_g: f64) -> [(f64, f64); TIP_GRID] {
+    let mut out = [(0.0, f64::INFINITY); TIP_GRID];
+    let (mut u, mut du) = ([0.0; 4], [0.0; 4]);
+    let tiny = f64::MIN_POSITIVE;
+    // (m, g) at 1 - d
+    let mut at = |d: f64| -> Option<(f64, f64)> {
+        let s = 1.0 - d;
+        if !sol.eval_cubic_into(s, &mut u, &mut du) {
+            return None;
+        }
+        let (p, q) = ode.force(s);
+        let (sp, cp) = u[0].sin_cos();
+        Some((u[1], q * sp - p * cp))
+    };
+    let need = |m: f64, g: f64| (m.abs() / sd_m.max(tiny)).max(g.abs() / sd_g.max(tiny)) / K_SIGMA;
+    let mut prev: Option<(f64, f64, f64)> = None;
+    for (k, o) in out.iter_mut().enumerate() {
+        let d = TIP_FIRST * TIP_RATIO.powi(k as i32);
+        let Some((m, g)) = at(d) else {
+            continue;
+        };
+        *o = (d, need(m, g));
+        // g changes sign between grid points: the phase-B look-alike is where g = 0
+        if let Some((d0, _, g0)) = prev {
+            if g0 != 0.0 && g0.signum() != g.signum() {
+                let (mut a, mut b, mut ga) = (d0, d, g0);
+                for _ in 0..12 {
+                    let c = 0.5 * (a + b);
+                    let Some((_, gc)) = at(c) else { break };
+                    if gc.signum() == ga.signum() {
+                        (a, ga) = (c, gc);
+                    } else {
+                        b = c;
+                    }
+                }
+                let c = 0.5 * (a + b);
+                if let Some((mc, gc)) = at(c) {
+                    let nc = need(mc, gc);
+                    if nc < o.1 {
+                        *o = (c.max(d), nc);
+                    }
+                }
+            }
+        }
+        prev = Some((d, m, g));
+    }
+    out
 }
 
 /// Evaluates every phase hypothesis of `row` under `flow`, with the Jacobian of each with
@@ -480,7 +642,12 @@ pub(crate) fn evaluate(
         let mut var_r = 0.0;
         let mut var_v = 0.0;
         let mut var_xy = 0.0;
+        // covariance of the residual with the point (unit noise), for the projection below
+        let mut cov = (0.0, 0.0);
+        let mut dr_obs = [0.0; 4];
         if have_jac {
+            // j indexes the columns of the Jacobian, the scales and the residual's gradient
+            #[allow(clippy::needless_range_loop)]
             for j in 0..4 {
                 let sc = scales.0[j];
                 if sc == 0.0 {
@@ -506,13 +673,18 @@ pub(crate) fn evaluate(
                     Phase::B => {
                         let ds = if dm_s != 0.0 { -dm / dm_s } else { 0.0 };
                         let dr = dg + g_s * ds;
+                        let (px, py) = (dx + cp * ds, dy + sp * ds);
+                        dr_obs[j] = dr;
                         var_r += (dr * sc).powi(2);
-                        var_xy += ((dx + cp * ds) * sc).powi(2) + ((dy + sp * ds) * sc).powi(2);
+                        var_xy += (px * sc).powi(2) + (py * sc).powi(2);
+                        cov = (cov.0 + dr * px * sc * sc, cov.1 + dr * py * sc * sc);
                     }
                     _ => {
+                        dr_obs[j] = dm;
                         var_r += (dm * sc).powi(2);
                         var_v += (dg * sc).powi(2);
                         var_xy += (dx * sc).powi(2) + (dy * sc).powi(2);
+                        cov = (cov.0 + dm * dx * sc * sc, cov.1 + dm * dy * sc * sc);
                     }
                 }
             }
@@ -532,6 +704,32 @@ pub(crate) fn evaluate(
                 ((m.abs() / var_r.sqrt().max(tiny)).max(viol), m.abs())
             }
         };
+        // The observables carry noise; the consistency condition (A: m(1) = 0 [6.6]; B:
+        // f sin(phi - psi) = Q sin phi - P cos phi = 0 at s1) holds for the true ones. The
+        // most likely true observables are the nearest (in the noise metric) on which the
+        // linearised condition holds: the measured ones moved by
+        // `delta_j = sc_j^2 dr_j r / sum_k (sc_k dr_k)^2`, which moves the point by the part of
+        // its error that the residual reveals, and leaves it the conditional covariance
+        // `C_pp - c c^T / var_r` (`c` the residual-point covariance). Not for the double
+        // root of a release (its location moves to second order).
+        let (mut x, mut y) = (x, y);
+        let mut var_post = var_xy;
+        let r = match phase {
+            _ if touch => 0.0,
+            Phase::B => {
+                let (p, q) = ode.force(s);
+                q * sp - p * cp
+            }
+            _ => m,
+        };
+        let mut shift = 0.0;
+        if have_jac && !touch && var_r > 0.0 {
+            shift = r.abs() * cov.0.hypot(cov.1) / var_r;
+            x -= r * cov.0 / var_r;
+            y -= r * cov.1 / var_r;
+            // (at least 1 % of the prior deviation: the projection is linearised)
+            var_post = (var_xy - (cov.0 * cov.0 + cov.1 * cov.1) / var_r).max(1e-4 * var_xy);
+        }
         hyps.push(Hypothesis {
             phase,
             s1: s,
@@ -542,9 +740,17 @@ pub(crate) fn evaluate(
             residual,
             z: if z.is_nan() { f64::INFINITY } else { z },
             sigma_unit: if have_jac {
-                var_xy.sqrt()
+                var_post.sqrt()
             } else {
                 f64::INFINITY
+            },
+            r,
+            dr: dr_obs,
+            shift,
+            tip: if phase == Phase::A && !touch && have_jac {
+                tip_levels(&sol, &ode, var_r.sqrt(), var_v.sqrt())
+            } else {
+                [(0.0, f64::INFINITY); TIP_GRID]
             },
             sigma_sqrt: if touch {
                 // m'' = P' sin phi + Q' cos phi + (P cos phi - Q sin phi) phi'
@@ -577,4 +783,77 @@ pub(crate) fn evaluate(
         hyps,
         evaluations,
     })
+}
+
+/// Linear projection moves larger than this (whisker lengths) are iterated to the manifold of
+/// consistent observables ([`project`]); exact logs move by ~1e-12 and are left as they are.
+pub const PROJECT_MIN: f64 = 1e-9;
+/// Gauss-Newton steps of [`project`] at most.
+const PROJECT_STEPS: usize = 4;
+
+/// The most likely true observables of a noisy row under hypothesis `h`: the nearest (in the
+/// noise metric of `scales`) to the measured ones on which the consistency condition `r = 0`
+/// holds, by Gauss-Newton steps of the constrained least-squares problem (each a new
+/// integration from the base at the moved observables, [`evaluate`]):
+/// `obs' = meas - W dr (r + dr . (meas - obs)) / (dr W dr)` with `W = diag(scales^2)`.
+/// Returns `h` with the point, `s1`, `f`, `psi` and the error estimate of the projected
+/// observables (the consistency residual and `z` stay the measured row's), or `None` if the
+/// hypothesis is lost on the way (then the linear projection stands).
+pub(crate) fn project(
+    whisker: &Whisker,
+    flow: FluidLoad,
+    row: &ObservableRow,
+    scales: &NoiseScales,
+    integrator: &Dop853,
+    h0: &Hypothesis,
+) -> Result<(Option<Hypothesis>, usize)> {
+    let meas = [row.ax, row.ay, row.ma, row.phi0];
+    let mut evals = 0;
+    let mut obs = meas;
+    let mut h = *h0;
+    for _ in 0..PROJECT_STEPS {
+        let w: Vec<f64> = (0..4).map(|j| scales.0[j] * scales.0[j]).collect();
+        let sdr: f64 = (0..4).map(|j| w[j] * h.dr[j] * h.dr[j]).sum();
+        if sdr.is_nan() || sdr <= 0.0 {
+            return Ok((None, evals));
+        }
+        let num = h.r + (0..4).map(|j| h.dr[j] * (meas[j] - obs[j])).sum::<f64>();
+        let next: Vec<f64> = (0..4)
+            .map(|j| meas[j] - w[j] * h.dr[j] * num / sdr)
+            .collect();
+        let trial = ObservableRow {
+            ax: next[0],
+            ay: next[1],
+            ma: next[2],
+            phi0: next[3],
+            ..*row
+        };
+        let e = evaluate(whisker, flow, &trial, scales, integrator)?;
+        evals += e.evaluations;
+        let Some(hn) = e
+            .hyps
+            .iter()
+            .filter(|c| c.phase == h.phase && c.sigma_sqrt == 0.0)
+            .min_by(|a, b| (a.s1 - h.s1).abs().total_cmp(&(b.s1 - h.s1).abs()))
+        else {
+            return Ok((None, evals));
+        };
+        let moved = (hn.x - h.x).hypot(hn.y - h.y);
+        obs.copy_from_slice(&next);
+        h = *hn;
+        if moved <= 1e-3 * h.shift.max(PROJECT_MIN) {
+            break;
+        }
+    }
+    Ok((
+        Some(Hypothesis {
+            residual: h0.residual,
+            z: h0.z,
+            r: h0.r,
+            dr: h0.dr,
+            shift: h0.shift,
+            ..h
+        }),
+        evals,
+    ))
 }

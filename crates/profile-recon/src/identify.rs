@@ -32,6 +32,8 @@ use serde::{Deserialize, Serialize};
 pub const NOISE_FLOOR: f64 = 1e-11;
 /// Integrator tolerance of the first pass over the rows that picks the seed row.
 const SEED_TOL: f64 = 1e-6;
+/// Rows (best fits first) among which the seed's group of equal free rows is looked for.
+const SEED_CANDIDATES: usize = 64;
 /// Largest relative noise level the identification raises an estimate to.
 pub const MAX_NOISE: f64 = 1e-2;
 
@@ -195,6 +197,14 @@ fn smoothness_noise(rows: &[ObservableRow], scales: &NoiseScales) -> f64 {
     worst.max(NOISE_FLOOR)
 }
 
+/// `flow` from the mean base forces of `rows[idx]` [6.1], with the known parts put in.
+fn mean_flow(rows: &[ObservableRow], idx: &[usize], known: &KnownFlow) -> FluidLoad {
+    let n = idx.len().max(1) as f64;
+    let ax = idx.iter().map(|&i| rows[i].ax).sum::<f64>() / n;
+    let ay = idx.iter().map(|&i| rows[i].ay).sum::<f64>() / n;
+    with_known(free_flow(ax, ay), known)
+}
+
 /// Identification with the evaluations of every row (module docs).
 pub(crate) fn identify_rows(
     whisker: &Whisker,
@@ -237,12 +247,12 @@ pub(crate) fn identify_rows(
         h_init: Some(0.05),
         ..Dop853::new(settings.tol, settings.tol).with_dense(true)
     };
-    // (1) seed flow
+    // (1) seed flows
     let mut best_row: Option<usize> = None;
-    let seed = match (known.q, known.alpha) {
-        (Some(q), Some(alpha)) => FluidLoad { q, alpha },
+    let seeds: Vec<FluidLoad> = match (known.q, known.alpha) {
+        (Some(q), Some(alpha)) => vec![FluidLoad { q, alpha }],
         _ => {
-            // a coarse pass over every row, then the best few again at full tolerance
+            // a coarse pass over every row
             let coarse = Dop853::new(SEED_TOL, SEED_TOL);
             let mut fits: Vec<(f64, usize)> = rows
                 .iter()
@@ -250,30 +260,46 @@ pub(crate) fn identify_rows(
                 .map(|(i, r)| (free_fit(whisker, r, &known, &scales, &coarse).0, i))
                 .collect();
             fits.sort_by(|a, b| a.0.total_cmp(&b.0));
-            // The free rows all fit equally well (they show the same forces): the seed is
-            // the mean over every row whose fit is within the first pass's precision of the
-            // best, so that one near-free row (a release with f ~ 1e-10) cannot outvote the
-            // others; the pre-contact rows then fix the flow exactly (step 5).
-            // (and whose forces lie within the model-free noise reference of the best row's)
+            // The free rows all fit equally well (they show the same forces). First seed:
+            // the mean over the rows that fit within the first pass's precision of the best
+            // and whose forces lie within the noise reference of the best row's (one near-free
+            // row, a release with f ~ 1e-10, cannot outvote the others). Under noise a
+            // contact row with a small force may fit best: the second seed is the largest
+            // group of rows whose fits are within the noise reference too and whose forces
+            // lie within it of one another. Both are tried below; the flow under which the log
+            // shows the lower noise level wins, and its pre-contact rows then fix it exactly
+            // (step 5).
             let best = fits.first().map_or(f64::INFINITY, |c| c.0);
             let b = fits.first().map_or(0, |c| c.1);
-            let radius = K_SIGMA
-                * smoothness_noise(rows, &scales).clamp(1e-9, MAX_NOISE)
-                * scales.0[0].hypot(scales.0[1]);
-            let good: Vec<usize> = fits
-                .iter()
-                .filter(|c| {
-                    let r = &rows[c.1];
-                    c.0 <= 10.0 * best + 10.0 * SEED_TOL
-                        && (r.ax - rows[b].ax).hypot(r.ay - rows[b].ay) <= radius
-                })
-                .map(|c| c.1)
-                .collect();
+            let level = smoothness_noise(rows, &scales).clamp(1e-9, MAX_NOISE);
+            let radius = K_SIGMA * level * scales.0[0].hypot(scales.0[1]);
+            let near = |a: usize, c: usize| {
+                let (ra, rc) = (&rows[a], &rows[c]);
+                (ra.ax - rc.ax).hypot(ra.ay - rc.ay) <= radius
+            };
+            let group_of = |centre: usize, bound: f64| -> Vec<usize> {
+                fits.iter()
+                    .take(SEED_CANDIDATES)
+                    .filter(|c| c.0 <= bound && near(centre, c.1))
+                    .map(|c| c.1)
+                    .collect()
+            };
             best_row = Some(b);
-            let n = good.len().max(1) as f64;
-            let ax = good.iter().map(|&i| rows[i].ax).sum::<f64>() / n;
-            let ay = good.iter().map(|&i| rows[i].ay).sum::<f64>() / n;
-            with_known(free_flow(ax, ay), &known)
+            let first = group_of(b, 10.0 * best + 10.0 * SEED_TOL);
+            let mut seeds = vec![mean_flow(rows, &first, &known)];
+            // candidates in the order of their fit: ties go to the better fit
+            let bound = 10.0 * best + 10.0 * SEED_TOL + K_SIGMA * level;
+            let mut largest: Vec<usize> = Vec::new();
+            for c in fits.iter().take(SEED_CANDIDATES).filter(|c| c.0 <= bound) {
+                let g = group_of(c.1, bound);
+                if g.len() > largest.len() {
+                    largest = g;
+                }
+            }
+            if largest.len() > first.len() {
+                seeds.push(mean_flow(rows, &largest, &known));
+            }
+            seeds
         }
     };
     let eval_all = |flow: FluidLoad| -> Result<Vec<RowEval>> {
@@ -281,18 +307,32 @@ pub(crate) fn identify_rows(
             .map(|r| evaluate(whisker, flow, r, &scales, &integrator))
             .collect()
     };
-    let mut flow = seed;
-    let mut evals = eval_all(flow)?;
     let reference = smoothness_noise(rows, &scales);
     let level_of = |evals: &[RowEval]| {
         settings
             .noise
             .unwrap_or_else(|| estimate_noise(evals).min(reference).max(NOISE_FLOOR))
     };
+    let pre_of = |evals: &[RowEval], level: f64| -> Vec<usize> {
+        (0..rows.len())
+            .filter(|&i| is_pre_contact(&evals[i], level))
+            .collect()
+    };
+    let mut flow = seeds[0];
+    let mut evals = eval_all(flow)?;
     let mut level = level_of(&evals);
-    let mut pre: Vec<usize> = (0..rows.len())
-        .filter(|&i| is_pre_contact(&evals[i], level))
-        .collect();
+    let mut pre = pre_of(&evals, level);
+    for &other in &seeds[1..] {
+        let e = eval_all(other)?;
+        let l = level_of(&e);
+        let p = pre_of(&e, l);
+        // the right flow explains the log best: every row fits one hypothesis at a lower
+        // noise level (a wrong flow raises the level, and at a raised level more rows pass
+        // for free)
+        if l < level || (l == level && p.len() > pre.len()) {
+            (flow, evals, level, pre) = (other, e, l, p);
+        }
+    }
     if known.q.is_none() || known.alpha.is_none() {
         // The model-based estimate can come out low (a row with an ill-conditioned spurious
         // hypothesis fits too well): without any pre-contact row the level is raised, but

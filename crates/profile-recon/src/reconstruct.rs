@@ -71,12 +71,22 @@ pub fn reconstruct_with(
         return Err(ReconError::NoContactRows { rows: rows.len() });
     }
     let level = id.noise;
+    let integrator = Dop853::new(settings.tol, settings.tol);
     let mut points = Vec::with_capacity(contact.len());
     match settings.method {
         ReconMethod::Accurate => {
             for &i in &contact {
                 let e = &ided.evals[i];
-                let Some(p) = e.point(i, &rows[i], level) else {
+                let Some(p) = e.projected_point(
+                    i,
+                    &rows[i],
+                    level,
+                    whisker,
+                    id.flow(),
+                    &ided.scales,
+                    &integrator,
+                )?
+                else {
                     return Err(ReconError::InconsistentRow {
                         row: i,
                         x0: rows[i].x0,
@@ -96,7 +106,8 @@ pub fn reconstruct_with(
             let mut pts =
                 crate::thesis::reconstruct_rows(whisker, id.flow(), rows, &order, settings)?;
             // error estimate: distance to the accurate point of the same row plus its own
-            let integrator = Dop853::new(1e-12, 1e-12).with_dense(true);
+            // (the accurate method at its own tolerance, whatever the trust region's)
+            let integrator = Dop853::new(1e-12, 1e-12);
             for p in &mut pts {
                 let e = evaluate(whisker, id.flow(), &rows[p.row], &ided.scales, &integrator)?;
                 if let Some(a) = e.point(p.row, &rows[p.row], level) {

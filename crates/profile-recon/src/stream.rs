@@ -91,12 +91,22 @@ impl Streamer {
         if e.f_z <= K_SIGMA * level && za.is_some_and(|h| h.z <= K_SIGMA * level) {
             return Ok(None);
         }
-        let p = e.point(i, row, level).ok_or(ReconError::InconsistentRow {
-            row: i,
-            x0: row.x0,
-            residual: f64::NAN,
-            phase: 'A',
-        })?;
+        let p = e
+            .projected_point(
+                i,
+                row,
+                level,
+                &self.whisker,
+                flow,
+                &scales,
+                &self.integrator,
+            )?
+            .ok_or(ReconError::InconsistentRow {
+                row: i,
+                x0: row.x0,
+                residual: f64::NAN,
+                phase: 'A',
+            })?;
         if let Some(tol) = self.settings.consistency_tol {
             let told = self.settings.noise.unwrap_or(crate::identify::NOISE_FLOOR);
             let consistent = e.best_z() <= K_SIGMA * told;

@@ -699,8 +699,11 @@ pub(crate) fn evaluate(
             }
             Phase::B => ((f * d).abs() / var_r.sqrt().max(tiny), d.abs()),
             _ => {
-                // A needs phi(1) >= psi: a violation (weighted by f) counts like a residual
-                let viol = (-(f * d)).max(0.0) / var_v.sqrt().max(tiny);
+                // A needs phi(1) >= psi, i.e. g = f sin(phi - psi) >= 0 (a half-plane of tip
+                // forces): the distance of the force from it, over the deviation of g, counts
+                // like a residual (f d instead would make a noise-sized force of random
+                // direction, a free row's, look like a violation)
+                let viol = (-(f * d.sin())).max(0.0) / var_v.sqrt().max(tiny);
                 ((m.abs() / var_r.sqrt().max(tiny)).max(viol), m.abs())
             }
         };

@@ -23,6 +23,17 @@
 //! estimate needs a few digits); it gives both the `z` of each hypothesis and the error
 //! estimate of the point (the noise level propagated through it, roots moved by
 //! `ds1 = -dm / m'(s1)`).
+//!
+//! Under noise the measured observables are not exactly consistent with any hypothesis; the
+//! point is that of the most likely consistent observables (the residual's share of the
+//! point's error removed, `project`), its error estimate the conditional deviation given
+//! the residual, widened by whatever else fits the row as well: other consistent hypotheses
+//! (`RowEval::ambiguity`) and, for a tip contact, a tangential contact just short of the
+//! tip (`Hypothesis::tip_ambiguity`).
+//!
+//! The base integration keeps a lazy dense output: its cubic Hermite part scans every step
+//! (`close_steps`), the 7th-order interpolant is completed only on the steps that may hold
+//! a root or an extremum of `m`.
 
 use crate::common::{contact_force, force_components, NoiseScales, ReconPoint};
 use crate::error::Result;
@@ -789,7 +800,7 @@ pub(crate) fn evaluate(
 }
 
 /// Linear projection moves larger than this (whisker lengths) are iterated to the manifold of
-/// consistent observables ([`project`]); exact logs move by ~1e-12 and are left as they are.
+/// consistent observables (`project`); exact logs move by ~1e-12 and are left as they are.
 pub const PROJECT_MIN: f64 = 1e-9;
 /// Gauss-Newton steps of [`project`] at most.
 const PROJECT_STEPS: usize = 4;

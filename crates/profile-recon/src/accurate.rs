@@ -290,12 +290,14 @@ impl RowEval {
     /// projection of the chosen hypothesis (no further integration).
     pub fn point(&self, i: usize, row: &ObservableRow, level: f64) -> Option<ReconPoint> {
         let b = self.chosen(level)?;
-        Some(self.make_point(i, row, level, b, b, 0))
+        Some(self.make_point(i, row, level, b, b, 0, 0.0))
     }
 
     /// As [`RowEval::point`], with the chosen hypothesis projected to the consistent
     /// observables by [`project`] where its linear projection moves the point by more than
-    /// [`PROJECT_MIN`] (noisy logs).
+    /// [`PROJECT_MIN`] (noisy logs); the error estimate then also carries the uncertainty of
+    /// an identified flow, `flow_sd` = standard deviations of `(q cos alpha, q sin alpha)`
+    /// (each perturbation one more evaluation of the row).
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn projected_point(
         &self,
@@ -304,6 +306,7 @@ impl RowEval {
         level: f64,
         whisker: &Whisker,
         flow: FluidLoad,
+        flow_sd: [f64; 2],
         scales: &NoiseScales,
         integrator: &Dop853,
     ) -> Result<Option<ReconPoint>> {
@@ -311,9 +314,34 @@ impl RowEval {
             return Ok(None);
         };
         if b.shift <= PROJECT_MIN {
-            return Ok(Some(self.make_point(i, row, level, b, b, 0)));
+            return Ok(Some(self.make_point(i, row, level, b, b, 0, 0.0)));
         }
-        let (p, evals) = project(whisker, flow, row, scales, integrator, b)?;
+        let (p, mut evals) = project(whisker, flow, row, scales, integrator, b)?;
+        // the flow's own uncertainty: the same hypothesis under the flow moved by one
+        // standard deviation in each component
+        let (sa, ca) = flow.alpha.sin_cos();
+        let (qc, qs) = (flow.q * ca, flow.q * sa);
+        let mut flow_var = 0.0;
+        for (k, sd) in flow_sd.iter().enumerate() {
+            if *sd <= 0.0 {
+                continue;
+            }
+            let (c, s) = if k == 0 { (qc + sd, qs) } else { (qc, qs + sd) };
+            let moved = crate::common::free_flow(-c, s);
+            let e = evaluate(whisker, moved, row, scales, integrator)?;
+            evals += e.evaluations;
+            let near = e
+                .hyps
+                .iter()
+                .filter(|c| c.phase == b.phase && (c.sigma_sqrt == 0.0) == (b.sigma_sqrt == 0.0))
+                .min_by(|x, y| (x.s1 - b.s1).abs().total_cmp(&(y.s1 - b.s1).abs()));
+            flow_var += match near {
+                Some(h) => (h.x - b.x).powi(2) + (h.y - b.y).powi(2),
+                // the hypothesis does not survive the flow's uncertainty: the row's
+                // point is as uncertain as its spread of hypotheses says
+                None => self.ambiguity(b, f64::INFINITY).powi(2),
+            };
+        }
         Ok(Some(self.make_point(
             i,
             row,
@@ -321,6 +349,7 @@ impl RowEval {
             b,
             &p.unwrap_or(*b),
             evals,
+            flow_var,
         )))
     }
 
@@ -333,6 +362,7 @@ impl RowEval {
         b: &Hypothesis,
         v: &Hypothesis,
         extra: usize,
+        flow_var: f64,
     ) -> ReconPoint {
         let alternatives = self
             .hyps
@@ -353,6 +383,7 @@ impl RowEval {
             // within the spread of the hypotheses that fit it
             sigma: v
                 .sigma(level.max(b.z))
+                .hypot(flow_var.sqrt())
                 .max(self.ambiguity(b, level))
                 .max(b.tip_ambiguity(level)),
             alternatives,

@@ -72,6 +72,14 @@ pub fn reconstruct_with(
     }
     let level = id.noise;
     let integrator = Dop853::new(settings.tol, settings.tol);
+    // an identified flow is the mean of the pre-contact rows' forces: its components carry
+    // the noise of one row over the square root of their number
+    let flow_sd = if known.q.is_some() && known.alpha.is_some() {
+        [0.0; 2]
+    } else {
+        let n = (id.pre_contact.len().max(1) as f64).sqrt();
+        [level * ided.scales.0[0] / n, level * ided.scales.0[1] / n]
+    };
     let mut points = Vec::with_capacity(contact.len());
     match settings.method {
         ReconMethod::Accurate => {
@@ -83,6 +91,7 @@ pub fn reconstruct_with(
                     level,
                     whisker,
                     id.flow(),
+                    flow_sd,
                     &ided.scales,
                     &integrator,
                 )?

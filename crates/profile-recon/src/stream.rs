@@ -98,6 +98,12 @@ impl Streamer {
                 level,
                 &self.whisker,
                 flow,
+                // a flow not given is one row's own (the first free row of the stream)
+                if self.known.q.is_some() && self.known.alpha.is_some() {
+                    [0.0; 2]
+                } else {
+                    [level * scales.0[0], level * scales.0[1]]
+                },
                 &scales,
                 &self.integrator,
             )?

@@ -354,6 +354,7 @@ impl RowEval {
     }
 
     /// The point of hypothesis `b` (its values from `v`, its projection).
+    #[allow(clippy::too_many_arguments)]
     fn make_point(
         &self,
         i: usize,

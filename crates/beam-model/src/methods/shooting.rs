@@ -358,6 +358,20 @@ pub(crate) fn solve_accurate(
     } else {
         f64::INFINITY
     };
+    sol.stats.error_estimate = corrected_difference(&shot, sens, d, &sol, loads);
+    Ok(sol)
+}
+
+/// The largest difference between `sol` and the second shot `shot` moved by the Newton step
+/// `d` in the tip angle along `sens = d(phi0, m0, x, y)/dphi1` (and `d` itself), plus the
+/// tip's move beyond `s1`, `(1 - s1) |d|`; an AP force's reactions move by `f |d|`.
+fn corrected_difference(
+    shot: &crate::shot::Shot,
+    sens: [f64; 4],
+    d: f64,
+    sol: &Solution,
+    loads: &Loads,
+) -> f64 {
     let diffs = [
         shot.phi0 + sens[0] * d - sol.base.phi0,
         shot.m0 + sens[1] * d + sol.base.ma,
@@ -373,8 +387,7 @@ pub(crate) fn solve_accurate(
     if loads.tip.kind == crate::loads::LoadKind::Ap {
         est = est.max(d.abs() * loads.tip.f);
     }
-    sol.stats.error_estimate = est;
-    Ok(sol)
+    est
 }
 
 /// A-posteriori error estimate of a shooting solution, independent of its residual: a
@@ -400,22 +413,7 @@ pub(crate) fn error_estimate(
         return Ok((f64::INFINITY, shot.evaluations));
     }
     let d = -r / dr;
-    let sens = shot.sens[0];
-    let diffs = [
-        shot.phi0 + sens[0] * d - sol.base.phi0,
-        shot.m0 + sens[1] * d + sol.base.ma,
-        shot.dx + sens[2] * d - sol.loaded_end.x,
-        shot.dy + sens[3] * d - sol.loaded_end.y,
-        d,
-    ];
-    let mut est = diffs.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
-    if !est.is_finite() {
-        est = f64::INFINITY;
-    }
-    est += d.abs() * (1.0 - loads.s1);
-    if loads.tip.kind == crate::loads::LoadKind::Ap {
-        est = est.max(d.abs() * loads.tip.f);
-    }
+    let est = corrected_difference(&shot, shot.sens[0], d, sol, loads);
     Ok((est, shot.evaluations))
 }
 

@@ -63,20 +63,10 @@ impl OdeSolution {
     /// As [`OdeSolution::eval`], writing into `out` (length `dim`); returns `false` (and leaves
     /// `out` unspecified) if `s` is outside the span, not dense, or `out` has the wrong length.
     pub fn eval_into(&self, s: f64, out: &mut [f64]) -> bool {
-        if !self.dense || out.len() != self.dim || !s.is_finite() {
+        if out.len() != self.dim || !self.in_span(s) {
             return false;
         }
-        let dir = if self.s_end >= self.s_start {
-            1.0
-        } else {
-            -1.0
-        };
-        let t = dir * (s - self.s_start);
-        if t < 0.0 || t > dir * (self.s_end - self.s_start) {
-            return false;
-        }
-        let nsteps = self.hs.len();
-        if nsteps == 0 {
+        if self.hs.is_empty() {
             out.copy_from_slice(&self.u_start);
             return true;
         }
@@ -84,7 +74,9 @@ impl OdeSolution {
             out.copy_from_slice(&self.u_end);
             return true;
         }
-        let idx = self.step_at(t, dir);
+        let Some(idx) = self.step_index(s) else {
+            return false;
+        };
         let n = self.dim;
         if !self.is_refined(idx) {
             // a step's start is stored exactly (the interpolant's value at theta = 0)
@@ -99,18 +91,21 @@ impl OdeSolution {
         true
     }
 
-    /// The last step whose start is `<= s` (`t = dir (s - s_start)` inside the span).
-    fn step_at(&self, t: f64, dir: f64) -> usize {
-        let nsteps = self.hs.len();
-        self.points[..nsteps]
-            .partition_point(|&p| dir * (p - self.s_start) <= t)
-            .saturating_sub(1)
-            .min(nsteps - 1)
+    /// Whether `s` lies in the integrated span of a dense output.
+    fn in_span(&self, s: f64) -> bool {
+        let (lo, hi) = if self.s_end >= self.s_start {
+            (self.s_start, self.s_end)
+        } else {
+            (self.s_end, self.s_start)
+        };
+        self.dense && s.is_finite() && s >= lo && s <= hi
     }
 
-    /// Index of the step containing `s` (`None` outside the span or without dense output).
+    /// Index of the step containing `s`, the last one whose start is `<= s` in the direction
+    /// of integration (`None` outside the span or without dense output).
     pub fn step_index(&self, s: f64) -> Option<usize> {
-        if !self.dense || self.hs.is_empty() || !s.is_finite() {
+        let nsteps = self.hs.len();
+        if nsteps == 0 || !self.in_span(s) {
             return None;
         }
         let dir = if self.s_end >= self.s_start {
@@ -119,10 +114,12 @@ impl OdeSolution {
             -1.0
         };
         let t = dir * (s - self.s_start);
-        if t < 0.0 || t > dir * (self.s_end - self.s_start) {
-            return None;
-        }
-        Some(self.step_at(t, dir))
+        Some(
+            self.points[..nsteps]
+                .partition_point(|&p| dir * (p - self.s_start) <= t)
+                .saturating_sub(1)
+                .min(nsteps - 1),
+        )
     }
 
     /// Number of stored steps.

@@ -1,0 +1,572 @@
+//! A small declarative chart API with its own SVG renderer, used by the CLI and by
+//! `cargo xtask reproduce` for every figure; each SVG gets a PNG twin rendered with resvg.
+//!
+//! A [`Chart`] is a titled x-y plot of [`Series`] (lines, dashed lines, points) with
+//! automatic ranges, optional log axes (non-positive values are skipped), an optional equal
+//! aspect ratio for beam shapes, [`Mark`]s (labelled vertical event lines, highlighted
+//! points, arrows) and a note line under the title. NaN points are skipped and split lines.
+//! [`write_svg_panels`] puts several charts in one figure; [`HeatMap`] draws categorical
+//! maps (stability maps).
+//!
+//! What a reader of a paper needs: coordinates are written with 1/100 pixel resolution (no
+//! jagged curves), text is measured with the embedded DejaVu Sans font, so legends and
+//! labels are sized to their text and placed outside the plotting area (they never cover
+//! data), event labels sit in a band above the plot, staggered when close. The PNG is
+//! rendered at twice the SVG's size with the same embedded font (no system fonts).
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+
+use crate::atomic::write_atomic;
+use crate::error::CliError;
+
+mod axis;
+mod draw;
+mod legend;
+mod svg;
+
+pub use axis::format_tick;
+use axis::*;
+use draw::*;
+use legend::*;
+pub use svg::text_width;
+use svg::*;
+
+/// How a series is drawn.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Style {
+    /// A solid line.
+    #[default]
+    Line,
+    /// A dashed line.
+    Dashed,
+    /// Markers only.
+    Points,
+    /// A solid line with markers.
+    LinePoints,
+}
+
+/// One data series of a chart.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Series {
+    /// Legend text; an empty name leaves the series out of the legend.
+    pub name: String,
+    /// The points; NaN (or, on log axes, non-positive) points are skipped and split lines.
+    pub points: Vec<(f64, f64)>,
+    /// How to draw it.
+    pub style: Style,
+    /// Index into [`PALETTE`] (taken modulo its length).
+    pub color: usize,
+}
+
+impl Series {
+    /// A series with colour 0.
+    pub fn new(name: impl Into<String>, points: Vec<(f64, f64)>, style: Style) -> Self {
+        Series {
+            name: name.into(),
+            points,
+            style,
+            color: 0,
+        }
+    }
+
+    /// Sets the colour index.
+    pub fn color(mut self, color: usize) -> Self {
+        self.color = color;
+        self
+    }
+}
+
+/// What a [`Mark`] draws.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum MarkKind {
+    /// A dashed vertical line at `x` over the whole plot, labelled above the plot.
+    VLine,
+    /// A ring around the data point `(x, y)`, explained in the legend.
+    Point,
+    /// An arrow from `(x, y)` by `(dx, dy)` (data units), explained in the legend.
+    Arrow {
+        /// Arrow length along x.
+        dx: f64,
+        /// Arrow length along y.
+        dy: f64,
+    },
+}
+
+/// An annotation of a chart: an event line, a highlighted point or an arrow.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mark {
+    /// What to draw.
+    pub kind: MarkKind,
+    /// Position x (data units).
+    pub x: f64,
+    /// Position y (data units; unused by [`MarkKind::VLine`]).
+    pub y: f64,
+    /// Its label (above the plot for lines, in the legend otherwise; empty for none).
+    pub label: String,
+    /// Index into [`PALETTE`].
+    pub color: usize,
+}
+
+impl Mark {
+    /// A labelled vertical event line at `x`.
+    pub fn vline(x: f64, label: impl Into<String>, color: usize) -> Self {
+        Mark {
+            kind: MarkKind::VLine,
+            x,
+            y: f64::NAN,
+            label: label.into(),
+            color,
+        }
+    }
+
+    /// A highlighted point, explained in the legend.
+    pub fn point(x: f64, y: f64, label: impl Into<String>, color: usize) -> Self {
+        Mark {
+            kind: MarkKind::Point,
+            x,
+            y,
+            label: label.into(),
+            color,
+        }
+    }
+
+    /// An arrow from `(x, y)` by `(dx, dy)`, explained in the legend.
+    pub fn arrow(x: f64, y: f64, dx: f64, dy: f64, label: impl Into<String>, color: usize) -> Self {
+        Mark {
+            kind: MarkKind::Arrow { dx, dy },
+            x,
+            y,
+            label: label.into(),
+            color,
+        }
+    }
+}
+
+/// A titled x-y chart.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Chart {
+    /// The caption above the plot.
+    pub title: String,
+    /// The x axis label (symbol and unit, e.g. `x₀ [mm]`).
+    pub x_label: String,
+    /// The y axis label.
+    pub y_label: String,
+    /// Logarithmic x axis.
+    pub x_log: bool,
+    /// Logarithmic y axis.
+    pub y_log: bool,
+    /// The data.
+    pub series: Vec<Series>,
+    /// Same scale on both axes (for beam shapes); ignored with a log axis.
+    pub aspect_equal: bool,
+    /// Annotations.
+    pub marks: Vec<Mark>,
+    /// A small note under the title (e.g. the unit system), empty for none.
+    pub note: String,
+    /// Leave the legend out (a figure heading shows it for all panels).
+    pub hide_legend: bool,
+}
+
+impl Chart {
+    /// An empty linear chart.
+    pub fn new(
+        title: impl Into<String>,
+        x_label: impl Into<String>,
+        y_label: impl Into<String>,
+    ) -> Self {
+        Chart {
+            title: title.into(),
+            x_label: x_label.into(),
+            y_label: y_label.into(),
+            ..Chart::default()
+        }
+    }
+
+    /// Adds a series.
+    pub fn with(mut self, series: Series) -> Self {
+        self.series.push(series);
+        self
+    }
+
+    /// Adds a mark.
+    pub fn mark(mut self, mark: Mark) -> Self {
+        self.marks.push(mark);
+        self
+    }
+
+    /// Sets the note under the title.
+    pub fn note(mut self, note: impl Into<String>) -> Self {
+        self.note = note.into();
+        self
+    }
+
+    /// Sets log scales on the axes.
+    pub fn log(mut self, x_log: bool, y_log: bool) -> Self {
+        self.x_log = x_log;
+        self.y_log = y_log;
+        self
+    }
+
+    /// Requests the same scale on both axes.
+    pub fn equal_aspect(mut self) -> Self {
+        self.aspect_equal = true;
+        self
+    }
+}
+
+/// A categorical map: each cell of a grid over (x, y) belongs to one category.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct HeatMap {
+    /// The caption.
+    pub title: String,
+    /// The x axis label.
+    pub x_label: String,
+    /// The y axis label.
+    pub y_label: String,
+    /// Cell centres along x, strictly increasing.
+    pub x_values: Vec<f64>,
+    /// Cell centres along y, strictly increasing.
+    pub y_values: Vec<f64>,
+    /// `cells[iy][ix]` is the category index of the cell at `(x_values[ix], y_values[iy])`.
+    pub cells: Vec<Vec<u8>>,
+    /// Category names and RGB colours, indexed by the cell values.
+    pub categories: Vec<(String, (u8, u8, u8))>,
+}
+
+/// One panel of a multi-panel figure.
+#[derive(Debug, Clone, Copy)]
+pub enum Panel<'a> {
+    /// An x-y chart.
+    Chart(&'a Chart),
+    /// A categorical map.
+    HeatMap(&'a HeatMap),
+}
+
+/// The series colours (Tableau 10).
+pub const PALETTE: [(u8, u8, u8); 10] = [
+    (31, 119, 180),
+    (255, 127, 14),
+    (44, 160, 44),
+    (214, 39, 40),
+    (148, 103, 189),
+    (140, 86, 75),
+    (227, 119, 194),
+    (127, 127, 127),
+    (188, 189, 34),
+    (23, 190, 207),
+];
+
+/// The colour of index `i` (modulo the palette length).
+pub fn palette(i: usize) -> (u8, u8, u8) {
+    PALETTE[i % PALETTE.len()]
+}
+
+fn rgb(c: (u8, u8, u8)) -> String {
+    format!("#{:02x}{:02x}{:02x}", c.0, c.1, c.2)
+}
+
+/// Writes `chart` as an SVG of `size` pixels (width, height) to `path` and a PNG twin
+/// beside it ([`png_path`]), atomically.
+pub fn write_svg(chart: &Chart, path: &Path, size: (u32, u32)) -> Result<(), CliError> {
+    write_figure(&[Panel::Chart(chart)], 1, path, size)
+}
+
+/// Writes several charts as panels of one figure, `cols` per row, row by row.
+pub fn write_svg_panels(
+    charts: &[Chart],
+    cols: usize,
+    path: &Path,
+    size: (u32, u32),
+) -> Result<(), CliError> {
+    let panels: Vec<Panel<'_>> = charts.iter().map(Panel::Chart).collect();
+    write_figure(&panels, cols, path, size)
+}
+
+/// Writes `map` as an SVG (and PNG) of `size` pixels to `path`, atomically.
+pub fn write_heatmap_svg(map: &HeatMap, path: &Path, size: (u32, u32)) -> Result<(), CliError> {
+    write_figure(&[Panel::HeatMap(map)], 1, path, size)
+}
+
+/// The PNG written beside the SVG `svg`: same name, extension `png`.
+pub fn png_path(svg: &Path) -> PathBuf {
+    svg.with_extension("png")
+}
+
+/// The heading of a multi-panel figure: a title, a note and one legend for all panels (the
+/// entries of the first chart), above the panels.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Heading {
+    /// The figure's title.
+    pub title: String,
+    /// A note line under it (scene, units).
+    pub note: String,
+}
+
+/// Writes charts as panels of one figure under a common [`Heading`] with one legend for
+/// all panels (taken from the first chart), SVG and PNG.
+pub fn write_panels_with_heading(
+    charts: &[Chart],
+    cols: usize,
+    heading: &Heading,
+    path: &Path,
+    size: (u32, u32),
+) -> Result<(), CliError> {
+    let fail = |reason: String| CliError::Plot {
+        path: path.to_path_buf(),
+        reason,
+    };
+    let svg = render_figure_with(charts, cols, size, heading).map_err(fail)?;
+    let png = render_png(&svg, 2.0).map_err(fail)?;
+    write_atomic(path, svg.as_bytes())?;
+    write_atomic(&png_path(path), &png)
+}
+
+/// Renders charts under a [`Heading`] (what [`write_panels_with_heading`] writes).
+pub fn render_figure_with(
+    charts: &[Chart],
+    cols: usize,
+    size: (u32, u32),
+    heading: &Heading,
+) -> Result<String, String> {
+    let Some(first) = charts.first() else {
+        return Err("no panels to draw".to_string());
+    };
+    if cols == 0 {
+        return Err("the number of panel columns must be at least 1".to_string());
+    }
+    let mut svg = Svg::new(size);
+    let full = Rect {
+        x: 0.0,
+        y: 0.0,
+        w: f64::from(size.0),
+        h: f64::from(size.1),
+    };
+    let mut top = draw_heading(&mut svg, full, &heading.title, &heading.note);
+    // One legend row (wrapped) for all panels.
+    let entries = legend_entries(first);
+    if !entries.is_empty() {
+        let widths: Vec<f64> = entries
+            .iter()
+            .map(|e| SAMPLE_W + 6.0 + text_width(e.label(), LEGEND_SIZE) + 18.0)
+            .collect();
+        let mut rows: Vec<Vec<usize>> = vec![vec![]];
+        let mut used = 0.0;
+        for (i, w) in widths.iter().enumerate() {
+            if used + w > full.w - 2.0 * PAD && !rows.last().is_some_and(Vec::is_empty) {
+                rows.push(vec![]);
+                used = 0.0;
+            }
+            used += w;
+            if let Some(r) = rows.last_mut() {
+                r.push(i);
+            }
+        }
+        for r in &rows {
+            let total: f64 = r.iter().map(|&i| widths[i]).sum();
+            let mut x = (full.w - total) / 2.0;
+            let cy = top + 4.0 + ROW_H / 2.0;
+            for &i in r {
+                draw_legend_entry(&mut svg, x, cy, &entries[i]);
+                x += widths[i];
+            }
+            top += ROW_H;
+        }
+        top += 6.0;
+    }
+    let n = charts.len();
+    let rows = n.div_ceil(cols);
+    let cols = cols.min(n);
+    let (pw, ph) = (full.w / cols as f64, (full.h - top) / rows as f64);
+    for (i, chart) in charts.iter().enumerate() {
+        let area = Rect {
+            x: (i % cols) as f64 * pw,
+            y: top + (i / cols) as f64 * ph,
+            w: pw,
+            h: ph,
+        };
+        let mut c = chart.clone();
+        c.hide_legend = true;
+        draw_chart(&mut svg, area, &c, i)?;
+    }
+    Ok(svg.finish())
+}
+
+/// Writes a figure made of charts and maps, `cols` panels per row: the SVG at `path` and
+/// its PNG twin (twice the size) at [`png_path`]. Nothing is written if either fails.
+pub fn write_figure(
+    panels: &[Panel<'_>],
+    cols: usize,
+    path: &Path,
+    size: (u32, u32),
+) -> Result<(), CliError> {
+    let fail = |reason: String| CliError::Plot {
+        path: path.to_path_buf(),
+        reason,
+    };
+    let svg = render_figure(panels, cols, size).map_err(fail)?;
+    let png = render_png(&svg, 2.0).map_err(fail)?;
+    write_atomic(path, svg.as_bytes())?;
+    write_atomic(&png_path(path), &png)
+}
+
+/// Renders an SVG text (as written by [`render_figure`]) to PNG at `scale` times its size,
+/// with the embedded font only.
+pub fn render_png(svg: &str, scale: f32) -> Result<Vec<u8>, String> {
+    static FONTS: OnceLock<std::sync::Arc<resvg::usvg::fontdb::Database>> = OnceLock::new();
+    let fonts = FONTS.get_or_init(|| {
+        let mut db = resvg::usvg::fontdb::Database::new();
+        db.load_font_data(font_data().to_vec());
+        db.set_sans_serif_family("DejaVu Sans");
+        std::sync::Arc::new(db)
+    });
+    let opt = resvg::usvg::Options {
+        font_family: "DejaVu Sans".to_string(),
+        fontdb: fonts.clone(),
+        ..resvg::usvg::Options::default()
+    };
+    let tree = resvg::usvg::Tree::from_str(svg, &opt).map_err(|e| format!("SVG: {e}"))?;
+    let size = tree.size();
+    let (w, h) = (
+        (size.width() * scale).ceil() as u32,
+        (size.height() * scale).ceil() as u32,
+    );
+    let mut pixmap = resvg::tiny_skia::Pixmap::new(w, h)
+        .ok_or_else(|| format!("cannot allocate a {w}x{h} image"))?;
+    pixmap.fill(resvg::tiny_skia::Color::WHITE);
+    resvg::render(
+        &tree,
+        resvg::tiny_skia::Transform::from_scale(scale, scale),
+        &mut pixmap.as_mut(),
+    );
+    pixmap.encode_png().map_err(|e| format!("PNG: {e}"))
+}
+
+/// Renders a figure to an SVG string (what [`write_figure`] writes).
+pub fn render_figure(
+    panels: &[Panel<'_>],
+    cols: usize,
+    size: (u32, u32),
+) -> Result<String, String> {
+    if panels.is_empty() {
+        return Err("no panels to draw".to_string());
+    }
+    if cols == 0 {
+        return Err("the number of panel columns must be at least 1".to_string());
+    }
+    if size.0 < 50 || size.1 < 50 {
+        return Err(format!("size {}x{} is too small", size.0, size.1));
+    }
+    let rows = panels.len().div_ceil(cols);
+    let cols = cols.min(panels.len());
+    let (pw, ph) = (
+        f64::from(size.0) / cols as f64,
+        f64::from(size.1) / rows as f64,
+    );
+    let mut svg = Svg::new(size);
+    for (i, panel) in panels.iter().enumerate() {
+        let area = Rect {
+            x: (i % cols) as f64 * pw,
+            y: (i / cols) as f64 * ph,
+            w: pw,
+            h: ph,
+        };
+        match panel {
+            Panel::Chart(c) => draw_chart(&mut svg, area, c, i)?,
+            Panel::HeatMap(m) => draw_heatmap(&mut svg, area, m, i)?,
+        }
+    }
+    Ok(svg.finish())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn runs_split_at_nan_and_nonpositive_on_log() {
+        let p = [
+            (1.0, 1.0),
+            (2.0, f64::NAN),
+            (3.0, 3.0),
+            (4.0, 4.0),
+            (5.0, -1.0),
+        ];
+        assert_eq!(runs(&p, false, false).len(), 2);
+        assert_eq!(
+            runs(&p, false, true),
+            vec![vec![(1.0, 1.0)], vec![(3.0, 3.0), (4.0, 4.0)]]
+        );
+    }
+
+    #[test]
+    fn constant_data_gets_distinct_ticks() {
+        let (lo, hi) = axis_range(
+            [
+                std::f64::consts::FRAC_PI_2,
+                std::f64::consts::FRAC_PI_2 + 3e-13,
+            ]
+            .into_iter(),
+            false,
+        );
+        let a = Axis {
+            lo,
+            hi,
+            log: false,
+            p0: 0.0,
+            p1: 100.0,
+        };
+        let t = a.ticks(5);
+        let labels: std::collections::BTreeSet<&String> = t.iter().map(|(_, l)| l).collect();
+        assert_eq!(labels.len(), t.len(), "{t:?}");
+        assert!(t.len() >= 3);
+    }
+
+    #[test]
+    fn ticks_are_nice_numbers() {
+        let a = Axis {
+            lo: -0.13,
+            hi: 1.07,
+            log: false,
+            p0: 0.0,
+            p1: 500.0,
+        };
+        let labels: Vec<String> = a.ticks(6).into_iter().map(|t| t.1).collect();
+        assert_eq!(labels, ["0.0", "0.2", "0.4", "0.6", "0.8", "1.0"]);
+        let l = Axis {
+            lo: 0.5,
+            hi: 2e4,
+            log: true,
+            p0: 0.0,
+            p1: 500.0,
+        };
+        // One notation per axis: 1e4 needs scientific notation, so every decade gets it.
+        let labels: Vec<String> = l.ticks(6).into_iter().map(|t| t.1).collect();
+        assert_eq!(labels, ["1e0", "1e1", "1e2", "1e3", "1e4"]);
+        let l = Axis {
+            lo: 0.05,
+            hi: 500.0,
+            ..l
+        };
+        let labels: Vec<String> = l.ticks(6).into_iter().map(|t| t.1).collect();
+        assert_eq!(labels, ["0.1", "1", "10", "100"]);
+    }
+
+    #[test]
+    fn coordinates_are_sub_pixel_and_text_is_measured() {
+        assert_eq!(c(12.3456), "12.35");
+        assert_eq!(c(3.0), "3");
+        assert!(text_width("MMMM", 10.0) > text_width("iiii", 10.0));
+        assert!((text_width("x", 20.0) / text_width("x", 10.0) - 2.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn tick_labels_are_compact() {
+        assert_eq!(format_tick(0.30000000000000004), "0.3");
+        assert_eq!(format_tick(2.0), "2");
+        assert_eq!(format_tick(1e-6), "1e-6");
+        assert_eq!(format_tick(2.5e-8), "2.5e-8");
+        assert_eq!(format_tick(-0.0), "0");
+    }
+}

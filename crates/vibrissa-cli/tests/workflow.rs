@@ -597,3 +597,37 @@ fn reconstruct_dir_names_what_the_folder_lacks() {
     assert_eq!(e.trim_end().lines().count(), 1, "{e}");
     assert!(!cwd.join("rec").exists());
 }
+
+/// `reconstruct DIR --out DIR` would replace the sweep's folder with the reconstruction: it
+/// is refused before anything is written, and the sweep's files stay.
+#[test]
+fn reconstruct_refuses_to_write_over_the_folder_it_reads() {
+    let dir = tempfile::tempdir().unwrap();
+    let cwd = dir.path();
+    stdout(&run(
+        &[
+            "sweep",
+            "--profile",
+            "g1",
+            "--q",
+            "5",
+            "--points",
+            "5",
+            "--out",
+            "out",
+        ],
+        cwd,
+    ));
+    let before = fs::read(cwd.join("out/observables.csv")).unwrap();
+    for target in ["out", "."] {
+        let o = run(&["reconstruct", "out", "--out", target], cwd);
+        assert!(!o.status.success(), "--out {target} accepted");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            err.contains("--out") && err.contains("holds the log"),
+            "{err}"
+        );
+    }
+    assert_eq!(fs::read(cwd.join("out/observables.csv")).unwrap(), before);
+    assert!(!cwd.join("out/reconstruction.csv").exists());
+}

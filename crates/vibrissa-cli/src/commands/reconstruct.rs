@@ -46,6 +46,7 @@ pub fn run(args: &ReconstructArgs) -> Result<(), CliError> {
     let method = parse_method(args.method.as_deref())?;
     let tol = parse_tolerance(args.tolerance.as_deref(), method)?;
     let (log_path, scene_path) = recon_io::resolve_input(observables, args.scene.as_deref())?;
+    refuse_input_folder(out_dir, &log_path)?;
     let alpha = parse_alpha(args.alpha_deg.as_deref())?;
     let noise = parse_noise(args.noise.as_deref())?;
     let file = LoadedScene::load_opt(scene_path.as_deref())?;
@@ -475,6 +476,30 @@ pub fn max_of(values: &[f64]) -> f64 {
 
 fn json_number(v: f64) -> serde_json::Value {
     serde_json::Number::from_f64(v).map_or(serde_json::Value::Null, serde_json::Value::Number)
+}
+
+/// `--out` may not be the folder the log is read from (or one that holds it): the output
+/// folder is replaced as a whole, and the sweep's files would go with it.
+fn refuse_input_folder(
+    out_dir: &std::path::Path,
+    log_path: &std::path::Path,
+) -> Result<(), CliError> {
+    let (Ok(out), Ok(log)) = (out_dir.canonicalize(), log_path.canonicalize()) else {
+        // a folder that does not exist yet holds no input
+        return Ok(());
+    };
+    if log.starts_with(&out) {
+        return Err(CliError::invalid_argument(
+            "--out",
+            out_dir.display().to_string(),
+            format!(
+                "it holds the log being read ({}); the output folder is replaced as a whole: \
+                 choose another folder",
+                log_path.display()
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// The one-line summary of a reconstruction (without the error).

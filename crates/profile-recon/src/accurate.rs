@@ -29,7 +29,7 @@
 //! point's error removed, `project`), its error estimate the conditional deviation given
 //! the residual, widened by whatever else fits the row as well: other consistent hypotheses
 //! (`RowEval::ambiguity`) and, for a tip contact, a tangential contact just short of the
-//! tip (`Hypothesis::tip_ambiguity`).
+//! tip (`RowEval::tip_ambiguity`).
 //!
 //! The base integration keeps a lazy dense output: its cubic Hermite part scans every step
 //! (`close_steps`), the 7th-order interpolant is completed only on the steps that may hold
@@ -196,31 +196,12 @@ pub(crate) struct Hypothesis {
     pub dr: [f64; 4],
     /// Length of the linear projection's move of the point (see [`evaluate`]).
     pub shift: f64,
-    /// Phase A: for arcs `delta` back from the tip ([`TIP_GRID`] of them, geometric from
-    /// 1e-5 to 0.5), the relative noise level at which a phase-B contact at `1 - delta` fits
-    /// the row as well, for [`Hypothesis::tip_ambiguity`]; infinite otherwise.
-    pub tip: [(f64, f64); TIP_GRID],
 }
 
 impl Hypothesis {
     /// Error estimate (one standard deviation) of the point at relative noise `level`.
     pub fn sigma(&self, level: f64) -> f64 {
         level * self.sigma_unit + level.sqrt() * self.sigma_sqrt
-    }
-
-    /// Phase A at relative noise `level`: how far back from the tip a phase-B contact fits the
-    /// same row, the largest arc `delta` at which both phase-B conditions, `m(1 - delta) = 0`
-    /// and `g = f sin(phi - psi) = 0` there, hold within 3 standard deviations (those of
-    /// `m(1)` and `g(1)`). Under noise a small tangential contact force short of the tip
-    /// and a tip contact can give the same observables; the point is only known to within
-    /// that arc (0 for phase B, for an exact log, or when no such contact fits).
-    pub fn tip_ambiguity(&self, level: f64) -> f64 {
-        // look-alikes within 3 standard deviations (a 6-sigma one is not a likely truth)
-        self.tip
-            .iter()
-            .filter(|(_, need)| *need * K_SIGMA <= 3.0 * level)
-            .map(|(d, _)| *d)
-            .fold(0.0, f64::max)
     }
 }
 
@@ -236,6 +217,10 @@ pub(crate) struct RowEval {
     pub tip: (f64, f64, f64),
     /// All hypotheses (A first if the integration reached `s = 1`).
     pub hyps: Vec<Hypothesis>,
+    /// For the phase-A hypothesis: for arcs `delta` back from the tip ([`TIP_GRID`] of them,
+    /// geometric from 1e-5 to 0.5), the relative noise level at which a phase-B contact at
+    /// `1 - delta` fits the row as well ([`RowEval::tip_ambiguity`]); empty without one.
+    pub tip_levels: Vec<(f64, f64)>,
     /// Integrations spent.
     pub evaluations: usize,
 }
@@ -269,6 +254,21 @@ impl RowEval {
         } else {
             consistent.into_iter().min_by(by_z)
         }
+    }
+
+    /// The phase-A hypothesis at relative noise `level`: how far back from the tip a phase-B
+    /// contact fits the same row, the largest arc `delta` at which both phase-B conditions,
+    /// `m(1 - delta) = 0` and `g = f sin(phi - psi) = 0` there, hold within 3 standard
+    /// deviations (those of `m(1)` and `g(1)`). Under noise a small tangential contact force
+    /// short of the tip and a tip contact can give the same observables; the point is only
+    /// known to within that arc (0 for an exact log, or when no such contact fits).
+    pub fn tip_ambiguity(&self, level: f64) -> f64 {
+        // look-alikes within 3 standard deviations (a 6-sigma one is not a likely truth)
+        self.tip_levels
+            .iter()
+            .filter(|(_, need)| *need * K_SIGMA <= 3.0 * level)
+            .map(|(d, _)| *d)
+            .fold(0.0, f64::max)
     }
 
     /// The largest distance from `b`'s point to the point of another hypothesis consistent at
@@ -386,7 +386,11 @@ impl RowEval {
                 .sigma(level.max(b.z))
                 .hypot(flow_var.sqrt())
                 .max(self.ambiguity(b, level))
-                .max(b.tip_ambiguity(level)),
+                .max(if b.phase == Phase::A {
+                    self.tip_ambiguity(level)
+                } else {
+                    0.0
+                }),
             alternatives,
             evaluations: self.evaluations + extra,
         }
@@ -448,8 +452,8 @@ fn close_steps(sol: &OdeSolution) -> Vec<bool> {
 /// `max(|m(s)| / sd_m, |g(s)| / sd_g) / K_SIGMA` at which the phase-B conditions hold there
 /// (`g = Q sin phi - P cos phi`; `sd_m`, `sd_g` the standard deviations of `m(1)`, `g(1)` at
 /// unit noise; the cubic part of the interpolant is accurate enough for a level).
-fn tip_levels(sol: &OdeSolution, ode: &BaseOde, sd_m: f64, sd_g: f64) -> [(f64, f64); TIP_GRID] {
-    let mut out = [(0.0, f64::INFINITY); TIP_GRID];
+fn tip_levels(sol: &OdeSolution, ode: &BaseOde, sd_m: f64, sd_g: f64) -> Vec<(f64, f64)> {
+    let mut out = vec![(0.0, f64::INFINITY); TIP_GRID];
     let (mut u, mut du) = ([0.0; 4], [0.0; 4]);
     let tiny = f64::MIN_POSITIVE;
     // (m, g) at 1 - d
@@ -666,6 +670,7 @@ pub(crate) fn evaluate(
     let tiny = f64::MIN_POSITIVE;
     let (sa, ca) = flow.alpha.sin_cos();
     let mut hyps = Vec::with_capacity(hyp_s.len());
+    let mut tip_table = Vec::new();
     let mut du = [0.0; 4];
     let mut jv = [0.0; 20];
     for (k, &(phase, s)) in hyp_s.iter().enumerate() {
@@ -776,6 +781,9 @@ pub(crate) fn evaluate(
             // (at least 1 % of the prior deviation: the projection is linearised)
             var_post = (var_xy - (cov.0 * cov.0 + cov.1 * cov.1) / var_r).max(1e-4 * var_xy);
         }
+        if phase == Phase::A && !touch && have_jac {
+            tip_table = tip_levels(&sol, &ode, var_r.sqrt(), var_v.sqrt());
+        }
         hyps.push(Hypothesis {
             phase,
             s1: s,
@@ -793,11 +801,6 @@ pub(crate) fn evaluate(
             r,
             dr: dr_obs,
             shift,
-            tip: if phase == Phase::A && !touch && have_jac {
-                tip_levels(&sol, &ode, var_r.sqrt(), var_v.sqrt())
-            } else {
-                [(0.0, f64::INFINITY); TIP_GRID]
-            },
             sigma_sqrt: if touch {
                 // m'' = P' sin phi + Q' cos phi + (P cos phi - Q sin phi) phi'
                 let (p, q) = ode.force(s);
@@ -827,6 +830,7 @@ pub(crate) fn evaluate(
         m1,
         tip,
         hyps,
+        tip_levels: tip_table,
         evaluations,
     })
 }

@@ -55,13 +55,13 @@ pub(super) fn draw_axes(
     r: Rect,
     xa: &Axis,
     ya: &Axis,
-    xt: &[(f64, String)],
-    yt: &[(f64, String)],
     x_label: &str,
     y_label: &str,
     grid: bool,
 ) {
-    for (v, label) in xt {
+    let xt = xa.ticks(tick_target(r.w));
+    let yt = ya.ticks(tick_target(r.h));
+    for (v, label) in &xt {
         let px = xa.px(*v);
         if grid {
             svg.line((px, r.y), (px, r.y + r.h), "#e6e6e6", 1.0, None);
@@ -78,7 +78,7 @@ pub(super) fn draw_axes(
         );
     }
     let mut ytick_w: f64 = 0.0;
-    for (v, label) in yt {
+    for (v, label) in &yt {
         let py = ya.px(*v);
         if grid {
             svg.line((r.x, py), (r.x + r.w, py), "#e6e6e6", 1.0, None);
@@ -218,19 +218,7 @@ pub(super) fn draw_chart(
     draw_heading(svg, area, &chart.title, &chart.note);
     let xa = Axis::across(xr, xl, rect);
     let ya = Axis::up(yr, yl, rect);
-    let xt = xa.ticks(tick_target(rect.w));
-    let yt = ya.ticks(tick_target(rect.h));
-    draw_axes(
-        svg,
-        rect,
-        &xa,
-        &ya,
-        &xt,
-        &yt,
-        &chart.x_label,
-        &chart.y_label,
-        true,
-    );
+    draw_axes(svg, rect, &xa, &ya, &chart.x_label, &chart.y_label, true);
     let clip = format!("plot{id}");
     svg.clip(&clip, rect);
     let to_px = |p: (f64, f64)| (xa.px(p.0), ya.px(p.1));
@@ -373,19 +361,7 @@ pub(super) fn draw_heatmap(
             );
         }
     }
-    let xt = xa.ticks(tick_target(rect.w));
-    let yt = ya.ticks(tick_target(rect.h));
-    draw_axes(
-        svg,
-        rect,
-        &xa,
-        &ya,
-        &xt,
-        &yt,
-        &map.x_label,
-        &map.y_label,
-        false,
-    );
+    draw_axes(svg, rect, &xa, &ya, &map.x_label, &map.y_label, false);
     draw_legend(svg, rect.x + rect.w + PAD, rect.y, &entries);
     Ok(())
 }

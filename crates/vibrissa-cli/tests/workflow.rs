@@ -125,16 +125,44 @@ fn points_file_errors_name_file_line_and_what_is_wrong() {
         read_points_file(&p, units).unwrap_err().to_string()
     };
     let d = UnitSystem::DIMENSIONLESS;
-    let e = err("noheader.csv", "-1,1\n0,0.5\n1,1\n2,2.5\n", &d);
-    assert!(
-        e.contains("noheader.csv:1: the first line holds numbers"),
-        "{e}"
-    );
-    let e = err("names.csv", "a;b\n-1;1\n0;0.5\n1;1\n2;2.5\n", &d);
-    assert!(
-        e.contains("names.csv:1: the header must name an x and a y column"),
-        "{e}"
-    );
+    // dimensionless scene: (file, contents, what the message must say)
+    let cases = [
+        (
+            "noheader.csv",
+            "-1,1\n0,0.5\n1,1\n2,2.5\n",
+            "noheader.csv:1: the first line holds numbers",
+        ),
+        (
+            "names.csv",
+            "a;b\n-1;1\n0;0.5\n1;1\n2;2.5\n",
+            "names.csv:1: the header must name an x and a y column",
+        ),
+        (
+            "order.csv",
+            "x,y\n-1,1\n1,0.5\n0.5,1\n2,2.5\n",
+            "order.csv:4: column `x`: x = 0.5 does not increase",
+        ),
+        (
+            "mm.csv",
+            "x_mm,y_mm\n-1,1\n0,0.5\n1,1\n2,2.5\n",
+            "mm.csv:1: column `x_mm`: values in `mm` need a physical scene",
+        ),
+        (
+            "short.csv",
+            "x,y\n-1,1\n0,0.5\n",
+            "short.csv:3: expected at least 4 data rows, found 2",
+        ),
+        (
+            "ragged.csv",
+            "x\ty\n-1\t1\n0\n",
+            "ragged.csv:3: expected 2 fields as in the header, found 1 (tab separated)",
+        ),
+    ];
+    for (name, text, expected) in cases {
+        let e = err(name, text, &d);
+        assert!(e.contains(expected), "{e}");
+    }
+    // physical scene: the whole message, with the file's full path
     let e = err(
         "bad.csv",
         "x_mm;y_mm\n-1;1\n0;abc\n1;1\n2;2.5\n",
@@ -146,26 +174,6 @@ fn points_file_errors_name_file_line_and_what_is_wrong() {
             "{}:3: column `y_mm`: `abc` is not a number",
             dir.path().join("bad.csv").display()
         )
-    );
-    let e = err("order.csv", "x,y\n-1,1\n1,0.5\n0.5,1\n2,2.5\n", &d);
-    assert!(
-        e.contains("order.csv:4: column `x`: x = 0.5 does not increase"),
-        "{e}"
-    );
-    let e = err("mm.csv", "x_mm,y_mm\n-1,1\n0,0.5\n1,1\n2,2.5\n", &d);
-    assert!(
-        e.contains("mm.csv:1: column `x_mm`: values in `mm` need a physical scene"),
-        "{e}"
-    );
-    let e = err("short.csv", "x,y\n-1,1\n0,0.5\n", &d);
-    assert!(
-        e.contains("short.csv:3: expected at least 4 data rows, found 2"),
-        "{e}"
-    );
-    let e = err("ragged.csv", "x\ty\n-1\t1\n0\n", &d);
-    assert!(
-        e.contains("ragged.csv:3: expected 2 fields as in the header, found 1 (tab separated)"),
-        "{e}"
     );
 }
 

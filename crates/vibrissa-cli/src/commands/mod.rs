@@ -178,25 +178,16 @@ pub struct ObservableRecord<'a> {
     pub psi: f64,
 }
 
-/// The rows of `observables.csv` (header [`OBSERVABLES_HEADER`]) for sweep points,
-/// dimensionless.
-pub fn observables_csv(points: &[SweepPoint]) -> Result<CsvWriter, CliError> {
-    observables_csv_in(points, &UnitSystem::DIMENSIONLESS)
-}
-
-/// The rows of `observables.csv` in `units` (mm, N, N mm for a physical scene).
-pub fn observables_csv_in(
-    points: &[SweepPoint],
-    units: &UnitSystem,
-) -> Result<CsvWriter, CliError> {
-    let (l, f, m) = (
-        units.scale(Quantity::Length),
-        units.scale(Quantity::Force),
-        units.scale(Quantity::Moment),
-    );
-    let mut w = CsvWriter::new(&OBSERVABLES_HEADER);
-    for p in points {
-        w.push_record(&ObservableRecord {
+impl ObservableRecord<'static> {
+    /// The row of the sweep point `p` in `units` (mm, N, N mm for a physical scene): the one
+    /// place where a sweep row is scaled for output (CSV, Python).
+    pub fn of(p: &SweepPoint, units: &UnitSystem) -> Self {
+        let (l, f, m) = (
+            units.scale(Quantity::Length),
+            units.scale(Quantity::Force),
+            units.scale(Quantity::Moment),
+        );
+        ObservableRecord {
             x0: p.x0 * l,
             ax: p.ax * f,
             ay: p.ay * f,
@@ -208,7 +199,24 @@ pub fn observables_csv_in(
             xc: p.xc * l,
             yc: p.yc * l,
             psi: p.psi,
-        })?;
+        }
+    }
+}
+
+/// The rows of `observables.csv` (header [`OBSERVABLES_HEADER`]) for sweep points,
+/// dimensionless.
+pub fn observables_csv(points: &[SweepPoint]) -> Result<CsvWriter, CliError> {
+    observables_csv_in(points, &UnitSystem::DIMENSIONLESS)
+}
+
+/// The rows of `observables.csv` in `units` (mm, N, N mm for a physical scene).
+pub fn observables_csv_in(
+    points: &[SweepPoint],
+    units: &UnitSystem,
+) -> Result<CsvWriter, CliError> {
+    let mut w = CsvWriter::new(&OBSERVABLES_HEADER);
+    for p in points {
+        w.push_record(&ObservableRecord::of(p, units))?;
     }
     Ok(w)
 }

@@ -3,6 +3,7 @@
 //! the scene's units) and the reconstruction written in the scene's units with its own
 //! sidecar and `scene.ron`.
 
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use profile_recon::ReconPoint;
@@ -74,7 +75,18 @@ const INPUT_QUANTITIES: [(&str, Quantity); 5] = [
 pub fn to_model_units(table: &mut Table, units: &UnitSystem) -> Result<Vec<f64>, CliError> {
     let sidecar = units_sidecar_path(&table.path);
     let given = read_units_sidecar(&sidecar)?.unwrap_or_default();
-    let factors = column_factors(&given, &INPUT_QUANTITIES, units, &sidecar)?;
+    to_model_units_with(table, &given, units, &sidecar)
+}
+
+/// As [`to_model_units`] with the columns' units `given` (column name -> unit; a column not
+/// named is in the scene's units), read from `origin` (named in messages).
+pub fn to_model_units_with(
+    table: &mut Table,
+    given: &BTreeMap<String, String>,
+    units: &UnitSystem,
+    origin: &Path,
+) -> Result<Vec<f64>, CliError> {
+    let factors = column_factors(given, &INPUT_QUANTITIES, units, origin)?;
     let x0 = table.column("x0").map(<[f64]>::to_vec).unwrap_or_default();
     for ((name, _), f) in INPUT_QUANTITIES.iter().zip(factors) {
         if f != 1.0 {
@@ -98,6 +110,16 @@ const RECON_QUANTITIES: [Quantity; 8] = [
     Quantity::Length,
 ];
 
+/// The numbers of a reconstructed point in `units`, in the order of
+/// [`RECONSTRUCTION_HEADER`](super::reconstruct::RECONSTRUCTION_HEADER) (x0, x, y, s1, f,
+/// psi), x0 copied exactly from `x0_given` (the log's x0 column as given): the one place
+/// where a point is scaled for output (CSV, Python).
+pub fn recon_values(p: &ReconPoint, units: &UnitSystem, x0_given: &[f64]) -> [f64; 6] {
+    let (l, fs) = (units.scale(Quantity::Length), units.scale(Quantity::Force));
+    let x0 = x0_given.get(p.row).copied().unwrap_or(p.x0 * l);
+    [x0, p.x * l, p.y * l, p.s1 * l, p.f * fs, p.psi]
+}
+
 /// Writes `reconstruction.csv` in `units` (x0 copied exactly from `x0_given`, the log's x0
 /// column as given) and its units sidecar.
 pub fn write_reconstruction_csv_in(
@@ -111,19 +133,12 @@ pub fn write_reconstruction_csv_in(
     if errors.is_some() {
         header.push("error");
     }
-    let (l, fs) = (units.scale(Quantity::Length), units.scale(Quantity::Force));
+    let l = units.scale(Quantity::Length);
     let mut w = CsvWriter::new(&header);
     for (i, p) in points.iter().enumerate() {
-        let x0 = x0_given.get(p.row).copied().unwrap_or(p.x0 * l);
-        let mut row = vec![
-            Cell::Num(x0),
-            Cell::Num(p.x * l),
-            Cell::Num(p.y * l),
-            Cell::Num(p.s1 * l),
-            Cell::Num(p.f * fs),
-            Cell::Num(p.psi),
-            Cell::Text(p.phase.label()),
-        ];
+        let v = recon_values(p, units, x0_given);
+        let mut row: Vec<Cell<'_>> = v.iter().map(|&x| Cell::Num(x)).collect();
+        row.push(Cell::Text(p.phase.label()));
         if let Some(e) = errors {
             row.push(Cell::Num(e.get(i).copied().unwrap_or(f64::NAN) * l));
         }

@@ -43,22 +43,12 @@ pub fn run(args: &ReconstructArgs) -> Result<(), CliError> {
             "the observables log and --out are needed (or --stream)",
         ));
     };
-    let method = parse_method(args.method.as_deref())?;
-    let tol = parse_tolerance(args.tolerance.as_deref(), method)?;
+    let opts = ReconOptions::parse(args)?;
+    let method = opts.method;
     let (log_path, scene_path) = recon_io::resolve_input(observables, args.scene.as_deref())?;
     refuse_input_folder(out_dir, &log_path)?;
-    let alpha = parse_alpha(args.alpha_deg.as_deref())?;
-    let noise = parse_noise(args.noise.as_deref())?;
     let file = LoadedScene::load_opt(scene_path.as_deref())?;
-    // The whisker from the scene and the flags; `--q` (if given) goes through the same
-    // resolution so that physical units and range checks apply to it.
-    let mut flags = ModelFlags {
-        whisker: args.whisker.clone(),
-        ..ModelFlags::default()
-    };
-    flags.fluid.q = args.q.clone();
-    let r = resolve_model(&flags, file)?;
-    let q = args.q.as_ref().map(|_| r.q());
+    let r = recon_model(args, file)?;
     let units = r.units();
     let truth = match &args.profile {
         Some(spec) => Some(
@@ -73,15 +63,7 @@ pub fn run(args: &ReconstructArgs) -> Result<(), CliError> {
 
     let mut table = read_table(&log_path, &REQUIRED_COLUMNS, 2)?;
     let x0_given = recon_io::to_model_units(&mut table, &units)?;
-    let rows = rows_of(&table)?;
-    let settings = ReconSettings {
-        method,
-        consistency_tol: tol,
-        noise,
-        ..ReconSettings::default()
-    };
-    let rec = reconstruct_with(&r.scene.whisker, &rows, KnownFlow { q, alpha }, &settings)
-        .map_err(|e| recon_culprit(e, &table, &r, args, tol))?;
+    let rec = reconstruct_log(args, &opts, &r, &table)?;
     let errors = truth.as_ref().map(|p| contour_error(&rec.points, p));
 
     let out = OutputDir::create(out_dir)?;
@@ -163,6 +145,73 @@ pub fn run(args: &ReconstructArgs) -> Result<(), CliError> {
         println!("wrote {} files to {}", files.len(), out_dir.display());
     }
     Ok(())
+}
+
+/// The options of a reconstruction given as flags: method, consistency tolerance, flow
+/// angle and noise level, each checked against its flag.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ReconOptions {
+    /// `--method`.
+    pub method: ReconMethod,
+    /// `--tolerance` (`None`: no consistency check).
+    pub tol: Option<f64>,
+    /// `--alpha-deg` in radians, if given.
+    pub alpha: Option<f64>,
+    /// `--noise`, if given.
+    pub noise: Option<f64>,
+}
+
+impl ReconOptions {
+    /// Parses the flags of `args`.
+    pub fn parse(args: &ReconstructArgs) -> Result<Self, CliError> {
+        let method = parse_method(args.method.as_deref())?;
+        Ok(ReconOptions {
+            method,
+            tol: parse_tolerance(args.tolerance.as_deref(), method)?,
+            alpha: parse_alpha(args.alpha_deg.as_deref())?,
+            noise: parse_noise(args.noise.as_deref())?,
+        })
+    }
+}
+
+/// The whisker of a reconstruction (and `--q`, if given): the scene file under the flags,
+/// through the same resolution as `solve` so that physical units and range checks apply.
+pub fn recon_model(
+    args: &ReconstructArgs,
+    file: Option<LoadedScene>,
+) -> Result<Resolved, CliError> {
+    let mut flags = ModelFlags {
+        whisker: args.whisker.clone(),
+        ..ModelFlags::default()
+    };
+    flags.fluid.q = args.q.clone();
+    resolve_model(&flags, file)
+}
+
+/// Identifies the flow (unless given) and reconstructs every contact row of the log
+/// `table` (columns [`REQUIRED_COLUMNS`], already in the model's dimensionless variables)
+/// with the whisker of `r`; a failure names its culprit (a line of the log, a flag, the
+/// solver).
+pub fn reconstruct_log(
+    args: &ReconstructArgs,
+    opts: &ReconOptions,
+    r: &Resolved,
+    table: &Table,
+) -> Result<Reconstruction, CliError> {
+    let q = args.q.as_ref().map(|_| r.q());
+    let rows = rows_of(table)?;
+    let settings = ReconSettings {
+        method: opts.method,
+        consistency_tol: opts.tol,
+        noise: opts.noise,
+        ..ReconSettings::default()
+    };
+    let flow = KnownFlow {
+        q,
+        alpha: opts.alpha,
+    };
+    reconstruct_with(&r.scene.whisker, &rows, flow, &settings)
+        .map_err(|e| recon_culprit(e, table, r, args, opts.tol))
 }
 
 /// File name of the reconstruction table.
@@ -337,33 +386,26 @@ fn parse_noise(raw: Option<&str>) -> Result<Option<f64>, CliError> {
 /// columns first), each contact point to standard output as soon as it is known.
 fn run_stream(args: &ReconstructArgs) -> Result<(), CliError> {
     use std::io::{BufRead, Write};
-    let method = parse_method(args.method.as_deref())?;
-    if method != ReconMethod::Accurate {
+    let opts = ReconOptions::parse(args)?;
+    if opts.method != ReconMethod::Accurate {
         return Err(CliError::invalid_argument(
             "--method",
-            method.name(),
+            opts.method.name(),
             "the stream reconstructs each row on its own: method accurate only",
         ));
     }
-    let tol = parse_tolerance(args.tolerance.as_deref(), method)?;
-    let alpha = parse_alpha(args.alpha_deg.as_deref())?;
-    let noise = parse_noise(args.noise.as_deref())?;
     // the one positional argument is the scene
     let scene = args.scene.as_deref().or(args.observables.as_deref());
     let file = LoadedScene::load_opt(scene)?;
-    let mut flags = ModelFlags {
-        whisker: args.whisker.clone(),
-        ..ModelFlags::default()
-    };
-    flags.fluid.q = args.q.clone();
-    let r = resolve_model(&flags, file)?;
+    let r = recon_model(args, file)?;
     let q = args.q.as_ref().map(|_| r.q());
     let settings = ReconSettings {
-        method,
-        consistency_tol: tol,
-        noise,
+        method: opts.method,
+        consistency_tol: opts.tol,
+        noise: opts.noise,
         ..ReconSettings::default()
     };
+    let alpha = opts.alpha;
     let stdin_err = |line: usize, reason: String| CliError::Csv {
         path: PathBuf::from("<stdin>"),
         line,

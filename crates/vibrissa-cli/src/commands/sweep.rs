@@ -26,41 +26,8 @@ pub const DEFAULT_POINTS: usize = 200;
 /// Runs `vibrissa sweep`.
 pub fn run(args: &SweepArgs) -> Result<(), CliError> {
     let file = LoadedScene::load_opt(args.scene.as_deref())?;
-    let profile = profile_arg(&args.profile, file.as_ref()).ok_or_else(|| {
-        CliError::invalid_argument(
-            "--profile",
-            "",
-            "a sweep needs an obstacle: give --profile or `profile` in the scene file",
-        )
-    })?;
-    let points = match (
-        &args.points,
-        file.as_ref().and_then(|f| f.file.sweep.as_ref()),
-    ) {
-        (Some(raw), _) => {
-            let n = parse_count("--points", raw, 2)?;
-            if n > contact_sim::sweep::MAX_POINTS {
-                return Err(CliError::invalid_argument(
-                    "--points",
-                    raw.clone(),
-                    "at most 100000 contact rows",
-                ));
-            }
-            n
-        }
-        (None, Some(s)) => s.points,
-        (None, None) => DEFAULT_POINTS,
-    };
-    if points > crate::resolve::MAX_COUNT {
-        return Err(CliError::invalid_argument(
-            "sweep.points",
-            points.to_string(),
-            format!(
-                "must be at most {} (the memory and time of one run are bounded)",
-                crate::resolve::MAX_COUNT
-            ),
-        ));
-    }
+    let profile = profile_arg(&args.profile, file.as_ref()).ok_or_else(missing_profile)?;
+    let points = sweep_points(args.points.as_deref(), file.as_ref())?;
     let r = resolve_model(&args.model, file)?;
     check_sweep_loads(&r)?;
     let units = r.units();
@@ -85,6 +52,47 @@ pub fn run(args: &SweepArgs) -> Result<(), CliError> {
         );
     }
     Ok(())
+}
+
+/// The error of a sweep without an obstacle.
+pub fn missing_profile() -> CliError {
+    CliError::invalid_argument(
+        "--profile",
+        "",
+        "a sweep needs an obstacle: give --profile or `profile` in the scene file",
+    )
+}
+
+/// The number of contact rows: `--points` (typed as `raw`), else the scene file's
+/// `sweep.points`, else [`DEFAULT_POINTS`]; at least 2 and at most
+/// [`contact_sim::sweep::MAX_POINTS`].
+pub fn sweep_points(raw: Option<&str>, file: Option<&LoadedScene>) -> Result<usize, CliError> {
+    let points = match (raw, file.and_then(|f| f.file.sweep.as_ref())) {
+        (Some(raw), _) => {
+            let n = parse_count("--points", raw, 2)?;
+            if n > contact_sim::sweep::MAX_POINTS {
+                return Err(CliError::invalid_argument(
+                    "--points",
+                    raw,
+                    "at most 100000 contact rows",
+                ));
+            }
+            n
+        }
+        (None, Some(s)) => s.points,
+        (None, None) => DEFAULT_POINTS,
+    };
+    if points > crate::resolve::MAX_COUNT {
+        return Err(CliError::invalid_argument(
+            "sweep.points",
+            points.to_string(),
+            format!(
+                "must be at most {} (the memory and time of one run are bounded)",
+                crate::resolve::MAX_COUNT
+            ),
+        ));
+    }
+    Ok(points)
 }
 
 fn num(v: f64) -> serde_json::Value {

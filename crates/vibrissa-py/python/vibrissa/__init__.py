@@ -1,0 +1,315 @@
+"""vibrissa: whisker-inspired tactile sensing, from Python.
+
+The large-deflection elastica of a tapered, pre-curved whisker on a torsional base spring
+under a tip force and a uniform fluid load (:func:`solve`), quasi-static sweeps past a convex
+obstacle under flow (:func:`sweep`), identification of the flow and reconstruction of the
+obstacle's contour from the base observables only (:func:`reconstruct`, :class:`Streamer`),
+and parameter studies over many scenes on the local cores or a Dask cluster (:func:`study`).
+
+Every function is the Rust core of the ``vibrissa`` command line: the same parameters (the
+CLI's names and defaults), the same numbers, the same one-line error messages. Values are
+dimensionless (lengths in whisker lengths, forces relative to E I / L^2) unless ``units``
+names a physical whisker (a preset of the thesis's Table 2.2: ``"beta"``, ``"gamma"``,
+``"A1"``, ``"E2"``, or a dict ``length_mm, base_diameter_mm, youngs_modulus_gpa``); then
+lengths are in mm, forces in N, moments in N mm, ``q`` in N/m, ``k`` in N m/rad.
+
+The frame: the base at the origin, the whisker pointing along +y; the obstacle lies on the
+side y > g(x); the base moves towards -x; a flow at ``alpha_deg = 0`` pushes along +x.
+
+>>> import vibrissa
+>>> sol = vibrissa.solve(theta=0.5, q=2.0)
+>>> round(sol.tip["x"], 6) > 0
+True
+>>> sw = vibrissa.sweep(profile="g1", q=5, points=50)
+>>> sw.first_contact, sw.phases
+('tip', 'ABA')
+>>> rec = vibrissa.reconstruct(sw)
+>>> abs(rec.q - 5) < 1e-9
+True
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, Dict, Optional
+
+import numpy as np
+
+from . import _core
+from ._errors import InvalidInput, NoContact, SolverError, VibrissaError
+from ._params import check_tol, number, profile_spec, scene_kwargs, units_spec, whisker_spec
+from ._results import Reconstruction, Solution, Sweep, log_columns
+from ._study import study
+
+__version__: str = _core.__version__
+
+__all__ = [
+    "solve",
+    "sweep",
+    "reconstruct",
+    "Streamer",
+    "load_scene",
+    "study",
+    "Solution",
+    "Sweep",
+    "Reconstruction",
+    "VibrissaError",
+    "InvalidInput",
+    "SolverError",
+    "NoContact",
+    "__version__",
+]
+
+
+def _model_spec(
+    theta: Any, a: Any, b: Any, k: Any, f: Any, beta_deg: Any, load: Any, q: Any,
+    alpha_deg: Any, method: Any, n: Any, units: Any,
+) -> Dict[str, Any]:
+    spec = whisker_spec(theta, a, b, k, units)
+    spec.update(
+        f=number("f", f),
+        beta_deg=number("beta_deg", beta_deg),
+        load=load,
+        q=number("q", q),
+        alpha_deg=number("alpha_deg", alpha_deg),
+        method=method,
+        n=n,
+    )
+    return spec
+
+
+def _scene(spec: Dict[str, Any], profile: Any = None, points: Any = None) -> Dict[str, Any]:
+    """The keyword arguments that give a result back."""
+    out = {key: spec[key] for key in ("theta", "a", "b", "f", "beta_deg", "q", "alpha_deg")}
+    out["k"] = None if spec["k"] == math.inf else spec["k"]
+    out.update(load=spec["load"], method=spec["method"], n=spec["n"])
+    units = spec["units"]
+    if units is not None and list(units) == ["preset"]:
+        units = units["preset"]
+    out["units"] = units
+    if profile is not None:
+        out["profile"] = profile
+    if points is not None:
+        out["points"] = points
+    return out
+
+
+def solve(
+    *,
+    theta: float = 1.0,
+    a: float = 0.0,
+    b: float = 0.0,
+    k: Optional[float] = None,
+    f: float = 0.0,
+    beta_deg: float = 0.0,
+    load: str = "dp",
+    q: float = 0.0,
+    alpha_deg: float = 0.0,
+    method: str = "accurate",
+    n: Optional[int] = None,
+    tol: Optional[float] = None,
+    units: Any = None,
+    profile: Any = None,
+    points: Any = None,
+) -> Solution:
+    """Solves one equilibrium of the whisker [3.27] (``vibrissa solve``).
+
+    Parameters (the CLI's flags): ``theta`` tip/base diameter ratio (0.01..1), ``a, b`` the
+    Cesaro pre-curvature kappa0(s) = a s + b, ``k`` the base spring (None or ``math.inf``:
+    rigid), ``f, beta_deg, load`` the tip force, its angle and kind (``"dp"`` direction- or
+    ``"ap"`` angle-preserving), ``q, alpha_deg`` the fluid load per length and its angle,
+    ``method`` (``"accurate"``, ``"fdm"``, ``"fdm-richardson"``, ``"rk4"``), ``n`` grid
+    intervals (output intervals for ``accurate``; default 100), ``units`` (module docs).
+    ``tol`` must be None (the default accuracy: error estimate <= 1e-8, refused otherwise).
+    ``profile`` and ``points`` are ignored (as ``vibrissa solve SCENE.ron`` ignores them),
+    so that ``solve(**load_scene(path))`` works.
+
+    Returns a :class:`Solution`. Raises :class:`InvalidInput` for a bad parameter and
+    :class:`SolverError` when no solution meets the accuracy.
+    """
+    check_tol(tol)
+    spec = _model_spec(theta, a, b, k, f, beta_deg, load, q, alpha_deg, method, n, units)
+    return Solution(_core.solve(spec), _scene(spec))
+
+
+def sweep(
+    *,
+    profile: Any = None,
+    points: int = 200,
+    theta: float = 1.0,
+    a: float = 0.0,
+    b: float = 0.0,
+    k: Optional[float] = None,
+    q: float = 0.0,
+    alpha_deg: float = 0.0,
+    f: float = 0.0,
+    beta_deg: float = 0.0,
+    load: str = "dp",
+    method: str = "accurate",
+    n: Optional[int] = None,
+    tol: Optional[float] = None,
+    units: Any = None,
+) -> Sweep:
+    """Sweeps the whisker past the obstacle ``profile`` under the flow (``vibrissa sweep``).
+
+    ``profile``: a CLI profile string (``"g1"``, ``"g2"``, ``"ge"``,
+    ``"parabola:a,xv,yv"``, ``"cosh:a,c,xv,d"``, ``"circle:xc,yc,r"``,
+    ``"points:FILE.csv"``) or a pair of 1-D arrays ``(x, y)`` of a tabulated contour (in the
+    scene's units, x increasing). ``points``: contact rows, evenly spaced in x0 (plus a row
+    at each event). ``q, alpha_deg``: the flow (alpha in (-90, 90) degrees). The tip force
+    must stay 0 (the sweep computes the contact force) and the method ``accurate``.
+
+    Returns a :class:`Sweep`. Raises :class:`InvalidInput`, :class:`NoContact` when the
+    whisker never touches the obstacle, :class:`SolverError` when a contact phase cannot be
+    solved to the accuracy.
+    """
+    check_tol(tol)
+    spec = _model_spec(theta, a, b, k, f, beta_deg, load, q, alpha_deg, method, n, units)
+    spec["profile"] = profile_spec(profile)
+    spec["points"] = points
+    raw = _core.sweep(spec)
+    return Sweep(raw, _scene(spec, profile if profile is not None else raw["scene"]["profile"], points))
+
+
+def reconstruct(
+    log: Any,
+    profile: Any = None,
+    q: Optional[float] = None,
+    alpha_deg: Optional[float] = None,
+    noise: Optional[float] = None,
+    *,
+    theta: Optional[float] = None,
+    a: Optional[float] = None,
+    b: Optional[float] = None,
+    k: Optional[float] = None,
+    method: str = "accurate",
+    tolerance: Any = None,
+    tol: Optional[float] = None,
+    units: Any = None,
+    **ignored: Any,
+) -> Reconstruction:
+    """Identifies the flow and reconstructs the obstacle's contour from a log of base
+    observables [ch. 6] (``vibrissa reconstruct``).
+
+    ``log``: a :class:`Sweep`, a pandas DataFrame or a dict of 1-D arrays with at least the
+    columns ``x0, Ax, Ay, MA, phi0`` (in the scene's units), rows in any order; each contact
+    row's point is computed on its own. ``q``, ``alpha_deg``: the flow if known (else
+    identified from the rows before contact). ``noise``: the log's relative noise level
+    (else estimated). ``profile``: the true contour, if known, for the ``error`` column
+    [6.11]. The whisker (``theta, a, b, k, units``) is the one that recorded the log: a
+    keyword left at None is the Sweep's own when ``log`` is a :class:`Sweep` (as
+    ``vibrissa reconstruct DIR`` reads the sweep's scene), else the CLI's default (theta 1,
+    a = b = 0, rigid, dimensionless). ``method``: ``"accurate"`` or ``"thesis"``;
+    ``tolerance``: the consistency tolerance of a row (default 1e-6 accurate, 1e-3 thesis;
+    ``"none"`` for noisy logs). Other keywords of a scene (``f, beta_deg, load, n,
+    points``) are ignored, so that ``reconstruct(log, **load_scene(path))`` works (the
+    scene's ``q`` is then taken as given: pass ``q=None`` to identify it).
+
+    Returns a :class:`Reconstruction`. Raises :class:`InvalidInput` for a bad parameter or
+    log (naming the row: ``log row:N``), :class:`SolverError` when no row fits.
+    """
+    check_tol(tol)
+    unknown = sorted(set(ignored) - {"f", "beta_deg", "load", "n", "points"})
+    if unknown:
+        raise TypeError(f"reconstruct() got an unexpected keyword argument {unknown[0]!r}")
+    theta, a, b, k, units = _whisker_of(log, theta, a, b, k, units)
+    spec = whisker_spec(theta, a, b, k, units)
+    spec.update(
+        q=number("q", q),
+        alpha_deg=number("alpha_deg", alpha_deg),
+        noise=number("noise", noise),
+        method=method,
+        tolerance=tolerance,
+        profile=profile_spec(profile),
+    )
+    return Reconstruction(_core.reconstruct(log_columns(log), spec))
+
+
+def _whisker_of(log: Any, theta: Any, a: Any, b: Any, k: Any, units: Any) -> tuple:
+    """The whisker keywords, those left at None taken from a Sweep's scene."""
+    scene = log.scene if isinstance(log, Sweep) else {}
+
+    def pick(v: Any, key: str, default: Any) -> Any:
+        return v if v is not None else scene.get(key, default)
+
+    return (
+        pick(theta, "theta", 1.0),
+        pick(a, "a", 0.0),
+        pick(b, "b", 0.0),
+        pick(k, "k", None),
+        pick(units, "units", None),
+    )
+
+
+class Streamer:
+    """One sensor row in, its contact point out (``vibrissa reconstruct --stream``).
+
+    ``Streamer(q=None, alpha_deg=None, noise=None, theta=..., a=..., b=..., k=...,
+    units=None)``: with the flow given, every row is decided at once; otherwise rows are
+    held until the first row before contact fixes the flow. ``push(x0, Ax, Ay, MA, phi0)``
+    returns the row's contact point (a dict: row (0-based), x0, x, y, s1, f, psi, phase,
+    sigma, residual, hypotheses) or None (a row before contact, or held); ``points`` lists
+    every point released so far (held rows included); ``finish()`` reconstructs rows still
+    held and returns their points.
+    """
+
+    def __init__(
+        self,
+        q: Optional[float] = None,
+        alpha_deg: Optional[float] = None,
+        noise: Optional[float] = None,
+        *,
+        theta: float = 1.0,
+        a: float = 0.0,
+        b: float = 0.0,
+        k: Optional[float] = None,
+        tolerance: Any = None,
+        units: Any = None,
+        **ignored: Any,
+    ) -> None:
+        unknown = sorted(set(ignored) - {"f", "beta_deg", "load", "n", "points", "profile", "method"})
+        if unknown:
+            raise TypeError(f"Streamer() got an unexpected keyword argument {unknown[0]!r}")
+        spec = whisker_spec(theta, a, b, k, units)
+        spec.update(
+            q=number("q", q),
+            alpha_deg=number("alpha_deg", alpha_deg),
+            noise=number("noise", noise),
+            tolerance=tolerance,
+        )
+        self._inner = _core.Streamer(spec)
+
+    def push(self, x0: float, Ax: float, Ay: float, MA: float, phi0: float) -> Optional[Dict[str, Any]]:
+        """Takes the next row; returns its contact point, or None (before contact, or held
+        until the flow is known)."""
+        return self._inner.push(float(x0), float(Ax), float(Ay), float(MA), float(phi0))
+
+    def finish(self) -> list:
+        """Ends the stream; returns the points of rows still held."""
+        return self._inner.finish()
+
+    @property
+    def points(self) -> list:
+        """Every point released so far, in row order."""
+        return self._inner.points
+
+    @property
+    def rows(self) -> int:
+        """Rows received so far."""
+        return self._inner.rows
+
+    @property
+    def flow(self) -> Optional[tuple]:
+        """``(q, alpha_deg)`` once known, else None."""
+        return self._inner.flow
+
+    def __repr__(self) -> str:
+        return repr(self._inner)
+
+
+def load_scene(path: Any) -> Dict[str, Any]:
+    """Reads a scene RON file (checked as the CLI checks it) into a dict of the keyword
+    arguments of :func:`solve` / :func:`sweep` (``theta, a, b, k, f, beta_deg, load, q,
+    alpha_deg, method, n, units, profile, points``). A ``points:FILE.csv`` profile's path is
+    made relative to the working directory."""
+    return scene_kwargs(_core.load_scene(str(path)))

@@ -1,0 +1,189 @@
+"""Result classes: columns as numpy arrays (attributes, and by name), summaries as plain
+values. They hold only numpy arrays and builtins, so they pickle (multiprocessing, Dask)."""
+
+from __future__ import annotations
+
+from typing import Any, Dict, Iterator, List, Optional, Sequence
+
+import numpy as np
+
+
+class _Columns:
+    """Columns as attributes (``r.x0``) and by name (``r["x0"]``), one row each."""
+
+    _names: Sequence[str] = ()
+
+    def __init__(self, columns: Dict[str, Any]) -> None:
+        for name in self._names:
+            setattr(self, name, columns[name])
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        if name not in self._names:
+            raise KeyError(f"{name!r}: the columns are {', '.join(self._names)}")
+        return getattr(self, name)
+
+    def __len__(self) -> int:
+        return len(getattr(self, self._names[0]))
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._names)
+
+    def keys(self) -> List[str]:
+        """The column names."""
+        return list(self._names)
+
+    def to_pandas(self) -> Any:
+        """The columns as a pandas DataFrame (requires pandas)."""
+        import pandas as pd
+
+        return pd.DataFrame({name: getattr(self, name) for name in self._names})
+
+
+class Solution(_Columns):
+    """One equilibrium of the whisker [3.27], base (s = 0) to tip (s = 1).
+
+    Columns ``s, x, y, phi, kappa, m`` (lengths, curvature and moment in the scene's units:
+    whisker lengths, or mm, 1/mm and N mm for a physical scene); ``tip`` (x, y, phi),
+    ``base`` (the base observables Ax, Ay, MA, phi0 [6.1]), ``stats`` (``method_used``,
+    ``error_estimate``, ``tolerance``, iterations, ...), ``scene`` (the keyword arguments
+    that give this solution back)."""
+
+    _names = ("s", "x", "y", "phi", "kappa", "m")
+
+    def __init__(self, raw: Dict[str, Any], scene: Dict[str, Any]) -> None:
+        super().__init__(raw["columns"])
+        self.tip: Dict[str, float] = raw["tip"]
+        self.base: Dict[str, float] = raw["base"]
+        self.stats: Dict[str, Any] = raw["stats"]
+        self.units: str = raw["units"]
+        self.length_unit: str = raw["length_unit"]
+        self.force_unit: str = raw["force_unit"]
+        self.moment_unit: str = raw["moment_unit"]
+        self.method: str = raw["method"]
+        self.scene: Dict[str, Any] = scene
+
+    def __repr__(self) -> str:
+        t, b, st = self.tip, self.base, self.stats
+        return (
+            f"Solution(tip=(x={t['x']:.6g}, y={t['y']:.6g}, phi={t['phi']:.6g}), "
+            f"base=(Ax={b['Ax']:.6g}, Ay={b['Ay']:.6g}, MA={b['MA']:.6g}, "
+            f"phi0={b['phi0']:.6g}), method_used={st['method_used']!r}, "
+            f"error_estimate={st['error_estimate']:.1e}, points={len(self)}, "
+            f"units={self.units!r})"
+        )
+
+
+class Sweep(_Columns):
+    """A quasi-static sweep of the whisker past an obstacle under the flow [ch. 5].
+
+    Columns as in ``observables.csv``: ``x0, Ax, Ay, MA, phi0, f, s1, xc, yc, psi``
+    (float64; before contact f = 0, s1 = 1 (the flow loads the whole whisker) and the contact
+    point and angle are NaN) and ``phase`` (``"A"``, ``"B"``, ``"none"``),
+    rows in the order the base travels (x0 strictly falling). ``first_contact`` (``"tip"`` /
+    ``"tangential"``), ``separation`` (``"snap"``, ``"release"``, ...), ``phases`` (e.g.
+    ``"AB"``), ``events`` (dicts: event, row (1-based), x0), ``summary`` (the CLI's
+    ``sweep --json`` object), ``scene`` (the keyword arguments that give this sweep back)."""
+
+    _names = ("x0", "Ax", "Ay", "MA", "phi0", "f", "s1", "phase", "xc", "yc", "psi")
+
+    def __init__(self, raw: Dict[str, Any], scene: Dict[str, Any]) -> None:
+        cols = dict(raw["columns"])
+        cols["phase"] = np.array(raw["phase"], dtype=str)
+        super().__init__(cols)
+        s = raw["summary"]
+        self.summary: Dict[str, Any] = s
+        self.first_contact: str = s["first_contact"]
+        self.separation: str = s["separation"]
+        self.phases: str = s["phases"]
+        self.events: List[Dict[str, Any]] = s["events"]
+        self.units: str = s["units"]
+        self.scene: Dict[str, Any] = scene
+
+    @property
+    def contact(self) -> np.ndarray:
+        """Boolean mask of the rows in contact."""
+        return self.phase != "none"
+
+    def __repr__(self) -> str:
+        return (
+            f"Sweep(rows={len(self)}, first_contact={self.first_contact!r}, "
+            f"separation={self.separation!r}, phases={self.phases!r}, "
+            f"profile={self.summary.get('profile')!r}, units={self.units!r})"
+        )
+
+
+class Reconstruction(_Columns):
+    """The contour reconstructed from a log of base observables [ch. 6].
+
+    One row per row of the log, in its order: ``x0`` (as given), the contact point ``x, y``,
+    ``s1``, ``f``, ``psi``, ``phase`` (``"A"``, ``"B"``, ``"none"`` before contact, where the
+    other columns hold NaN), ``sigma`` (the point's error estimate, a length), ``residual``,
+    ``hypotheses`` (how many phase hypotheses fitted), and ``error`` (the distance to the
+    true contour [6.11]) when a ``profile`` was given. ``q``, ``alpha_deg``: the flow
+    (identified unless given); ``noise``: the relative noise level used."""
+
+    _base_names = ("x0", "x", "y", "s1", "f", "psi", "phase", "sigma", "residual", "hypotheses")
+
+    def __init__(self, raw: Dict[str, Any]) -> None:
+        cols = dict(raw["columns"])
+        cols["phase"] = np.array(raw["phase"], dtype=str)
+        self._names = self._base_names + (("error",) if "error" in cols else ())
+        super().__init__(cols)
+        s = raw["summary"]
+        self.summary: Dict[str, Any] = s
+        self.q: float = s["q"]
+        self.alpha_deg: float = s["alpha_deg"]
+        self.noise: float = s["noise"]
+        self.q_given: bool = s["q_given"]
+        self.alpha_given: bool = s["alpha_given"]
+        self.units: str = s["units"]
+
+    @property
+    def contact(self) -> np.ndarray:
+        """Boolean mask of the rows with a contact point."""
+        return self.phase != "none"
+
+    def __repr__(self) -> str:
+        err = ""
+        if "error" in self._names and self.contact.any():
+            err = f", max_error={np.nanmax(self.error):.2e}"
+        return (
+            f"Reconstruction(rows={len(self)}, points={int(self.contact.sum())}, "
+            f"q={self.q:.6g}{' given' if self.q_given else ''}, "
+            f"alpha_deg={self.alpha_deg:.4g}{' given' if self.alpha_given else ''}, "
+            f"max_sigma={np.nanmax(self.sigma) if self.contact.any() else float('nan'):.1e}"
+            f"{err}, units={self.units!r})"
+        )
+
+
+def log_columns(log: Any) -> Dict[str, np.ndarray]:
+    """The columns ``x0, Ax, Ay, MA, phi0`` of a Sweep, a DataFrame or a dict of arrays,
+    as contiguous float64 arrays."""
+    from ._errors import InvalidInput
+
+    out: Dict[str, np.ndarray] = {}
+    for name in ("x0", "Ax", "Ay", "MA", "phi0"):
+        try:
+            col = log[name]
+        except (KeyError, IndexError, TypeError):
+            raise InvalidInput(
+                f"invalid value `{name}` for `log`: missing required column (a log needs "
+                "x0, Ax, Ay, MA and phi0)"
+            ) from None
+        try:
+            arr = np.ascontiguousarray(np.asarray(col, dtype=np.float64))
+        except (TypeError, ValueError):
+            raise InvalidInput(
+                f"invalid value `{name}` for `log`: the column must be a 1-D array of numbers"
+            ) from None
+        if arr.ndim != 1:
+            raise InvalidInput(
+                f"invalid value `{name}` for `log`: the column must be 1-D, got shape {arr.shape}"
+            )
+        out[name] = arr
+    return out
+
+
+def optional(v: Optional[float]) -> float:
+    """``None`` as NaN."""
+    return float("nan") if v is None else float(v)

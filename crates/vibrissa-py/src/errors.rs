@@ -1,0 +1,106 @@
+//! The CLI's errors as Python exceptions, and the guard that keeps panics out of Python.
+//!
+//! The classes live in `vibrissa._errors` (pure Python, so that `InvalidInput` can also be a
+//! `ValueError` and `SolverError` a `RuntimeError`); the message is the CLI's one line.
+
+use std::panic::{catch_unwind, AssertUnwindSafe};
+
+use contact_sim::ContactError;
+use pyo3::prelude::*;
+use pyo3::types::PyType;
+use vibrissa_cli::CliError;
+
+/// The Python class of an error.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Kind {
+    /// `vibrissa.InvalidInput` (also a `ValueError`): parameters, profiles, logs, files.
+    InvalidInput,
+    /// `vibrissa.SolverError` (also a `RuntimeError`): no solution meets the accuracy.
+    SolverError,
+    /// `vibrissa.NoContact` (a `SolverError`): the whisker never touches the obstacle.
+    NoContact,
+}
+
+impl Kind {
+    /// The class name in `vibrissa._errors`.
+    pub fn class_name(self) -> &'static str {
+        match self {
+            Kind::InvalidInput => "InvalidInput",
+            Kind::SolverError => "SolverError",
+            Kind::NoContact => "NoContact",
+        }
+    }
+
+    /// The class of a CLI error: its input variants are `InvalidInput`, a sweep that never
+    /// touches is `NoContact`, every other solver failure `SolverError`.
+    pub fn of(err: &CliError) -> Kind {
+        match err {
+            CliError::Io { .. }
+            | CliError::Csv { .. }
+            | CliError::Scene { .. }
+            | CliError::InvalidArgument { .. } => Kind::InvalidInput,
+            CliError::Solver {
+                source: Some(src), ..
+            } if matches!(
+                src.downcast_ref::<ContactError>(),
+                Some(ContactError::NoContact { .. })
+            ) =>
+            {
+                Kind::NoContact
+            }
+            CliError::Solver { .. } | CliError::Plot { .. } => Kind::SolverError,
+        }
+    }
+}
+
+/// A Python exception of class `kind` with `message`.
+pub fn py_error(py: Python<'_>, kind: Kind, message: String) -> PyErr {
+    let class = py
+        .import("vibrissa._errors")
+        .and_then(|m| m.getattr(kind.class_name()))
+        .and_then(|c| c.cast_into::<PyType>().map_err(PyErr::from));
+    match class {
+        Ok(ty) => PyErr::from_type(ty, message),
+        Err(e) => e,
+    }
+}
+
+/// A CLI error as its Python exception.
+pub fn to_py(py: Python<'_>, err: CliError) -> PyErr {
+    py_error(py, Kind::of(&err), err.to_string())
+}
+
+/// A bad input named by its keyword (`invalid value `V` for `name`: reason`).
+pub fn invalid(py: Python<'_>, name: &str, value: impl std::fmt::Display, reason: &str) -> PyErr {
+    to_py(
+        py,
+        CliError::invalid_argument(name, value.to_string(), reason.to_string()),
+    )
+}
+
+/// Runs `f` with the GIL released and turns both its error and a panic into a Python
+/// exception (a panic is an internal error: `SolverError` with its message; it never
+/// crosses into Python as a `PanicException`).
+pub fn compute<T, F>(py: Python<'_>, f: F) -> PyResult<T>
+where
+    T: Send,
+    F: FnOnce() -> Result<T, CliError> + Send,
+{
+    let outcome = py.detach(move || catch_unwind(AssertUnwindSafe(f)));
+    match outcome {
+        Ok(Ok(v)) => Ok(v),
+        Ok(Err(e)) => Err(to_py(py, e)),
+        Err(panic) => {
+            let what = panic
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| panic.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "unknown".to_string());
+            Err(py_error(
+                py,
+                Kind::SolverError,
+                format!("internal error (please report): {what}"),
+            ))
+        }
+    }
+}

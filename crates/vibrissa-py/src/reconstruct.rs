@@ -1,0 +1,183 @@
+//! `vibrissa.reconstruct`: flow identification and contour reconstruction from a log of base
+//! observables [ch. 6], as `vibrissa reconstruct` computes them (same resolution, settings
+//! and messages), the log given as columns instead of a CSV file.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use profile_recon::contour_error;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use vibrissa_cli::cli::ReconstructArgs;
+use vibrissa_cli::commands::recon_io::{recon_values, to_model_units_with};
+use vibrissa_cli::commands::reconstruct::{
+    recon_model, reconstruct_log, ReconOptions, REQUIRED_COLUMNS,
+};
+use vibrissa_cli::csvio::Table;
+use vibrissa_cli::units::Quantity;
+
+use crate::convert::{columns, json};
+use crate::errors::{compute, invalid};
+use crate::params::{model_flags, number, string, units_scene, ProfileSpec};
+
+/// Where the rows of a log given as columns are said to be in messages: `log row:N: ...`
+/// names the 1-based row N.
+pub const LOG_ORIGIN: &str = "log row";
+
+/// The reconstruct command's arguments from `spec` (`theta, a, b, k, q, alpha_deg, noise,
+/// method, tolerance`).
+pub fn recon_args(spec: &Bound<'_, PyDict>) -> PyResult<ReconstructArgs> {
+    let flags = model_flags(spec)?;
+    Ok(ReconstructArgs {
+        observables: None,
+        scene: None,
+        whisker: flags.whisker,
+        q: flags.fluid.q,
+        alpha_deg: flags.fluid.alpha_deg,
+        noise: number(spec, "noise")?,
+        stream: false,
+        profile: None,
+        method: string(spec, "method")?,
+        tolerance: match string(spec, "tolerance") {
+            Ok(t) => t,
+            Err(_) => number(spec, "tolerance")?,
+        },
+        json: false,
+        out: None,
+    })
+}
+
+/// A log given as columns (`x0, Ax, Ay, MA, phi0` at least, in the scene's units) as the
+/// table the CLI reads from a CSV file; row `i` (0-based) is "line" `i + 1`.
+pub fn log_table(py: Python<'_>, log: &Bound<'_, PyDict>) -> PyResult<Table> {
+    let mut numeric = BTreeMap::new();
+    let mut rows = None;
+    for name in REQUIRED_COLUMNS {
+        let Some(col) = log.get_item(name)? else {
+            return Err(invalid(
+                py,
+                "log",
+                name,
+                "missing required column (a log needs x0, Ax, Ay, MA and phi0)",
+            ));
+        };
+        let v: Vec<f64> = col
+            .extract()
+            .map_err(|_| invalid(py, "log", name, "the column must be a 1-D array of numbers"))?;
+        match rows {
+            None => rows = Some(v.len()),
+            Some(n) if n != v.len() => {
+                return Err(invalid(
+                    py,
+                    "log",
+                    name,
+                    &format!(
+                        "{} rows where x0 has {n}: the columns differ in length",
+                        v.len()
+                    ),
+                ))
+            }
+            Some(_) => {}
+        }
+        numeric.insert(name.to_string(), v);
+    }
+    let n = rows.unwrap_or(0);
+    if n < 2 {
+        return Err(invalid(py, "log", n, "a log needs at least 2 rows"));
+    }
+    Ok(Table {
+        path: PathBuf::from(LOG_ORIGIN),
+        header: REQUIRED_COLUMNS.iter().map(|s| s.to_string()).collect(),
+        numeric,
+        text: BTreeMap::new(),
+        lines: (1..=n).collect(),
+        header_line: 0,
+        delimiter: b',',
+    })
+}
+
+/// Reconstructs the log `log` (a dict of columns) with the whisker of `spec`; returns
+/// `{"columns": x0, x, y, s1, f, psi, sigma, residual, hypotheses (and error with a
+/// profile), one entry per row of the log in its order (NaN before contact), "phase": [str],
+/// "summary": q, alpha_deg, noise, ...}` in the scene's units.
+#[pyfunction]
+pub fn reconstruct<'py>(
+    py: Python<'py>,
+    log: &Bound<'py, PyDict>,
+    spec: &Bound<'py, PyDict>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let args = recon_args(spec)?;
+    let file = units_scene(spec)?;
+    let truth_spec = ProfileSpec::from_spec(spec, "profile")?;
+    let mut table = log_table(py, log)?;
+    let (rec, units, x0_given, errors, method) = compute(py, move || {
+        let opts = ReconOptions::parse(&args)?;
+        let r = recon_model(&args, file)?;
+        let units = r.units();
+        let truth = truth_spec.map(|p| p.parse(&units)).transpose()?;
+        let x0_given =
+            to_model_units_with(&mut table, &BTreeMap::new(), &units, Path::new(LOG_ORIGIN))?;
+        let rec = reconstruct_log(&args, &opts, &r, &table)?;
+        let errors = truth.as_ref().map(|p| contour_error(&rec.points, p));
+        Ok((rec, units, x0_given, errors, opts.method))
+    })?;
+    let n = x0_given.len();
+    let l = units.scale(Quantity::Length);
+    let mut cols: Vec<Vec<f64>> = vec![vec![f64::NAN; n]; 10];
+    cols[0].clone_from(&x0_given);
+    let mut phase = vec!["none"; n];
+    for (i, p) in rec.points.iter().enumerate() {
+        let v = recon_values(p, &units, &x0_given);
+        for (c, x) in v.iter().enumerate() {
+            cols[c][p.row] = *x;
+        }
+        cols[6][p.row] = p.sigma * l;
+        cols[7][p.row] = p.residual;
+        cols[8][p.row] = p.alternatives as f64;
+        if let Some(e) = &errors {
+            cols[9][p.row] = e.get(i).copied().unwrap_or(f64::NAN) * l;
+        }
+        phase[p.row] = p.phase.label();
+    }
+    if errors.is_none() {
+        cols.pop();
+    }
+    let names = [
+        "x0",
+        "x",
+        "y",
+        "s1",
+        "f",
+        "psi",
+        "sigma",
+        "residual",
+        "hypotheses",
+        "error",
+    ];
+    let out = PyDict::new(py);
+    out.set_item(
+        "columns",
+        columns(py, names.iter().copied().zip(cols).collect())?,
+    )?;
+    out.set_item("phase", phase)?;
+    let id = &rec.identification;
+    let summary = serde_json::json!({
+        "q": id.q * units.scale(Quantity::LineLoad),
+        "q_dimensionless": id.q,
+        "q_given": rec.q_given,
+        "alpha_deg": id.alpha.to_degrees(),
+        "alpha_given": rec.alpha_given,
+        "noise": id.noise,
+        "noise_estimated": id.noise_estimated,
+        "model_mismatch": id.model_mismatch,
+        "points": rec.points.len(),
+        "rows": n,
+        "first_contact_row": id.first_contact_row + 1,
+        "method": method.name(),
+        "units": if units.is_physical() { "physical" } else { "dimensionless" },
+        "length_unit": units.unit(Quantity::Length),
+        "force_unit": units.unit(Quantity::Force),
+    });
+    out.set_item("summary", json(py, &summary)?)?;
+    Ok(out)
+}

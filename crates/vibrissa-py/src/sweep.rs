@@ -1,0 +1,75 @@
+//! `vibrissa.sweep`: the whisker swept past an obstacle under the flow [ch. 5], as
+//! `vibrissa sweep` computes it (same resolution, settings and messages), without files.
+
+use contact_sim::{sweep as run_sweep, SweepSettings};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use vibrissa_cli::commands::sweep::{check_sweep_loads, missing_profile, sweep_json, sweep_points};
+use vibrissa_cli::commands::{output_scene, ObservableRecord};
+use vibrissa_cli::resolve::resolve_model;
+
+use crate::convert::{columns, json};
+use crate::errors::compute;
+use crate::params::{count, model_flags, units_scene, ProfileSpec};
+
+/// Sweeps the whisker of `spec` past `spec["profile"]`; returns `{"columns": the
+/// `observables.csv` columns (numbers as arrays), "phase": [str], "summary": the
+/// `sweep --json` object, "scene": the `scene.ron` of the sweep as JSON}`, in the scene's
+/// units.
+#[pyfunction]
+pub fn sweep<'py>(py: Python<'py>, spec: &Bound<'py, PyDict>) -> PyResult<Bound<'py, PyDict>> {
+    let flags = model_flags(spec)?;
+    let file = units_scene(spec)?;
+    let points_raw = count(spec, "points")?;
+    let profile = ProfileSpec::from_spec(spec, "profile")?;
+    let (r, res, points, arg) = compute(py, move || {
+        let profile = profile.ok_or_else(missing_profile)?;
+        let points = sweep_points(points_raw.as_deref(), None)?;
+        let r = resolve_model(&flags, file)?;
+        check_sweep_loads(&r)?;
+        let contour = profile.parse(&r.units())?;
+        let arg = profile.arg();
+        let settings = SweepSettings {
+            points,
+            ..SweepSettings::default()
+        };
+        let res = run_sweep(&r.scene.whisker, r.scene.loads.fluid, &contour, &settings)
+            .map_err(|e| r.contact_culprit(e, &arg))?;
+        Ok((r, res, points, arg))
+    })?;
+    let units = r.units();
+    let rows: Vec<ObservableRecord> = res
+        .points
+        .iter()
+        .map(|p| ObservableRecord::of(p, &units))
+        .collect();
+    let col = |f: fn(&ObservableRecord) -> f64| rows.iter().map(f).collect::<Vec<f64>>();
+    let out = PyDict::new(py);
+    out.set_item(
+        "columns",
+        columns(
+            py,
+            vec![
+                ("x0", col(|r| r.x0)),
+                ("Ax", col(|r| r.ax)),
+                ("Ay", col(|r| r.ay)),
+                ("MA", col(|r| r.ma)),
+                ("phi0", col(|r| r.phi0)),
+                ("f", col(|r| r.f)),
+                ("s1", col(|r| r.s1)),
+                ("xc", col(|r| r.xc)),
+                ("yc", col(|r| r.yc)),
+                ("psi", col(|r| r.psi)),
+            ],
+        )?,
+    )?;
+    let phases: Vec<&str> = rows.iter().map(|r| r.phase).collect();
+    out.set_item("phase", phases)?;
+    let mut summary = sweep_json(&res, points, &units);
+    summary["profile"] = serde_json::Value::String(arg.spec.clone());
+    out.set_item("summary", json(py, &summary)?)?;
+    let scene = serde_json::to_value(output_scene(&r, Some(arg.spec), Some(points)))
+        .unwrap_or(serde_json::Value::Null);
+    out.set_item("scene", json(py, &scene)?)?;
+    Ok(out)
+}

@@ -21,6 +21,8 @@ pub struct Streamer {
     /// The points released so far, in row order, as dicts.
     released: Vec<Py<PyDict>>,
     rows: usize,
+    /// The flow the stream ended with (kept after `finish`).
+    final_flow: Option<beam_model::FluidLoad>,
 }
 
 impl Streamer {
@@ -101,6 +103,7 @@ impl Streamer {
             units,
             released: Vec::new(),
             rows: 0,
+            final_flow: None,
         })
     }
 
@@ -154,6 +157,7 @@ impl Streamer {
         let Some(inner) = self.inner.take() else {
             return Ok(Vec::new());
         };
+        self.final_flow = inner.flow();
         let points = py
             .detach(|| inner.finish())
             .map_err(|e| self.error(py, e))?;
@@ -181,7 +185,10 @@ impl Streamer {
     /// The flow `(q, alpha_deg)` once known (q in the scene's units), else `None`.
     #[getter]
     fn flow(&self) -> Option<(f64, f64)> {
-        let flow = self.inner.as_ref()?.flow()?;
+        let flow = match &self.inner {
+            Some(inner) => inner.flow()?,
+            None => self.final_flow?,
+        };
         Some((
             flow.q * self.units.scale(Quantity::LineLoad),
             flow.alpha.to_degrees(),

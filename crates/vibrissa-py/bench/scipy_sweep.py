@@ -33,8 +33,8 @@ Sweep (as vibrissa does it: a coarse pass to find the separation, then the fine 
    g(x0 + dx_tip) = y_tip); snap when a row fails even after halving the step down to 1e-9
    (the fold is then located only to that step).
 3. fine pass: `points` x0 evenly spaced from the first contact to the separation (both
-   included), again by continuation, plus one row at each phase switch, labelled with the
-   new phase (vibrissa's layout). Pre-contact rows are omitted.
+   included), again by continuation, plus one row at each phase switch (s1 = 1 and
+   phi(1) = psi there; labelled A, as vibrissa does). Pre-contact rows are omitted.
 """
 import math
 import time
@@ -121,17 +121,21 @@ def solve_row(x0, phase_guess="A", guess=None):
     Returns the row dict (x0, Ax, Ay, MA, phi0, f, phase, u)."""
     if guess is None:
         m0, dx, yt, _ = _free()
-        guess = [m0, 0.0, x0 + dx] + ([1.0] if phase_guess == "B" else [])
-    if phase_guess == "A":
-        u = _solve(_res_A, guess, (x0,))
-        x, y, phi, m = _shoot(x0, *u, 1.0)
-        if phi >= psi_of(u[2]):
-            return _row(x0, "A", u)
-        return solve_row(x0, "B", list(u) + [1.0])
-    u = _solve(_res_B, guess[:3] + [guess[3] if len(guess) > 3 else 1.0], (x0,))
-    if u[3] <= 1.0:
-        return _row(x0, "B", u)
-    return solve_row(x0, "A", list(u[:3]))
+        guess = [m0, 0.0, x0 + dx]
+    phase = phase_guess
+    for _ in range(2):                         # the guessed phase, then the other one
+        if phase == "A":
+            u = _solve(_res_A, list(guess[:3]), (x0,))
+            if _shoot(x0, *u, 1.0)[2] >= psi_of(u[2]):
+                return _row(x0, "A", u)
+            phase = "B"
+        else:
+            u = _solve(_res_B, list(guess[:3]) + [guess[3] if len(guess) > 3 else 1.0], (x0,))
+            if u[3] <= 1.0:
+                return _row(x0, "B", u)
+            phase = "A"
+        guess = list(u)
+    raise RuntimeError(f"no consistent contact phase at x0 = {x0}")
 
 
 def _step(x_prev, x0, phase, u):
@@ -154,10 +158,10 @@ def _step(x_prev, x0, phase, u):
             return rows + [_row(x0, phase, v)], None
         # phase switch between x_prev and x0: locate it, emit its row, go on in the new phase
         w = _solve(_res_switch, [u[0], u[1], u[2], x_prev])
+        x_prev = w[3]
+        rows.append(_row(x_prev, "A", w[:3]))  # s1 = 1 at a switch: labelled A (as vibrissa)
         phase = "B" if phase == "A" else "A"
         u = list(w[:3]) + ([1.0] if phase == "B" else [])
-        x_prev = w[3]
-        rows.append(_row(x_prev, phase, u))
 
 
 def _release_x0(free, lo, hi):
@@ -193,6 +197,7 @@ def sweep_scipy(points=200):
             kind, x_sep = "release", _release_x0(free, x - h, x)
             break
         x, phase, u = rows[-1]["x0"], rows[-1]["phase"], rows[-1]["u"]
+        h = min(2.0 * h, COARSE_STEP)
 
     # fine pass: evenly spaced rows from the first contact to the separation
     grid = np.linspace(x_fc, x_sep, points)
@@ -231,13 +236,19 @@ def compare(points=200):
         phases.append(r["phase"])
         for k, val in zip(diff, vals):
             diff[k] = max(diff[k], abs(r[k] - val))
+    same_grid = np.max(np.abs(s["x0"] - v.x0[c])) if len(s["x0"]) == c.sum() else np.nan
     return dict(
         first_contact_x0=(v.x0[c][0], s["x0"][0]),
         separation_x0=(v.x0[c][-1], s["x0"][-1]),
         separation=(v.separation, s["separation"]),
-        rows=(int(c.sum()), len(s["x0"])),
-        phases_agree=bool(np.all(np.array(phases) == v.phase[c])),
+        contact_rows=(int(c.sum()), len(s["x0"])),
+        phase_columns_agree=bool(same_grid < 1e-9 and np.all(s["phase"] == v.phase[c])),
+        # solve_row at vibrissa's x0s (the fair value check)
         max_abs_diff_same_x0=diff,
+        solve_row_phase_mismatches=int(np.sum(np.array(phases) != v.phase[c])),
+        # the two sweeps row by row (their grids differ by max_x0_diff_rows)
+        max_x0_diff_rows=same_grid,
+        max_abs_diff_rows={k: np.max(np.abs(s[k] - getattr(v, k)[c])) for k in diff},
     )
 
 

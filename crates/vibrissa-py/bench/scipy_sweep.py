@@ -45,7 +45,7 @@ from scipy.optimize import brentq, root
 
 Q, ALPHA = 5.0, 0.0          # flow (alpha in rad)
 TOL = 1e-12                  # integrator rtol = atol
-XTOL = 1e-12                 # root() relative step tolerance
+XTOL = 1e-10                 # root() relative step tolerance
 COARSE_STEP = 0.1            # x0 step of the coarse pass
 
 
@@ -118,7 +118,8 @@ def solve_row(x0, phase_guess="A", guess=None):
 
     `guess`: the unknowns of a nearby row of that phase ((m0, f, xc) for A, (m0, f, xc, s1)
     for B); by default the free whisker touching the contour (good near first contact).
-    Returns the row dict (x0, Ax, Ay, MA, phi0, f, phase, u)."""
+    Returns the row dict (x0, Ax, Ay, MA, phi0, f, phase, u); at a phase switch (within
+    1e-9) the guessed phase is kept."""
     if guess is None:
         m0, dx, yt, _ = _free()
         guess = [m0, 0.0, x0 + dx]
@@ -126,12 +127,12 @@ def solve_row(x0, phase_guess="A", guess=None):
     for _ in range(2):                         # the guessed phase, then the other one
         if phase == "A":
             u = _solve(_res_A, list(guess[:3]), (x0,))
-            if _shoot(x0, *u, 1.0)[2] >= psi_of(u[2]):
+            if _shoot(x0, *u, 1.0)[2] >= psi_of(u[2]) - 1e-9:
                 return _row(x0, "A", u)
             phase = "B"
         else:
             u = _solve(_res_B, list(guess[:3]) + [guess[3] if len(guess) > 3 else 1.0], (x0,))
-            if u[3] <= 1.0:
+            if u[3] <= 1.0 + 1e-9:
                 return _row(x0, "B", u)
             phase = "A"
         guess = list(u)
@@ -142,7 +143,8 @@ def _step(x_prev, x0, phase, u):
     """One continuation step from the solved row (x_prev, phase, u) to x0.
 
     Returns (rows, separation): the event rows met on the way and the row at x0, and None,
-    or the rows so far and ("release", x_release) when f crosses 0 before x0."""
+    or the rows so far and "release" when f crosses 0 before x0 (raises RuntimeError when
+    a solve fails, e.g. past a fold)."""
     rows = []
     while True:
         if phase == "A":

@@ -171,6 +171,12 @@ impl Spline {
 }
 
 impl Profile {
+    /// Whether `spec` names one of the thesis's contours (`g1`, `g2`, `ge`), which are in
+    /// whisker lengths whatever the unit system of the scene.
+    pub fn is_named(spec: &str) -> bool {
+        matches!(spec.trim(), "g1" | "g2" | "ge")
+    }
+
     /// Thesis contour g1 (catenary, [5.2]): `y = cosh(x/2) - 4/5`.
     pub fn g1() -> Self {
         Profile::Cosh {

@@ -527,8 +527,9 @@ impl ProfileArg {
                 other => self.error(other.to_string()),
             });
         }
-        Profile::parse(self.spec.trim())
-            .map(|p| units.dimensionless_profile(p))
+        let spec = self.spec.trim();
+        Profile::parse(spec)
+            .map(|p| units.dimensionless_profile(spec, p))
             .map_err(|e| match e {
                 ContactError::ProfileSpec { reason, .. } => self.error(reason),
                 other => self.error(other.to_string()),

@@ -175,14 +175,17 @@ impl UnitSystem {
         })
     }
 
-    /// A contour given in this unit system as the model's dimensionless contour: in a
-    /// physical scene the numbers of `parabola`, `cosh` and `circle` are in mm (`a` of a
-    /// parabola in 1/mm); the thesis's named contours g1, g2, ge are in whisker lengths in
-    /// every unit system.
-    pub fn dimensionless_profile(&self, p: Profile) -> Profile {
+    /// The contour `p`, parsed from the spec `spec`, as the model's dimensionless contour: in
+    /// a physical scene the numbers of `parabola`, `cosh` and `circle` are in mm (`a` of a
+    /// parabola in 1/mm); the thesis's named contours g1, g2, ge ([5.2, 5.3, 5.11]) are in
+    /// whisker lengths in every unit system, so they pass unchanged.
+    pub fn dimensionless_profile(&self, spec: &str, p: Profile) -> Profile {
         let Some(l) = self.length_mm() else {
             return p;
         };
+        if Profile::is_named(spec) {
+            return p;
+        }
         match p {
             Profile::Parabola { a, xv, yv } => Profile::Parabola {
                 a: a * l,

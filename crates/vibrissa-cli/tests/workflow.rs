@@ -639,3 +639,76 @@ fn reconstruct_refuses_to_write_over_the_folder_it_reads() {
     assert_eq!(fs::read(cwd.join("out/observables.csv")).unwrap(), before);
     assert!(!cwd.join("out/reconstruction.csv").exists());
 }
+
+/// The named contours g1, g2, ge are in whisker lengths in every unit system [5.2, 5.3,
+/// 5.11]: a physical sweep past g1 is the dimensionless sweep with the same whisker scaled by
+/// hand (x0 by L, forces by E I / L^2, moments by E I / L; q by E I / L^3, k by E I / L).
+/// Before, g1 was applied in mm (first contact at x0 = 4.00 mm instead of 92.66 mm).
+#[test]
+fn named_contours_are_in_whisker_lengths_in_a_physical_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    let cwd = dir.path();
+    // Table 2.2, beta: L = 66.2 mm, d_b = 0.225 mm, E = 1.40 GPa.
+    let (l, d, e) = (0.0662f64, 0.225e-3f64, 1.40e9f64);
+    let ei = e * std::f64::consts::PI * d.powi(4) / 64.0;
+    let (q_si, k_si) = (0.003, 5e-5); // the scene's N/m and N m/rad
+    for profile in ["g1", "g2", "ge"] {
+        let scene = fs::read_to_string(scenes_dir().join("physical-beta-g1.ron"))
+            .unwrap()
+            .replace("Some(\"g1\")", &format!("Some(\"{profile}\")"));
+        fs::write(cwd.join("beta.ron"), scene).unwrap();
+        let phys = json(&run(
+            &[
+                "sweep", "beta.ron", "--points", "20", "--json", "--out", "phys",
+            ],
+            cwd,
+        ));
+        let q = format!("{:?}", q_si * l.powi(3) / ei);
+        let k = format!("{:?}", k_si * l / ei);
+        let dim = json(&run(
+            &[
+                "sweep",
+                "--profile",
+                profile,
+                "--theta",
+                "0.75",
+                "--q",
+                &q,
+                "--k",
+                &k,
+                "--points",
+                "20",
+                "--json",
+                "--out",
+                "dim",
+            ],
+            cwd,
+        ));
+        assert_eq!(phys["phases"], dim["phases"], "{profile}");
+        assert_eq!(phys["rows"], dim["rows"], "{profile}");
+        let x_phys = phys["first_contact_x0"].as_f64().unwrap();
+        let x_dim = dim["first_contact_x0"].as_f64().unwrap();
+        assert!(
+            rel(x_phys / L_BETA_MM, x_dim) < 1e-9,
+            "{profile}: {x_phys} mm vs {x_dim}"
+        );
+        let (ph, prows) = table(&cwd.join("phys/observables.csv"));
+        let (dh, drows) = table(&cwd.join("dim/observables.csv"));
+        let f0 = ei / (l * l);
+        for (p, q) in prows.iter().zip(&drows) {
+            let pair = |name: &str| (num(&p[col(&ph, name)]), num(&q[col(&dh, name)]));
+            let (a, b) = pair("x0");
+            assert!(
+                (a / L_BETA_MM - b).abs() < 1e-9,
+                "{profile} x0: {a} mm vs {b}"
+            );
+            let (a, b) = pair("Ax");
+            assert!((a / f0 - b).abs() < 1e-8 * b.abs().max(1.0), "{profile} Ax");
+            let (a, b) = pair("MA");
+            assert!(
+                (a / (f0 * L_BETA_MM) - b).abs() < 1e-8 * b.abs().max(1.0),
+                "{profile} MA: {a} N mm vs {b}"
+            );
+        }
+    }
+}

@@ -16,7 +16,8 @@ Examples:
   vibrissa sweep scenes/c1-uniform-rigid-g1.ron --out out/c1
   vibrissa demo --out vibrissa-demo
 
-Exit codes: 0 success, 1 solver failure, 2 usage or input error.";
+Exit codes: 0 success, 1 solver failure, 2 usage or input error, 3 no contact (the whisker
+never touches the obstacle).";
 
 const SOLVE_EXAMPLES: &str = "\
 Examples:

@@ -79,16 +79,31 @@ pub enum CliError {
 }
 
 impl CliError {
-    /// The process exit code for this error: 1 for solver failures (and figures that could
-    /// not be drawn), 2 for usage and input errors.
+    /// The process exit code for this error (spec/cli.md): 3 when the whisker never touches
+    /// the obstacle, 1 for other solver failures (and figures that could not be drawn), 2 for
+    /// usage and input errors.
     pub fn exit_code(&self) -> i32 {
         match self {
+            _ if self.is_no_contact() => 3,
             CliError::Solver { .. } | CliError::Plot { .. } => 1,
             CliError::Io { .. }
             | CliError::Csv { .. }
             | CliError::Scene { .. }
             | CliError::InvalidArgument { .. } => 2,
         }
+    }
+
+    /// Whether this is a sweep whose whisker never touches the obstacle
+    /// ([`contact_sim::ContactError::NoContact`]).
+    pub fn is_no_contact(&self) -> bool {
+        matches!(
+            self,
+            CliError::Solver { source: Some(src), .. }
+                if matches!(
+                    src.downcast_ref::<contact_sim::ContactError>(),
+                    Some(contact_sim::ContactError::NoContact { .. })
+                )
+        )
     }
 
     /// Wraps an error of a model crate as [`CliError::Solver`], using its message as reason.

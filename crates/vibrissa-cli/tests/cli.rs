@@ -457,3 +457,30 @@ fn solve_reports_its_error_estimate_and_the_method_used() {
     assert!((v["tip"]["y"].as_f64().unwrap() - 0.487868).abs() < 1e-6);
     assert!((v["base"]["MA"].as_f64().unwrap() - 1.756058).abs() < 1e-6);
 }
+
+/// A whisker that never touches the obstacle is its own outcome (spec/cli.md: exit 3), not
+/// a solver failure (exit 1), and nothing is written.
+#[test]
+fn no_contact_exits_3_with_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let cwd = dir.path();
+    let o = run(
+        &[
+            "sweep",
+            "--profile",
+            "parabola:1,0,5",
+            "--q",
+            "1",
+            "--out",
+            "out",
+        ],
+        cwd,
+    );
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(
+        e.contains("no contact") && e.trim_end().lines().count() == 1,
+        "{e}"
+    );
+    assert!(!cwd.join("out").exists());
+}

@@ -5,7 +5,6 @@
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
-use contact_sim::ContactError;
 use pyo3::prelude::*;
 use pyo3::types::PyType;
 use vibrissa_cli::CliError;
@@ -39,15 +38,7 @@ impl Kind {
             | CliError::Csv { .. }
             | CliError::Scene { .. }
             | CliError::InvalidArgument { .. } => Kind::InvalidInput,
-            CliError::Solver {
-                source: Some(src), ..
-            } if matches!(
-                src.downcast_ref::<ContactError>(),
-                Some(ContactError::NoContact { .. })
-            ) =>
-            {
-                Kind::NoContact
-            }
+            _ if err.is_no_contact() => Kind::NoContact,
             CliError::Solver { .. } | CliError::Plot { .. } => Kind::SolverError,
         }
     }

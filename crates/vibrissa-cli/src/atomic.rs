@@ -127,6 +127,52 @@ fn acquire_lock(lock: &Path, target: &Path) -> Result<(), CliError> {
     ))
 }
 
+/// Removes the staging folders `.NAME.staging-PID` beside the output `NAME` whose process is
+/// gone (a run that was killed); called with the output's lock held.
+fn remove_stale_staging(parent: &Path, name: &std::ffi::OsStr) {
+    let prefix = format!(".{}.staging-", name.to_string_lossy());
+    let Ok(entries) = fs::read_dir(parent) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let file = entry.file_name();
+        let Some(pid) = file
+            .to_str()
+            .and_then(|f| f.strip_prefix(&prefix))
+            .and_then(|p| p.parse::<u32>().ok())
+        else {
+            continue;
+        };
+        if pid != std::process::id() && !process_alive(pid) {
+            let _ = fs::remove_dir_all(entry.path());
+        }
+    }
+}
+
+/// Refuses an output folder that holds one of the files the command reads (`inputs`: what
+/// it is, its path): the output folder is replaced as a whole, so it would destroy its own
+/// input.
+pub fn refuse_over_inputs(out_dir: &Path, inputs: &[(&str, &Path)]) -> Result<(), CliError> {
+    let Ok(out) = out_dir.canonicalize() else {
+        // a folder that does not exist yet holds no input
+        return Ok(());
+    };
+    for (what, input) in inputs {
+        if input.canonicalize().is_ok_and(|i| i.starts_with(&out)) {
+            return Err(CliError::invalid_argument(
+                "--out",
+                out_dir.display().to_string(),
+                format!(
+                    "it holds the {what} being read ({}); the output folder is replaced as a \
+                     whole: choose another folder",
+                    input.display()
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// Whether `dir` may be replaced: empty, or written by vibrissa (has [`MARKER`]).
 fn replaceable(dir: &Path) -> Result<bool, CliError> {
     if dir.join(MARKER).is_file() {
@@ -144,6 +190,14 @@ impl OutputDir {
     /// `path` is not a usable directory name, exists as a file, exists as a non-empty folder
     /// not written by vibrissa, or is locked by another running writer.
     pub fn create(path: &Path) -> Result<Self, CliError> {
+        if path.as_os_str() == "-" {
+            return Err(CliError::invalid_argument(
+                "--out",
+                "-",
+                "an output folder is needed, not standard output (--json prints the summary \
+                 to standard output)",
+            ));
+        }
         let name = path
             .file_name()
             .ok_or_else(|| {
@@ -187,6 +241,7 @@ impl OutputDir {
         };
         let lock = sibling(".lock");
         acquire_lock(&lock, path)?;
+        remove_stale_staging(&parent, &name);
         let staging = sibling(&format!(".staging-{}", std::process::id()));
         let prepared = (|| {
             if staging.exists() {

@@ -59,6 +59,12 @@ pub enum CliError {
         /// Why it was refused.
         reason: String,
     },
+    /// Something the command needs was not given (neither as a flag nor in the scene file).
+    #[error("{reason}")]
+    Usage {
+        /// What is missing and how to give it.
+        reason: String,
+    },
     /// A figure could not be drawn.
     #[error("{}: cannot draw the figure: {reason}", path.display())]
     Plot {
@@ -89,7 +95,8 @@ impl CliError {
             CliError::Io { .. }
             | CliError::Csv { .. }
             | CliError::Scene { .. }
-            | CliError::InvalidArgument { .. } => 2,
+            | CliError::InvalidArgument { .. }
+            | CliError::Usage { .. } => 2,
         }
     }
 

@@ -196,6 +196,8 @@ impl SceneFile {
 
     /// Parses and validates scene `text`; `path` only names the source in errors.
     pub fn parse(text: &str, path: &Path) -> Result<SceneFile, CliError> {
+        // a byte-order mark (as some editors write) is not part of the scene
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         let scene: SceneFile = ron_options()
             .from_str(text)
             .map_err(|e| map_ron_error(e, path))?;

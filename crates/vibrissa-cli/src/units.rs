@@ -32,6 +32,8 @@ pub enum Quantity {
     Angle,
     /// A curvature.
     Curvature,
+    /// A pure number in every unit system (a residual, a count).
+    Number,
     /// A text column (no unit).
     Text,
 }
@@ -73,7 +75,7 @@ impl UnitSystem {
             Quantity::Moment => p.moment_scale() * 1e3,
             Quantity::LineLoad => p.line_load_scale(),
             Quantity::Curvature => 1.0 / (p.length * 1e3),
-            Quantity::Angle | Quantity::Text => 1.0,
+            Quantity::Angle | Quantity::Number | Quantity::Text => 1.0,
         }
     }
 
@@ -82,7 +84,7 @@ impl UnitSystem {
         match (q, self.is_physical()) {
             (Quantity::Text, _) => "",
             (Quantity::Angle, _) => "rad",
-            (_, false) => "1",
+            (Quantity::Number, _) | (_, false) => "1",
             (Quantity::Length, true) => "mm",
             (Quantity::Force, true) => "N",
             (Quantity::Moment, true) => "N mm",

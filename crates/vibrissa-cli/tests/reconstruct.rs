@@ -98,7 +98,10 @@ fn sweep_reconstruct_round_trip() {
 
     let (oh, orows) = parse(&obs);
     let rec = fs::read_to_string(cwd.join("rec/reconstruction.csv")).unwrap();
-    assert!(rec.starts_with("x0,x,y,s1,f,psi,phase,error\n"), "{rec}");
+    assert!(
+        rec.starts_with("x0,x,y,s1,f,psi,phase,sigma,residual,hypotheses,error\n"),
+        "{rec}"
+    );
     let (rh, rrows) = parse(&rec);
     // One row per contact row of the input, in order, x0 bit-identical. A row whose contact
     // force is below the log's precision (f = 0 at the first touch, ~1e-12 at a release) is
@@ -142,7 +145,10 @@ fn sweep_reconstruct_round_trip() {
     assert_eq!(v["q"].as_f64().unwrap(), Q);
     assert!(v.get("max_error").is_none());
     let rec2 = fs::read_to_string(cwd.join("rec2/reconstruction.csv")).unwrap();
-    assert!(rec2.starts_with("x0,x,y,s1,f,psi,phase\n"), "{rec2}");
+    assert!(
+        rec2.starts_with("x0,x,y,s1,f,psi,phase,sigma,residual,hypotheses\n"),
+        "{rec2}"
+    );
     assert!(!cwd.join("rec2/error.svg").exists());
 
     // The human summary.
@@ -341,7 +347,10 @@ fn stream_gives_the_batch_points() {
         let o = child.wait_with_output().unwrap();
         assert!(o.status.success(), "{}", stderr(&o));
         let text = String::from_utf8_lossy(&o.stdout).into_owned();
-        assert!(text.starts_with("x0,x,y,s1,f,psi,phase\n"), "{text}");
+        assert!(
+            text.starts_with("x0,x,y,s1,f,psi,phase,sigma,residual,hypotheses\n"),
+            "{text}"
+        );
         let (_, srows) = parse(&text);
         assert_eq!(srows.len(), brows.len(), "{extra:?}");
         for s in &srows {

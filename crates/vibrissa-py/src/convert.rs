@@ -1,7 +1,7 @@
 //! Values to and from Python: columns as numpy arrays (one move of the vector, no copy per
 //! element), JSON values (the CLI's summaries) as Python objects.
 
-use numpy::PyArray1;
+use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use serde_json::Value;
@@ -45,4 +45,15 @@ pub fn columns<'py>(py: Python<'py>, cols: Vec<(&str, Vec<f64>)>) -> PyResult<Bo
         dict.set_item(name, array(py, v))?;
     }
     Ok(dict)
+}
+
+/// A 1-D float64 numpy array (or anything numpy turns into one: the Python layer passes
+/// contiguous float64 arrays) as a vector: one copy of the buffer, no Python object per
+/// element. `None` if `obj` is not such an array.
+pub fn vector(obj: &Bound<'_, PyAny>) -> Option<Vec<f64>> {
+    let arr: PyReadonlyArray1<'_, f64> = obj.extract().ok()?;
+    match arr.as_slice() {
+        Ok(s) => Some(s.to_vec()),
+        Err(_) => Some(arr.as_array().to_vec()),
+    }
 }

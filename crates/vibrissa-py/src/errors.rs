@@ -37,7 +37,8 @@ impl Kind {
             CliError::Io { .. }
             | CliError::Csv { .. }
             | CliError::Scene { .. }
-            | CliError::InvalidArgument { .. } => Kind::InvalidInput,
+            | CliError::InvalidArgument { .. }
+            | CliError::Usage { .. } => Kind::InvalidInput,
             _ if err.is_no_contact() => Kind::NoContact,
             CliError::Solver { .. } | CliError::Plot { .. } => Kind::SolverError,
         }

@@ -176,7 +176,7 @@ impl ProfileSpec {
             ));
         };
         let column = |i: usize| -> PyResult<Vec<f64>> {
-            pair.get_item(i)?.extract::<Vec<f64>>().map_err(|_| {
+            crate::convert::vector(&pair.get_item(i)?).ok_or_else(|| {
                 invalid(
                     py,
                     "profile",

@@ -61,9 +61,8 @@ pub fn log_table(py: Python<'_>, log: &Bound<'_, PyDict>) -> PyResult<Table> {
                 "missing required column (a log needs x0, Ax, Ay, MA and phi0)",
             ));
         };
-        let v: Vec<f64> = col
-            .extract()
-            .map_err(|_| invalid(py, "log", name, "the column must be a 1-D array of numbers"))?;
+        let v = crate::convert::vector(&col)
+            .ok_or_else(|| invalid(py, "log", name, "the column must be a 1-D float64 array"))?;
         match rows {
             None => rows = Some(v.len()),
             Some(n) if n != v.len() => {

@@ -23,7 +23,7 @@ pub fn sweep<'py>(py: Python<'py>, spec: &Bound<'py, PyDict>) -> PyResult<Bound<
     let points_raw = count(spec, "points")?;
     let profile = ProfileSpec::from_spec(spec, "profile")?;
     let (r, res, points, arg) = compute(py, move || {
-        let profile = profile.ok_or_else(missing_profile)?;
+        let profile = profile.ok_or_else(|| missing_profile(None))?;
         let points = sweep_points(points_raw.as_deref(), None)?;
         let r = resolve_model(&flags, file)?;
         check_sweep_loads(&r)?;

@@ -98,8 +98,9 @@ pub fn to_model_units_with(
     Ok(x0)
 }
 
-/// The quantities of the `reconstruction.csv` columns (`error` last, if present).
-const RECON_QUANTITIES: [Quantity; 8] = [
+/// The quantities of the `reconstruction.csv` columns (`error` last, if present): x0, x, y,
+/// s1, f, psi, phase, sigma, residual, hypotheses, error.
+const RECON_QUANTITIES: [Quantity; 11] = [
     Quantity::Length,
     Quantity::Length,
     Quantity::Length,
@@ -108,7 +109,15 @@ const RECON_QUANTITIES: [Quantity; 8] = [
     Quantity::Angle,
     Quantity::Text,
     Quantity::Length,
+    Quantity::Number,
+    Quantity::Number,
+    Quantity::Length,
 ];
+
+/// The columns of `reconstruction.csv` after the contract's (spec/cli.md): each point's
+/// error estimate (a length), its consistency residual and the number of other phase
+/// hypotheses that fit the row within the noise.
+pub const RECON_EXTRA_COLUMNS: [&str; 3] = ["sigma", "residual", "hypotheses"];
 
 /// The numbers of a reconstructed point in `units`, in the order of
 /// [`RECONSTRUCTION_HEADER`](super::reconstruct::RECONSTRUCTION_HEADER) (x0, x, y, s1, f,
@@ -130,6 +139,7 @@ pub fn write_reconstruction_csv_in(
     path: &Path,
 ) -> Result<(), CliError> {
     let mut header: Vec<&str> = super::reconstruct::RECONSTRUCTION_HEADER.to_vec();
+    header.extend(RECON_EXTRA_COLUMNS);
     if errors.is_some() {
         header.push("error");
     }
@@ -139,6 +149,9 @@ pub fn write_reconstruction_csv_in(
         let v = recon_values(p, units, x0_given);
         let mut row: Vec<Cell<'_>> = v.iter().map(|&x| Cell::Num(x)).collect();
         row.push(Cell::Text(p.phase.label()));
+        row.push(Cell::Num(p.sigma * l));
+        row.push(Cell::Num(p.residual));
+        row.push(Cell::Num(p.alternatives as f64));
         if let Some(e) = errors {
             row.push(Cell::Num(e.get(i).copied().unwrap_or(f64::NAN) * l));
         }

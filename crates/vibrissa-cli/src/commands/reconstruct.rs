@@ -12,7 +12,7 @@ use profile_recon::{
 use crate::atomic::OutputDir;
 use crate::cli::{ModelFlags, ReconstructArgs};
 use crate::commands::recon_io;
-use crate::csvio::{read_table, Cell, CsvWriter, Table};
+use crate::csvio::{read_table, Table};
 use crate::error::CliError;
 use crate::plot::{write_svg, Chart, Series, Style};
 use crate::resolve::{parse_number, resolve_model, LoadedScene, ProfileArg, Resolved};
@@ -46,7 +46,7 @@ pub fn run(args: &ReconstructArgs) -> Result<(), CliError> {
     let opts = ReconOptions::parse(args)?;
     let method = opts.method;
     let (log_path, scene_path) = recon_io::resolve_input(observables, args.scene.as_deref())?;
-    refuse_input_folder(out_dir, &log_path)?;
+    crate::atomic::refuse_over_inputs(out_dir, &[("log", &log_path)])?;
     let file = LoadedScene::load_opt(scene_path.as_deref())?;
     let r = recon_model(args, file)?;
     let units = r.units();
@@ -383,9 +383,10 @@ fn parse_noise(raw: Option<&str>) -> Result<Option<f64>, CliError> {
 }
 
 /// `vibrissa reconstruct --stream`: rows from standard input (a header line naming the
-/// columns first), each contact point to standard output as soon as it is known.
+/// columns first), each contact point to standard output as soon as it is known, in the
+/// scene's units (a physical scene's log in mm, N, N mm); rows are checked as in a file.
 fn run_stream(args: &ReconstructArgs) -> Result<(), CliError> {
-    use std::io::{BufRead, Write};
+    use std::io::BufRead;
     let opts = ReconOptions::parse(args)?;
     if opts.method != ReconMethod::Accurate {
         return Err(CliError::invalid_argument(
@@ -394,50 +395,25 @@ fn run_stream(args: &ReconstructArgs) -> Result<(), CliError> {
             "the stream reconstructs each row on its own: method accurate only",
         ));
     }
-    // the one positional argument is the scene
-    let scene = args.scene.as_deref().or(args.observables.as_deref());
-    let file = LoadedScene::load_opt(scene)?;
+    // the one positional argument is the scene (a sweep folder gives its scene.ron)
+    let scene = stream_scene(args.scene.as_deref().or(args.observables.as_deref()))?;
+    let file = LoadedScene::load_opt(scene.as_deref())?;
     let r = recon_model(args, file)?;
-    let q = args.q.as_ref().map(|_| r.q());
+    let units = r.units();
     let settings = ReconSettings {
         method: opts.method,
         consistency_tol: opts.tol,
         noise: opts.noise,
         ..ReconSettings::default()
     };
-    let alpha = opts.alpha;
-    let stdin_err = |line: usize, reason: String| CliError::Csv {
-        path: PathBuf::from("<stdin>"),
-        line,
-        column: None,
-        reason,
+    let flow = KnownFlow {
+        q: args.q.as_ref().map(|_| r.q()),
+        alpha: opts.alpha,
     };
-    let mut stream = Streamer::new(&r.scene.whisker, KnownFlow { q, alpha }, &settings)
-        .map_err(|e| stdin_err(0, e.to_string()))?;
-    let stdout = std::io::stdout();
-    let mut out = stdout.lock();
-    let write = |out: &mut std::io::StdoutLock, points: &[ReconPoint]| -> Result<(), CliError> {
-        for p in points {
-            writeln!(
-                out,
-                "{},{},{},{},{},{},{}",
-                p.x0,
-                p.x,
-                p.y,
-                p.s1,
-                p.f,
-                p.psi,
-                p.phase.label()
-            )
-            .and_then(|_| out.flush())
-            .map_err(|e| stdin_err(0, format!("cannot write to standard output: {e}")))?;
-        }
-        Ok(())
-    };
-    writeln!(out, "{}", RECONSTRUCTION_HEADER.join(","))
-        .and_then(|_| out.flush())
-        .map_err(|e| stdin_err(0, format!("cannot write to standard output: {e}")))?;
-    let mut columns: Option<(char, [usize; 5])> = None;
+    let mut stream = Streamer::new(&r.scene.whisker, flow, &settings)
+        .map_err(|e| stdin_err(1, e.to_string()))?;
+    let mut out = StreamOut::new(&units)?;
+    let mut columns: Option<(char, usize, [usize; 5])> = None;
     // line numbers of the data rows (the library's 0-based row index -> input line)
     let mut lines: Vec<usize> = Vec::new();
     let at_row = |lines: &[usize], e: ReconError| -> CliError {
@@ -447,41 +423,47 @@ fn run_stream(args: &ReconstructArgs) -> Result<(), CliError> {
             }
             _ => None,
         };
-        let line = row.and_then(|r| lines.get(r).copied()).unwrap_or(0);
+        let line = row.and_then(|r| lines.get(r).copied()).unwrap_or(1);
         stdin_err(line, e.to_string())
     };
+    let scale = [
+        units.scale(Quantity::Length),
+        units.scale(Quantity::Force),
+        units.scale(Quantity::Force),
+        units.scale(Quantity::Moment),
+        1.0,
+    ];
     for (k, line) in std::io::stdin().lock().lines().enumerate() {
         let n = k + 1;
         let line = line.map_err(|e| stdin_err(n, format!("cannot read: {e}")))?;
-        let line = line.trim_end_matches('\r');
-        if line.trim().is_empty() {
+        let line = line.trim_end_matches('\r').trim_start_matches('\u{feff}');
+        if line.trim().is_empty() || line.trim_start().starts_with('#') {
             continue;
         }
-        let Some((sep, idx)) = columns else {
-            let sep = [',', '\t', ';']
-                .into_iter()
-                .find(|c| line.contains(*c))
-                .unwrap_or(',');
-            let names: Vec<&str> = line.split(sep).map(str::trim).collect();
-            let mut idx = [0usize; 5];
-            for (j, want) in REQUIRED_COLUMNS.iter().enumerate() {
-                idx[j] = names.iter().position(|h| h == want).ok_or_else(|| {
-                    stdin_err(n, format!("missing required column {want} in the header"))
-                })?;
-            }
-            columns = Some((sep, idx));
+        let Some((sep, width, idx)) = columns else {
+            columns = Some(stream_header(line, n)?);
             continue;
         };
         let cells: Vec<&str> = line.split(sep).map(str::trim).collect();
+        if cells.len() != width {
+            return Err(stdin_err(
+                n,
+                format!(
+                    "{} fields where the header has {width} (the columns {})",
+                    cells.len(),
+                    REQUIRED_COLUMNS.join(", ")
+                ),
+            ));
+        }
         let mut v = [0.0f64; 5];
         for (j, &c) in idx.iter().enumerate() {
-            let cell = cells.get(c).copied().unwrap_or("");
+            let cell = cells[c];
             v[j] = cell.parse::<f64>().map_err(|_| {
                 stdin_err(
                     n,
-                    format!("{}: `{cell}` is not a number", REQUIRED_COLUMNS[j]),
+                    format!("column `{}`: `{cell}` is not a number", REQUIRED_COLUMNS[j]),
                 )
-            })?;
+            })? / scale[j];
         }
         lines.push(n);
         let row = ObservableRow {
@@ -492,10 +474,121 @@ fn run_stream(args: &ReconstructArgs) -> Result<(), CliError> {
             phi0: v[4],
         };
         let points = stream.push(row).map_err(|e| at_row(&lines, e))?;
-        write(&mut out, &points)?;
+        out.write(&points)?;
+    }
+    if columns.is_none() {
+        return Err(stdin_err(
+            1,
+            format!(
+                "standard input is empty: --stream reads an observables log, a header line \
+                 naming {} and then one row per line",
+                REQUIRED_COLUMNS.join(", ")
+            ),
+        ));
     }
     let points = stream.finish().map_err(|e| at_row(&lines, e))?;
-    write(&mut out, &points)
+    out.write(&points)
+}
+
+/// An error at line `line` of standard input.
+fn stdin_err(line: usize, reason: String) -> CliError {
+    CliError::Csv {
+        path: PathBuf::from("<stdin>"),
+        line,
+        column: None,
+        reason,
+    }
+}
+
+/// The scene of a stream: the file given, or the `scene.ron` of a sweep folder.
+fn stream_scene(given: Option<&Path>) -> Result<Option<PathBuf>, CliError> {
+    let Some(path) = given else { return Ok(None) };
+    if !path.is_dir() {
+        return Ok(Some(path.to_path_buf()));
+    }
+    let scene = path.join(recon_io::SCENE_RON);
+    if !scene.is_file() {
+        return Err(CliError::io(
+            &scene,
+            std::io::Error::new(
+                std::io::ErrorKind::NotFound,
+                "--stream reads the log from standard input and takes the whisker from a \
+                 scene file; this folder has no scene.ron",
+            ),
+        ));
+    }
+    Ok(Some(scene))
+}
+
+/// The separator, field count and positions of the required columns of a stream's header.
+fn stream_header(line: &str, n: usize) -> Result<(char, usize, [usize; 5]), CliError> {
+    let sep = [',', '\t', ';']
+        .into_iter()
+        .find(|c| line.contains(*c))
+        .unwrap_or(',');
+    let names: Vec<&str> = line.split(sep).map(str::trim).collect();
+    let mut idx = [0usize; 5];
+    for (j, want) in REQUIRED_COLUMNS.iter().enumerate() {
+        idx[j] = names.iter().position(|h| h == want).ok_or_else(|| {
+            stdin_err(
+                n,
+                format!(
+                    "missing required column {want} in the header (found `{line}`; a log \
+                     starts with a header naming {})",
+                    REQUIRED_COLUMNS.join(", ")
+                ),
+            )
+        })?;
+    }
+    Ok((sep, names.len(), idx))
+}
+
+/// The stream's standard output: the header of `reconstruction.csv` (without `error`), then
+/// each point as soon as it is known, flushed, in the scene's units.
+struct StreamOut<'u> {
+    out: std::io::StdoutLock<'static>,
+    units: &'u UnitSystem,
+}
+
+impl<'u> StreamOut<'u> {
+    fn new(units: &'u UnitSystem) -> Result<Self, CliError> {
+        let mut s = StreamOut {
+            out: std::io::stdout().lock(),
+            units,
+        };
+        let mut header: Vec<&str> = RECONSTRUCTION_HEADER.to_vec();
+        header.extend(recon_io::RECON_EXTRA_COLUMNS);
+        s.line(&header.join(","))?;
+        Ok(s)
+    }
+
+    fn line(&mut self, text: &str) -> Result<(), CliError> {
+        use std::io::Write;
+        writeln!(self.out, "{text}")
+            .and_then(|_| self.out.flush())
+            .map_err(|e| stdin_err(1, format!("cannot write to standard output: {e}")))
+    }
+
+    fn write(&mut self, points: &[ReconPoint]) -> Result<(), CliError> {
+        for p in points {
+            let v = recon_io::recon_values(p, self.units, &[]);
+            let text = format!(
+                "{},{},{},{},{},{},{},{},{},{}",
+                v[0],
+                v[1],
+                v[2],
+                v[3],
+                v[4],
+                v[5],
+                p.phase.label(),
+                p.sigma * self.units.scale(Quantity::Length),
+                p.residual,
+                p.alternatives
+            );
+            self.line(&text)?;
+        }
+        Ok(())
+    }
 }
 
 /// Number of phase-A and phase-B points.
@@ -518,30 +611,6 @@ pub fn max_of(values: &[f64]) -> f64 {
 
 fn json_number(v: f64) -> serde_json::Value {
     serde_json::Number::from_f64(v).map_or(serde_json::Value::Null, serde_json::Value::Number)
-}
-
-/// `--out` may not be the folder the log is read from (or one that holds it): the output
-/// folder is replaced as a whole, and the sweep's files would go with it.
-fn refuse_input_folder(
-    out_dir: &std::path::Path,
-    log_path: &std::path::Path,
-) -> Result<(), CliError> {
-    let (Ok(out), Ok(log)) = (out_dir.canonicalize(), log_path.canonicalize()) else {
-        // a folder that does not exist yet holds no input
-        return Ok(());
-    };
-    if log.starts_with(&out) {
-        return Err(CliError::invalid_argument(
-            "--out",
-            out_dir.display().to_string(),
-            format!(
-                "it holds the log being read ({}); the output folder is replaced as a whole: \
-                 choose another folder",
-                log_path.display()
-            ),
-        ));
-    }
-    Ok(())
 }
 
 /// The one-line summary of a reconstruction (without the error).
@@ -609,33 +678,15 @@ pub fn summary_line_in(
     )
 }
 
-/// Writes `reconstruction.csv`: `x0,x,y,s1,f,psi,phase` (+ `error`), x0 copied exactly.
+/// Writes `reconstruction.csv` dimensionless (with its units sidecar): `x0,x,y,s1,f,psi,
+/// phase,sigma,residual,hypotheses` (+ `error`); see
+/// [`recon_io::write_reconstruction_csv_in`], the one writer.
 pub fn write_reconstruction_csv(
     points: &[ReconPoint],
     errors: Option<&[f64]>,
     path: &Path,
 ) -> Result<(), CliError> {
-    let mut header: Vec<&str> = RECONSTRUCTION_HEADER.to_vec();
-    if errors.is_some() {
-        header.push("error");
-    }
-    let mut w = CsvWriter::new(&header);
-    for (i, p) in points.iter().enumerate() {
-        let mut row = vec![
-            Cell::Num(p.x0),
-            Cell::Num(p.x),
-            Cell::Num(p.y),
-            Cell::Num(p.s1),
-            Cell::Num(p.f),
-            Cell::Num(p.psi),
-            Cell::Text(p.phase.label()),
-        ];
-        if let Some(e) = errors {
-            row.push(Cell::Num(e.get(i).copied().unwrap_or(f64::NAN)));
-        }
-        w.push_row(&row)?;
-    }
-    w.write(path)
+    recon_io::write_reconstruction_csv_in(points, errors, &UnitSystem::DIMENSIONLESS, &[], path)
 }
 
 /// Writes `reconstruction.svg` (the reconstructed points, with the true contour if known)

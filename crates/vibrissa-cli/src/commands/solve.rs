@@ -20,6 +20,9 @@ pub fn run(args: &SolveArgs) -> Result<(), CliError> {
     let sol = solve(&r.scene, &r.method).map_err(|e| r.culprit(&e))?;
     let mut written = Vec::new();
     if let Some(dir) = &args.out {
+        if let Some(scene) = &args.scene {
+            crate::atomic::refuse_over_inputs(dir, &[("scene file", scene)])?;
+        }
         let out = OutputDir::create(dir)?;
         write_solution_files(&r, &sol, &out)?;
         written = out.commit()?;

@@ -2,6 +2,7 @@
 //! observables log `observables.csv` and its figures.
 
 use std::io::IsTerminal;
+use std::path::PathBuf;
 use std::time::Duration;
 
 use beam_model::{shape_from_tip_angle, FluidLoad, Scene};
@@ -26,12 +27,23 @@ pub const DEFAULT_POINTS: usize = 200;
 /// Runs `vibrissa sweep`.
 pub fn run(args: &SweepArgs) -> Result<(), CliError> {
     let file = LoadedScene::load_opt(args.scene.as_deref())?;
-    let profile = profile_arg(&args.profile, file.as_ref()).ok_or_else(missing_profile)?;
+    let profile =
+        profile_arg(&args.profile, file.as_ref()).ok_or_else(|| missing_profile(file.as_ref()))?;
     let points = sweep_points(args.points.as_deref(), file.as_ref())?;
     let r = resolve_model(&args.model, file)?;
     check_sweep_loads(&r)?;
     let units = r.units();
     let contour = profile.parse(&units)?;
+    let mut inputs: Vec<(&str, PathBuf)> = Vec::new();
+    if let Some(scene) = &args.scene {
+        inputs.push(("scene file", scene.clone()));
+    }
+    if let Some(points) = profile.points_path() {
+        inputs.push(("contour table", points));
+    }
+    let inputs: Vec<(&str, &std::path::Path)> =
+        inputs.iter().map(|(w, p)| (*w, p.as_path())).collect();
+    crate::atomic::refuse_over_inputs(&args.out, &inputs)?;
     let res = run_sweep(&r, &contour, &profile, points)?;
     let out = OutputDir::create(&args.out)?;
     write_sweep_outputs(&r, &contour, &res, &profile, points, &out)?;
@@ -54,13 +66,19 @@ pub fn run(args: &SweepArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-/// The error of a sweep without an obstacle.
-pub fn missing_profile() -> CliError {
-    CliError::invalid_argument(
-        "--profile",
-        "",
-        "a sweep needs an obstacle: give --profile or `profile` in the scene file",
-    )
+/// The error of a sweep without an obstacle (`file`: the scene file given, if any).
+pub fn missing_profile(file: Option<&LoadedScene>) -> CliError {
+    const KINDS: &str = "g1, g2, ge, parabola:a,xv,yv, cosh:a,c,xv,d, circle:xc,yc,r or \
+                         points:FILE.csv";
+    match file {
+        Some(f) => f.error_at(
+            "profile",
+            format!("the scene has no obstacle: add `profile: Some(\"g1\")` (or {KINDS}) or give --profile"),
+        ),
+        None => CliError::Usage {
+            reason: format!("a sweep needs an obstacle: give --profile P ({KINDS})"),
+        },
+    }
 }
 
 /// The number of contact rows: `--points` (typed as `raw`), else the scene file's

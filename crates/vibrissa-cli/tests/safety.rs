@@ -1,0 +1,218 @@
+//! Outputs a researcher can trust: no command writes over a file it reads, killed runs leave
+//! nothing behind for long, and the messages of the stream and of incomplete scenes name the
+//! user's own input (each test failed on the code before it).
+
+use std::fs;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+
+fn run(args: &[&str], cwd: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_vibrissa"))
+        .args(args)
+        .current_dir(cwd)
+        .output()
+        .expect("the binary runs")
+}
+
+fn run_stdin(args: &[&str], cwd: &Path, input: &str) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_vibrissa"))
+        .args(args)
+        .current_dir(cwd)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the binary runs");
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(input.as_bytes())
+        .unwrap();
+    child.wait_with_output().unwrap()
+}
+
+fn scenes_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// Exit 2 with one line holding every needle.
+fn refused(o: &Output, needles: &[&str]) {
+    let e = stderr(o);
+    assert_eq!(o.status.code(), Some(2), "{e}");
+    assert_eq!(e.trim_end().lines().count(), 1, "{e}");
+    for n in needles {
+        assert!(e.contains(n), "{e:?} lacks {n:?}");
+    }
+}
+
+fn sweep_folder(cwd: &Path, name: &str, extra: &[&str]) {
+    let mut args = vec!["sweep", "--profile", "g1", "--q", "5", "--points", "8"];
+    args.extend_from_slice(extra);
+    args.extend_from_slice(&["--out", name]);
+    let o = run(&args, cwd);
+    assert!(o.status.success(), "{}", stderr(&o));
+}
+
+#[test]
+fn sweep_and_solve_refuse_an_out_folder_holding_their_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    let cwd = dir.path();
+    sweep_folder(cwd, "d", &[]);
+    let before = fs::read(cwd.join("d/scene.ron")).unwrap();
+    let o = run(&["sweep", "d/scene.ron", "--out", "d"], cwd);
+    refused(&o, &["--out", "scene file being read", "d/scene.ron"]);
+    let o = run(&["solve", "d/scene.ron", "--out", "d"], cwd);
+    refused(&o, &["--out", "scene file being read"]);
+    assert_eq!(fs::read(cwd.join("d/scene.ron")).unwrap(), before);
+    // a contour table inside the output folder is an input too
+    fs::create_dir(cwd.join("t")).unwrap();
+    let mut table = String::from("x,y\n");
+    for i in 0..=40 {
+        let x = -2.0 + 0.1 * i as f64;
+        table += &format!("{x},{}\n", (x / 2.0).cosh() - 0.8);
+    }
+    fs::write(cwd.join("t/post.csv"), table).unwrap();
+    fs::write(cwd.join("t/.vibrissa-output"), "written by vibrissa\n").unwrap();
+    let o = run(
+        &[
+            "sweep",
+            "--profile",
+            "points:t/post.csv",
+            "--q",
+            "5",
+            "--out",
+            "t",
+        ],
+        cwd,
+    );
+    refused(&o, &["contour table being read"]);
+    assert!(cwd.join("t/post.csv").exists());
+}
+
+#[test]
+fn out_dash_is_refused_not_a_folder_named_dash() {
+    let dir = tempfile::tempdir().unwrap();
+    let cwd = dir.path();
+    for args in [
+        vec!["sweep", "--profile", "g1", "--out", "-"],
+        vec!["solve", "--out", "-"],
+    ] {
+        let o = run(&args, cwd);
+        refused(&o, &["`-` for `--out`", "standard output"]);
+    }
+    assert!(!cwd.join("-").exists());
+}
+
+#[test]
+fn a_killed_runs_staging_folder_is_removed_by_the_next_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let cwd = dir.path();
+    // pid 4194304 is above Linux's pid_max: no live process has it
+    let stale = cwd.join(".d.staging-4194304");
+    fs::create_dir(&stale).unwrap();
+    fs::write(stale.join("observables.csv"), "half written").unwrap();
+    fs::write(cwd.join(".d.lock"), "4194304").unwrap();
+    sweep_folder(cwd, "d", &[]);
+    assert!(!stale.exists(), "the stale staging folder is still there");
+    assert!(!cwd.join(".d.lock").exists());
+    let left: Vec<String> = fs::read_dir(cwd)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(left, vec!["d".to_string()], "{left:?}");
+}
+
+#[test]
+fn scene_files_with_a_byte_order_mark_are_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let cwd = dir.path();
+    let text = fs::read_to_string(scenes_dir().join("c1-uniform-rigid-g1.ron")).unwrap();
+    fs::write(cwd.join("bom.ron"), format!("\u{feff}{text}")).unwrap();
+    let o = run(&["solve", "bom.ron", "--json"], cwd);
+    assert!(o.status.success(), "{}", stderr(&o));
+}
+
+#[test]
+fn a_sweep_without_obstacle_says_what_to_add_not_an_empty_flag_value() {
+    let dir = tempfile::tempdir().unwrap();
+    let cwd = dir.path();
+    fs::write(cwd.join("w.ron"), "(whisker: (theta: 0.5))").unwrap();
+    let o = run(&["sweep", "w.ron", "--out", "x"], cwd);
+    refused(&o, &["w.ron:1:", "no obstacle", "profile"]);
+    assert!(!stderr(&o).contains("invalid value ``"));
+    let o = run(&["sweep", "--out", "x"], cwd);
+    refused(&o, &["a sweep needs an obstacle: give --profile"]);
+    assert!(!stderr(&o).contains("invalid value ``"));
+}
+
+#[test]
+fn the_stream_reads_a_folder_scene_physical_units_and_checks_rows_as_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let cwd = dir.path();
+    let scene = scenes_dir().join("physical-beta-g1.ron");
+    let o = run(
+        &[
+            "sweep",
+            scene.to_str().unwrap(),
+            "--points",
+            "12",
+            "--out",
+            "pb",
+        ],
+        cwd,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let log = fs::read_to_string(cwd.join("pb/observables.csv")).unwrap();
+    // `reconstruct DIR --stream`: the folder's scene, the log in mm and N read as such
+    let o = run_stdin(
+        &[
+            "reconstruct",
+            "pb",
+            "--stream",
+            "--q",
+            "0.003",
+            "--alpha-deg",
+            "0",
+        ],
+        cwd,
+        &log,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout).into_owned();
+    let rows: Vec<Vec<f64>> = out
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').filter_map(|c| c.parse().ok()).collect())
+        .collect();
+    let contact = log
+        .lines()
+        .filter(|l| l.contains(",A,") || l.contains(",B,"))
+        .count();
+    assert!(rows.len() + 2 >= contact && !rows.is_empty(), "{out}");
+    // the contact points are in mm: near the contour g1 scaled by L = 66.2 mm
+    for r in &rows {
+        let (x, y) = (r[1] / 66.2, r[2] / 66.2);
+        assert!((y - ((x / 2.0).cosh() - 0.8)).abs() < 1e-8, "{r:?}");
+    }
+    // rows are checked as in a file
+    let o = run_stdin(
+        &["reconstruct", "--stream"],
+        cwd,
+        "x0,Ax,Ay,MA,phi0\n1,2,3\n",
+    );
+    refused(&o, &["<stdin>:2:", "3 fields where the header has 5"]);
+    let o = run_stdin(
+        &["reconstruct", "--stream"],
+        cwd,
+        "x0,Ax,Ay,MA,phi0\n1,2,3,4,5,6\n",
+    );
+    refused(&o, &["<stdin>:2:", "6 fields where the header has 5"]);
+    let o = run_stdin(&["reconstruct", "--stream"], cwd, "");
+    refused(&o, &["standard input is empty"]);
+}

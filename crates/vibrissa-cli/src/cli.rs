@@ -70,6 +70,16 @@ pub struct Cli {
     /// The command.
     #[command(subcommand)]
     pub command: Command,
+    /// Figures to write with the outputs: none (fastest), svg (vector, small), png (for
+    /// slides, twice the size) or all.
+    #[arg(
+        long,
+        global = true,
+        value_enum,
+        value_name = "WHICH",
+        default_value = "svg"
+    )]
+    pub figures: crate::plot::FigureFormats,
 }
 
 /// The commands.
@@ -215,7 +225,7 @@ pub struct SweepArgs {
     pub json: bool,
     /// Output directory: observables.csv (+ observables.units.csv), scene.ron (every
     /// parameter, to reconstruct the folder with `vibrissa reconstruct DIR`), and the
-    /// figures observables, contact, shapes as SVG and PNG.
+    /// figures observables, contact, shapes (as `--figures` says: SVG by default).
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
 }

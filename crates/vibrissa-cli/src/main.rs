@@ -45,6 +45,7 @@ fn main() {
             }
         },
     };
+    vibrissa_cli::plot::set_figure_formats(cli.figures);
     if let Err(e) = commands::run(cli.command) {
         eprintln!("error: {e}");
         std::process::exit(e.exit_code());

@@ -216,3 +216,40 @@ fn the_stream_reads_a_folder_scene_physical_units_and_checks_rows_as_files() {
     let o = run_stdin(&["reconstruct", "--stream"], cwd, "");
     refused(&o, &["standard input is empty"]);
 }
+
+/// `--figures` chooses the figure files (default SVG only: a sweep folder was 92 % PNG).
+#[test]
+fn figures_are_written_as_figures_says() {
+    let dir = tempfile::tempdir().unwrap();
+    let cwd = dir.path();
+    let count = |name: &str, ext: &str| {
+        fs::read_dir(cwd.join(name))
+            .unwrap()
+            .filter(|e| {
+                e.as_ref()
+                    .unwrap()
+                    .path()
+                    .extension()
+                    .is_some_and(|x| x == ext)
+            })
+            .count()
+    };
+    sweep_folder(cwd, "default", &[]);
+    assert_eq!((count("default", "svg"), count("default", "png")), (3, 0));
+    sweep_folder(cwd, "none", &["--figures", "none"]);
+    assert_eq!((count("none", "svg"), count("none", "png")), (0, 0));
+    sweep_folder(cwd, "png", &["--figures", "png"]);
+    assert_eq!((count("png", "svg"), count("png", "png")), (0, 3));
+    sweep_folder(cwd, "all", &["--figures", "all"]);
+    assert_eq!((count("all", "svg"), count("all", "png")), (3, 3));
+    // the CSVs are the same whatever the figures
+    assert_eq!(
+        fs::read(cwd.join("none/observables.csv")).unwrap(),
+        fs::read(cwd.join("all/observables.csv")).unwrap()
+    );
+    let o = run(
+        &["sweep", "--profile", "g1", "--figures", "gif", "--out", "x"],
+        cwd,
+    );
+    refused(&o, &["gif", "--figures"]);
+}

@@ -471,6 +471,8 @@ fn figures_come_as_svg_and_png_with_symbols_units_and_events() {
             "20",
             "--points",
             "20",
+            "--figures",
+            "all",
             "--out",
             "spring",
         ],

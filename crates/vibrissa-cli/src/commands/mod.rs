@@ -483,7 +483,8 @@ fn phi0_varies(res: &SweepResult) -> bool {
     hi - lo > 1e-8
 }
 
-/// Writes the figures of a sweep into `dir` (staging paths), each as SVG and PNG:
+/// Writes the figures of a sweep into `dir` (staging paths), in the formats of
+/// [`crate::plot::figure_formats`]:
 /// `observables.svg` (Ax, Ay, MA and, unless the support is rigid, phi0 against x0, thesis
 /// Figs. 5.9/5.10) and `contact.svg` (f and s1 against x0, Fig. 5.11), with the events
 /// marked. Returns the SVG file names written.

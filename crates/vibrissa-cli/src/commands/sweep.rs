@@ -274,7 +274,7 @@ pub fn run_sweep(
 /// Writes a sweep's folder into `out`: `observables.csv` (in the scene's units) with its
 /// units sidecar `observables.units.csv`, `scene.ron` (every parameter, units included, the
 /// true point count; a points profile is copied beside it as `profile.csv`), and the figures
-/// `observables`, `contact` and `shapes` as SVG and PNG.
+/// `observables`, `contact` and `shapes` (as `--figures` says).
 pub fn write_sweep_outputs(
     r: &Resolved,
     contour: &Profile,

@@ -289,6 +289,78 @@ pub fn write_heatmap_svg(map: &HeatMap, path: &Path, size: (u32, u32)) -> Result
     write_figure(&[Panel::HeatMap(map)], 1, path, size)
 }
 
+/// Which files a figure is written as: `--figures none|svg|png|all`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum FigureFormats {
+    /// No figures (the fastest run; the CSVs and `scene.ron` only).
+    None,
+    /// SVG only (the command line's default: small, vector, for papers).
+    Svg,
+    /// PNG only (twice the SVG's size, for slides).
+    Png,
+    /// SVG and PNG (the library's default, as `cargo xtask reproduce` writes them).
+    All,
+}
+
+impl FigureFormats {
+    fn code(self) -> u8 {
+        self as u8
+    }
+
+    fn from_code(c: u8) -> Self {
+        match c {
+            0 => FigureFormats::None,
+            1 => FigureFormats::Svg,
+            2 => FigureFormats::Png,
+            _ => FigureFormats::All,
+        }
+    }
+
+    /// Whether the SVG is written.
+    pub fn svg(self) -> bool {
+        matches!(self, FigureFormats::Svg | FigureFormats::All)
+    }
+
+    /// Whether the PNG is written.
+    pub fn png(self) -> bool {
+        matches!(self, FigureFormats::Png | FigureFormats::All)
+    }
+}
+
+static FORMATS: std::sync::atomic::AtomicU8 = std::sync::atomic::AtomicU8::new(3);
+
+/// Sets the formats every figure of this process is written in (the binary sets it once
+/// from `--figures` before running a command).
+pub fn set_figure_formats(f: FigureFormats) {
+    FORMATS.store(f.code(), std::sync::atomic::Ordering::Relaxed);
+}
+
+/// The formats figures are written in ([`FigureFormats::All`] unless set).
+pub fn figure_formats() -> FigureFormats {
+    FigureFormats::from_code(FORMATS.load(std::sync::atomic::Ordering::Relaxed))
+}
+
+/// Writes a rendered SVG at `path` and/or its PNG twin (twice the size) at [`png_path`], as
+/// [`figure_formats`] says; nothing is written if the PNG cannot be rendered.
+fn write_rendered(svg: &str, path: &Path) -> Result<(), CliError> {
+    let formats = figure_formats();
+    let png = if formats.png() {
+        Some(render_png(svg, 2.0).map_err(|reason| CliError::Plot {
+            path: path.to_path_buf(),
+            reason,
+        })?)
+    } else {
+        None
+    };
+    if formats.svg() {
+        write_atomic(path, svg.as_bytes())?;
+    }
+    match png {
+        Some(png) => write_atomic(&png_path(path), &png),
+        None => Ok(()),
+    }
+}
+
 /// The PNG written beside the SVG `svg`: same name, extension `png`.
 pub fn png_path(svg: &Path) -> PathBuf {
     svg.with_extension("png")
@@ -317,10 +389,11 @@ pub fn write_panels_with_heading(
         path: path.to_path_buf(),
         reason,
     };
+    if figure_formats() == FigureFormats::None {
+        return Ok(());
+    }
     let svg = render_figure_with(charts, cols, size, heading).map_err(fail)?;
-    let png = render_png(&svg, 2.0).map_err(fail)?;
-    write_atomic(path, svg.as_bytes())?;
-    write_atomic(&png_path(path), &png)
+    write_rendered(&svg, path)
 }
 
 /// Renders charts under a [`Heading`] (what [`write_panels_with_heading`] writes).
@@ -394,7 +467,8 @@ pub fn render_figure_with(
 }
 
 /// Writes a figure made of charts and maps, `cols` panels per row: the SVG at `path` and
-/// its PNG twin (twice the size) at [`png_path`]. Nothing is written if either fails.
+/// its PNG twin (twice the size) at [`png_path`], as [`figure_formats`] says. Nothing is
+/// written if either fails.
 pub fn write_figure(
     panels: &[Panel<'_>],
     cols: usize,
@@ -405,10 +479,11 @@ pub fn write_figure(
         path: path.to_path_buf(),
         reason,
     };
+    if figure_formats() == FigureFormats::None {
+        return Ok(());
+    }
     let svg = render_figure(panels, cols, size).map_err(fail)?;
-    let png = render_png(&svg, 2.0).map_err(fail)?;
-    write_atomic(path, svg.as_bytes())?;
-    write_atomic(&png_path(path), &png)
+    write_rendered(&svg, path)
 }
 
 /// Renders an SVG text (as written by [`render_figure`]) to PNG at `scale` times its size,

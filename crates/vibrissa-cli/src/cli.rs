@@ -208,9 +208,13 @@ pub struct SweepArgs {
     /// A RON scene file (see scenes/README.md); flags override what it sets.
     #[arg(value_name = "SCENE.ron")]
     pub scene: Option<PathBuf>,
-    /// Model flags (the sweep uses theta, a, b, k and q; the contact force is computed).
+    /// The whisker (theta, a, b, k).
     #[command(flatten)]
-    pub model: ModelFlags,
+    pub whisker: WhiskerFlags,
+    /// The flow (q, alpha-deg); the contact force is the sweep's own, and its phases are
+    /// always solved by adaptive shooting (no --f, --method or --n).
+    #[command(flatten)]
+    pub fluid: FluidFlags,
     /// The obstacle contour (required here or in the scene file).
     #[arg(long, value_name = "P")]
     pub profile: Option<String>,

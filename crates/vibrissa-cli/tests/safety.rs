@@ -253,3 +253,30 @@ fn figures_are_written_as_figures_says() {
     );
     refused(&o, &["gif", "--figures"]);
 }
+
+/// `sweep --help` lists only what a sweep uses: no tip force, load kind, method or grid.
+#[test]
+fn sweep_help_lists_only_what_a_sweep_uses() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = run(&["sweep", "--help"], dir.path());
+    let help = String::from_utf8_lossy(&o.stdout).into_owned();
+    for flag in [
+        "--theta",
+        "--k",
+        "--q",
+        "--alpha-deg",
+        "--profile",
+        "--points",
+        "--figures",
+    ] {
+        assert!(help.contains(flag), "sweep --help lacks {flag}");
+    }
+    for flag in ["--f ", "--beta-deg", "--load", "--method", "--n "] {
+        assert!(!help.contains(flag), "sweep --help lists {flag}");
+    }
+    let o = run(
+        &["sweep", "--profile", "g1", "--f", "1", "--out", "x"],
+        dir.path(),
+    );
+    refused(&o, &["--f"]);
+}

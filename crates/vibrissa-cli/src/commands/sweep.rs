@@ -30,7 +30,12 @@ pub fn run(args: &SweepArgs) -> Result<(), CliError> {
     let profile =
         profile_arg(&args.profile, file.as_ref()).ok_or_else(|| missing_profile(file.as_ref()))?;
     let points = sweep_points(args.points.as_deref(), file.as_ref())?;
-    let r = resolve_model(&args.model, file)?;
+    let flags = crate::cli::ModelFlags {
+        whisker: args.whisker.clone(),
+        fluid: args.fluid.clone(),
+        ..Default::default()
+    };
+    let r = resolve_model(&flags, file)?;
     check_sweep_loads(&r)?;
     let units = r.units();
     let contour = profile.parse(&units)?;

@@ -46,10 +46,11 @@ def _sweeps(n: int) -> None:
 @pytest.mark.skipif((os.cpu_count() or 1) < 2, reason="needs two cores")
 def test_two_threads_run_in_parallel():
     """Two threads on two cores do twice the work in about the time of one (>= 1.6x the
-    throughput): the computation releases the GIL. Best of three tries (a shared machine)."""
+    throughput): the computation releases the GIL. Best of five tries (a shared machine:
+    another process on a core lowers one try, not all)."""
     n = 12
     best = 0.0
-    for _ in range(3):
+    for _ in range(5):
         t0 = time.perf_counter()
         _sweeps(2 * n)
         serial = time.perf_counter() - t0

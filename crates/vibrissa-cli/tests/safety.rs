@@ -280,3 +280,43 @@ fn sweep_help_lists_only_what_a_sweep_uses() {
     );
     refused(&o, &["--f"]);
 }
+
+/// Every row of a log is accounted for: the rows without contact force (before contact, the
+/// touch and the release with f = 0) and the contact points add up to the rows, in the text
+/// and in JSON (before: "rows 12-132 reconstructed: 120 points").
+#[test]
+fn reconstruct_accounts_for_every_row() {
+    let dir = tempfile::tempdir().unwrap();
+    let cwd = dir.path();
+    let o = run(
+        &[
+            "sweep",
+            "--profile",
+            "g1",
+            "--q",
+            "5",
+            "--points",
+            "20",
+            "--out",
+            "sw",
+        ],
+        cwd,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = run(&["reconstruct", "sw", "--out", "rec"], cwd);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8_lossy(&o.stdout).into_owned();
+    // 32 rows: 10 before contact, the touch, 20 requested + 2 events - the release row
+    assert!(
+        text.contains("32 rows: 12 without contact force")
+            && text.contains("rows 1-11, 32)")
+            && text.contains("20 contact points (rows 12-31;"),
+        "{text}"
+    );
+    let o = run(&["reconstruct", "sw", "--json", "--out", "rec2"], cwd);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["rows_without_force"], "1-11, 32");
+    assert_eq!(v["points"], 20);
+    let csv = fs::read_to_string(cwd.join("rec/reconstruction.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 21);
+}

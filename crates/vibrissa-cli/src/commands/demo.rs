@@ -122,14 +122,18 @@ pub fn reconstruct_step(
     )?;
     let q_true = resolved.q();
     let id = &rec.identification;
+    let free = super::reconstruct::rows_without_points(&rec.points, rows.len());
+    let with: Vec<usize> = rec.points.iter().map(|p| p.row).collect();
     summary.push(format!(
-        "identification: q = {:.12} (true {q_true}, error {:.2e}) from rows 1-{} (no contact \
-         force), rows {}-{} reconstructed",
+        "identification: q = {:.12} (true {q_true}, error {:.2e}) from the {} rows without \
+         contact force (rows {}: before contact, and the first touch and release with f = 0), \
+         {} rows reconstructed (rows {})",
         id.q,
         (id.q - q_true).abs(),
-        id.first_contact_row,
-        id.first_contact_row + 1,
-        rows.len()
+        free.len(),
+        super::reconstruct::row_ranges(&free),
+        with.len(),
+        super::reconstruct::row_ranges(&with),
     ));
     let (na, nb) = phase_counts(&rec.points);
     summary.push(format!(

@@ -117,6 +117,7 @@ pub fn run(args: &ReconstructArgs) -> Result<(), CliError> {
             "points": rec.points.len(),
             "rows": table.rows(),
             "first_contact_row": rec.identification.first_contact_row + 1,
+            "rows_without_force": row_ranges(&rows_without_points(&rec.points, table.rows())),
             "method": method.name(),
             "max_residual": json_number(max_residual),
             "phases": {"A": na, "B": nb},
@@ -666,16 +667,54 @@ pub fn summary_line_in(
         (false, true) => format!("q = {:.10e}{qu} (identified)", rec.identification.q * qs),
         (false, false) => format!("q = {:.10}{qu} (identified)", rec.identification.q * qs),
     };
-    let pre = rec.identification.first_contact_row;
+    let free = rows_without_points(&rec.points, rows);
+    let with: Vec<usize> = rec.points.iter().map(|p| p.row).collect();
     format!(
-        "{q}; {rows} rows: rows 1-{pre} without contact force (flow only), rows {}-{rows} \
-         reconstructed: {} contact points ({method} method), phases A {na} / B {nb}, max \
-         residual {:.2e}",
-        pre + 1,
+        "{q}; {rows} rows: {} without contact force (the free whisker under the flow: before \
+         contact, at a touch or release with f = 0; rows {}), {} contact points (rows {}; \
+         {method} method), phases A {na} / B {nb}, max residual {:.2e}",
+        free.len(),
+        row_ranges(&free),
         rec.points.len(),
+        row_ranges(&with),
         max_of(&rec.points.iter().map(|p| p.residual).collect::<Vec<_>>()),
         method = method.name(),
     )
+}
+
+/// The 0-based rows of a log of `rows` rows that yield no contact point (the free whisker
+/// under the flow: before contact, and a touch or release with f = 0).
+pub fn rows_without_points(points: &[ReconPoint], rows: usize) -> Vec<usize> {
+    let mut contact = vec![false; rows];
+    for p in points {
+        if let Some(c) = contact.get_mut(p.row) {
+            *c = true;
+        }
+    }
+    (0..rows).filter(|&i| !contact[i]).collect()
+}
+
+/// 0-based row indices as 1-based ranges, `1-11, 133` (`none` if empty).
+pub fn row_ranges(rows: &[usize]) -> String {
+    let mut parts: Vec<String> = Vec::new();
+    let mut i = 0;
+    while i < rows.len() {
+        let mut j = i;
+        while j + 1 < rows.len() && rows[j + 1] == rows[j] + 1 {
+            j += 1;
+        }
+        parts.push(if i == j {
+            format!("{}", rows[i] + 1)
+        } else {
+            format!("{}-{}", rows[i] + 1, rows[j] + 1)
+        });
+        i = j + 1;
+    }
+    if parts.is_empty() {
+        "none".to_string()
+    } else {
+        parts.join(", ")
+    }
 }
 
 /// Writes `reconstruction.csv` dimensionless (with its units sidecar): `x0,x,y,s1,f,psi,

@@ -460,6 +460,17 @@ impl Resolved {
                 value,
                 reason,
             } => CliError::invalid_argument("--points", format!("{value}"), reason),
+            ContactError::NoContact { reason } if self.physical.is_some() => {
+                let l = self.units().length_mm().unwrap_or(f64::NAN);
+                CliError::solver(ContactError::NoContact {
+                    reason: format!(
+                        "{reason} (the model's lengths: 1 = the whisker's length, {} mm; the \
+                         contour `{}` as given)",
+                        crate::units::round_sig(l),
+                        profile.spec
+                    ),
+                })
+            }
             other => CliError::solver(other),
         }
     }

@@ -320,3 +320,24 @@ fn reconstruct_accounts_for_every_row() {
     let csv = fs::read_to_string(cwd.join("rec/reconstruction.csv")).unwrap();
     assert_eq!(csv.lines().count(), 21);
 }
+
+/// A physical scene that never touches says which lengths its numbers are in and names the
+/// contour as the user gave it (in mm), with exit code 3.
+#[test]
+fn no_contact_in_a_physical_scene_names_its_units() {
+    let dir = tempfile::tempdir().unwrap();
+    let cwd = dir.path();
+    fs::write(
+        cwd.join("nc.ron"),
+        "(units: Physical(preset: \"beta\"), whisker: (theta: 0.75), loads: (q: 0.003), \
+         profile: Some(\"circle:0,200,40\"))",
+    )
+    .unwrap();
+    let o = run(&["sweep", "nc.ron", "--out", "x"], cwd);
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(
+        e.contains("66.2 mm") && e.contains("`circle:0,200,40` as given"),
+        "{e}"
+    );
+}

@@ -118,7 +118,16 @@ fn acquire_lock(lock: &Path, target: &Path) -> Result<(), CliError> {
                     }
                 }
             }
-            Err(e) => return Err(CliError::io(lock, e)),
+            Err(e) => {
+                return Err(CliError::invalid_argument(
+                    "--out",
+                    target.display().to_string(),
+                    format!(
+                        "cannot write an output folder there (its lock file {}: {e})",
+                        lock.display()
+                    ),
+                ))
+            }
         }
     }
     Err(CliError::io(
@@ -232,7 +241,13 @@ impl OutputDir {
             Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
             _ => PathBuf::from("."),
         };
-        fs::create_dir_all(&parent).map_err(|e| CliError::io(&parent, e))?;
+        fs::create_dir_all(&parent).map_err(|e| {
+            CliError::invalid_argument(
+                "--out",
+                path.display().to_string(),
+                format!("cannot create the folder {} for it: {e}", parent.display()),
+            )
+        })?;
         let sibling = |suffix: &str| {
             let mut n = std::ffi::OsString::from(".");
             n.push(&name);

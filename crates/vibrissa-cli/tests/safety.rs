@@ -341,3 +341,19 @@ fn no_contact_in_a_physical_scene_names_its_units() {
         "{e}"
     );
 }
+
+/// An output folder that cannot be written is reported against `--out`, not as a bare
+/// lock-file path.
+#[test]
+fn an_unwritable_out_names_the_flag() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = run(&["solve", "--out", "/proc/vibrissa-x"], dir.path());
+    refused(
+        &o,
+        &[
+            "for `--out`",
+            "/proc/vibrissa-x",
+            "cannot write an output folder there",
+        ],
+    );
+}

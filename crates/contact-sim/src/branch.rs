@@ -69,6 +69,14 @@ impl Node {
     pub fn x0_rate(&self, t: &[f64; 3]) -> f64 {
         dot(&self.jac[2], t)
     }
+
+    /// `du/dx0` along the branch (the tangent scaled to unit rate in x0); meaningful where
+    /// the Jacobian is exact and x0 is not at a turning point.
+    pub fn slope(&self) -> [f64; 3] {
+        let t = self.tangent(&[1.0, 0.0, 0.0]);
+        let r = self.x0_rate(&t);
+        [t[0] / r, t[1] / r, t[2] / r]
+    }
 }
 
 /// The third equation of a corrector solve.

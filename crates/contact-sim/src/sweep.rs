@@ -498,9 +498,12 @@ fn rows(
         } else {
             (b.phase, b.u, b.u)
         };
-        // Prediction: Lagrange extrapolation in x0 through the last rows of this phase
-        // (cubic from four, quadratic from three) when they exist, else interpolation
-        // between the bracketing nodes.
+        // Prediction. Between two nodes of the traced branch in one phase (their Jacobians
+        // exact): the cubic Hermite interpolant in x0 through their states and slopes
+        // du/dx0, and their Jacobians interpolated linearly (Broyden's first step then
+        // contracts the residual ~1000x). Across a phase switch: Lagrange extrapolation in x0
+        // through the last rows of this phase (cubic from four, quadratic from three) when
+        // they exist, else interpolation between the bracketing nodes.
         let w = (a.x0() - target) / (a.x0() - b.x0());
         let lin = crate::branch::lerp(&ua, &ub, w);
         let mut guess = lin;
@@ -511,7 +514,16 @@ fn rows(
             .take(4)
             .take_while(|r| r.phase == phase)
             .collect();
-        if same.len() >= 3 {
+        if a.phase == b.phase {
+            guess = hermite(
+                (a.x0(), &a.u, &a.slope()),
+                (b.x0(), &b.u, &b.slope()),
+                target,
+            );
+            for (r, (ra, rb)) in jac.iter_mut().zip(a.jac.iter().zip(&b.jac)) {
+                *r = crate::branch::lerp(ra, rb, w);
+            }
+        } else if same.len() >= 3 {
             let xs: Vec<f64> = same.iter().map(|r| r.x0()).collect();
             for (i, g) in guess.iter_mut().enumerate() {
                 *g = same
@@ -527,6 +539,9 @@ fn rows(
                     .sum();
             }
             jac = same[0].jac;
+        }
+        if !guess.iter().all(|g| g.is_finite()) {
+            guess = lin;
         }
         // Broyden's method from the prediction; Newton from it, from the interpolation
         // between the bracketing nodes, and from the nearer node as fallbacks.
@@ -575,4 +590,45 @@ fn rows(
         total: points,
     });
     Ok(out)
+}
+
+/// The cubic Hermite interpolant at `x` through `(xa, ua)` and `(xb, ub)` with slopes `da`,
+/// `db` (`du/dx`), componentwise.
+fn hermite(a: (f64, &[f64; 3], &[f64; 3]), b: (f64, &[f64; 3], &[f64; 3]), x: f64) -> [f64; 3] {
+    let (xa, ua, da) = a;
+    let (xb, ub, db) = b;
+    let h = xb - xa;
+    let s = (x - xa) / h;
+    let (s2, s3) = (s * s, s * s * s);
+    let (h00, h10, h01, h11) = (
+        2.0 * s3 - 3.0 * s2 + 1.0,
+        s3 - 2.0 * s2 + s,
+        -2.0 * s3 + 3.0 * s2,
+        s3 - s2,
+    );
+    let mut out = [0.0; 3];
+    for i in 0..3 {
+        out[i] = h00 * ua[i] + h10 * h * da[i] + h01 * ub[i] + h11 * h * db[i];
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::hermite;
+
+    /// The Hermite interpolant reproduces cubics exactly, also between nodes listed from
+    /// high to low x (the sweep's direction).
+    #[test]
+    fn hermite_is_exact_for_cubics() {
+        let p = |x: f64| [x * x * x - 2.0 * x, 0.5 * x * x + 1.0, -3.0 * x * x * x];
+        let dp = |x: f64| [3.0 * x * x - 2.0, x, -9.0 * x * x];
+        let (xa, xb) = (1.3, -0.4);
+        for x in [1.3, 1.0, 0.2, -0.4, -0.7] {
+            let got = hermite((xa, &p(xa), &dp(xa)), (xb, &p(xb), &dp(xb)), x);
+            for (g, e) in got.iter().zip(p(x)) {
+                assert!((g - e).abs() < 1e-12, "x = {x}: {g} vs {e}");
+            }
+        }
+    }
 }

@@ -223,6 +223,11 @@ pub struct SweepArgs {
     /// before contact (flow only) come first. The summary counts them all [default: 200]
     #[arg(long, value_name = "N", allow_hyphen_values = true)]
     pub points: Option<String>,
+    /// Also write shapes.csv: the whisker's shape at every row (row, s, x, y, phi; 100
+    /// intervals of arc length up to the contact point, then the load-free segment beyond a
+    /// tangential contact, to the tip), in the scene's units.
+    #[arg(long)]
+    pub shapes: bool,
     /// Print one JSON object on stdout (first_contact, separation, phases, rows, the row
     /// counts and the events) instead of the summary line.
     #[arg(long)]

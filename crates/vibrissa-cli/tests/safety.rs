@@ -357,3 +357,76 @@ fn an_unwritable_out_names_the_flag() {
         ],
     );
 }
+
+/// `--shapes` writes the whisker's shape at every row; checked against the log it came with:
+/// each shape starts at its row's base position, a tip contact ends at its contact point, and
+/// no shape enters the obstacle (y <= g1(x)).
+#[test]
+fn shapes_csv_holds_every_rows_shape() {
+    let dir = tempfile::tempdir().unwrap();
+    let cwd = dir.path();
+    let o = run(
+        &[
+            "sweep",
+            "--profile",
+            "g1",
+            "--q",
+            "5",
+            "--theta",
+            "0.75",
+            "--k",
+            "20",
+            "--points",
+            "10",
+            "--shapes",
+            "--out",
+            "s",
+        ],
+        cwd,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let read = |name: &str| -> (Vec<String>, Vec<Vec<String>>) {
+        let text = fs::read_to_string(cwd.join("s").join(name)).unwrap();
+        let mut lines = text
+            .lines()
+            .map(|l| l.split(',').map(str::to_string).collect());
+        (lines.next().unwrap(), lines.collect())
+    };
+    let (oh, obs) = read("observables.csv");
+    let (sh, shapes) = read("shapes.csv");
+    assert_eq!(sh, ["row", "s", "x", "y", "phi"]);
+    let c = |h: &[String], n: &str| h.iter().position(|x| x == n).unwrap();
+    let num = |s: &str| s.parse::<f64>().unwrap();
+    for (i, row) in obs.iter().enumerate() {
+        let pts: Vec<&Vec<String>> = shapes
+            .iter()
+            .filter(|r| num(&r[0]) as usize == i + 1)
+            .collect();
+        assert!(pts.len() >= 101, "row {}", i + 1);
+        let s_last = num(&pts[pts.len() - 1][1]);
+        assert!(
+            (s_last - 1.0).abs() < 1e-12,
+            "row {} ends at s = {s_last}",
+            i + 1
+        );
+        let x0 = num(&row[c(&oh, "x0")]);
+        assert!((num(&pts[0][2]) - x0).abs() < 1e-12 && num(&pts[0][3]).abs() < 1e-12);
+        for p in &pts {
+            let (x, y) = (num(&p[2]), num(&p[3]));
+            assert!(
+                y - ((x / 2.0).cosh() - 0.8) < 1e-8,
+                "row {} enters g1 at x = {x}",
+                i + 1
+            );
+        }
+        if row[c(&oh, "phase")] == "A" {
+            let tip = pts[pts.len() - 1];
+            let (xc, yc) = (num(&row[c(&oh, "xc")]), num(&row[c(&oh, "yc")]));
+            assert!(
+                (num(&tip[2]) - xc).hypot(num(&tip[3]) - yc) < 1e-8,
+                "row {}",
+                i + 1
+            );
+        }
+    }
+}

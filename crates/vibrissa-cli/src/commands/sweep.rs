@@ -52,6 +52,9 @@ pub fn run(args: &SweepArgs) -> Result<(), CliError> {
     let res = run_sweep(&r, &contour, &profile, points)?;
     let out = OutputDir::create(&args.out)?;
     write_sweep_outputs(&r, &contour, &res, &profile, points, &out)?;
+    if args.shapes {
+        write_shapes_csv(&r, &res, &out.path_for("shapes.csv"))?;
+    }
     let files = out.commit()?;
     if args.json {
         let mut v = sweep_json(&res, points, &units);
@@ -327,6 +330,75 @@ pub fn write_sweep_outputs(
     };
     write_sweep_figures(res, &ctx, |n| out.path_for(n))?;
     write_shapes_svg(r, contour, res, &ctx, &out.path_for("shapes.svg"))
+}
+
+/// The header of `shapes.csv`.
+pub const SHAPES_HEADER: [&str; 5] = ["row", "s", "x", "y", "phi"];
+
+/// The whisker's shape at a sweep row (the free whisker under the flow before contact; with
+/// the contact force at its point otherwise): one DOP853 integration from the loaded end at
+/// the row's tip angle, 100 intervals up to the contact point, then the load-free segment
+/// beyond a tangential contact to the tip; positions relative to the base.
+pub fn row_shape(
+    whisker: &beam_model::Whisker,
+    flow: FluidLoad,
+    p: &contact_sim::SweepPoint,
+) -> Result<beam_model::Solution, beam_model::ModelError> {
+    let (psi, f, s1) = match p.phase {
+        Phase::None => (0.0, 0.0, 1.0),
+        _ => (p.psi, p.f, p.s1),
+    };
+    let scene = Scene::new(*whisker, contact_loads(flow, psi, f, s1));
+    shape_from_tip_angle(&scene, p.phi1, 1e-10, 100)
+}
+
+/// Writes `shapes.csv` (header [`SHAPES_HEADER`], rows numbered from 1 as in
+/// `observables.csv`) in the scene's units, with its units sidecar.
+pub fn write_shapes_csv(
+    r: &Resolved,
+    res: &SweepResult,
+    path: &std::path::Path,
+) -> Result<(), CliError> {
+    let units = r.units();
+    let l = units.scale(Quantity::Length);
+    let flow = FluidLoad {
+        q: res.q,
+        alpha: res.alpha,
+    };
+    let mut w = crate::csvio::CsvWriter::new(&SHAPES_HEADER);
+    for (i, p) in res.points.iter().enumerate() {
+        let sol = row_shape(&r.scene.whisker, flow, p).map_err(|e| CliError::Solver {
+            reason: format!(
+                "shapes.csv: the shape of row {} (x0 = {}): {e}",
+                i + 1,
+                p.x0
+            ),
+            source: Some(Box::new(e)),
+        })?;
+        let e = &sol.elastica;
+        for k in 0..e.len() {
+            w.push_numbers(&[
+                (i + 1) as f64,
+                e.s[k] * l,
+                (p.x0 + e.x[k]) * l,
+                e.y[k] * l,
+                e.phi[k],
+            ])?;
+        }
+    }
+    w.write(path)?;
+    crate::commands::write_units_of(
+        path,
+        &SHAPES_HEADER,
+        &[
+            Quantity::Number,
+            Quantity::Length,
+            Quantity::Length,
+            Quantity::Length,
+            Quantity::Angle,
+        ],
+        &units,
+    )
 }
 
 /// Names a sweep's scene in figure notes: `contour g1, q = 5, theta = 0.75, k = 20`.

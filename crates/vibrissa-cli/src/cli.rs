@@ -42,7 +42,13 @@ whisker lengths. Outputs are in the scene's units (mm, N, N mm for a physical sc
 each CSV has a NAME.units.csv beside it.
 
 Rows: --points N gives N contact rows + event rows + 10 rows before contact; rows are
-numbered from 1 (row r is line r + 1 of observables.csv) in the text, the JSON and the CSV.";
+numbered from 1 (row r is line r + 1 of observables.csv) in the text, the JSON and the CSV.
+
+Frame: the base at (x0, 0) points along +y and moves towards -x; the obstacle is the region
+above its contour, y > g(x); a flow at alpha = 0 pushes along +x. Phases: A, the tip rests on
+the obstacle; B, the whisker touches it tangentially with a point before its tip (the part
+beyond is unloaded). A contact ends by a snap (the whisker jumps off where the contact
+branch turns back) or a release (the flow lifts it off: the contact force falls to 0).";
 
 const RECONSTRUCT_EXAMPLES: &str = "\
 Examples:
@@ -102,25 +108,29 @@ pub enum Command {
 /// Tip-force kind.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum LoadArg {
-    /// Direction preserving.
+    /// Direction-preserving: the force keeps its direction in space as the whisker bends.
     Dp,
-    /// Angle preserving.
+    /// Angle-preserving: the force turns with the tip, keeping its angle to the whisker.
     Ap,
 }
 
 /// Whisker flags shared by every command.
 #[derive(Debug, Clone, Default, Args)]
 pub struct WhiskerFlags {
-    /// Diameter ratio tip/base, 0.01 <= T <= 1 (thinner tips are beyond the solver's resolution) [default: 1]
+    /// Taper: diameter ratio tip/base, 0.01 <= T <= 1 (1 = a cylinder; thinner tips are beyond
+    /// the solver's resolution) [default: 1]
     #[arg(long, value_name = "T", allow_hyphen_values = true)]
     pub theta: Option<String>,
-    /// Slope A of the Cesaro pre-curvature kappa0(s) = A s + B, |A| <= 100 [default: 0]
+    /// Slope A of the unloaded whisker's curvature along its length, kappa0(s) = A s + B
+    /// (s = 0 at the base, 1 at the tip; a straight whisker has A = B = 0), |A| <= 100
+    /// [default: 0]
     #[arg(long, value_name = "A", allow_hyphen_values = true)]
     pub a: Option<String>,
-    /// Offset B of the pre-curvature, |B| <= 100 [default: 0]
+    /// Base value B of the unloaded curvature kappa0(s) = A s + B, |B| <= 100 [default: 0]
     #[arg(long, value_name = "B", allow_hyphen_values = true)]
     pub b: Option<String>,
-    /// Base spring stiffness k >= 0.01, `inf` for a rigid support [default: inf]
+    /// Stiffness of the torsional spring at the base (the follicle), k >= 0.01: the base
+    /// turns by MA / k; `inf` for a rigid support [default: inf]
     #[arg(long, value_name = "K", allow_hyphen_values = true)]
     pub k: Option<String>,
 }
@@ -134,7 +144,7 @@ pub struct TipFlags {
     /// Tip force angle in degrees (0 pushes towards +x), reduced exactly modulo 360 [default: 0]
     #[arg(long = "beta-deg", value_name = "D", allow_hyphen_values = true)]
     pub beta_deg: Option<String>,
-    /// Tip force direction preserving (dp) or angle preserving (ap) [default: dp]
+    /// Tip force kind: dp keeps its direction in space, ap turns with the tip [default: dp]
     #[arg(long, value_enum, value_name = "KIND")]
     pub load: Option<LoadArg>,
 }
@@ -158,7 +168,8 @@ pub struct MethodFlags {
     /// `stats.method_used` says; refused when the estimate exceeds 1e-8), rk4 (fixed-step
     /// shooting), fdm (finite differences, the thesis's method) or fdm-richardson (FDM on n,
     /// 2n, 4n with two Richardson levels, order 6); the fixed-grid methods are refused when
-    /// their estimate (from the doubled grid) exceeds 5e-2 [default: accurate]
+    /// their error estimate (the same solve on a grid twice as fine, compared) exceeds 5e-2
+    /// [default: accurate]
     #[arg(long, value_name = "M")]
     pub method: Option<String>,
     /// Grid intervals per unit length for rk4/fdm (<= 100000; fdm-richardson <= 25000);

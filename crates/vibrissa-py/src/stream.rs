@@ -1,6 +1,8 @@
 //! `vibrissa.Streamer`: one sensor row in, its contact point out, as
 //! `vibrissa reconstruct --stream` does it (`profile_recon::Streamer`).
 
+use std::panic::{catch_unwind, AssertUnwindSafe};
+
 use beam_model::Whisker;
 use profile_recon::{KnownFlow, ObservableRow, ReconPoint, ReconSettings};
 use pyo3::prelude::*;
@@ -11,6 +13,15 @@ use vibrissa_cli::CliError;
 
 use crate::errors::{compute, py_error, to_py, Kind};
 use crate::reconstruct::{recon_args, LOG_ORIGIN};
+
+/// A panic in the stream (an internal error) as a `SolverError`, not a `PanicException`.
+fn internal(py: Python<'_>) -> PyErr {
+    py_error(
+        py,
+        Kind::SolverError,
+        "internal error in the stream (please report)".to_string(),
+    )
+}
 
 /// An incremental reconstruction: `push` one row of base observables (in the scene's units),
 /// get its contact point as soon as it is known.
@@ -138,8 +149,11 @@ impl Streamer {
                 "the stream is finished: make a new Streamer".to_string(),
             ));
         };
-        let result = py.detach(|| inner.push(row));
-        let points = result.map_err(|e| self.error(py, e))?;
+        let result = py.detach(|| catch_unwind(AssertUnwindSafe(|| inner.push(row))));
+        let points = match result {
+            Ok(r) => r.map_err(|e| self.error(py, e))?,
+            Err(_) => return Err(internal(py)),
+        };
         let mut mine = None;
         for p in &points {
             let d = self.point(py, p)?;
@@ -158,9 +172,10 @@ impl Streamer {
             return Ok(Vec::new());
         };
         self.final_flow = inner.flow();
-        let points = py
-            .detach(|| inner.finish())
-            .map_err(|e| self.error(py, e))?;
+        let points = match py.detach(|| catch_unwind(AssertUnwindSafe(|| inner.finish()))) {
+            Ok(r) => r.map_err(|e| self.error(py, e))?,
+            Err(_) => return Err(internal(py)),
+        };
         let mut out = Vec::new();
         for p in &points {
             let d = self.point(py, p)?;

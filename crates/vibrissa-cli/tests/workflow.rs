@@ -714,3 +714,110 @@ fn named_contours_are_in_whisker_lengths_in_a_physical_scene() {
         }
     }
 }
+
+/// Every physical preset of Table 2.2 (values typed here, not taken from the library): a
+/// sweep past g1 and its reconstruction in physical units equal the dimensionless ones
+/// scaled by hand (q = 4 and k = 20 in E I / L^3 and E I / L).
+#[test]
+fn every_preset_sweeps_and_reconstructs_as_the_scaled_dimensionless_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    let cwd = dir.path();
+    let dim = json(&run(
+        &[
+            "sweep",
+            "--profile",
+            "g1",
+            "--theta",
+            "0.75",
+            "--q",
+            "4",
+            "--k",
+            "20",
+            "--points",
+            "15",
+            "--json",
+            "--figures",
+            "none",
+            "--out",
+            "dim",
+        ],
+        cwd,
+    ));
+    stdout(&run(
+        &[
+            "reconstruct",
+            "dim",
+            "--figures",
+            "none",
+            "--out",
+            "dim-rec",
+        ],
+        cwd,
+    ));
+    let (dh, drows) = table(&cwd.join("dim-rec/reconstruction.csv"));
+    for (name, l_mm, d_mm, e_gpa) in [
+        ("beta", 66.2f64, 0.225f64, 1.40f64),
+        ("gamma", 60.3, 0.199, 3.75),
+        ("A1", 51.7, 0.16, 2.75),
+        ("E2", 48.1, 0.232, 1.9),
+    ] {
+        let (l, d, e) = (l_mm * 1e-3, d_mm * 1e-3, e_gpa * 1e9);
+        let ei = e * std::f64::consts::PI * d.powi(4) / 64.0;
+        let (q_si, k_si) = (4.0 * ei / l.powi(3), 20.0 * ei / l);
+        fs::write(
+            cwd.join(format!("{name}.ron")),
+            format!(
+                "(units: Physical(preset: \"{name}\"), whisker: (theta: 0.75, k: Some({k_si:?})), \
+                 loads: (q: {q_si:?}), profile: Some(\"g1\"))"
+            ),
+        )
+        .unwrap();
+        let out = format!("{name}-sw");
+        let phys = json(&run(
+            &[
+                "sweep",
+                &format!("{name}.ron"),
+                "--points",
+                "15",
+                "--json",
+                "--figures",
+                "none",
+                "--out",
+                &out,
+            ],
+            cwd,
+        ));
+        assert_eq!(phys["phases"], dim["phases"], "{name}");
+        let (xp, xd) = (
+            phys["first_contact_x0"].as_f64().unwrap(),
+            dim["first_contact_x0"].as_f64().unwrap(),
+        );
+        assert!(rel(xp / l_mm, xd) < 1e-9, "{name}: {xp} mm vs {xd}");
+        let rec = format!("{name}-rec");
+        let v = json(&run(
+            &[
+                "reconstruct",
+                &out,
+                "--json",
+                "--figures",
+                "none",
+                "--out",
+                &rec,
+            ],
+            cwd,
+        ));
+        assert!(
+            rel(v["q"].as_f64().unwrap(), q_si) < 1e-9,
+            "{name}: q {}",
+            v["q"]
+        );
+        let (ph, prows) = table(&cwd.join(&rec).join("reconstruction.csv"));
+        assert_eq!(prows.len(), drows.len(), "{name}");
+        for (p, q) in prows.iter().zip(&drows) {
+            for c in ["x", "y"] {
+                let (a, b) = (num(&p[col(&ph, c)]), num(&q[col(&dh, c)]));
+                assert!((a / l_mm - b).abs() < 1e-9, "{name} {c}: {a} mm vs {b}");
+            }
+        }
+    }
+}

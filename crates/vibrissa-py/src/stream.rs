@@ -85,26 +85,9 @@ impl Streamer {
         let file = crate::params::units_scene(spec)?;
         let (whisker, known, settings, units): (Whisker, KnownFlow, ReconSettings, UnitSystem) =
             compute(py, move || {
-                let opts = ReconOptions::parse(&args)?;
-                if opts.method != profile_recon::ReconMethod::Accurate {
-                    return Err(CliError::invalid_argument(
-                        "--method",
-                        opts.method.name(),
-                        "the stream reconstructs each row on its own: method accurate only",
-                    ));
-                }
+                let opts = ReconOptions::parse_stream(&args)?;
                 let r = recon_model(&args, file)?;
-                let q = args.q.as_ref().map(|_| r.q());
-                let settings = ReconSettings {
-                    method: opts.method,
-                    consistency_tol: opts.tol,
-                    noise: opts.noise,
-                    ..ReconSettings::default()
-                };
-                let known = KnownFlow {
-                    q,
-                    alpha: opts.alpha,
-                };
+                let (known, settings) = (opts.known_flow(&args, &r), opts.settings());
                 Ok((r.scene.whisker, known, settings, r.units()))
             })?;
         let inner = profile_recon::Streamer::new(&whisker, known, &settings)

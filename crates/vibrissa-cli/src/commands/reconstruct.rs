@@ -173,6 +173,39 @@ impl ReconOptions {
             noise: parse_noise(args.noise.as_deref())?,
         })
     }
+
+    /// The options of a stream: as [`ReconOptions::parse`], the method `accurate` only (each
+    /// row on its own).
+    pub fn parse_stream(args: &ReconstructArgs) -> Result<Self, CliError> {
+        let opts = Self::parse(args)?;
+        if opts.method != ReconMethod::Accurate {
+            return Err(CliError::invalid_argument(
+                "--method",
+                opts.method.name(),
+                "the stream reconstructs each row on its own: method accurate only",
+            ));
+        }
+        Ok(opts)
+    }
+
+    /// The library's settings of these options.
+    pub fn settings(&self) -> ReconSettings {
+        ReconSettings {
+            method: self.method,
+            consistency_tol: self.tol,
+            noise: self.noise,
+            ..ReconSettings::default()
+        }
+    }
+
+    /// The flow as far as it is given: `--q` (resolved in the scene's units by `r`) and
+    /// `--alpha-deg`.
+    pub fn known_flow(&self, args: &ReconstructArgs, r: &Resolved) -> KnownFlow {
+        KnownFlow {
+            q: args.q.as_ref().map(|_| r.q()),
+            alpha: self.alpha,
+        }
+    }
 }
 
 /// The whisker of a reconstruction (and `--q`, if given): the scene file under the flags,
@@ -199,20 +232,14 @@ pub fn reconstruct_log(
     r: &Resolved,
     table: &Table,
 ) -> Result<Reconstruction, CliError> {
-    let q = args.q.as_ref().map(|_| r.q());
     let rows = rows_of(table)?;
-    let settings = ReconSettings {
-        method: opts.method,
-        consistency_tol: opts.tol,
-        noise: opts.noise,
-        ..ReconSettings::default()
-    };
-    let flow = KnownFlow {
-        q,
-        alpha: opts.alpha,
-    };
-    reconstruct_with(&r.scene.whisker, &rows, flow, &settings)
-        .map_err(|e| recon_culprit(e, table, r, args, opts.tol))
+    reconstruct_with(
+        &r.scene.whisker,
+        &rows,
+        opts.known_flow(args, r),
+        &opts.settings(),
+    )
+    .map_err(|e| recon_culprit(e, table, r, args, opts.tol))
 }
 
 /// File name of the reconstruction table.
@@ -388,29 +415,13 @@ fn parse_noise(raw: Option<&str>) -> Result<Option<f64>, CliError> {
 /// scene's units (a physical scene's log in mm, N, N mm); rows are checked as in a file.
 fn run_stream(args: &ReconstructArgs) -> Result<(), CliError> {
     use std::io::BufRead;
-    let opts = ReconOptions::parse(args)?;
-    if opts.method != ReconMethod::Accurate {
-        return Err(CliError::invalid_argument(
-            "--method",
-            opts.method.name(),
-            "the stream reconstructs each row on its own: method accurate only",
-        ));
-    }
+    let opts = ReconOptions::parse_stream(args)?;
     // the one positional argument is the scene (a sweep folder gives its scene.ron)
     let scene = stream_scene(args.scene.as_deref().or(args.observables.as_deref()))?;
     let file = LoadedScene::load_opt(scene.as_deref())?;
     let r = recon_model(args, file)?;
     let units = r.units();
-    let settings = ReconSettings {
-        method: opts.method,
-        consistency_tol: opts.tol,
-        noise: opts.noise,
-        ..ReconSettings::default()
-    };
-    let flow = KnownFlow {
-        q: args.q.as_ref().map(|_| r.q()),
-        alpha: opts.alpha,
-    };
+    let (flow, settings) = (opts.known_flow(args, &r), opts.settings());
     let mut stream = Streamer::new(&r.scene.whisker, flow, &settings)
         .map_err(|e| stdin_err(1, e.to_string()))?;
     let mut out = StreamOut::new(&units)?;

@@ -76,8 +76,8 @@ pub struct Cli {
     /// The command.
     #[command(subcommand)]
     pub command: Command,
-    /// Figures to write with the outputs: none (fastest), svg (vector, small), png (for
-    /// slides, twice the size) or all.
+    /// Figures to write with the outputs: none (fastest), svg (vector, small), png (300
+    /// dpi at the printed size; 150 dpi for slides) or all.
     #[arg(
         long,
         global = true,
@@ -86,6 +86,17 @@ pub struct Cli {
         default_value = "svg"
     )]
     pub figures: crate::plot::FigureFormats,
+    /// The printed size the figures are made for: column (85 mm, one column of a journal
+    /// page), page (175 mm, both columns) or slide (254 mm, fonts twice as large). Fonts
+    /// print at 7-8.5 pt at that size.
+    #[arg(
+        long,
+        global = true,
+        value_enum,
+        value_name = "SIZE",
+        default_value = "column"
+    )]
+    pub size: crate::plot::FigureSize,
 }
 
 /// The commands.

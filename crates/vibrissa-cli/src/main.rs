@@ -46,6 +46,7 @@ fn main() {
         },
     };
     vibrissa_cli::plot::set_figure_formats(cli.figures);
+    vibrissa_cli::plot::set_figure_size(cli.size);
     if let Err(e) = commands::run(cli.command) {
         eprintln!("error: {e}");
         std::process::exit(e.exit_code());

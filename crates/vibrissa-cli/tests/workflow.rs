@@ -304,9 +304,9 @@ fn reconstruct_dir_round_trip_physical() {
         e.contains("observables.units.csv:2: column `x0`: values in `mm` need a physical scene"),
         "{e}"
     );
-    // Figures say their units.
-    let svg = fs::read_to_string(cwd.join("out/observables.svg")).unwrap();
-    for needle in ["x₀ [mm]", "Ax [N]", "MA [N mm]", "q = 0.003 N/m"] {
+    // Figures say their units, small forces and moments with a prefix.
+    let svg = svg_text(&fs::read_to_string(cwd.join("out/observables.svg")).unwrap());
+    for needle in ["x0 [mm]", "Ax [µN]", "MA [mN mm]", "q = 0.003 N/m"] {
         assert!(svg.contains(needle), "observables.svg lacks {needle}");
     }
     let svg = fs::read_to_string(cwd.join("rec/reconstruction.svg")).unwrap();
@@ -412,14 +412,59 @@ fn png_size(bytes: &[u8]) -> (u32, u32) {
     (be(16), be(20))
 }
 
-/// The `width` and `height` attributes of an SVG.
-fn svg_size(svg: &str) -> (u32, u32) {
-    let attr = |name: &str| {
+/// The printed `width` and `height` of an SVG (millimetres) and its canvas width
+/// (points, from the viewBox).
+fn svg_size(svg: &str) -> (f64, f64, f64) {
+    let attr = |name: &str| -> String {
         let start = svg.find(&format!(" {name}=\"")).unwrap() + name.len() + 3;
         let end = start + svg[start..].find('"').unwrap();
-        svg[start..end].parse::<u32>().unwrap()
+        svg[start..end].to_string()
     };
-    (attr("width"), attr("height"))
+    let mm = |name: &str| {
+        attr(name)
+            .strip_suffix("mm")
+            .unwrap()
+            .parse::<f64>()
+            .unwrap()
+    };
+    let vb: Vec<f64> = attr("viewBox")
+        .split(' ')
+        .map(|v| v.parse().unwrap())
+        .collect();
+    (mm("width"), mm("height"), vb[2])
+}
+
+/// The text of an SVG with the subscript markup taken out (`A<tspan ..>x</tspan>` reads
+/// `Ax`).
+fn svg_text(svg: &str) -> String {
+    let mut out = String::new();
+    let mut rest = svg;
+    while let Some(i) = rest.find("<tspan") {
+        out.push_str(&rest[..i]);
+        rest = &rest[i + rest[i..].find('>').unwrap() + 1..];
+    }
+    out.push_str(rest);
+    out.replace("</tspan>", "")
+}
+
+/// Every font size of an SVG in printed points: (text, subscripts).
+fn printed_font_sizes(svg: &str) -> (Vec<f64>, Vec<f64>) {
+    let (w_mm, _, canvas) = svg_size(svg);
+    let k = w_mm / 25.4 * 72.0 / canvas;
+    let mut text = Vec::new();
+    let mut sub = Vec::new();
+    for (i, _) in svg.match_indices("font-size=\"") {
+        let v: f64 = svg[i + 11..i + 11 + svg[i + 11..].find('"').unwrap()]
+            .parse()
+            .unwrap();
+        let tag_start = svg[..i].rfind('<').unwrap();
+        if svg[tag_start..].starts_with("<tspan") {
+            sub.push(v * k);
+        } else {
+            text.push(v * k);
+        }
+    }
+    (text, sub)
 }
 
 #[test]
@@ -442,14 +487,20 @@ fn figures_come_as_svg_and_png_with_symbols_units_and_events() {
         cwd,
     );
     stdout(&o);
-    let svg = fs::read_to_string(cwd.join("rigid/observables.svg")).unwrap();
+    let raw = fs::read_to_string(cwd.join("rigid/observables.svg")).unwrap();
+    // Subscripts are set as such: A_x, M_A, x_0.
     assert!(
-        !svg.contains("φ₀ [rad]"),
+        raw.contains(">A<tspan") && raw.contains(">M<tspan"),
+        "no subscripts"
+    );
+    let svg = svg_text(&raw);
+    assert!(
+        !svg.contains("φ0 [rad]"),
         "a rigid support has no phi0 panel"
     );
-    assert!(svg.contains("φ₀ = π/2 throughout (rigid support, no panel)"));
+    assert!(svg.contains("φ0 = π/2 throughout (rigid support, no panel)"));
     for needle in [
-        "base position x₀ [–]",
+        "base x0 [–]",
         "Ax [–]",
         "Ay [–]",
         "MA [–]",
@@ -479,11 +530,12 @@ fn figures_come_as_svg_and_png_with_symbols_units_and_events() {
         cwd,
     );
     stdout(&o);
-    let svg = fs::read_to_string(cwd.join("spring/observables.svg")).unwrap();
-    assert!(svg.contains("φ₀ [rad]"));
+    let svg = svg_text(&fs::read_to_string(cwd.join("spring/observables.svg")).unwrap());
+    assert!(svg.contains("φ0 [rad]"));
     let shapes = fs::read_to_string(cwd.join("spring/shapes.svg")).unwrap();
     for needle in [
-        "obstacle contour",
+        "obstacle (solid above)",
+        "flow direction",
         "sweep direction",
         "first contact",
         "contact points",
@@ -498,18 +550,72 @@ fn figures_come_as_svg_and_png_with_symbols_units_and_events() {
         .filter(|t| t.contains('.'))
         .count();
     assert!(frac > 100, "only {frac} fractional coordinates");
-    // Every SVG has its PNG twin at twice the size.
+    // Every SVG prints one column wide (85 mm) with text of 7 pt or more (subscripts
+    // 5.5 pt or more), and has its PNG twin at 300 dpi of that print.
     let mut n = 0;
     for e in fs::read_dir(cwd.join("spring")).unwrap() {
         let p = e.unwrap().path();
         if p.extension().is_some_and(|x| x == "svg") {
-            let (w, h) = svg_size(&fs::read_to_string(&p).unwrap());
+            let svg = fs::read_to_string(&p).unwrap();
+            let (w, h, _) = svg_size(&svg);
+            assert!((w - 85.0).abs() < 1e-9, "{}: {w} mm wide", p.display());
+            let (text, sub) = printed_font_sizes(&svg);
+            let small = text
+                .iter()
+                .chain(&sub)
+                .fold(f64::INFINITY, |a, &b| a.min(b));
+            assert!(
+                text.iter().all(|&v| v >= 6.99),
+                "{}: text at {small} pt",
+                p.display()
+            );
+            assert!(
+                sub.iter().all(|&v| v >= 5.5),
+                "{}: subscript at {small} pt",
+                p.display()
+            );
             let png = fs::read(p.with_extension("png")).unwrap();
-            assert_eq!(png_size(&png), (2 * w, 2 * h), "{}", p.display());
+            let px = |mm: f64| (mm / 25.4 * 300.0).round() as i64;
+            let (pw, ph) = png_size(&png);
+            assert!(
+                (i64::from(pw) - px(w)).abs() <= 1 && (i64::from(ph) - px(h)).abs() <= 1,
+                "{}: {pw}x{ph} px for {w}x{h} mm",
+                p.display()
+            );
             n += 1;
         }
     }
     assert_eq!(n, 3, "observables, contact, shapes");
+    // Phases and events differ in line style, not only in colour.
+    let raw = fs::read_to_string(cwd.join("spring/observables.svg")).unwrap();
+    let dashes: std::collections::BTreeSet<&str> = raw
+        .split("stroke-dasharray=\"")
+        .skip(1)
+        .map(|t| &t[..t.find('"').unwrap()])
+        .collect();
+    assert!(dashes.len() >= 4, "dash patterns: {dashes:?}");
+    // --size page prints 175 mm wide, slides 254 mm.
+    for (size, mm) in [("page", 175.0), ("slide", 254.0)] {
+        let o = run(
+            &[
+                "sweep",
+                "--profile",
+                "g1",
+                "--q",
+                "5",
+                "--points",
+                "20",
+                "--size",
+                size,
+                "--out",
+                size,
+            ],
+            cwd,
+        );
+        stdout(&o);
+        let svg = fs::read_to_string(cwd.join(size).join("observables.svg")).unwrap();
+        assert!((svg_size(&svg).0 - mm).abs() < 1e-9, "{size}");
+    }
 }
 
 #[test]

@@ -112,13 +112,17 @@ pub fn write_elastica_svg(
     title: &str,
     path: &Path,
 ) -> Result<(), CliError> {
-    write_elastica_figure(sol, unloaded, title, &UnitSystem::DIMENSIONLESS, path)
+    write_elastica_figure(sol, unloaded, None, title, &UnitSystem::DIMENSIONLESS, path)
 }
 
-/// Writes the elastica figure in `units` (SVG at `path` and a PNG beside it).
+/// Writes the elastica figure in `units` (SVG at `path` and a PNG beside it), with the
+/// `loads` drawn as arrows if given: the tip force at the loaded end (direction [3.16],
+/// rotated with the end if angle preserving) and the flow, `q (cos α, −sin α)`, along the
+/// loaded part.
 pub fn write_elastica_figure(
     sol: &Solution,
     unloaded: Option<&Solution>,
+    loads: Option<&beam_model::Loads>,
     title: &str,
     units: &UnitSystem,
     path: &Path,
@@ -145,7 +149,57 @@ pub fn write_elastica_figure(
     chart = chart.with(Series::new("loaded", pts(sol), Style::Line).color(0));
     let base = (sol.elastica.x[0] * l, sol.elastica.y[0] * l);
     chart = chart.mark(Mark::point(base.0, base.1, "base", 7));
+    if let Some(loads) = loads {
+        chart = load_arrows(chart, sol, loads, l);
+    }
     write_svg(&chart, path, (640, 640))
+}
+
+/// The loads of a solve as arrows ending on the whisker (0.2 whisker lengths for the tip
+/// force, 0.1 for the flow).
+fn load_arrows(mut chart: Chart, sol: &Solution, loads: &beam_model::Loads, l: f64) -> Chart {
+    let tip = &loads.tip;
+    if tip.f > 0.0 {
+        let end = &sol.loaded_end;
+        let ang = match tip.kind {
+            beam_model::LoadKind::Dp => -tip.beta,
+            beam_model::LoadKind::Ap => end.phi - std::f64::consts::FRAC_PI_2 - tip.beta,
+        };
+        let (dx, dy) = (0.2 * ang.cos(), 0.2 * ang.sin());
+        chart = chart.mark(Mark::arrow(
+            (end.x - dx) * l,
+            (end.y - dy) * l,
+            dx * l,
+            dy * l,
+            "tip force f",
+            3,
+        ));
+    }
+    let fl = &loads.fluid;
+    let e = &sol.elastica;
+    if fl.q > 0.0 && e.x.len() > 4 {
+        let (dx, dy) = (0.1 * fl.alpha.cos(), -0.1 * fl.alpha.sin());
+        let n = e.x.len() - 1;
+        let loaded =
+            e.s.iter()
+                .filter(|&&s| s <= loads.s1 + 1e-12)
+                .count()
+                .max(2)
+                - 1;
+        for k in 0..4 {
+            let i = ((2 * k + 1) * loaded / 8).min(n);
+            let label = if k == 0 { "flow q" } else { "" };
+            chart = chart.mark(Mark::arrow(
+                (e.x[i] - dx) * l,
+                (e.y[i] - dy) * l,
+                dx * l,
+                dy * l,
+                label,
+                5,
+            ));
+        }
+    }
+    chart
 }
 
 /// One row of `observables.csv` (serde names = the contract's column names).
@@ -322,6 +376,16 @@ fn phase_color(p: Phase) -> usize {
     }
 }
 
+/// The line of a phase: no contact dotted, tip contact solid, tangential contact dashed
+/// (so phases differ in greyscale too).
+fn phase_dash(p: Phase) -> crate::plot::Dash {
+    match p {
+        Phase::None => crate::plot::Dash::Dotted,
+        Phase::A => crate::plot::Dash::Solid,
+        Phase::B => crate::plot::Dash::Dashed,
+    }
+}
+
 /// The legend text of a phase.
 pub fn phase_name(p: Phase) -> &'static str {
     match p {
@@ -332,7 +396,8 @@ pub fn phase_name(p: Phase) -> &'static str {
 }
 
 /// Series of `value` against x0, one per run of equal phase (coloured by phase; runs
-/// touch so the curve is continuous), only contact rows if `contact_only`.
+/// touch so the curve is continuous, except at the jump of a tangential first contact),
+/// only contact rows if `contact_only`.
 fn phase_series(
     res: &SweepResult,
     x_scale: f64,
@@ -358,7 +423,17 @@ fn phase_series(
             .map(|p| (p.x0 * x_scale, value(p)))
             .collect();
         if j < rows.len() {
-            pts.push((rows[j].x0 * x_scale, value(rows[j])));
+            // At a tangential first contact the observables jump (the flow beyond s1 is
+            // dropped): the free whisker's values run on to that x0, and no line joins them
+            // to the contact's.
+            let jump =
+                phase == Phase::None && res.first_contact == contact_sim::FirstContact::Tangential;
+            let v = if jump {
+                value(rows[j - 1])
+            } else {
+                value(rows[j])
+            };
+            pts.push((rows[j].x0 * x_scale, v));
         }
         let idx = match phase {
             Phase::None => 0,
@@ -371,7 +446,11 @@ fn phase_series(
             named[idx] = true;
             phase_name(phase).to_string()
         };
-        out.push(Series::new(name, pts, Style::Line).color(phase_color(phase)));
+        out.push(
+            Series::new(name, pts, Style::Line)
+                .color(phase_color(phase))
+                .dash(phase_dash(phase)),
+        );
         i = j;
     }
     out
@@ -439,7 +518,7 @@ pub fn separation_name(s: &contact_sim::Separation) -> String {
 fn event_marks(res: &SweepResult, x_scale: f64) -> Vec<Mark> {
     sweep_events(res)
         .into_iter()
-        .map(|e| Mark::vline(res.points[e.index].x0 * x_scale, e.label, 3))
+        .map(|e| Mark::vline(res.points[e.index].x0 * x_scale, e.label, 6))
         .collect()
 }
 
@@ -499,26 +578,26 @@ pub fn write_sweep_figures(
         u.scale(Quantity::Force),
         u.scale(Quantity::Moment),
     );
-    let x_label = u.label("base position x₀", Quantity::Length);
+    let x_label = u.label("base x_0", Quantity::Length);
     let marks = event_marks(res, l);
     let mut charts = vec![
         chart_of(
             "horizontal base force",
-            &u.label("Ax", Quantity::Force),
+            &u.label("A_x", Quantity::Force),
             phase_series(res, l, |p| p.ax * fs, false),
             &x_label,
             &marks,
         ),
         chart_of(
             "vertical base force",
-            &u.label("Ay", Quantity::Force),
+            &u.label("A_y", Quantity::Force),
             phase_series(res, l, |p| p.ay * fs, false),
             &x_label,
             &marks,
         ),
         chart_of(
             "base moment",
-            &u.label("MA", Quantity::Moment),
+            &u.label("M_A", Quantity::Moment),
             phase_series(res, l, |p| p.ma * ms, false),
             &x_label,
             &marks,
@@ -527,7 +606,7 @@ pub fn write_sweep_figures(
     if !ctx.rigid && phi0_varies(res) {
         charts.push(chart_of(
             "base angle",
-            &u.label("φ₀", Quantity::Angle),
+            &u.label("φ_0", Quantity::Angle),
             phase_series(res, l, |p| p.phi0, false),
             &x_label,
             &marks,
@@ -539,7 +618,7 @@ pub fn write_sweep_figures(
         u.describe()
     );
     if charts.len() == 3 {
-        note += "; φ₀ = π/2 throughout (rigid support, no panel)";
+        note += "; φ_0 = π/2 throughout (rigid support, no panel)";
     }
     let heading = Heading {
         title: "Base observables along the sweep".to_string(),
@@ -550,9 +629,15 @@ pub fn write_sweep_figures(
     } else {
         (3, (1500, 480))
     };
-    write_panels_with_heading(&charts, cols, &heading, &path_for("observables.svg"), size)?;
+    let observables_path = path_for("observables.svg");
+    let observables =
+        || write_panels_with_heading(&charts, cols, &heading, &observables_path, size);
     let mut written = vec!["observables.svg"];
-    if res.contact_points().next().is_some() {
+    let has_contact = res.contact_points().next().is_some();
+    let contact = || -> Result<(), CliError> {
+        if !has_contact {
+            return Ok(());
+        }
         let charts = [
             chart_of(
                 "contact force",
@@ -560,11 +645,19 @@ pub fn write_sweep_figures(
                 phase_series(res, l, |p| p.f * fs, true),
                 &x_label,
                 &marks,
+            )
+            .y_from_zero(),
+            chart_of(
+                "contact on the whisker",
+                &u.label("s_1", Quantity::Length),
+                phase_series(res, l, |p| p.s1 * l, true),
+                &x_label,
+                &marks,
             ),
             chart_of(
-                "loaded arc length (contact point on the whisker)",
-                &u.label("s₁", Quantity::Length),
-                phase_series(res, l, |p| p.s1 * l, true),
+                "contact on the obstacle",
+                &u.label("x_c", Quantity::Length),
+                phase_series(res, l, |p| p.xc * l, true),
                 &x_label,
                 &marks,
             ),
@@ -573,7 +666,10 @@ pub fn write_sweep_figures(
             title: "Contact force and contact point along the sweep".to_string(),
             note,
         };
-        write_panels_with_heading(&charts, 2, &heading, &path_for("contact.svg"), (1100, 500))?;
+        write_panels_with_heading(&charts, 3, &heading, &path_for("contact.svg"), (1500, 480))
+    };
+    crate::plot::both(observables, contact)?;
+    if has_contact {
         written.push("contact.svg");
     }
     Ok(written)

@@ -774,10 +774,12 @@ pub fn write_reconstruction_figures_in(
         units.label("x", Quantity::Length),
         units.label("y", Quantity::Length),
     )
+    .equal_aspect()
     .note(format!(
-        "each point from one contact row's base observables alone; {}",
+        "each point from one contact row's base observables alone, bars ±σ; {}",
         units.describe()
     ));
+    let mut true_line = None;
     if let Some(p) = truth {
         let xs = points.iter().map(|p| p.x).filter(|x| x.is_finite());
         let (lo, hi) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
@@ -793,37 +795,65 @@ pub fn write_reconstruction_figures_in(
                     (x * l, p.y(x) * l)
                 })
                 .collect();
-            chart = chart.with(Series::new("true contour", line, Style::Line).color(7));
+            // The obstacle (solid above its contour) under the points, its contour line
+            // again on top of them.
+            chart = chart.with(
+                Series::new("obstacle (true contour)", line.clone(), Style::Obstacle).color(6),
+            );
+            true_line = Some(line);
         }
     }
     for (phase, color) in [(Phase::A, 0), (Phase::B, 1)] {
         let name = format!("reconstructed, {}", crate::commands::phase_name(phase));
-        let pts: Vec<(f64, f64)> = points
-            .iter()
-            .filter(|p| p.phase == phase)
-            .map(|p| (p.x * l, p.y * l))
-            .collect();
-        if !pts.is_empty() {
-            chart = chart.with(Series::new(name, pts, Style::Points).color(color));
+        let sel: Vec<&ReconPoint> = points.iter().filter(|p| p.phase == phase).collect();
+        if !sel.is_empty() {
+            let pts = sel.iter().map(|p| (p.x * l, p.y * l)).collect();
+            let err = sel.iter().map(|p| p.sigma * l).collect();
+            chart = chart.with(
+                Series::new(name, pts, Style::Points)
+                    .color(color)
+                    .errors(err),
+            );
         }
     }
-    write_svg(&chart, &path_for("reconstruction.svg"), (800, 560))?;
-    let mut written = vec!["reconstruction.svg"];
+    if let Some(line) = true_line {
+        chart = chart.with(Series::new("", line, Style::Line).color(6));
+    }
+    // The residual panel: the true error where the contour is known, and the estimate σ.
+    let x_of = |p: &ReconPoint| p.x * l;
+    let mut resid = Chart::new(
+        "error of each point",
+        units.label("x", Quantity::Length),
+        units.label("error", Quantity::Length),
+    )
+    .log(false, true);
     if let Some(e) = errors {
-        let pts: Vec<(f64, f64)> = points
+        let pts = points
             .iter()
             .zip(e)
-            .map(|(p, &e)| (p.x * l, e * l))
+            .map(|(p, &e)| (x_of(p), e * l))
             .collect();
-        let chart = Chart::new(
-            format!("contour error e = |y − g(x)| ({title})"),
-            units.label("x", Quantity::Length),
-            units.label("e", Quantity::Length),
-        )
-        .note("thesis eq. 6.11; points with e = 0 are not shown on the log axis")
-        .log(false, true)
-        .with(Series::new("e (eq. 6.11)", pts, Style::LinePoints).color(3));
-        write_svg(&chart, &path_for("error.svg"), (800, 480))?;
+        resid = resid
+            .note(
+                "e = |y − g(x)| (thesis eq. 6.11); points with e = 0 are not shown on the log axis",
+            )
+            .with(Series::new("true error e", pts, Style::Points).color(3));
+    }
+    let sig = points.iter().map(|p| (x_of(p), p.sigma * l)).collect();
+    resid = resid.with(
+        Series::new("estimate σ", sig, Style::Points)
+            .color(5)
+            .marker(crate::plot::Marker::Triangle),
+    );
+    crate::plot::write_svg_panels(
+        &[chart, resid.clone()],
+        1,
+        &path_for("reconstruction.svg"),
+        (800, 900),
+    )?;
+    let mut written = vec!["reconstruction.svg"];
+    if errors.is_some() {
+        write_svg(&resid, &path_for("error.svg"), (800, 480))?;
         written.push("error.svg");
     }
     Ok(written)

@@ -71,6 +71,7 @@ pub fn write_solution_files(r: &Resolved, sol: &Solution, out: &OutputDir) -> Re
     write_elastica_figure(
         sol,
         unloaded.as_ref(),
+        Some(&r.scene.loads),
         &title,
         &units,
         &out.path_for("elastica.svg"),

@@ -17,7 +17,7 @@ use crate::commands::{
     FigureContext, RowCounts,
 };
 use crate::error::CliError;
-use crate::plot::{write_svg, Chart, Mark, Series, Style};
+use crate::plot::{write_svg, Chart, Dash, Mark, MarkStyle, Marker, Series, Style};
 use crate::resolve::{parse_count, profile_arg, resolve_model, LoadedScene, ProfileArg, Resolved};
 use crate::units::{Quantity, UnitSystem};
 
@@ -328,8 +328,10 @@ pub fn write_sweep_outputs(
         scene: scene_title(r, &profile.spec),
         rigid: r.scene.whisker.support.stiffness().is_infinite(),
     };
-    write_sweep_figures(res, &ctx, |n| out.path_for(n))?;
-    write_shapes_svg(r, contour, res, &ctx, &out.path_for("shapes.svg"))
+    crate::plot::both(
+        || write_sweep_figures(res, &ctx, |n| out.path_for(n)).map(|_| ()),
+        || write_shapes_svg(r, contour, res, &ctx, &out.path_for("shapes.svg")),
+    )
 }
 
 /// The header of `shapes.csv`.
@@ -492,9 +494,14 @@ fn write_shapes_svg(
             String::new()
         } else {
             named[idx] = true;
-            format!("whisker, {}", phase_name(p.phase))
+            format!("whisker in {}", phase_name(p.phase))
         };
-        chart = chart.with(Series::new(name, pts, Style::Line).color(if idx == 2 { 1 } else { 0 }));
+        let (color, dash) = if idx == 2 {
+            (1, Dash::Dashed)
+        } else {
+            (0, Dash::Solid)
+        };
+        chart = chart.with(Series::new(name, pts, Style::Line).color(color).dash(dash));
         contact_pts.push((p.xc * l, p.yc * l));
         bases.push((p.x0 * l, 0.0));
     }
@@ -517,18 +524,37 @@ fn write_shapes_svg(
         .filter(|p| p.1.is_finite() && p.1 < ymax)
         .map(|(x, y)| (x * l, y * l))
         .collect();
-    chart = chart.with(Series::new("obstacle contour", line, Style::Line).color(7));
-    chart = chart.with(Series::new("contact points", contact_pts, Style::Points).color(5));
-    chart = chart.with(Series::new("base positions", bases, Style::Points).color(7));
+    // The obstacle first (its solid side filled under everything else).
+    chart.series.insert(
+        0,
+        Series::new("obstacle (solid above)", line, Style::Obstacle).color(6),
+    );
+    chart = chart.with(
+        Series::new("contact points", contact_pts, Style::Points)
+            .color(5)
+            .marker(Marker::Circle),
+    );
+    chart = chart.with(
+        Series::new("base positions", bases, Style::Points)
+            .color(7)
+            .marker(Marker::Square),
+    );
     let last = events.len().saturating_sub(1);
     for (k, e) in events.iter().enumerate() {
         let p = &res.points[e.index];
-        let color = match k {
-            0 => 2,
-            k if k == last => 3,
-            k => [4, 8, 9, 6][(k - 1) % 4],
+        let (color, marker) = match k {
+            0 => (2, Marker::Triangle),
+            k if k == last => (3, Marker::Diamond),
+            k => [
+                (4, Marker::TriangleDown),
+                (8, Marker::Square),
+                (9, Marker::Circle),
+            ][(k - 1) % 3],
         };
-        chart = chart.mark(Mark::point(p.xc * l, p.yc * l, e.label.clone(), color));
+        chart = chart.mark(
+            Mark::point(p.xc * l, p.yc * l, e.label.clone(), color)
+                .styled(MarkStyle::Marker(marker)),
+        );
     }
     let first_x0 = contact.first().map_or(hi, |&i| res.points[i].x0);
     let span = (hi - lo).max(0.2);
@@ -540,6 +566,18 @@ fn write_shapes_svg(
         "sweep direction (base moves towards −x)",
         7,
     ));
+    if res.q > 0.0 {
+        // The flow's direction, (cos α, −sin α), in the free space below the base line.
+        let len = 0.15 * span;
+        chart = chart.mark(Mark::arrow(
+            (a + 0.02 * span) * l,
+            -0.12 * l,
+            len * res.alpha.cos() * l,
+            -len * res.alpha.sin() * l,
+            "flow direction",
+            0,
+        ));
+    }
     // The figure's height follows the data (equal scales): whisker lengths above the base
     // line, the arrow below it.
     let (xspan, yspan) = ((b - a).max(0.5), 1.4);

@@ -38,7 +38,7 @@ pub(super) fn axis_range(values: impl Iterator<Item = f64>, log: bool) -> (f64, 
         if hi / lo < 1.0 + 1e-9 {
             return (lo / 2.0, hi * 2.0);
         }
-        let f = (hi / lo).powf(0.04);
+        let f = (hi / lo).powf(0.02);
         (lo / f, hi * f)
     } else {
         let mag = lo.abs().max(hi.abs());
@@ -47,7 +47,7 @@ pub(super) fn axis_range(values: impl Iterator<Item = f64>, log: bool) -> (f64, 
             let pad = if mag == 0.0 { 1.0 } else { mag * 0.1 };
             return (mid - pad, mid + pad);
         }
-        let pad = (hi - lo) * 0.04;
+        let pad = (hi - lo) * 0.02;
         (lo - pad, hi + pad)
     }
 }
@@ -105,7 +105,7 @@ impl Axis {
                 self.hi.log10().floor() as i32,
             );
             let decades = (b - a + 1).max(0) as usize;
-            let step = decades.div_ceil(target.max(1)).max(1) as i32;
+            let step = ((b - a).max(0) as usize).div_ceil(target.max(1)).max(1) as i32;
             // One notation per axis: plain numbers if every decade is between 0.01 and
             // 1000, else 1eN throughout.
             let plain = a >= -2 && b <= 3;
@@ -116,10 +116,13 @@ impl Axis {
                     format!("1e{e}")
                 }
             };
+            // Counted down from the top decade (the range ends on it, see `to_ticks`).
             let mut out: Vec<(f64, String)> = (a..=b)
+                .rev()
                 .step_by(step as usize)
                 .map(|e| (10f64.powi(e), decade(e)))
                 .collect();
+            out.reverse();
             if decades < 2 {
                 for e in (a - 1)..=b {
                     for m in [2.0, 5.0] {
@@ -133,14 +136,7 @@ impl Axis {
             }
             return out;
         }
-        let span = self.hi - self.lo;
-        let raw = span / target.max(2) as f64;
-        let mag = 10f64.powf(raw.log10().floor());
-        let step = [1.0, 2.0, 2.5, 5.0, 10.0]
-            .iter()
-            .map(|m| m * mag)
-            .find(|s| *s >= raw * (1.0 - 1e-9))
-            .unwrap_or(10.0 * mag);
+        let (step, mag) = nice_step(self.hi - self.lo, target);
         let first = (self.lo / step).ceil() as i64;
         let last = (self.hi / step).floor() as i64;
         let digits = (-(step.log10().floor()) as i32
@@ -164,6 +160,19 @@ impl Axis {
             })
             .collect()
     }
+}
+
+/// The tick step for about `target` ticks over `span`: 1, 2, 2.5 or 5 times a power of
+/// ten; also that power.
+pub(super) fn nice_step(span: f64, target: usize) -> (f64, f64) {
+    let raw = span / target.max(2) as f64;
+    let mag = 10f64.powf(raw.log10().floor());
+    let step = [1.0, 2.0, 2.5, 5.0, 10.0]
+        .iter()
+        .map(|m| m * mag)
+        .find(|s| *s >= raw * (1.0 - 1e-9))
+        .unwrap_or(10.0 * mag);
+    (step, mag)
 }
 
 /// Compact tick labels: plain decimals for moderate magnitudes, scientific otherwise.
@@ -196,16 +205,62 @@ pub fn format_tick(v: f64) -> String {
     }
 }
 
-/// The centre of an event label of width `w` over the line at `px`, kept inside `area`.
-pub(super) fn label_x(px: f64, w: f64, area: Rect) -> f64 {
-    let (lo, hi) = (area.x + PAD + w / 2.0, area.x + area.w - PAD - w / 2.0);
-    if lo > hi {
-        px
-    } else {
-        px.clamp(lo, hi)
+/// Widens the data's range `tight` to the ticks around it, so that the first and last
+/// ticks cover the data (linear axes to the next tick step, log axes to whole decades when
+/// they span more than one); where the data end on a tick, the padded `range` keeps them
+/// off the frame.
+pub(super) fn to_ticks(range: (f64, f64), tight: (f64, f64), log: bool, pixels: f64) -> (f64, f64) {
+    if tight.0.partial_cmp(&tight.1) != Some(std::cmp::Ordering::Less) {
+        return range;
     }
+    let (lo, hi) = to_ticks_of(tight, log, pixels);
+    let near = |a: f64, b: f64| {
+        if log {
+            (a / b).ln().abs() < 1e-6
+        } else {
+            (a - b).abs() <= 1e-6 * (tight.1 - tight.0)
+        }
+    };
+    (
+        if near(lo, tight.0) { range.0 } else { lo },
+        if near(hi, tight.1) { range.1 } else { hi },
+    )
 }
 
+fn to_ticks_of(range: (f64, f64), log: bool, pixels: f64) -> (f64, f64) {
+    if log {
+        let (a, b) = (range.0.log10().floor(), range.1.log10().ceil());
+        if b - a >= 2.0 {
+            // Labelled decades every `step`, counted down from the top one, so that the
+            // first and last ticks both bound the data.
+            let step = ((b - a) / tick_target(pixels) as f64).ceil().max(1.0);
+            let a = b - step * ((b - a) / step).ceil();
+            return (10f64.powf(a), 10f64.powf(b));
+        }
+        return range;
+    }
+    // Widen to the tick step; a wider range may take a coarser step, so repeat until the
+    // ends are ticks of the range's own step. Data within 1e-6 of a step of a tick count
+    // as on it.
+    let (mut lo, mut hi) = range;
+    for _ in 0..4 {
+        let (step, _) = nice_step(hi - lo, tick_target(pixels));
+        if !(step > 0.0 && step.is_finite()) {
+            break;
+        }
+        let (l, h) = (
+            (range.0 / step + 1e-6).floor() * step,
+            (range.1 / step - 1e-6).ceil() * step,
+        );
+        if (l - lo).abs() <= 1e-9 * step && (h - hi).abs() <= 1e-9 * step {
+            break;
+        }
+        (lo, hi) = (l, h);
+    }
+    (lo, hi)
+}
+
+/// About how many ticks an axis of `pixels` points takes (one per ~32 pt).
 pub(super) fn tick_target(pixels: f64) -> usize {
-    ((pixels / 70.0).round() as usize).clamp(4, 9)
+    ((pixels / 32.0).round() as usize).clamp(3, 8)
 }

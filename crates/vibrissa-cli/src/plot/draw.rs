@@ -1,62 +1,88 @@
 //! Drawing a chart or a heat map into an area of a figure: heading, plot rectangle, axes,
-//! series, marks and event labels.
+//! series, marks and the legend (inside the plot where it covers no data, else a key row
+//! above it).
 
 use super::*;
 
-/// The heading of a panel (title and note); returns its height.
-pub(super) fn draw_heading(svg: &mut Svg, area: Rect, title: &str, note: &str) -> f64 {
-    let mut y = area.y + PAD;
+/// Greedy word wrap of `text` at `size` into lines at most `width` wide.
+pub(super) fn wrap(text: &str, size: f64, width: f64) -> Vec<String> {
+    let mut lines: Vec<String> = Vec::new();
+    let mut cur = String::new();
+    for word in text.split(' ') {
+        let trial = if cur.is_empty() {
+            word.to_string()
+        } else {
+            format!("{cur} {word}")
+        };
+        if !cur.is_empty() && text_width(&trial, size) > width {
+            lines.push(std::mem::replace(&mut cur, word.to_string()));
+        } else {
+            cur = trial;
+        }
+    }
+    if !cur.is_empty() {
+        lines.push(cur);
+    }
+    lines
+}
+
+/// The height of a heading (title and note, wrapped to `w`).
+pub(super) fn heading_height(w: f64, title: &str, note: &str) -> f64 {
+    let mut h = PAD;
     if !title.is_empty() {
-        y += TITLE_SIZE;
-        svg.text(
-            area.x + area.w / 2.0,
-            y,
-            title,
-            TITLE_SIZE,
-            "middle",
-            "#000000",
-            false,
-        );
-        y += 4.0;
+        h += wrap(title, TITLE_SIZE, w - 2.0 * PAD).len() as f64 * (TITLE_SIZE + 2.0) + 1.0;
     }
     if !note.is_empty() {
-        y += NOTE_SIZE;
-        svg.text(
-            area.x + area.w / 2.0,
-            y,
-            note,
-            NOTE_SIZE,
-            "middle",
-            "#555555",
-            false,
-        );
-        y += 3.0;
+        h += wrap(note, NOTE_SIZE, w - 2.0 * PAD).len() as f64 * (NOTE_SIZE + 1.5) + 1.5;
+    }
+    h
+}
+
+/// The heading of a panel (title and note, wrapped); returns its height.
+pub(super) fn draw_heading(svg: &mut Svg, area: Rect, title: &str, note: &str) -> f64 {
+    let mut y = area.y + PAD;
+    let cx = area.x + area.w / 2.0;
+    if !title.is_empty() {
+        for line in wrap(title, TITLE_SIZE, area.w - 2.0 * PAD) {
+            y += TITLE_SIZE;
+            svg.text(cx, y, &line, TITLE_SIZE, "middle", "#000000", false);
+            y += 2.0;
+        }
+        y += 1.0;
+    }
+    if !note.is_empty() {
+        for line in wrap(note, NOTE_SIZE, area.w - 2.0 * PAD) {
+            y += NOTE_SIZE;
+            svg.text(cx, y, &line, NOTE_SIZE, "middle", "#404040", false);
+            y += 1.5;
+        }
+        y += 1.5;
     }
     y - area.y
 }
 
-/// The plot rectangle inside `area` below a heading of height `head`, leaving room for the
-/// tick labels (`ytick_w` wide), axis labels, the legend (`legend_w`) and an event band.
-pub(super) fn plot_rect(area: Rect, head: f64, band: f64, ytick_w: f64, legend_w: f64) -> Rect {
-    let left = PAD + LABEL_SIZE + 6.0 + ytick_w + 6.0;
-    let bottom = TICK_SIZE + 6.0 + LABEL_SIZE + 6.0 + PAD;
-    let top = head + band + 6.0;
+/// Space below the plot for the x tick labels and the x label.
+pub(super) const BOTTOM: f64 = TICK_SIZE + 3.5 + LABEL_SIZE + 3.0 + PAD;
+
+/// The plot rectangle inside `area` below a heading of height `head` and a key of height
+/// `key_h`, leaving room for the tick labels (`ytick_w` wide) and the axis labels.
+pub(super) fn plot_rect(area: Rect, head: f64, key_h: f64, ytick_w: f64) -> Rect {
+    let left = PAD + LABEL_SIZE + 3.0 + ytick_w + 3.0;
+    let top = head + key_h + 3.0;
     Rect {
         x: area.x + left,
         y: area.y + top,
-        w: (area.w - left - legend_w - PAD - 4.0).max(20.0),
-        h: (area.h - top - bottom).max(20.0),
+        w: (area.w - left - PAD - 5.0).max(20.0),
+        h: (area.h - top - BOTTOM).max(20.0),
     }
 }
 
-#[allow(clippy::too_many_arguments)]
 pub(super) fn draw_axes(
     svg: &mut Svg,
     r: Rect,
     xa: &Axis,
     ya: &Axis,
-    x_label: &str,
-    y_label: &str,
+    labels: (&str, &str),
     grid: bool,
 ) {
     let xt = xa.ticks(tick_target(r.w));
@@ -64,16 +90,22 @@ pub(super) fn draw_axes(
     for (v, label) in &xt {
         let px = xa.px(*v);
         if grid {
-            svg.line((px, r.y), (px, r.y + r.h), "#e6e6e6", 1.0, None);
+            svg.line((px, r.y), (px, r.y + r.h), "#e4e4e4", GRID_W, None);
         }
-        svg.line((px, r.y + r.h), (px, r.y + r.h + 4.0), "#404040", 1.0, None);
+        svg.line(
+            (px, r.y + r.h),
+            (px, r.y + r.h + 2.5),
+            "#303030",
+            AXIS_W,
+            None,
+        );
         svg.text(
             px,
-            r.y + r.h + 6.0 + TICK_SIZE,
+            r.y + r.h + 3.5 + TICK_SIZE,
             label,
             TICK_SIZE,
             "middle",
-            "#303030",
+            "#202020",
             false,
         );
     }
@@ -81,40 +113,197 @@ pub(super) fn draw_axes(
     for (v, label) in &yt {
         let py = ya.px(*v);
         if grid {
-            svg.line((r.x, py), (r.x + r.w, py), "#e6e6e6", 1.0, None);
+            svg.line((r.x, py), (r.x + r.w, py), "#e4e4e4", GRID_W, None);
         }
-        svg.line((r.x - 4.0, py), (r.x, py), "#404040", 1.0, None);
+        svg.line((r.x - 2.5, py), (r.x, py), "#303030", AXIS_W, None);
         svg.text(
-            r.x - 6.0,
+            r.x - 3.5,
             py + TICK_SIZE * 0.36,
             label,
             TICK_SIZE,
             "end",
-            "#303030",
+            "#202020",
             false,
         );
         ytick_w = ytick_w.max(text_width(label, TICK_SIZE));
     }
-    svg.rect(r, "none", Some("#404040"));
+    svg.rect(r, "none", Some("#303030"));
     svg.text(
         r.x + r.w / 2.0,
-        r.y + r.h + 6.0 + TICK_SIZE + 6.0 + LABEL_SIZE,
-        x_label,
+        r.y + r.h + 3.5 + TICK_SIZE + 3.0 + LABEL_SIZE,
+        labels.0,
         LABEL_SIZE,
         "middle",
         "#000000",
         false,
     );
-    let lx = r.x - 6.0 - ytick_w - 6.0 - 3.0;
+    let lx = r.x - 3.5 - ytick_w - 3.0 - 2.0;
     svg.text(
         lx,
         r.y + r.h / 2.0,
-        y_label,
+        labels.1,
         LABEL_SIZE,
         "middle",
         "#000000",
         true,
     );
+}
+
+/// The data extent of a chart (series with their error bars, marks other than event
+/// lines), as an iterator over valid points.
+pub(super) fn chart_points(chart: &Chart) -> Vec<(f64, f64)> {
+    let (xl, yl) = (chart.x_log, chart.y_log);
+    let mut pts: Vec<(f64, f64)> = Vec::new();
+    for s in &chart.series {
+        for (i, &p) in s.points.iter().enumerate() {
+            pts.push(p);
+            if let Some(&e) = s.err.get(i) {
+                if e.is_finite() {
+                    pts.push((p.0, p.1 - e));
+                    pts.push((p.0, p.1 + e));
+                }
+            }
+        }
+    }
+    for m in chart.marks.iter().filter(|m| m.kind != MarkKind::VLine) {
+        pts.push((m.x, m.y));
+        if let MarkKind::Arrow { dx, dy } = m.kind {
+            pts.push((m.x + dx, m.y + dy));
+        }
+    }
+    pts.retain(|&p| is_valid(p, xl, yl));
+    pts
+}
+
+/// The axis ranges of a chart in the plot rectangle `rect`: padded, widened to the
+/// ticks (so that ticks cover the data), 0 included if asked, or equal scales.
+fn chart_ranges(chart: &Chart, pts: &[(f64, f64)], rect: Rect) -> ((f64, f64), (f64, f64)) {
+    let (xl, yl) = (chart.x_log, chart.y_log);
+    let xs = pts.iter().map(|p| p.0);
+    let zero = chart.y_zero && !yl;
+    let ys = pts.iter().map(|p| p.1).chain(zero.then_some(0.0));
+    let (xr, yr) = (axis_range(xs.clone(), xl), axis_range(ys.clone(), yl));
+    if chart.aspect_equal && !xl && !yl {
+        let u = ((xr.1 - xr.0) / rect.w).max((yr.1 - yr.0) / rect.h);
+        let (cx, cy) = ((xr.0 + xr.1) / 2.0, (yr.0 + yr.1) / 2.0);
+        return (
+            (cx - u * rect.w / 2.0, cx + u * rect.w / 2.0),
+            (cy - u * rect.h / 2.0, cy + u * rect.h / 2.0),
+        );
+    }
+    (
+        to_ticks(xr, tight_range(xs, xl), xl, rect.w),
+        to_ticks(yr, tight_range(ys, yl), yl, rect.h),
+    )
+}
+
+/// The unpadded range of `values` (on a log axis, of the positive ones).
+fn tight_range(values: impl Iterator<Item = f64>, log: bool) -> (f64, f64) {
+    values
+        .filter(|v| v.is_finite() && (!log || *v > 0.0))
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+            (a.min(v), b.max(v))
+        })
+}
+
+/// The legend box's size.
+fn legend_box(entries: &[Entry<'_>]) -> (f64, f64) {
+    (legend_width(entries), 3.0 + ROW_H * entries.len() as f64)
+}
+
+/// Where the legend box of size `(w, h)` covers no drawn point: the first free place of
+/// top right, top left, bottom right, bottom left, top and bottom centre; None if every
+/// place covers some.
+fn free_place(rect: Rect, size: (f64, f64), drawn: &[(f64, f64)]) -> Option<(f64, f64)> {
+    let (w, h) = size;
+    if w + 6.0 > rect.w || h + 6.0 > rect.h {
+        return None;
+    }
+    let (l, r) = (rect.x + 3.0, rect.x + rect.w - 3.0 - w);
+    let (t, b) = (rect.y + 3.0, rect.y + rect.h - 3.0 - h);
+    let c = rect.x + (rect.w - w) / 2.0;
+    [(r, t), (l, t), (r, b), (l, b), (c, t), (c, b)]
+        .into_iter()
+        .find(|&(x, y)| {
+            !drawn.iter().any(|&(px, py)| {
+                px >= x - 1.5 && px <= x + w + 1.5 && py >= y - 1.5 && py <= y + h + 1.5
+            })
+        })
+}
+
+/// Points along every drawn line, marker and bar (pixels, about 1.5 pt apart), for
+/// placing the legend where it hides nothing.
+fn drawn_points(chart: &Chart, xa: &Axis, ya: &Axis, rect: Rect) -> Vec<(f64, f64)> {
+    let (xl, yl) = (chart.x_log, chart.y_log);
+    let mut out = Vec::new();
+    let segment = |a: (f64, f64), b: (f64, f64), out: &mut Vec<(f64, f64)>| {
+        let n = ((b.0 - a.0).hypot(b.1 - a.1) / 1.5)
+            .ceil()
+            .clamp(1.0, 2000.0) as usize;
+        for k in 0..=n {
+            let t = k as f64 / n as f64;
+            out.push((a.0 + t * (b.0 - a.0), a.1 + t * (b.1 - a.1)));
+        }
+    };
+    for s in &chart.series {
+        for run in runs(&s.points, xl, yl) {
+            let px: Vec<(f64, f64)> = run.iter().map(|&p| (xa.px(p.0), ya.px(p.1))).collect();
+            if s.style == Style::Points {
+                out.extend(px.iter().copied());
+            } else {
+                for w in px.windows(2) {
+                    segment(w[0], w[1], &mut out);
+                }
+                out.extend(px.first().copied());
+            }
+        }
+        for (p, e) in s.points.iter().zip(&s.err) {
+            if is_valid(*p, xl, yl) && e.is_finite() {
+                segment(
+                    (xa.px(p.0), ya.px(p.1 - e)),
+                    (xa.px(p.0), ya.px(p.1 + e)),
+                    &mut out,
+                );
+            }
+        }
+    }
+    for m in &chart.marks {
+        match m.kind {
+            MarkKind::VLine if m.x.is_finite() => {
+                let px = xa.px(m.x);
+                segment((px, rect.y), (px, rect.y + rect.h), &mut out);
+            }
+            MarkKind::Point => out.push((xa.px(m.x), ya.px(m.y))),
+            MarkKind::Arrow { dx, dy } => segment(
+                (xa.px(m.x), ya.px(m.y)),
+                (xa.px(m.x + dx), ya.px(m.y + dy)),
+                &mut out,
+            ),
+            MarkKind::VLine => {}
+        }
+    }
+    out
+}
+
+/// The dash of each event line of a chart: its own, or the next of [`Dash::EVENTS`] for
+/// each new label.
+pub(super) fn event_dashes(chart: &Chart) -> Vec<Dash> {
+    let mut seen: Vec<&str> = Vec::new();
+    chart
+        .marks
+        .iter()
+        .map(|m| match (m.kind, m.style) {
+            (MarkKind::VLine, Some(MarkStyle::Dash(d))) => d,
+            (MarkKind::VLine, _) => {
+                let k = seen.iter().position(|l| *l == m.label).unwrap_or_else(|| {
+                    seen.push(&m.label);
+                    seen.len() - 1
+                });
+                Dash::EVENTS[k % Dash::EVENTS.len()]
+            }
+            _ => Dash::Solid,
+        })
+        .collect()
 }
 
 pub(super) fn draw_chart(
@@ -123,151 +312,209 @@ pub(super) fn draw_chart(
     chart: &Chart,
     id: usize,
 ) -> Result<(), String> {
+    let chart = &scaled_units(chart);
     let (xl, yl) = (chart.x_log, chart.y_log);
-    let valid = || {
-        chart
-            .series
-            .iter()
-            .flat_map(|s| s.points.iter().copied())
-            .chain(
-                chart
-                    .marks
-                    .iter()
-                    .filter(|m| m.kind != MarkKind::VLine)
-                    .flat_map(|m| {
-                        let end = match m.kind {
-                            MarkKind::Arrow { dx, dy } => (m.x + dx, m.y + dy),
-                            _ => (m.x, m.y),
-                        };
-                        [(m.x, m.y), end]
-                    }),
-            )
-            .filter(|&p| is_valid(p, xl, yl))
-    };
-    let mut xr = axis_range(valid().map(|p| p.0), xl);
-    let mut yr = axis_range(valid().map(|p| p.1), yl);
+    let pts = chart_points(chart);
     let entries = if chart.hide_legend {
         Vec::new()
     } else {
         legend_entries(chart)
     };
-    let legend_w = legend_width(&entries);
-    let head_h = {
-        let mut h = PAD;
-        if !chart.title.is_empty() {
-            h += TITLE_SIZE + 4.0;
-        }
-        if !chart.note.is_empty() {
-            h += NOTE_SIZE + 3.0;
-        }
-        h
-    };
-    // A first layout to find the tick labels' width, then the final one.
-    let mut ytick_w = 40.0;
-    let mut rect = plot_rect(area, head_h, 0.0, ytick_w, legend_w);
-    let mut band_rows: Vec<usize> = Vec::new();
-    for _pass in 0..2 {
-        if chart.aspect_equal && !xl && !yl {
-            let (xr0, yr0) = (
-                axis_range(valid().map(|p| p.0), false),
-                axis_range(valid().map(|p| p.1), false),
-            );
-            let u = ((xr0.1 - xr0.0) / rect.w).max((yr0.1 - yr0.0) / rect.h);
-            let (cx, cy) = ((xr0.0 + xr0.1) / 2.0, (yr0.0 + yr0.1) / 2.0);
-            xr = (cx - u * rect.w / 2.0, cx + u * rect.w / 2.0);
-            yr = (cy - u * rect.h / 2.0, cy + u * rect.h / 2.0);
-        }
-        let ya = Axis::up(yr, yl, rect);
-        ytick_w = ya
-            .ticks(tick_target(rect.h))
-            .iter()
-            .map(|(_, l)| text_width(l, TICK_SIZE))
-            .fold(0.0, f64::max);
-        // Event labels: rows of the band above the plot, staggered where they would meet.
-        let xa = Axis::across(xr, xl, rect);
-        band_rows.clear();
-        let mut row_ends: Vec<f64> = Vec::new();
-        let mut order: Vec<usize> = (0..chart.marks.len())
-            .filter(|&i| chart.marks[i].kind == MarkKind::VLine)
-            .collect();
-        order.sort_by(|&a, &b| chart.marks[a].x.total_cmp(&chart.marks[b].x));
-        let mut rows_of = vec![0usize; chart.marks.len()];
-        for i in order {
-            let m = &chart.marks[i];
-            let w = text_width(&m.label, EVENT_SIZE);
-            let px = label_x(xa.px(m.x), w, area);
-            let (a, _) = (px - w / 2.0, px + w / 2.0);
-            let row = row_ends
+    let head_h = heading_height(area.w, &chart.title, &chart.note);
+    // Lay out, find the tick labels' width, lay out again; then place the legend inside
+    // the plot, or in a key above it (and lay out once more).
+    let mut key_h = 0.0;
+    let mut ytick_w = 18.0;
+    let layout = |key_h: f64, ytick_w: &mut f64| {
+        let mut rect = plot_rect(area, head_h, key_h, *ytick_w);
+        for _ in 0..2 {
+            let (_, yr) = chart_ranges(chart, &pts, rect);
+            let ya = Axis::up(yr, yl, rect);
+            *ytick_w = ya
+                .ticks(tick_target(rect.h))
                 .iter()
-                .position(|&e| e + 6.0 < a)
-                .unwrap_or(row_ends.len());
-            if row == row_ends.len() {
-                row_ends.push(f64::NEG_INFINITY);
-            }
-            row_ends[row] = px + w / 2.0;
-            rows_of[i] = row;
+                .map(|(_, l)| text_width(l, TICK_SIZE))
+                .fold(0.0, f64::max);
+            rect = plot_rect(area, head_h, key_h, *ytick_w);
         }
-        band_rows = rows_of;
-        let band = if row_ends.is_empty() {
-            0.0
-        } else {
-            row_ends.len() as f64 * (EVENT_SIZE + 4.0) + 2.0
-        };
-        rect = plot_rect(area, head_h, band, ytick_w, legend_w);
+        let (xr, yr) = chart_ranges(chart, &pts, rect);
+        (rect, Axis::across(xr, xl, rect), Axis::up(yr, yl, rect))
+    };
+    let (mut rect, mut xa, mut ya) = layout(key_h, &mut ytick_w);
+    let mut inside = None;
+    if !entries.is_empty() {
+        let drawn = drawn_points(chart, &xa, &ya, rect);
+        inside = free_place(rect, legend_box(&entries), &drawn);
+        if inside.is_none() {
+            key_h = key_height(&entries, area.w - 2.0 * PAD);
+            (rect, xa, ya) = layout(key_h, &mut ytick_w);
+        }
     }
     draw_heading(svg, area, &chart.title, &chart.note);
-    let xa = Axis::across(xr, xl, rect);
-    let ya = Axis::up(yr, yl, rect);
-    draw_axes(svg, rect, &xa, &ya, &chart.x_label, &chart.y_label, true);
+    if key_h > 0.0 {
+        draw_key(
+            svg,
+            area.x + PAD,
+            area.w - 2.0 * PAD,
+            area.y + head_h,
+            &entries,
+        );
+    }
+    draw_axes(svg, rect, &xa, &ya, (&chart.x_label, &chart.y_label), true);
     let clip = format!("plot{id}");
     svg.clip(&clip, rect);
-    let to_px = |p: (f64, f64)| (xa.px(p.0), ya.px(p.1));
-    for s in &chart.series {
-        let col = rgb(palette(s.color));
-        for run in runs(&s.points, xl, yl) {
-            let px: Vec<(f64, f64)> = run.iter().map(|&p| to_px(p)).collect();
-            match s.style {
-                Style::Line | Style::LinePoints => svg.polyline(&px, &col, 2.0, None, &clip),
-                Style::Dashed => svg.polyline(&px, &col, 2.0, Some("6 4"), &clip),
-                Style::Points => {}
-            }
-            if matches!(s.style, Style::Points | Style::LinePoints) {
-                for p in px {
-                    svg.circle(p, 3.0, &col, None);
-                }
+    draw_series(svg, chart, (&xa, &ya), rect, &clip);
+    draw_marks(svg, chart, (&xa, &ya), rect);
+    if let Some((x, y)) = inside {
+        draw_legend(svg, x, y, &entries);
+    }
+    Ok(())
+}
+
+/// The label's unit with an SI prefix for small values: a unit in newtons (`[N]`,
+/// `[N mm]`, `[N/m]`, ...) whose largest value is below 1 becomes mN, µN or nN, and the
+/// factor the data are multiplied by. None if the unit stays.
+pub(super) fn prefixed_unit(label: &str, max_abs: f64) -> Option<(f64, String)> {
+    let open = label.rfind('[')?;
+    let unit = label[open + 1..].strip_suffix(']')?;
+    let rest = unit.strip_prefix('N')?;
+    if !(rest.is_empty() || rest.starts_with(' ') || rest.starts_with('/') || rest.starts_with('·'))
+    {
+        return None;
+    }
+    if !(max_abs > 0.0 && max_abs < 1.0 && max_abs.is_finite()) {
+        return None;
+    }
+    let (factor, prefix) = match max_abs {
+        v if v >= 1e-3 => (1e3, "m"),
+        v if v >= 1e-6 => (1e6, "µ"),
+        _ => (1e9, "n"),
+    };
+    Some((factor, format!("{}[{prefix}N{rest}]", &label[..open])))
+}
+
+/// The chart with each axis in newtons rescaled by [`prefixed_unit`].
+fn scaled_units(chart: &Chart) -> Chart {
+    let mut c = chart.clone();
+    let pts = chart_points(chart);
+    let max_x = pts.iter().map(|p| p.0.abs()).fold(0.0, f64::max);
+    let max_y = pts.iter().map(|p| p.1.abs()).fold(0.0, f64::max);
+    if let Some((k, label)) = prefixed_unit(&chart.y_label, max_y) {
+        c.y_label = label;
+        for s in &mut c.series {
+            s.points.iter_mut().for_each(|p| p.1 *= k);
+            s.err.iter_mut().for_each(|e| *e *= k);
+        }
+        for m in &mut c.marks {
+            m.y *= k;
+            if let MarkKind::Arrow { dy, .. } = &mut m.kind {
+                *dy *= k;
             }
         }
     }
-    for (i, m) in chart.marks.iter().enumerate() {
+    if let Some((k, label)) = prefixed_unit(&chart.x_label, max_x) {
+        c.x_label = label;
+        for s in &mut c.series {
+            s.points.iter_mut().for_each(|p| p.0 *= k);
+        }
+        for m in &mut c.marks {
+            m.x *= k;
+            if let MarkKind::Arrow { dx, .. } = &mut m.kind {
+                *dx *= k;
+            }
+        }
+    }
+    c
+}
+
+/// Draws the series: obstacle fills first, then lines, error bars and markers.
+fn draw_series(svg: &mut Svg, chart: &Chart, axes: (&Axis, &Axis), rect: Rect, clip: &str) {
+    let (xa, ya) = axes;
+    let (xl, yl) = (chart.x_log, chart.y_log);
+    let to_px = |p: (f64, f64)| (xa.px(p.0), ya.px(p.1));
+    for s in chart.series.iter().filter(|s| s.style == Style::Obstacle) {
+        for run in runs(&s.points, xl, yl) {
+            let mut px: Vec<(f64, f64)> = run.iter().map(|&p| to_px(p)).collect();
+            if let (Some(&a), Some(&b)) = (px.first(), px.last()) {
+                px.push((b.0, rect.y - 3.0));
+                px.push((a.0, rect.y - 3.0));
+            }
+            svg.polygon(&px, OBSTACLE_FILL, clip);
+        }
+    }
+    for s in &chart.series {
+        let col = rgb(palette(s.color));
+        let dense = s.points.len() > 60;
+        for run in runs(&s.points, xl, yl) {
+            let px: Vec<(f64, f64)> = run.iter().map(|&p| to_px(p)).collect();
+            if s.style != Style::Points {
+                svg.polyline(&px, &col, LINE_W, s.line_dash().pattern(), clip);
+            }
+        }
+        for (p, e) in s.points.iter().zip(&s.err) {
+            if is_valid(*p, xl, yl) && e.is_finite() && *e > 0.0 {
+                let (x, y0, y1) = (xa.px(p.0), ya.px(p.1 - e), ya.px(p.1 + e));
+                svg.line((x, y0), (x, y1), &col, 0.5, None);
+                svg.line((x - 1.2, y0), (x + 1.2, y0), &col, 0.5, None);
+                svg.line((x - 1.2, y1), (x + 1.2, y1), &col, 0.5, None);
+            }
+        }
+        if matches!(s.style, Style::Points | Style::LinePoints) {
+            let r = if dense { MARKER_R * 0.75 } else { MARKER_R };
+            for p in s.points.iter().filter(|&&p| is_valid(p, xl, yl)) {
+                svg.marker(to_px(*p), s.marker_shape(), r, &col, None);
+            }
+        }
+    }
+}
+
+/// Draws the marks: event lines, highlighted points (open markers) and arrows.
+fn draw_marks(svg: &mut Svg, chart: &Chart, axes: (&Axis, &Axis), rect: Rect) {
+    let (xa, ya) = axes;
+    let (xl, yl) = (chart.x_log, chart.y_log);
+    let dashes = event_dashes(chart);
+    for (m, dash) in chart.marks.iter().zip(dashes) {
         let col = rgb(palette(m.color));
         match m.kind {
             MarkKind::VLine => {
-                if !(m.x.is_finite() && (!xl || m.x > 0.0)) {
-                    continue;
+                if m.x.is_finite() && (!xl || m.x > 0.0) {
+                    let px = xa.px(m.x);
+                    svg.line(
+                        (px, rect.y),
+                        (px, rect.y + rect.h),
+                        &col,
+                        0.8,
+                        dash.pattern(),
+                    );
                 }
-                let px = xa.px(m.x);
-                svg.line((px, rect.y), (px, rect.y + rect.h), &col, 1.2, Some("4 3"));
-                let row = band_rows.get(i).copied().unwrap_or(0) as f64;
-                let y = rect.y - 6.0 - row * (EVENT_SIZE + 4.0);
-                let lx = label_x(px, text_width(&m.label, EVENT_SIZE), area);
-                svg.text(lx, y, &m.label, EVENT_SIZE, "middle", &col, false);
             }
             MarkKind::Point => {
                 if is_valid((m.x, m.y), xl, yl) {
-                    svg.circle(to_px((m.x, m.y)), 5.0, "none", Some((&col, 2.0)));
+                    let p = (xa.px(m.x), ya.px(m.y));
+                    svg.marker(p, point_marker(m), 3.0, "none", Some((&col, 0.9)));
                 }
             }
             MarkKind::Arrow { dx, dy } => {
                 let end = (m.x + dx, m.y + dy);
                 if is_valid((m.x, m.y), xl, yl) && is_valid(end, xl, yl) {
-                    svg.arrow(to_px((m.x, m.y)), to_px(end), &col);
+                    let a = (xa.px(m.x), ya.px(m.y));
+                    svg.arrow(a, (xa.px(end.0), ya.px(end.1)), &col);
                 }
             }
         }
     }
-    draw_legend(svg, rect.x + rect.w + PAD, rect.y, &entries);
-    Ok(())
 }
+
+/// The marker of a highlighted point.
+pub(super) fn point_marker(m: &Mark) -> Marker {
+    match m.style {
+        Some(MarkStyle::Marker(k)) => k,
+        _ => Marker::of_color(m.color),
+    }
+}
+
+/// The fill of an obstacle's solid side.
+pub(super) const OBSTACLE_FILL: &str = "#d6d6d6";
 
 /// Cell edges around strictly increasing centres.
 pub(super) fn edges(centres: &[f64], what: &str) -> Result<Vec<f64>, String> {
@@ -332,17 +579,24 @@ pub(super) fn draw_heatmap(
         .iter()
         .map(|(n, col)| Entry::Swatch(n.as_str(), *col))
         .collect();
-    let legend_w = legend_width(&entries);
     let head = draw_heading(svg, area, &map.title, "");
+    let key_h = key_height(&entries, area.w - 2.0 * PAD);
+    draw_key(
+        svg,
+        area.x + PAD,
+        area.w - 2.0 * PAD,
+        area.y + head,
+        &entries,
+    );
     let (xr, yr) = ((xe[0], xe[xe.len() - 1]), (ye[0], ye[ye.len() - 1]));
-    let mut rect = plot_rect(area, head, 0.0, 40.0, legend_w);
+    let mut rect = plot_rect(area, head, key_h, 18.0);
     let ya0 = Axis::up(yr, false, rect);
     let ytick_w = ya0
         .ticks(tick_target(rect.h))
         .iter()
         .map(|(_, l)| text_width(l, TICK_SIZE))
         .fold(0.0, f64::max);
-    rect = plot_rect(area, head, 0.0, ytick_w, legend_w);
+    rect = plot_rect(area, head, key_h, ytick_w);
     let xa = Axis::across(xr, false, rect);
     let ya = Axis::up(yr, false, rect);
     for (iy, row) in map.cells.iter().enumerate() {
@@ -361,7 +615,40 @@ pub(super) fn draw_heatmap(
             );
         }
     }
-    draw_axes(svg, rect, &xa, &ya, &map.x_label, &map.y_label, false);
-    draw_legend(svg, rect.x + rect.w + PAD, rect.y, &entries);
+    draw_axes(svg, rect, &xa, &ya, (&map.x_label, &map.y_label), false);
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn small_newtons_get_a_prefix() {
+        assert_eq!(
+            prefixed_unit("A_x [N]", 2.1e-4),
+            Some((1e6, "A_x [µN]".to_string()))
+        );
+        assert_eq!(
+            prefixed_unit("M_A [N mm]", 0.0125),
+            Some((1e3, "M_A [mN mm]".to_string()))
+        );
+        assert_eq!(
+            prefixed_unit("q [N/m]", 3e-8),
+            Some((1e9, "q [nN/m]".to_string()))
+        );
+        assert_eq!(prefixed_unit("A_x [N]", 2.0), None);
+        assert_eq!(prefixed_unit("x [mm]", 1e-4), None);
+        assert_eq!(prefixed_unit("A_x [–]", 1e-4), None);
+    }
+
+    #[test]
+    fn words_wrap_to_the_width() {
+        let lines = wrap(
+            "one two three four five six",
+            7.0,
+            text_width("one two three", 7.0),
+        );
+        assert_eq!(lines, ["one two three", "four five six"]);
+    }
 }

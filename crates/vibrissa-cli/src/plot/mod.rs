@@ -45,6 +45,69 @@ pub enum Style {
     Points,
     /// A solid line with markers.
     LinePoints,
+    /// An obstacle's contour: a line with the solid side (above it, `y > g(x)`) filled
+    /// light grey up to the top of the plot.
+    Obstacle,
+}
+
+/// A line's dash pattern; colour is never the only thing that tells two lines apart.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Dash {
+    /// Solid.
+    Solid,
+    /// Short dashes.
+    Dashed,
+    /// Dots.
+    Dotted,
+    /// Dash and dot.
+    DashDot,
+    /// Long dashes.
+    LongDash,
+}
+
+impl Dash {
+    /// The dash patterns in the order event lines take them.
+    pub const EVENTS: [Dash; 4] = [Dash::Dashed, Dash::Dotted, Dash::DashDot, Dash::LongDash];
+
+    /// The SVG `stroke-dasharray` in points (None for solid).
+    pub fn pattern(self) -> Option<&'static str> {
+        match self {
+            Dash::Solid => None,
+            Dash::Dashed => Some("3.2 1.8"),
+            Dash::Dotted => Some("0.9 1.2"),
+            Dash::DashDot => Some("3.6 1.2 0.9 1.2"),
+            Dash::LongDash => Some("6.5 2"),
+        }
+    }
+}
+
+/// A marker's shape; by default a series takes the shape of its colour index, so that
+/// series with different colours also differ in shape.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Marker {
+    /// A disc.
+    Circle,
+    /// A square.
+    Square,
+    /// A triangle pointing up.
+    Triangle,
+    /// A diamond.
+    Diamond,
+    /// A triangle pointing down.
+    TriangleDown,
+}
+
+impl Marker {
+    /// The shape that goes with colour index `color`.
+    pub fn of_color(color: usize) -> Marker {
+        [
+            Marker::Circle,
+            Marker::Square,
+            Marker::Triangle,
+            Marker::Diamond,
+            Marker::TriangleDown,
+        ][color % 5]
+    }
 }
 
 /// One data series of a chart.
@@ -58,6 +121,14 @@ pub struct Series {
     pub style: Style,
     /// Index into [`PALETTE`] (taken modulo its length).
     pub color: usize,
+    /// The line's dash pattern, overriding the style's (solid for lines, dashed for
+    /// [`Style::Dashed`]).
+    pub dash: Option<Dash>,
+    /// The marker's shape, overriding [`Marker::of_color`].
+    pub marker: Option<Marker>,
+    /// Error bars: the half-length of each point's vertical bar (data units), empty for
+    /// none.
+    pub err: Vec<f64>,
 }
 
 impl Series {
@@ -67,7 +138,7 @@ impl Series {
             name: name.into(),
             points,
             style,
-            color: 0,
+            ..Series::default()
         }
     }
 
@@ -76,12 +147,45 @@ impl Series {
         self.color = color;
         self
     }
+
+    /// Sets the dash pattern.
+    pub fn dash(mut self, dash: Dash) -> Self {
+        self.dash = Some(dash);
+        self
+    }
+
+    /// Sets the marker shape.
+    pub fn marker(mut self, marker: Marker) -> Self {
+        self.marker = Some(marker);
+        self
+    }
+
+    /// Sets vertical error bars (half-lengths, one per point).
+    pub fn errors(mut self, err: Vec<f64>) -> Self {
+        self.err = err;
+        self
+    }
+
+    /// The dash pattern the line is drawn with.
+    pub(crate) fn line_dash(&self) -> Dash {
+        self.dash.unwrap_or(if self.style == Style::Dashed {
+            Dash::Dashed
+        } else {
+            Dash::Solid
+        })
+    }
+
+    /// The marker shape the points are drawn with.
+    pub(crate) fn marker_shape(&self) -> Marker {
+        self.marker.unwrap_or(Marker::of_color(self.color))
+    }
 }
 
 /// What a [`Mark`] draws.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum MarkKind {
-    /// A dashed vertical line at `x` over the whole plot, labelled above the plot.
+    /// A vertical event line at `x` over the whole plot, dashed (each event line of a
+    /// chart in its own pattern, [`Dash::EVENTS`]), explained in the legend.
     VLine,
     /// A ring around the data point `(x, y)`, explained in the legend.
     Point,
@@ -103,10 +207,22 @@ pub struct Mark {
     pub x: f64,
     /// Position y (data units; unused by [`MarkKind::VLine`]).
     pub y: f64,
-    /// Its label (above the plot for lines, in the legend otherwise; empty for none).
+    /// Its label in the legend (empty for none; marks with equal labels share an entry).
     pub label: String,
     /// Index into [`PALETTE`].
     pub color: usize,
+    /// The shape of a [`MarkKind::Point`] (an open ring of [`Marker::of_color`] unless set)
+    /// or the dash of a [`MarkKind::VLine`] (by order of appearance unless set).
+    pub style: Option<MarkStyle>,
+}
+
+/// How a [`Mark`] is drawn when not by default.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum MarkStyle {
+    /// The marker of a point.
+    Marker(Marker),
+    /// The dash of an event line.
+    Dash(Dash),
 }
 
 impl Mark {
@@ -118,6 +234,7 @@ impl Mark {
             y: f64::NAN,
             label: label.into(),
             color,
+            style: None,
         }
     }
 
@@ -129,7 +246,14 @@ impl Mark {
             y,
             label: label.into(),
             color,
+            style: None,
         }
+    }
+
+    /// Sets the marker of a point or the dash of an event line.
+    pub fn styled(mut self, style: MarkStyle) -> Self {
+        self.style = Some(style);
+        self
     }
 
     /// An arrow from `(x, y)` by `(dx, dy)`, explained in the legend.
@@ -140,6 +264,7 @@ impl Mark {
             y,
             label: label.into(),
             color,
+            style: None,
         }
     }
 }
@@ -167,6 +292,8 @@ pub struct Chart {
     pub note: String,
     /// Leave the legend out (a figure heading shows it for all panels).
     pub hide_legend: bool,
+    /// The y axis includes 0 (a quantity that starts at 0, such as a contact force).
+    pub y_zero: bool,
 }
 
 impl Chart {
@@ -214,6 +341,12 @@ impl Chart {
         self.aspect_equal = true;
         self
     }
+
+    /// Makes the y axis include 0.
+    pub fn y_from_zero(mut self) -> Self {
+        self.y_zero = true;
+        self
+    }
 }
 
 /// A categorical map: each cell of a grid over (x, y) belongs to one category.
@@ -244,18 +377,20 @@ pub enum Panel<'a> {
     HeatMap(&'a HeatMap),
 }
 
-/// The series colours (Tableau 10).
+/// The series colours: the colour-blind-safe palette of Okabe and Ito (2008), with grey at
+/// index 7 for context (unloaded shapes, no contact, true contours). Their grey levels
+/// differ too, and series of different colours also differ in dash or marker.
 pub const PALETTE: [(u8, u8, u8); 10] = [
-    (31, 119, 180),
-    (255, 127, 14),
-    (44, 160, 44),
-    (214, 39, 40),
-    (148, 103, 189),
-    (140, 86, 75),
-    (227, 119, 194),
-    (127, 127, 127),
-    (188, 189, 34),
-    (23, 190, 207),
+    (0, 114, 178),
+    (230, 159, 0),
+    (0, 158, 115),
+    (213, 94, 0),
+    (204, 121, 167),
+    (86, 180, 233),
+    (0, 0, 0),
+    (128, 128, 128),
+    (160, 140, 0),
+    (90, 90, 90),
 ];
 
 /// The colour of index `i` (modulo the palette length).
@@ -345,10 +480,14 @@ pub fn figure_formats() -> FigureFormats {
 fn write_rendered(svg: &str, path: &Path) -> Result<(), CliError> {
     let formats = figure_formats();
     let png = if formats.png() {
-        Some(render_png(svg, 2.0).map_err(|reason| CliError::Plot {
-            path: path.to_path_buf(),
-            reason,
-        })?)
+        Some(
+            render_png(svg, (figure_size().png_dpi() / 96.0) as f32).map_err(|reason| {
+                CliError::Plot {
+                    path: path.to_path_buf(),
+                    reason,
+                }
+            })?,
+        )
     } else {
         None
     };
@@ -359,6 +498,21 @@ fn write_rendered(svg: &str, path: &Path) -> Result<(), CliError> {
         Some(png) => write_atomic(&png_path(path), &png),
         None => Ok(()),
     }
+}
+
+/// Runs two figure writers at once (on two threads; rasterising a PNG is the costly
+/// part) and returns the first error; a panic in either is passed on.
+pub fn both<A, B>(a: A, b: B) -> Result<(), CliError>
+where
+    A: FnOnce() -> Result<(), CliError> + Send,
+    B: FnOnce() -> Result<(), CliError>,
+{
+    std::thread::scope(|s| {
+        let h = s.spawn(a);
+        let rb = b();
+        let ra = h.join().unwrap_or_else(|p| std::panic::resume_unwind(p));
+        ra.and(rb)
+    })
 }
 
 /// The PNG written beside the SVG `svg`: same name, extension `png`.
@@ -396,76 +550,6 @@ pub fn write_panels_with_heading(
     write_rendered(&svg, path)
 }
 
-/// Renders charts under a [`Heading`] (what [`write_panels_with_heading`] writes).
-pub fn render_figure_with(
-    charts: &[Chart],
-    cols: usize,
-    size: (u32, u32),
-    heading: &Heading,
-) -> Result<String, String> {
-    let Some(first) = charts.first() else {
-        return Err("no panels to draw".to_string());
-    };
-    if cols == 0 {
-        return Err("the number of panel columns must be at least 1".to_string());
-    }
-    let mut svg = Svg::new(size);
-    let full = Rect {
-        x: 0.0,
-        y: 0.0,
-        w: f64::from(size.0),
-        h: f64::from(size.1),
-    };
-    let mut top = draw_heading(&mut svg, full, &heading.title, &heading.note);
-    // One legend row (wrapped) for all panels.
-    let entries = legend_entries(first);
-    if !entries.is_empty() {
-        let widths: Vec<f64> = entries
-            .iter()
-            .map(|e| SAMPLE_W + 6.0 + text_width(e.label(), LEGEND_SIZE) + 18.0)
-            .collect();
-        let mut rows: Vec<Vec<usize>> = vec![vec![]];
-        let mut used = 0.0;
-        for (i, w) in widths.iter().enumerate() {
-            if used + w > full.w - 2.0 * PAD && !rows.last().is_some_and(Vec::is_empty) {
-                rows.push(vec![]);
-                used = 0.0;
-            }
-            used += w;
-            if let Some(r) = rows.last_mut() {
-                r.push(i);
-            }
-        }
-        for r in &rows {
-            let total: f64 = r.iter().map(|&i| widths[i]).sum();
-            let mut x = (full.w - total) / 2.0;
-            let cy = top + 4.0 + ROW_H / 2.0;
-            for &i in r {
-                draw_legend_entry(&mut svg, x, cy, &entries[i]);
-                x += widths[i];
-            }
-            top += ROW_H;
-        }
-        top += 6.0;
-    }
-    let n = charts.len();
-    let rows = n.div_ceil(cols);
-    let cols = cols.min(n);
-    let (pw, ph) = (full.w / cols as f64, (full.h - top) / rows as f64);
-    for (i, chart) in charts.iter().enumerate() {
-        let area = Rect {
-            x: (i % cols) as f64 * pw,
-            y: top + (i / cols) as f64 * ph,
-            w: pw,
-            h: ph,
-        };
-        let mut c = chart.clone();
-        c.hide_legend = true;
-        draw_chart(&mut svg, area, &c, i)?;
-    }
-    Ok(svg.finish())
-}
-
 /// Writes a figure made of charts and maps, `cols` panels per row: the SVG at `path` and
 /// its PNG twin (twice the size) at [`png_path`], as [`figure_formats`] says. Nothing is
 /// written if either fails.
@@ -486,8 +570,8 @@ pub fn write_figure(
     write_rendered(&svg, path)
 }
 
-/// Renders an SVG text (as written by [`render_figure`]) to PNG at `scale` times its size,
-/// with the embedded font only.
+/// Renders an SVG text (as written by [`render_figure`]) to PNG at `scale` times its size
+/// at 96 dpi (so `300 / 96` gives a 300 dpi print), with the embedded font only.
 pub fn render_png(svg: &str, scale: f32) -> Result<Vec<u8>, String> {
     static FONTS: OnceLock<std::sync::Arc<resvg::usvg::fontdb::Database>> = OnceLock::new();
     let fonts = FONTS.get_or_init(|| {
@@ -518,11 +602,55 @@ pub fn render_png(svg: &str, scale: f32) -> Result<Vec<u8>, String> {
     pixmap.encode_png().map_err(|e| format!("PNG: {e}"))
 }
 
+/// Renders charts under a [`Heading`] (what [`write_panels_with_heading`] writes).
+pub fn render_figure_with(
+    charts: &[Chart],
+    cols: usize,
+    size: (u32, u32),
+    heading: &Heading,
+) -> Result<String, String> {
+    let Some(first) = charts.first() else {
+        return Err("no panels to draw".to_string());
+    };
+    let entries = legend_entries(first);
+    let key = |w: f64| key_height(&entries, w - 2.0 * PAD);
+    let top = |w: f64| heading_height(w, &heading.title, &heading.note) + key(w);
+    let mut hidden: Vec<Chart> = charts.to_vec();
+    for c in &mut hidden {
+        c.hide_legend = true;
+    }
+    let panels_hidden: Vec<Panel<'_>> = hidden.iter().map(Panel::Chart).collect();
+    render_layout(&panels_hidden, cols, size, top, |svg, w| {
+        let full = Rect {
+            x: 0.0,
+            y: 0.0,
+            w,
+            h: 0.0,
+        };
+        let h = draw_heading(svg, full, &heading.title, &heading.note);
+        draw_key(svg, PAD, w - 2.0 * PAD, h, &entries);
+    })
+}
+
 /// Renders a figure to an SVG string (what [`write_figure`] writes).
 pub fn render_figure(
     panels: &[Panel<'_>],
     cols: usize,
     size: (u32, u32),
+) -> Result<String, String> {
+    render_layout(panels, cols, size, |_| 0.0, |_, _| {})
+}
+
+/// The canvas of a figure at the [`figure_size`] in force: as wide (in points) as the
+/// printed column, page or slide; panels in at most `cols` columns (fewer where a panel
+/// would be narrower than 115 pt), each plot as high as the design `size` (its aspect) or,
+/// for one equal-aspect chart, the data ask; `top` is the height of what goes above.
+fn render_layout(
+    panels: &[Panel<'_>],
+    cols: usize,
+    size: (u32, u32),
+    top: impl Fn(f64) -> f64,
+    draw_top: impl FnOnce(&mut Svg, f64),
 ) -> Result<String, String> {
     if panels.is_empty() {
         return Err("no panels to draw".to_string());
@@ -533,26 +661,140 @@ pub fn render_figure(
     if size.0 < 50 || size.1 < 50 {
         return Err(format!("size {}x{} is too small", size.0, size.1));
     }
-    let rows = panels.len().div_ceil(cols);
-    let cols = cols.min(panels.len());
-    let (pw, ph) = (
-        f64::from(size.0) / cols as f64,
-        f64::from(size.1) / rows as f64,
-    );
-    let mut svg = Svg::new(size);
-    for (i, panel) in panels.iter().enumerate() {
-        let area = Rect {
-            x: (i % cols) as f64 * pw,
-            y: (i / cols) as f64 * ph,
-            w: pw,
-            h: ph,
+    let n = panels.len();
+    let fs = figure_size();
+    let w = fs.canvas_width();
+    let design_cols = cols.min(n);
+    let design_rows = n.div_ceil(design_cols);
+    let cols = design_cols.min(((w / 115.0).floor() as usize).max(1));
+    let pw = w / cols as f64;
+    let design_aspect =
+        (f64::from(size.1) / design_rows as f64) / (f64::from(size.0) / design_cols as f64);
+    let plot_w = pw - 40.0;
+    // Each panel's height: its plot as the design's aspect asks or, for an equal-aspect
+    // chart, as its data ask, plus its heading, axes and (for a lone chart) a key row.
+    let panel_h = |p: &Panel<'_>| -> f64 {
+        let (title, note, aspect, key) = match p {
+            Panel::Chart(c) => {
+                let mut aspect = design_aspect;
+                if c.aspect_equal && !c.x_log && !c.y_log {
+                    let pts = chart_points(c);
+                    let (xr, yr) = (
+                        axis_range(pts.iter().map(|p| p.0), false),
+                        axis_range(pts.iter().map(|p| p.1), false),
+                    );
+                    aspect = ((yr.1 - yr.0) / (xr.1 - xr.0)).clamp(0.2, 1.1);
+                }
+                let key = if c.hide_legend {
+                    0.0
+                } else {
+                    key_height(&legend_entries(c), pw - 2.0 * PAD)
+                };
+                (c.title.as_str(), c.note.as_str(), aspect, key)
+            }
+            Panel::HeatMap(m) => {
+                let entries: Vec<Entry<'_>> = m
+                    .categories
+                    .iter()
+                    .map(|(n, col)| Entry::Swatch(n.as_str(), *col))
+                    .collect();
+                let key = key_height(&entries, pw - 2.0 * PAD);
+                (m.title.as_str(), "", design_aspect, key)
+            }
         };
-        match panel {
-            Panel::Chart(c) => draw_chart(&mut svg, area, c, i)?,
-            Panel::HeatMap(m) => draw_heatmap(&mut svg, area, m, i)?,
+        heading_height(pw, title, note) + BOTTOM + 6.0 + key + (plot_w * aspect).max(55.0)
+    };
+    let row_h: Vec<f64> = panels
+        .chunks(cols)
+        .map(|row| row.iter().map(panel_h).fold(0.0, f64::max))
+        .collect();
+    let head = top(w);
+    let h = head + row_h.iter().sum::<f64>();
+    let mut svg = Svg::new(w, h, fs.print_mm());
+    draw_top(&mut svg, w);
+    let mut y = head;
+    for (r, row) in panels.chunks(cols).enumerate() {
+        for (k, panel) in row.iter().enumerate() {
+            let i = r * cols + k;
+            let area = Rect {
+                x: k as f64 * pw,
+                y,
+                w: pw,
+                h: row_h[r],
+            };
+            match panel {
+                Panel::Chart(c) => draw_chart(&mut svg, area, c, i)?,
+                Panel::HeatMap(m) => draw_heatmap(&mut svg, area, m, i)?,
+            }
         }
+        y += row_h[r];
     }
     Ok(svg.finish())
+}
+
+/// The printed size figures are made for: `--size column|page|slide`. The canvas is as
+/// wide in points as the print, so the fonts print at their nominal sizes (7-8.5 pt; on a
+/// slide twice that).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum FigureSize {
+    /// One column of a journal page, 85 mm wide (the command line's default).
+    Column,
+    /// Both columns of a journal page, 175 mm wide.
+    Page,
+    /// A presentation slide, 254 mm (10 in) wide, fonts twice as large.
+    Slide,
+}
+
+impl FigureSize {
+    /// The canvas width in points.
+    pub fn canvas_width(self) -> f64 {
+        match self {
+            FigureSize::Column => 85.0 / 25.4 * 72.0,
+            FigureSize::Page => 175.0 / 25.4 * 72.0,
+            FigureSize::Slide => 127.0 / 25.4 * 72.0,
+        }
+    }
+
+    /// The printed width in millimetres.
+    pub fn print_mm(self) -> f64 {
+        match self {
+            FigureSize::Column => 85.0,
+            FigureSize::Page => 175.0,
+            FigureSize::Slide => 254.0,
+        }
+    }
+
+    /// The resolution of the PNG twin (dots per inch of the print).
+    pub fn png_dpi(self) -> f64 {
+        match self {
+            FigureSize::Slide => 150.0,
+            _ => 300.0,
+        }
+    }
+
+    fn code(self) -> u8 {
+        self as u8
+    }
+
+    fn from_code(c: u8) -> Self {
+        match c {
+            0 => FigureSize::Column,
+            1 => FigureSize::Page,
+            _ => FigureSize::Slide,
+        }
+    }
+}
+
+static SIZE: std::sync::atomic::AtomicU8 = std::sync::atomic::AtomicU8::new(0);
+
+/// Sets the printed size of every figure of this process (`--size`).
+pub fn set_figure_size(s: FigureSize) {
+    SIZE.store(s.code(), std::sync::atomic::Ordering::Relaxed);
+}
+
+/// The printed size figures are made for ([`FigureSize::Column`] unless set).
+pub fn figure_size() -> FigureSize {
+    FigureSize::from_code(SIZE.load(std::sync::atomic::Ordering::Relaxed))
 }
 
 #[cfg(test)]

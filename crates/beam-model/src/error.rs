@@ -111,6 +111,22 @@ impl From<BvpError> for ModelError {
 }
 
 impl ModelError {
+    /// The same failure reported under the method the user asked for: `accurate` names its
+    /// FDM + Richardson fallback as `accurate (fdm-richardson fallback)` rather than `fdm`.
+    pub(crate) fn in_method(mut self, name: &'static str) -> Self {
+        match &mut self {
+            ModelError::NoConvergence { method, .. }
+            | ModelError::ContinuationFailed { method, .. }
+            | ModelError::BranchJump { method, .. }
+            | ModelError::BranchAmbiguous { method, .. }
+            | ModelError::Budget { method, .. }
+            | ModelError::Inaccurate { method, .. }
+            | ModelError::Solver { method, .. } => *method = name,
+            ModelError::InvalidParameter { .. } => {}
+        }
+        self
+    }
+
     /// Maps a failure of [`Continuation::follow`](bvp_solvers::continuation::Continuation::follow)
     /// to a model error that names the method and carries the last inner error.
     pub(crate) fn from_continuation(

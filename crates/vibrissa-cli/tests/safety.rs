@@ -430,3 +430,42 @@ fn shapes_csv_holds_every_rows_shape() {
         }
     }
 }
+
+/// `--method accurate` whose FDM fallback fails too says so under the method the user
+/// asked for (it used to begin with `fdm:`, a method never asked for), exits 1 and writes
+/// nothing.
+#[test]
+fn a_failed_accurate_solve_names_accurate_and_its_fallback() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = run(
+        &[
+            "solve",
+            "--theta",
+            "0.08812507096023038",
+            "--a",
+            "0.9399390342644347",
+            "--b",
+            "0.8892168273742458",
+            "--f",
+            "8.834783312984172",
+            "--beta-deg",
+            "72.94519898236268",
+            "--q",
+            "14.894809679784851",
+            "--alpha-deg",
+            "-69.4456837754382",
+            "--k",
+            "0.23624894898551355",
+            "--out",
+            "s",
+        ],
+        dir.path(),
+    );
+    assert_eq!(o.status.code(), Some(1));
+    let e = stderr(&o);
+    assert!(
+        e.starts_with("error: accurate (fdm-richardson fallback): "),
+        "{e}"
+    );
+    assert!(!dir.path().join("s").exists());
+}

@@ -286,7 +286,7 @@ fn accurate(scene: &Scene, tol: f64, samples: usize, tolerance: f64) -> Result<S
                     theta: scene.whisker.theta,
                     hint: "the fdm-richardson fallback failed as well",
                 }),
-                Err(_) => Err(e),
+                Err(_) => Err(e.in_method("accurate (fdm-richardson fallback)")),
             }
         }
     };

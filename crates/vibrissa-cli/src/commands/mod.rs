@@ -772,3 +772,51 @@ pub fn list_files(files: &[PathBuf]) -> String {
         .collect::<Vec<_>>()
         .join(", ")
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use beam_model::{FluidLoad, Whisker};
+    use contact_sim::{FirstContact, Profile, SweepSettings};
+
+    /// Thesis case 2 (conical whisker past g1 under q = 5): the first contact is
+    /// tangential and the observables jump there (the flow beyond s1 is dropped). The free
+    /// whisker's run of Ax ends at that x0 with its own value, and the contact run starts
+    /// from the contact's: no line joins the two.
+    #[test]
+    fn a_tangential_first_contact_is_drawn_as_a_jump() {
+        let w = Whisker::new(0.5, 0.0, 0.0, f64::INFINITY);
+        let settings = SweepSettings {
+            points: 40,
+            ..SweepSettings::default()
+        };
+        let res = contact_sim::sweep(
+            &w,
+            FluidLoad { q: 5.0, alpha: 0.0 },
+            &Profile::g1(),
+            &settings,
+        )
+        .unwrap();
+        assert_eq!(res.first_contact, FirstContact::Tangential);
+        let first = res
+            .points
+            .iter()
+            .position(|p| p.phase != Phase::None)
+            .unwrap();
+        let (free, touch) = (&res.points[first - 1], &res.points[first]);
+        assert!(
+            (touch.ax - free.ax).abs() > 0.1,
+            "no jump: {} {}",
+            free.ax,
+            touch.ax
+        );
+        let series = phase_series(&res, 1.0, |p| p.ax, false);
+        let end = *series[0].points.last().unwrap();
+        assert_eq!(end, (touch.x0, free.ax), "the free run ends at the jump");
+        assert_eq!(series[1].points[0], (touch.x0, touch.ax));
+        // Elsewhere the runs touch: the contact runs share their switch rows.
+        for w in series[1..].windows(2) {
+            assert_eq!(w[0].points.last(), w[1].points.first());
+        }
+    }
+}

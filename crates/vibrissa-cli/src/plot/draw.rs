@@ -177,7 +177,11 @@ pub(super) fn chart_points(chart: &Chart) -> Vec<(f64, f64)> {
 
 /// The axis ranges of a chart in the plot rectangle `rect`: padded, widened to the
 /// ticks (so that ticks cover the data), 0 included if asked, or equal scales.
-fn chart_ranges(chart: &Chart, pts: &[(f64, f64)], rect: Rect) -> ((f64, f64), (f64, f64)) {
+pub(super) fn chart_ranges(
+    chart: &Chart,
+    pts: &[(f64, f64)],
+    rect: Rect,
+) -> ((f64, f64), (f64, f64)) {
     let (xl, yl) = (chart.x_log, chart.y_log);
     let xs = pts.iter().map(|p| p.0);
     let zero = chart.y_zero && !yl;
@@ -214,7 +218,7 @@ fn legend_box(entries: &[Entry<'_>]) -> (f64, f64) {
 /// Where the legend box of size `(w, h)` covers no drawn point: the first free place of
 /// top right, top left, bottom right, bottom left, top and bottom centre; None if every
 /// place covers some.
-fn free_place(rect: Rect, size: (f64, f64), drawn: &[(f64, f64)]) -> Option<(f64, f64)> {
+pub(super) fn free_place(rect: Rect, size: (f64, f64), drawn: &[(f64, f64)]) -> Option<(f64, f64)> {
     let (w, h) = size;
     if w + 6.0 > rect.w || h + 6.0 > rect.h {
         return None;

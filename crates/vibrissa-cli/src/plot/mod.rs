@@ -886,4 +886,103 @@ mod tests {
         assert_eq!(format_tick(2.5e-8), "2.5e-8");
         assert_eq!(format_tick(-0.0), "0");
     }
+
+    #[test]
+    fn ticks_cover_the_data() {
+        // Linear: the range widens to ticks on both sides (the old padding left x_c's
+        // -0.94..0.75 with the one tick 0).
+        let (lo, hi) = to_ticks((-0.97, 0.78), (-0.94, 0.75), false, 100.0);
+        let a = Axis {
+            lo,
+            hi,
+            log: false,
+            p0: 0.0,
+            p1: 100.0,
+        };
+        let t = a.ticks(tick_target(100.0));
+        assert!(t.len() >= 3, "{t:?}");
+        assert!(
+            t[0].0 <= -0.94 && t[t.len() - 1].0 >= 0.75,
+            "{t:?} for ({lo}, {hi})"
+        );
+        // Data that end on a tick keep a little padding instead of another step.
+        let (lo, _) = to_ticks((-0.2, 10.2), (0.0, 10.0), false, 100.0);
+        assert!((-0.21..0.0).contains(&lo), "{lo}");
+        // Log: whole decades, the top one labelled.
+        let (lo, hi) = to_ticks((8e-15, 1.3e-10), (1e-14, 1.2e-10), true, 200.0);
+        let l = Axis {
+            lo,
+            hi,
+            log: true,
+            p0: 0.0,
+            p1: 200.0,
+        };
+        let t = l.ticks(tick_target(200.0));
+        assert_eq!(t.last().map(|x| x.1.as_str()), Some("1e-9"), "{t:?}");
+        assert!(t[0].0 <= 1e-14, "{t:?}");
+    }
+
+    #[test]
+    fn the_legend_goes_where_it_hides_no_data() {
+        let rect = Rect {
+            x: 0.0,
+            y: 0.0,
+            w: 200.0,
+            h: 100.0,
+        };
+        // Data fill the top right: the legend goes top left.
+        let drawn: Vec<(f64, f64)> = (0..50).map(|i| (150.0 + i as f64, 5.0)).collect();
+        assert_eq!(free_place(rect, (40.0, 20.0), &drawn), Some((3.0, 3.0)));
+        // Data everywhere: no place inside (a key above the plot instead).
+        let drawn: Vec<(f64, f64)> = (0..=40)
+            .flat_map(|i| (0..=20).map(move |j| (i as f64 * 5.0, j as f64 * 5.0)))
+            .collect();
+        assert_eq!(free_place(rect, (40.0, 20.0), &drawn), None);
+    }
+
+    #[test]
+    fn equal_aspect_means_equal_scales() {
+        let chart = Chart::new("", "x", "y")
+            .with(Series::new("", vec![(-3.0, 0.0), (2.0, 1.2)], Style::Line))
+            .equal_aspect();
+        let rect = Rect {
+            x: 10.0,
+            y: 10.0,
+            w: 220.0,
+            h: 70.0,
+        };
+        let (xr, yr) = chart_ranges(&chart, &chart_points(&chart), rect);
+        let (kx, ky) = ((xr.1 - xr.0) / rect.w, (yr.1 - yr.0) / rect.h);
+        assert!((kx / ky - 1.0).abs() < 1e-12, "{kx} vs {ky}");
+        assert!(xr.0 <= -3.0 && xr.1 >= 2.0 && yr.0 <= 0.0 && yr.1 >= 1.2);
+    }
+
+    #[test]
+    fn subscripts_are_markup_only_where_meant() {
+        assert_eq!(
+            segments("A_x [N]"),
+            vec![
+                ("A".to_string(), false),
+                ("x".to_string(), true),
+                (" [N]".to_string(), false)
+            ]
+        );
+        assert_eq!(segments("x_{max}")[1], ("max".to_string(), true));
+        assert_eq!(
+            segments("file_name"),
+            vec![("file_name".to_string(), false)]
+        );
+        assert!(text_width("A_x", 10.0) < text_width("Ax", 10.0));
+    }
+
+    #[test]
+    fn figures_print_at_the_chosen_width() {
+        let chart = Chart::new("t", "x", "y").with(Series::new(
+            "s",
+            vec![(0.0, 0.0), (1.0, 1.0)],
+            Style::Line,
+        ));
+        let svg = render_figure(&[Panel::Chart(&chart)], 1, (800, 500)).unwrap();
+        assert!(svg.contains("width=\"85mm\""), "{}", &svg[..200]);
+    }
 }

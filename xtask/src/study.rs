@@ -87,12 +87,19 @@ pub fn work_precision_methods() -> Vec<Method> {
         tol,
         samples: DEFAULT_INTERVALS,
     }));
+    m.extend(AUTO_TOLS.iter().map(|&tol| Method::Auto {
+        tol,
+        samples: DEFAULT_INTERVALS,
+    }));
     m
 }
 
+/// The accuracies asked of `auto` (the automatic choice) on the work-precision chart.
+const AUTO_TOLS: [f64; 5] = [1e-4, 1e-6, 1e-8, 1e-10, 1e-12];
+
 fn setting(method: &Method) -> f64 {
     match *method {
-        Method::Accurate { tol, .. } => tol,
+        Method::Accurate { tol, .. } | Method::Auto { tol, .. } => tol,
         Method::Rk4 { n } | Method::Fdm { n } | Method::FdmRichardson { n } => n as f64,
     }
 }

@@ -30,6 +30,18 @@ impl Elastica {
         self.s.is_empty()
     }
 
+    /// An empty elastica with room for `n` samples.
+    pub(crate) fn with_capacity(n: usize) -> Self {
+        Elastica {
+            s: Vec::with_capacity(n),
+            x: Vec::with_capacity(n),
+            y: Vec::with_capacity(n),
+            phi: Vec::with_capacity(n),
+            kappa: Vec::with_capacity(n),
+            m: Vec::with_capacity(n),
+        }
+    }
+
     /// Appends a sample.
     pub(crate) fn push(&mut self, s: f64, x: f64, y: f64, phi: f64, kappa: f64, m: f64) {
         self.s.push(s);
@@ -81,11 +93,15 @@ pub enum MethodKind {
     FdmRichardson,
     /// One integration from a known tip angle (no boundary-value solve).
     Shape,
+    /// The spectral Picard iteration of the integral form (weak and moderate loads).
+    Picard,
+    /// The cheapest method that meets a requested accuracy (`Method::Auto`).
+    Auto,
 }
 
 impl MethodKind {
     /// The name used by the CLI and the charts (`accurate`, `rk4`, `fdm`, `fdm-richardson`,
-    /// `shape`).
+    /// `shape`, `picard`, `auto`).
     pub fn name(&self) -> &'static str {
         match self {
             MethodKind::Accurate => "accurate",
@@ -93,6 +109,8 @@ impl MethodKind {
             MethodKind::Fdm => "fdm",
             MethodKind::FdmRichardson => "fdm-richardson",
             MethodKind::Shape => "shape",
+            MethodKind::Picard => "picard",
+            MethodKind::Auto => "auto",
         }
     }
 }

@@ -174,7 +174,9 @@ pub struct FluidFlags {
 /// Method flags.
 #[derive(Debug, Clone, Default, Args)]
 pub struct MethodFlags {
-    /// Solution method: accurate (adaptive DOP853 shooting, error estimated by a second shot;
+    /// Solution method: auto (the cheapest method that meets --tol: a spectral Picard
+    /// iteration of the integral form for weak and moderate loads, else accurate at the
+    /// tolerance that suffices), accurate (adaptive DOP853 shooting, error estimated by a second shot;
     /// falls back to fdm-richardson on refined grids where shooting is ill-conditioned, as
     /// `stats.method_used` says; refused when the estimate exceeds 1e-8), rk4 (fixed-step
     /// shooting), fdm (finite differences, the thesis's method) or fdm-richardson (FDM on n,
@@ -187,6 +189,11 @@ pub struct MethodFlags {
     /// output intervals for accurate [default: 100]
     #[arg(long, value_name = "N", allow_hyphen_values = true)]
     pub n: Option<String>,
+    /// The accuracy asked for (absolute error of the tip, loaded end and base observables,
+    /// dimensionless, in [1e-12, 1e-2]): solves with --method auto, the cheapest method
+    /// whose error estimate meets it; `stats.method_used` says which [default: 1e-8]
+    #[arg(long, value_name = "T", allow_hyphen_values = true)]
+    pub tol: Option<String>,
 }
 
 /// All model flags of `solve` and `sweep`.

@@ -338,19 +338,51 @@ fn resolve_parts(
         n,
     };
     // The method.
-    let (name, name_origin) = match (&m.method, f_ref) {
-        (Some(name), _) => (name.clone(), Some("--method")),
-        (None, Some(f)) => (f.file.method.name.clone(), None),
-        (None, None) => ("accurate".to_string(), Some("--method")),
+    let (name, name_origin) = match (&m.method, f_ref, &m.tol) {
+        (Some(name), _, _) => (name.clone(), Some("--method")),
+        // --tol asks for the automatic choice.
+        (None, _, Some(_)) => ("auto".to_string(), Some("--method")),
+        (None, Some(f), None) => (f.file.method.name.clone(), None),
+        (None, None, None) => ("accurate".to_string(), Some("--method")),
     };
     let n_value = given.n.as_ref().map(|p| p.value as usize);
-    let method = Method::from_name(name.trim(), n_value).ok_or_else(|| {
-        let reason = "unknown method: expected accurate, rk4, fdm or fdm-richardson".to_string();
+    let mut method = Method::from_name(name.trim(), n_value).ok_or_else(|| {
+        let reason =
+            "unknown method: expected accurate, auto, rk4, fdm or fdm-richardson".to_string();
         match (name_origin, f_ref) {
             (None, Some(f)) => f.error_at("method.name", format!("{reason}, got `{name}`")),
             _ => CliError::invalid_argument("--method", name.clone(), reason),
         }
     })?;
+    let tol = match (&m.tol, f_ref.and_then(|f| f.file.method.tol)) {
+        (Some(raw), _) => Some((parse_number("--tol", raw)?, "--tol")),
+        (None, Some(t)) if name_origin.is_none() => Some((t, "method.tol")),
+        _ => None,
+    };
+    if let Some((t, origin)) = tol {
+        match &mut method {
+            Method::Auto { tol, .. } => {
+                if !(1e-12..=1e-2).contains(&t) {
+                    return Err(CliError::invalid_argument(
+                        origin,
+                        format!("{t:e}"),
+                        "the accuracy asked for must be in [1e-12, 1e-2]".to_string(),
+                    ));
+                }
+                *tol = t;
+            }
+            other => {
+                return Err(CliError::invalid_argument(
+                    origin,
+                    format!("{t:e}"),
+                    format!(
+                        "--tol asks for the automatic choice (--method auto), not {}",
+                        other.name()
+                    ),
+                ));
+            }
+        }
+    }
     let mut resolved = Resolved {
         scene: Scene::default(),
         method,

@@ -155,6 +155,9 @@ pub struct MethodSpec {
     /// Grid intervals for fixed-step methods (at least 4); `None` for the method's default.
     #[serde(default)]
     pub n: Option<usize>,
+    /// The accuracy asked of `auto` (default 1e-8); only with `name: "auto"`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tol: Option<f64>,
 }
 
 impl Default for MethodSpec {
@@ -162,6 +165,7 @@ impl Default for MethodSpec {
         MethodSpec {
             name: default_method(),
             n: None,
+            tol: None,
         }
     }
 }

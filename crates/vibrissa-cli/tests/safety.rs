@@ -469,3 +469,65 @@ fn a_failed_accurate_solve_names_accurate_and_its_fallback() {
     );
     assert!(!dir.path().join("s").exists());
 }
+
+/// `--tol T` asks for the cheapest method that meets T: a weak flow is answered by the
+/// spectral Picard iteration within T of `accurate`, the scene records the request, and
+/// a --tol with another method or out of range names the flag.
+#[test]
+fn tol_picks_the_cheapest_method_that_meets_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let cwd = dir.path();
+    let json = |args: &[&str]| -> serde_json::Value {
+        let o = run(args, cwd);
+        assert!(o.status.success(), "{}", stderr(&o));
+        serde_json::from_slice(&o.stdout).unwrap()
+    };
+    let flow = [
+        "--theta",
+        "0.5",
+        "--k",
+        "10",
+        "--q",
+        "0.5",
+        "--figures",
+        "none",
+    ];
+    let base = |out: &str, extra: &[&str]| -> Vec<String> {
+        let mut v: Vec<String> = ["solve", "--json", "--out", out].map(String::from).to_vec();
+        v.extend(flow.iter().map(|s| s.to_string()));
+        v.extend(extra.iter().map(|s| s.to_string()));
+        v
+    };
+    let reference = json(
+        &base("r", &[])
+            .iter()
+            .map(String::as_str)
+            .collect::<Vec<_>>(),
+    );
+    for tol in [1e-4, 1e-8] {
+        let t = format!("{tol:e}");
+        let args = base(&format!("t{t}"), &["--tol", &t]);
+        let v = json(&args.iter().map(String::as_str).collect::<Vec<_>>());
+        assert_eq!(v["stats"]["method_used"], "picard", "{v}");
+        assert_eq!(v["stats"]["tolerance"].as_f64(), Some(tol));
+        for (part, key) in [("tip", "x"), ("tip", "y"), ("base", "MA"), ("base", "phi0")] {
+            let (a, b) = (
+                v[part][key].as_f64().unwrap(),
+                reference[part][key].as_f64().unwrap(),
+            );
+            assert!((a - b).abs() <= tol, "{part}.{key}: {a} vs {b} at {tol:e}");
+        }
+        let scene = fs::read_to_string(cwd.join(format!("t{t}/scene.ron"))).unwrap();
+        assert!(
+            scene.contains("name: \"auto\"") && scene.contains("tol: Some("),
+            "{scene}"
+        );
+    }
+    let o = run(
+        &["solve", "--q", "0.5", "--tol", "1e-4", "--method", "fdm"],
+        cwd,
+    );
+    refused(&o, &["--tol", "auto", "fdm"]);
+    let o = run(&["solve", "--q", "0.5", "--tol", "1e-20"], cwd);
+    refused(&o, &["--tol", "[1e-12, 1e-2]"]);
+}

@@ -324,6 +324,10 @@ pub fn output_scene(r: &Resolved, profile: Option<String>, points: Option<usize>
         method: MethodSpec {
             name: r.method.name().to_string(),
             n: g.n.as_ref().map(|n| n.value as usize),
+            tol: match r.method {
+                beam_model::Method::Auto { tol, .. } => Some(tol),
+                _ => None,
+            },
         },
     }
 }

@@ -64,7 +64,7 @@ pub fn count(spec: &Bound<'_, PyDict>, key: &str) -> PyResult<Option<String>> {
 }
 
 /// The whisker, load and method flags of `spec` (`theta, a, b, k, f, beta_deg, load, q,
-/// alpha_deg, method, n`).
+/// alpha_deg, method, n, tol`).
 pub fn model_flags(spec: &Bound<'_, PyDict>) -> PyResult<ModelFlags> {
     let mut flags = ModelFlags::default();
     flags.whisker.theta = number(spec, "theta")?;
@@ -90,6 +90,7 @@ pub fn model_flags(spec: &Bound<'_, PyDict>) -> PyResult<ModelFlags> {
     flags.fluid.alpha_deg = number(spec, "alpha_deg")?;
     flags.method.method = string(spec, "method")?;
     flags.method.n = count(spec, "n")?;
+    flags.method.tol = number(spec, "tol")?;
     Ok(flags)
 }
 

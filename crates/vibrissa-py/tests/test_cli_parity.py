@@ -229,3 +229,20 @@ def test_reconstruct_any_row_order_and_dataframe():
         assert (b.x[i] == a.x[j]) or (math.isnan(b.x[i]) and math.isnan(a.x[j]))
     assert np.nanmax(a.error) < 1e-9
     assert a.q == pytest.approx(5, abs=1e-12)
+
+
+@pytest.mark.parametrize("tol", [1e-4, 1e-8])
+def test_solve_tol_matches_cli(cli, tmp_path, tol):
+    scene = {"theta": 0.5, "k": 10.0, "q": 0.5, "f": 0.2, "beta_deg": 20.0}
+    import json
+
+    p = cli.run("solve", *flags({**scene, "method": "auto"}), "--tol", repr(tol), "--json",
+                "--out", str(tmp_path / "o"))
+    ref = json.loads(p.stdout)
+    sol = vibrissa.solve(**scene, tol=tol)
+    assert sol.stats == ref["stats"]
+    assert sol.stats["method_used"] == "picard" and sol.stats["tolerance"] == tol
+    assert sol.tip == ref["tip"]
+    exact = vibrissa.solve(**scene)
+    assert abs(sol.tip["x"] - exact.tip["x"]) <= tol
+    assert vibrissa.solve(**sol.scene).tip == sol.tip

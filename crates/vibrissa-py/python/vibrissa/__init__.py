@@ -83,6 +83,8 @@ def _scene(spec: Dict[str, Any], profile: Any = None, points: Any = None) -> Dic
     out = {key: spec[key] for key in ("theta", "a", "b", "f", "beta_deg", "q", "alpha_deg")}
     out["k"] = None if spec["k"] == math.inf else spec["k"]
     out.update(load=spec["load"], method=spec["method"], n=spec["n"])
+    if spec.get("tol") is not None:
+        out["tol"] = spec["tol"]
     units = spec["units"]
     if units is not None and list(units) == ["preset"]:
         units = units["preset"]
@@ -120,15 +122,20 @@ def solve(
     ``"ap"`` angle-preserving), ``q, alpha_deg`` the fluid load per length and its angle,
     ``method`` (``"accurate"``, ``"fdm"``, ``"fdm-richardson"``, ``"rk4"``), ``n`` grid
     intervals (output intervals for ``accurate``; default 100), ``units`` (module docs).
-    ``tol`` must be None (the default accuracy: error estimate <= 1e-8, refused otherwise).
+    ``tol``: the accuracy asked for (absolute, in [1e-12, 1e-2]); with ``method="accurate"``
+    (the default) it selects ``"auto"``, the cheapest method whose error estimate meets it
+    (``stats["method_used"]`` says which: ``"picard"`` for weak and moderate loads).
+    None: ``accurate``'s default accuracy (estimate <= 1e-8).
     ``profile`` and ``points`` are ignored (as ``vibrissa solve SCENE.ron`` ignores them),
     so that ``solve(**load_scene(path))`` works.
 
     Returns a :class:`Solution`. Raises :class:`InvalidInput` for a bad parameter and
     :class:`SolverError` when no solution meets the accuracy.
     """
-    check_tol(tol)
+    if tol is not None and method == "accurate":
+        method = "auto"
     spec = _model_spec(theta, a, b, k, f, beta_deg, load, q, alpha_deg, method, n, units)
+    spec["tol"] = None if tol is None else number("tol", tol)
     return Solution(_core.solve(spec), _scene(spec))
 
 

@@ -531,3 +531,26 @@ fn tol_picks_the_cheapest_method_that_meets_it() {
     let o = run(&["solve", "--q", "0.5", "--tol", "1e-20"], cwd);
     refused(&o, &["--tol", "[1e-12, 1e-2]"]);
 }
+
+/// The elastica figure draws its loads (it showed none): the tip force and the flow as
+/// arrows explained in the legend, on a print-size canvas.
+#[test]
+fn the_elastica_figure_draws_its_loads() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = run(
+        &[
+            "solve", "--f", "2", "--beta-deg", "30", "--q", "3", "--alpha-deg", "20", "--out",
+            "e",
+        ],
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let svg = fs::read_to_string(dir.path().join("e/elastica.svg")).unwrap();
+    for needle in ["tip force f", "flow q", "width=\"85mm\""] {
+        assert!(svg.contains(needle), "elastica.svg lacks {needle}");
+    }
+    // One filled arrow head per arrow: the tip force and four flow arrows (+ the legend's
+    // two samples).
+    let heads = svg.matches(" Z\" fill=\"#").count();
+    assert!(heads >= 7, "{heads} arrow heads");
+}

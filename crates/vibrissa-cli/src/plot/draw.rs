@@ -443,7 +443,7 @@ fn draw_series(svg: &mut Svg, chart: &Chart, axes: (&Axis, &Axis), rect: Rect, c
                 px.push((b.0, rect.y - 3.0));
                 px.push((a.0, rect.y - 3.0));
             }
-            svg.polygon(&px, OBSTACLE_FILL, clip);
+            svg.polygon(&px, OBSTACLE_FILL, &format!("{clip}f"));
         }
     }
     for s in &chart.series {
@@ -465,7 +465,18 @@ fn draw_series(svg: &mut Svg, chart: &Chart, axes: (&Axis, &Axis), rect: Rect, c
         }
         if matches!(s.style, Style::Points | Style::LinePoints) {
             let r = if dense { MARKER_R * 0.75 } else { MARKER_R };
-            for p in s.points.iter().filter(|&&p| is_valid(p, xl, yl)) {
+            // On a line the markers only tell it apart: about a dozen, evenly spread.
+            let every = match s.style {
+                Style::LinePoints => s.points.len().div_ceil(MARKERS_ON_A_LINE).max(1),
+                _ => 1,
+            };
+            for p in s
+                .points
+                .iter()
+                .step_by(every)
+                .filter(|&&p| is_valid(p, xl, yl))
+            {
+                let r = if s.style == Style::LinePoints { MARKER_R } else { r };
                 svg.marker(to_px(*p), s.marker_shape(), r, &col, None);
             }
         }
@@ -516,6 +527,9 @@ pub(super) fn point_marker(m: &Mark) -> Marker {
         _ => Marker::of_color(m.color),
     }
 }
+
+/// How many markers a [`Style::LinePoints`] series shows at most.
+pub(super) const MARKERS_ON_A_LINE: usize = 12;
 
 /// The fill of an obstacle's solid side.
 pub(super) const OBSTACLE_FILL: &str = "#d6d6d6";

@@ -43,7 +43,7 @@ pub enum Style {
     Dashed,
     /// Markers only.
     Points,
-    /// A solid line with markers.
+    /// A solid line with markers (about a dozen, evenly spread, on a long series).
     LinePoints,
     /// An obstacle's contour: a line with the solid side (above it, `y > g(x)`) filled
     /// light grey up to the top of the plot.

@@ -372,14 +372,18 @@ impl Svg {
         );
     }
 
+    /// Two clip paths: `id` (the plot with 1.5 pt to spare, so that lines on the frame
+    /// keep their width) and `id` + `f` (the plot exactly, for fills).
     pub(super) fn clip(&mut self, id: &str, r: Rect) {
-        let _ = writeln!(
-            self.out,
-            "<clipPath id=\"{id}\"><rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\"/></clipPath>",
-            c(r.x - 1.5),
-            c(r.y - 1.5),
-            c(r.w + 3.0),
-            c(r.h + 3.0)
-        );
+        for (suffix, m) in [("", 1.5), ("f", 0.0)] {
+            let _ = writeln!(
+                self.out,
+                "<clipPath id=\"{id}{suffix}\"><rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\"/></clipPath>",
+                c(r.x - m),
+                c(r.y - m),
+                c(r.w + 2.0 * m),
+                c(r.h + 2.0 * m)
+            );
+        }
     }
 }

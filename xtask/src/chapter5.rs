@@ -6,7 +6,10 @@ use contact_sim::phase::contact_loads;
 use contact_sim::{FirstContact, Phase, Separation, SweepPoint};
 use vibrissa_cli::atomic::OutputDir;
 use vibrissa_cli::csvio::{Cell, CsvWriter};
-use vibrissa_cli::plot::{Chart, Series, Style};
+use vibrissa_cli::plot::{
+    figure_size, set_figure_size, write_panels_with_heading, Chart, Dash, FigureSize, Heading,
+    Marker, Series, Style,
+};
 
 use crate::captions::caption;
 use crate::common::{self, md_table, note_err, sig, Ctx, SweepRun, SWEEP_POINTS};
@@ -100,11 +103,11 @@ const QUANTITIES: [(&str, Obs); 6] = [
 /// The axis label (symbol and unit; the thesis's variables are dimensionless) of a quantity.
 fn axis_label(name: &str) -> &'static str {
     match name {
-        "Ax" => "horizontal base force Ax [–]",
-        "Ay" => "vertical base force Ay [–]",
-        "MA" => "base moment MA [–]",
-        "phi0" => "base angle φ₀ [rad]",
-        "s1" => "loaded arc length s₁ [–]",
+        "Ax" => "horizontal base force A_x [–]",
+        "Ay" => "vertical base force A_y [–]",
+        "MA" => "base moment M_A [–]",
+        "phi0" => "base angle φ_0 [rad]",
+        "s1" => "loaded arc length s_1 [–]",
         _ => "contact force f [–]",
     }
 }
@@ -129,26 +132,238 @@ fn constant_over(group: &[&SweepRun], q: usize) -> bool {
     })
 }
 
+/// The symbol of a quantity as a panel title (plot-label markup: `A_x` sets x as a subscript).
+fn symbol(name: &str) -> &'static str {
+    match name {
+        "Ax" => "A_x",
+        "Ay" => "A_y",
+        "MA" => "M_A",
+        "phi0" => "φ_0",
+        "s1" => "s_1",
+        _ => "f",
+    }
+}
+
+/// The x axis of every observables panel.
+const X0_LABEL: &str = "base position x_0 [–]";
+
+/// A legend label for a case label: `q=5` → `q = 5`, `theta=0.5 k=inf` → `ϑ = 0.5, k = ∞`,
+/// `A=0 B=-0.5` → `A = 0, B = −0.5`.
+fn pretty_label(label: &str) -> String {
+    label
+        .split_whitespace()
+        .map(|part| match part.split_once('=') {
+            Some((name, value)) => {
+                let name = if name == "theta" { "ϑ" } else { name };
+                let value = match value {
+                    "inf" => "∞".to_string(),
+                    "-inf" => "−∞".to_string(),
+                    v => v.replacen('-', "−", 1),
+                };
+                format!("{name} = {value}")
+            }
+            None => part.to_string(),
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// The line of the i-th case of a group, as the thesis captions give them (continuous,
+/// dashed, dotted, dash-dotted, grey), with a marker shape of its own so that the cases also
+/// differ in greyscale print: `(colour, dash, marker)`.
+fn case_style(i: usize) -> (usize, Dash, Marker) {
+    const STYLES: [(usize, Dash, Marker); 5] = [
+        (0, Dash::Solid, Marker::Circle),
+        (1, Dash::Dashed, Marker::Square),
+        (2, Dash::Dotted, Marker::Triangle),
+        (3, Dash::DashDot, Marker::Diamond),
+        (7, Dash::LongDash, Marker::TriangleDown),
+    ];
+    STYLES[i % STYLES.len()]
+}
+
+/// Markers along a curve: about this many per series.
+const MARKERS_PER_SERIES: usize = 9;
+
+/// The points of `get` against x0 along a sweep, as a line: where a tangential first
+/// contact makes the observables jump (the flow beyond s1 is dropped), the free whisker's
+/// value runs on to the contact's x0 and no line joins it to the contact's value (as the
+/// CLI's sweep figures draw it).
+fn sweep_line(s: &contact_sim::SweepResult, get: Obs) -> Vec<(f64, f64)> {
+    let mut pts = Vec::with_capacity(s.points.len() + 2);
+    for (i, p) in s.points.iter().enumerate() {
+        if i > 0 {
+            let prev = &s.points[i - 1];
+            if s.first_contact == FirstContact::Tangential
+                && prev.phase == Phase::None
+                && p.phase != Phase::None
+            {
+                pts.push((p.x0, get(prev)));
+                pts.push((f64::NAN, f64::NAN));
+            }
+        }
+        pts.push((p.x0, get(p)));
+    }
+    pts
+}
+
 fn chart_of(group: &[&SweepRun], q: usize, title: &str) -> Chart {
     let (name, get) = QUANTITIES[q];
     let mut c = Chart::new(
-        format!("{title}: {name}"),
-        "base position x₀ [–]",
+        format!("{title}: {}", symbol(name)),
+        X0_LABEL,
         axis_label(name),
     );
+    if name == "f" {
+        c = c.y_from_zero();
+    }
+    let n = group.len().max(1);
     for (i, r) in group.iter().enumerate() {
         if let Ok(s) = &r.result {
-            let pts = s.points.iter().map(|p| (p.x0, get(p))).collect();
-            let style = if i % 2 == 0 {
-                Style::Line
-            } else {
-                Style::Dashed
-            };
+            let (color, dash, marker) = case_style(i);
+            let pts = sweep_line(s, get);
+            // Sparse markers, evenly spread in x0 (the rows crowd where the sweep refines
+            // its step) and staggered between the cases so that they do not sit on each
+            // other; drawn as isolated points: the line itself carries no name, the marker
+            // series carries the legend entry (line sample and marker).
+            let rows: Vec<(f64, f64)> = s
+                .points
+                .iter()
+                .map(|p| (p.x0, get(p)))
+                .filter(|p| p.0.is_finite() && p.1.is_finite())
+                .collect();
+            let (lo, hi) = rows
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
+                    (a.min(p.0), b.max(p.0))
+                });
+            let mut picked: Vec<usize> = Vec::new();
+            for m in 0..MARKERS_PER_SERIES {
+                let t = (m as f64 + (i as f64 + 0.5) / n as f64) / MARKERS_PER_SERIES as f64;
+                let target = lo + (hi - lo) * t;
+                let nearest = (0..rows.len()).min_by(|&a, &b| {
+                    (rows[a].0 - target)
+                        .abs()
+                        .total_cmp(&(rows[b].0 - target).abs())
+                });
+                if let Some(j) = nearest {
+                    if !picked.contains(&j) {
+                        picked.push(j);
+                    }
+                }
+            }
+            let marks: Vec<(f64, f64)> = picked
+                .iter()
+                .flat_map(|&j| [rows[j], (f64::NAN, f64::NAN)])
+                .collect();
             c.series
-                .push(Series::new(r.case.label.clone(), pts, style).color(i));
+                .push(Series::new("", pts, Style::Line).color(color).dash(dash));
+            c.series.push(
+                Series::new(pretty_label(&r.case.label), marks, Style::LinePoints)
+                    .color(color)
+                    .dash(dash)
+                    .marker(marker),
+            );
         }
     }
     c
+}
+
+/// The colour, dash and legend text of a contact phase (the CLI's house style: no contact
+/// dotted grey, phase A solid blue, phase B dashed orange).
+fn phase_style(p: Phase) -> (usize, usize, Dash, &'static str) {
+    match p {
+        Phase::None => (0, 7, Dash::Dotted, "no contact"),
+        Phase::A => (1, 0, Dash::Solid, "phase A (tip)"),
+        Phase::B => (2, 1, Dash::Dashed, "phase B (tangential)"),
+    }
+}
+
+/// One sweep's observable against x0, one series per run of equal phase in the house style
+/// (runs joined, except across the jump at a tangential first contact).
+fn phase_chart(s: &contact_sim::SweepResult, q: usize, title: &str) -> Chart {
+    let (name, get) = QUANTITIES[q];
+    let mut c = Chart::new(
+        format!("{title}: {}", symbol(name)),
+        X0_LABEL,
+        axis_label(name),
+    );
+    if name == "f" {
+        c = c.y_from_zero();
+    }
+    let rows = &s.points;
+    let mut named = [false; 3];
+    let mut i = 0;
+    while i < rows.len() {
+        let phase = rows[i].phase;
+        let mut j = i;
+        while j < rows.len() && rows[j].phase == phase {
+            j += 1;
+        }
+        let mut pts: Vec<(f64, f64)> = rows[i..j].iter().map(|p| (p.x0, get(p))).collect();
+        if j < rows.len() {
+            let jump = phase == Phase::None && s.first_contact == FirstContact::Tangential;
+            let v = if jump {
+                get(&rows[j - 1])
+            } else {
+                get(&rows[j])
+            };
+            pts.push((rows[j].x0, v));
+        }
+        let (k, color, dash, label) = phase_style(phase);
+        let name = if named[k] { "" } else { label };
+        named[k] = true;
+        c.series
+            .push(Series::new(name, pts, Style::Line).color(color).dash(dash));
+        i = j;
+    }
+    c
+}
+
+/// Draws the figures written while it lives one column (85 mm) wide, for figures of one
+/// panel (which would otherwise span the page), then restores the size before.
+struct ColumnWidth(FigureSize);
+
+impl ColumnWidth {
+    fn set() -> Self {
+        let before = figure_size();
+        set_figure_size(FigureSize::Column);
+        ColumnWidth(before)
+    }
+}
+
+impl Drop for ColumnWidth {
+    fn drop(&mut self) {
+        set_figure_size(self.0);
+    }
+}
+
+/// Writes `charts` as one figure `name` (SVG and PNG), `cols` panels a row, with one key for
+/// all panels above them (the first chart's legend) and `note` under it; records the file.
+/// With `column`, the figure is one journal column wide instead of the page.
+#[allow(clippy::too_many_arguments)]
+fn figure(
+    out: &OutputDir,
+    entry: &mut Entry,
+    name: &str,
+    charts: &[Chart],
+    cols: usize,
+    size: (u32, u32),
+    note: &str,
+    column: bool,
+) -> Result<(), String> {
+    let _width = column.then(ColumnWidth::set);
+    let path = out.path_for(name);
+    if let Some(parent) = path.parent() {
+        std::fs::create_dir_all(parent).map_err(|e| format!("{}: {e}", parent.display()))?;
+    }
+    let heading = Heading {
+        title: String::new(),
+        note: note.to_string(),
+    };
+    write_panels_with_heading(charts, cols, &heading, &path, size).map_err(|e| e.to_string())?;
+    entry.file(path);
+    Ok(())
 }
 
 /// Writes the sweeps' CSVs (once, listed in `entry`) and the per-case table.
@@ -220,14 +435,37 @@ fn observables(
                 charts.push(chart_of(group, q, &title));
             }
         }
-        if let Some(first) = charts.first_mut() {
-            if constant.contains(&"phi0") {
-                first.note = "φ₀ = π/2 throughout (rigid support): its panel is left out".into();
-            }
-        }
+        let note = constant
+            .iter()
+            .map(|&q| {
+                let sym = symbol(q);
+                match q {
+                    "phi0" => "φ_0 = π/2 throughout (rigid support): no φ_0 panel".to_string(),
+                    "s1" => "s_1 = 1 throughout (tip contact only): no s_1 panel".to_string(),
+                    _ => format!("{sym} constant: no {sym} panel"),
+                }
+            })
+            .collect::<Vec<_>>()
+            .join("; ");
         let stem = format!("fig{}", fig.replace('.', "_"));
-        let r = common::svg(out, entry, &format!("{stem}.svg"), &charts, 2);
-        note_err(entry, &stem, r);
+        if charts.is_empty() {
+            entry.fail(format!("{stem}: {note}"));
+        } else {
+            // Two panels side by side across the page; a lone panel, one column wide.
+            let lone = charts.len() == 1;
+            let size = if lone { (560, 420) } else { (1120, 420) };
+            let r = figure(
+                out,
+                entry,
+                &format!("{stem}.svg"),
+                &charts,
+                2,
+                size,
+                &note,
+                lone,
+            );
+            note_err(entry, &stem, r);
+        }
         if k == 0 {
             entry.number(
                 "sweep",
@@ -281,9 +519,40 @@ fn observables_all(out: &OutputDir, report: &mut Report, group: &[&SweepRun]) {
         entry.fail("no ge sweep case");
         return;
     }
-    let charts: Vec<Chart> = (0..6).map(|q| chart_of(group, q, "ge, q = 0")).collect();
-    let r = common::svg(out, entry, "fig5_46.svg", &charts, 2);
-    note_err(entry, "fig5_46", r);
+    // One sweep: the phases in the house style; a constant φ_0 (rigid support, rounding
+    // noise only) gets no panel.
+    let mut charts = Vec::new();
+    let mut note = String::new();
+    for r in group {
+        if let Ok(s) = &r.result {
+            for (q, &(name, _)) in QUANTITIES.iter().enumerate() {
+                if constant_over(std::slice::from_ref(r), q) {
+                    if name == "phi0" {
+                        note = "φ_0 = π/2 throughout (rigid support): no φ_0 panel".into();
+                    }
+                    continue;
+                }
+                let title = format!("ge, {}", pretty_label(&r.case.label));
+                charts.push(phase_chart(s, q, &title));
+            }
+            break;
+        }
+    }
+    if charts.is_empty() {
+        entry.fail("the ge sweep failed");
+    } else {
+        let r = figure(
+            out,
+            entry,
+            "fig5_46.svg",
+            &charts,
+            3,
+            (1680, 840),
+            &note,
+            false,
+        );
+        note_err(entry, "fig5_46", r);
+    }
     sweep_files_and_table(out, entry, group);
 }
 
@@ -302,7 +571,9 @@ fn sketch(
         entry.fail("no matching sweep case");
         return;
     }
-    let mut charts = Vec::new();
+    let mut charts: Vec<Chart> = Vec::new();
+    let mut seen_any = [false; 3];
+    let mut aspects = Vec::new();
     let mut w = CsvWriter::new(&["case", "row", "x0", "phase", "s", "x", "y"]);
     for r in &picked {
         let s = match &r.result {
@@ -331,15 +602,18 @@ fn sketch(
         idx.dedup();
         let mut chart = Chart::new(
             format!(
-                "case {} ({}) {}",
-                r.case.case, r.case.profile_name, r.case.label
+                "case {} ({}), {}",
+                r.case.case,
+                r.case.profile_name,
+                pretty_label(&r.case.label)
             ),
             "x [–]",
             "y [–]",
         )
         .equal_aspect();
-        let (mut xmin, mut xmax) = (f64::INFINITY, f64::NEG_INFINITY);
+        let (mut xmin, mut xmax, mut ymax) = (f64::INFINITY, f64::NEG_INFINITY, 0.0f64);
         let mut named = [false; 3];
+        let mut contact_pts = Vec::new();
         for &i in &idx {
             let p = &s.points[i];
             let loads = if p.phase == Phase::None {
@@ -369,9 +643,13 @@ fn sketch(
                     .zip(&el.y)
                     .map(|(&x, &y)| (p.x0 + x, y))
                     .collect();
-            for &(x, _) in &pts {
+            for &(x, y) in &pts {
                 xmin = xmin.min(x);
                 xmax = xmax.max(x);
+                ymax = ymax.max(y);
+            }
+            if p.phase != Phase::None && p.xc.is_finite() && p.yc.is_finite() {
+                contact_pts.push((p.xc, p.yc));
             }
             for (j, &(x, y)) in pts.iter().enumerate() {
                 let _ = w.push_row(&[
@@ -384,28 +662,44 @@ fn sketch(
                     Cell::Num(y),
                 ]);
             }
-            let (k, color, label) = match p.phase {
-                Phase::None => (0, 7, "no contact"),
-                Phase::A => (1, 0, "phase A (tip)"),
-                Phase::B => (2, 1, "phase B (tangential)"),
-            };
+            let (k, color, dash, label) = phase_style(p.phase);
             let name = if named[k] { "" } else { label };
             named[k] = true;
             chart
                 .series
-                .push(Series::new(name, pts, Style::Line).color(color));
+                .push(Series::new(name, pts, Style::Line).color(color).dash(dash));
+        }
+        for (k, seen) in named.iter().enumerate() {
+            seen_any[k] |= *seen;
+        }
+        if !contact_pts.is_empty() {
+            chart.series.push(
+                Series::new("contact point", contact_pts, Style::Points)
+                    .color(6)
+                    .marker(Marker::Circle),
+            );
         }
         if xmin.is_finite() {
+            // The obstacle (its solid side filled), drawn under the shapes, up to a little
+            // above the highest whisker point.
             let (a, b) = (xmin - 0.2, xmax + 0.2);
-            let g: Vec<(f64, f64)> = (0..=200)
+            let top = ymax + 0.25;
+            aspects.push(top / (b - a));
+            let g: Vec<(f64, f64)> = (0..=400)
                 .map(|i| {
-                    let x = a + (b - a) * i as f64 / 200.0;
+                    let x = a + (b - a) * i as f64 / 400.0;
                     (x, r.case.profile.y(x))
                 })
-                .filter(|&(_, y)| y.is_finite() && y < 1.6)
+                .filter(|&(_, y)| y.is_finite() && y < top)
                 .collect();
-            chart.series.push(
-                Series::new(format!("contour {}", r.case.profile_name), g, Style::Dashed).color(3),
+            chart.series.insert(
+                0,
+                Series::new(
+                    format!("obstacle {}", r.case.profile_name),
+                    g,
+                    Style::Obstacle,
+                )
+                .color(6),
             );
         }
         entry.number(
@@ -425,9 +719,50 @@ fn sketch(
     if charts.is_empty() {
         return;
     }
+    // One key above all panels, from the first chart: it names every phase drawn in any
+    // panel (an empty series stands in for a phase the first panel lacks).
+    let first = &mut charts[0];
+    for (k, phase) in [Phase::None, Phase::A, Phase::B].into_iter().enumerate() {
+        let (_, color, dash, label) = phase_style(phase);
+        if seen_any[k] && !first.series.iter().any(|s| s.name == label) {
+            first.series.push(
+                Series::new(label, Vec::new(), Style::Line)
+                    .color(color)
+                    .dash(dash),
+            );
+        }
+    }
+    // Keep the key in phase order (obstacle, phases, contact points) and the contact
+    // points drawn on top.
+    first.series.sort_by_key(|s| match s.name.as_str() {
+        "" => 9,
+        n if n.starts_with("obstacle") => 0,
+        "contact point" => 10,
+        n => {
+            1 + [Phase::None, Phase::A, Phase::B]
+                .iter()
+                .position(|&p| phase_style(p).3 == n)
+                .unwrap_or(3)
+        }
+    });
     let stem = format!("fig{}", fig.replace('.', "_"));
     let cols = if charts.len() > 1 { 2 } else { 1 };
-    let r = common::svg(out, entry, &format!("{stem}.svg"), &charts, cols)
-        .and_then(|()| common::csv(out, entry, &format!("{stem}.csv"), &w));
+    let rows = charts.len().div_ceil(cols);
+    let size = (560 * cols as u32, 420 * rows as u32);
+    let note = "the base moves towards −x (right to left)";
+    // A lone sketch about as high as wide (the ge sweep) takes one column; a flat one (the
+    // wide g1 sweeps) the page.
+    let column = charts.len() == 1 && aspects.iter().all(|&a| a > 0.5);
+    let r = figure(
+        out,
+        entry,
+        &format!("{stem}.svg"),
+        &charts,
+        cols,
+        size,
+        note,
+        column,
+    )
+    .and_then(|()| common::csv(out, entry, &format!("{stem}.csv"), &w));
     note_err(entry, &stem, r);
 }

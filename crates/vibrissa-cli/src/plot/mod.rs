@@ -30,7 +30,7 @@ pub use axis::format_tick;
 use axis::*;
 use draw::*;
 use legend::*;
-pub use svg::text_width;
+pub use svg::{segments, text_width};
 use svg::*;
 
 /// How a series is drawn.

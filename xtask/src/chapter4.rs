@@ -8,7 +8,10 @@ use beam_model::scenarios::{self, Case};
 use beam_model::{solve, EndState, Method, Scene, Solution};
 use vibrissa_cli::atomic::OutputDir;
 use vibrissa_cli::csvio::{Cell, CsvWriter};
-use vibrissa_cli::plot::{Chart, HeatMap, Panel, Series, Style};
+use vibrissa_cli::plot::{
+    figure_size, set_figure_size, write_panels_with_heading, Chart, Dash, FigureSize, Heading,
+    HeatMap, Mark, MarkStyle, Marker, Panel, Series, Style,
+};
 use xtask::study::{self, LoadAxis, Outcome, StabilityMap};
 
 use crate::captions::caption;
@@ -102,7 +105,7 @@ fn with_value(scene: &Scene, vary: Vary, v: f64) -> Scene {
 /// The tip of each (row, family, method, grid value).
 struct TipData {
     grid: Vec<f64>,
-    methods: Vec<(Method, &'static str, Style)>,
+    methods: Vec<(Method, &'static str)>,
     /// `tips[row][family][method][i]`.
     tips: Vec<Vec<Vec<Vec<Option<EndState>>>>>,
 }
@@ -111,7 +114,7 @@ fn solve_tips(
     rows: &[PanelRow],
     grid: &[f64],
     vary: Vary,
-    methods: &[(Method, &'static str, Style)],
+    methods: &[(Method, &'static str)],
 ) -> TipData {
     let mut jobs = Vec::new();
     for (r, row) in rows.iter().enumerate() {
@@ -156,43 +159,66 @@ fn tip_figure(
 ) -> Result<(), String> {
     let mut charts = Vec::new();
     let mut w = CsvWriter::new(&["row", "family", "method", load_label, "x1", "y1", "phi1"]);
+    let load_axis = match load_label {
+        "beta [deg]" => "β [°]".to_string(),
+        l => format!("{l} [–]"),
+    };
     for (r, row) in rows.iter().enumerate() {
-        let load_axis = format!("{load_label} [–]");
+        let (labels, shared) = family_labels(&row.families);
+        // The row's title as printed (the CSV keeps it as it is).
+        let shown = if row.title.contains(' ') {
+            row.title.replace("beta", "β")
+        } else {
+            pretty(&row.title)
+        };
+        let title = if shared.is_empty() {
+            shown
+        } else {
+            format!("{shown} ({shared})")
+        };
         let mut cx = Chart::new(
-            format!("{} x1", row.title),
+            format!("{title}: tip x_1"),
             load_axis.as_str(),
-            "tip x₁ [–]",
-        );
+            "tip x_1 [–]",
+        )
+        .y_from_zero();
         let mut cy = Chart::new(
-            format!("{} y1", row.title),
+            format!("{title}: tip y_1"),
             load_axis.as_str(),
-            "tip y₁ [–]",
-        );
+            "tip y_1 [–]",
+        )
+        .y_from_zero();
+        let single = row.families.len() == 1;
         for (f, fam) in row.families.iter().enumerate() {
-            for (m, (_, mname, style)) in data.methods.iter().enumerate() {
+            if !single {
+                // The family's key: its colour, dash and marker.
+                for c in [&mut cx, &mut cy] {
+                    c.series.push(
+                        Series::new(labels[f].clone(), Vec::new(), Style::LinePoints)
+                            .color(f)
+                            .dash(DASHES[f % DASHES.len()])
+                            .marker(family_marker(f)),
+                    );
+                }
+            }
+            // fdm's line first, the markers on top of it.
+            let mut order: Vec<usize> = (0..data.methods.len()).collect();
+            order.sort_by_key(|&m| data.methods[m].1 != "fdm");
+            for m in order {
                 let tips = &data.tips[r][f][m];
-                let name = if fam.label.is_empty() {
-                    mname.to_string()
-                } else {
-                    format!("{} {mname}", fam.label)
+                let coord = |y: bool| -> Vec<(f64, f64)> {
+                    data.grid
+                        .iter()
+                        .zip(tips)
+                        .map(|(&v, t)| (v, t.map_or(f64::NAN, |t| if y { t.y } else { t.x })))
+                        .collect()
                 };
-                let color = if row.families.len() == 1 { m } else { f };
-                let px = data
-                    .grid
-                    .iter()
-                    .zip(tips)
-                    .map(|(&v, t)| (v, t.map_or(f64::NAN, |t| t.x)))
-                    .collect();
-                let py = data
-                    .grid
-                    .iter()
-                    .zip(tips)
-                    .map(|(&v, t)| (v, t.map_or(f64::NAN, |t| t.y)))
-                    .collect();
-                cx.series
-                    .push(Series::new(name.clone(), px, *style).color(color));
-                cy.series.push(Series::new(name, py, *style).color(color));
-                for (&v, t) in data.grid.iter().zip(tips) {
+                for (c, pts) in [(&mut cx, coord(false)), (&mut cy, coord(true))] {
+                    draw_method(c, data.methods[m].1, pts, single, f);
+                }
+            }
+            for (m, (_, mname)) in data.methods.iter().enumerate() {
+                for (&v, t) in data.grid.iter().zip(&data.tips[r][f][m]) {
                     let (x, y, p) = t.map_or((f64::NAN, f64::NAN, f64::NAN), |t| (t.x, t.y, t.phi));
                     w.push_row(&[
                         Cell::Text(&row.title),
@@ -207,14 +233,24 @@ fn tip_figure(
                 }
             }
         }
+        if !single {
+            // What lines, markers and rings stand for (black: for every family).
+            for c in [&mut cx, &mut cy] {
+                for (_, mname) in &data.methods {
+                    method_key(c, mname);
+                }
+            }
+        }
         charts.push(cx);
         charts.push(cy);
     }
-    common::svg(out, entry, &format!("{name}.svg"), &charts, 2)?;
+    // One legend above all panels; four rows of panels flatter, to fit the page.
+    let aspect = if rows.len() > 2 { 0.5 } else { 0.75 };
+    svg_keyed(out, entry, &format!("{name}.svg"), &charts, 2, aspect, "")?;
     common::csv(out, entry, &format!("{name}.csv"), &w)?;
     // Numbers: failures per method and the largest distance of each method from accurate.
     let acc = data.methods.iter().position(|m| m.1 == "accurate");
-    for (m, (_, mname, _)) in data.methods.iter().enumerate() {
+    for (m, (_, mname)) in data.methods.iter().enumerate() {
         let mut failed = 0;
         let mut total = 0;
         let mut max_d: f64 = 0.0;
@@ -251,6 +287,230 @@ fn tip_figure(
     Ok(())
 }
 
+/// The dash patterns of curve families, in order.
+const DASHES: [Dash; 5] = [
+    Dash::Solid,
+    Dash::Dashed,
+    Dash::DashDot,
+    Dash::Dotted,
+    Dash::LongDash,
+];
+
+/// The marker of curve family `f`: after five families the markers shift by one against
+/// the dashes, so that no two of the first ten families look alike.
+fn family_marker(f: usize) -> Marker {
+    Marker::of_color(f + f / DASHES.len())
+}
+
+/// The legend text of a method: fdm and rk4 at the thesis's step.
+fn method_label(mname: &str) -> String {
+    match mname {
+        "fdm" | "rk4" => format!("{mname}, h = 0.01"),
+        m => m.to_string(),
+    }
+}
+
+/// Adds one method's curve of a tip-coordinate panel. fdm (the thesis's method) is a line,
+/// accurate filled markers on it, rk4 open rings around them, so that curves that coincide
+/// stay visible. In a panel of one family (`single`) the methods have their own colours
+/// and legend entries; otherwise the family `f` sets colour, dash and marker and
+/// [`method_key`] explains the methods.
+fn draw_method(c: &mut Chart, mname: &str, pts: Vec<(f64, f64)>, single: bool, f: usize) {
+    let name = if single {
+        method_label(mname)
+    } else {
+        String::new()
+    };
+    match mname {
+        "fdm" => {
+            let (color, dash) = if single {
+                (0, Dash::Solid)
+            } else {
+                (f, DASHES[f % DASHES.len()])
+            };
+            c.series.push(
+                Series::new(name, break_jumps(pts), Style::Line)
+                    .color(color)
+                    .dash(dash),
+            );
+        }
+        "rk4" => {
+            let color = if single { 2 } else { f };
+            for (k, &(x, y)) in pts.iter().enumerate() {
+                let label = if k == 0 { name.clone() } else { String::new() };
+                c.marks.push(
+                    Mark::point(x, y, label, color).styled(MarkStyle::Marker(Marker::Circle)),
+                );
+            }
+        }
+        _ => {
+            let (color, marker) = if single {
+                (1, Marker::Circle)
+            } else {
+                (f, family_marker(f))
+            };
+            c.series.push(
+                Series::new(name, pts, Style::Points)
+                    .color(color)
+                    .marker(marker),
+            );
+        }
+    }
+}
+
+/// The points with a NaN put into each jump (to another branch, such as the straight
+/// whisker under an axial force at beta = 90 deg), so that the line does not join the two
+/// branches: a step above 0.1 and five times the steps on either side.
+fn break_jumps(pts: Vec<(f64, f64)>) -> Vec<(f64, f64)> {
+    let step = |i: usize| -> Option<f64> {
+        let (a, b) = (pts.get(i)?, pts.get(i + 1)?);
+        let d = (b.1 - a.1).abs();
+        d.is_finite().then_some(d)
+    };
+    let mut out = Vec::with_capacity(pts.len() + 2);
+    for (i, &p) in pts.iter().enumerate() {
+        out.push(p);
+        if let Some(d) = step(i) {
+            let near = [i.checked_sub(1).and_then(step), step(i + 1)]
+                .into_iter()
+                .flatten()
+                .fold(0.0, f64::max);
+            if d > 0.1 && d > 5.0 * near {
+                out.push((f64::NAN, f64::NAN));
+            }
+        }
+    }
+    out
+}
+
+/// The legend entry (black, without data) saying how a method is drawn in a panel of
+/// several families.
+fn method_key(c: &mut Chart, mname: &str) {
+    let label = method_label(mname);
+    match mname {
+        "fdm" => c
+            .series
+            .push(Series::new(format!("{label} (lines)"), Vec::new(), Style::Line).color(6)),
+        "rk4" => c.marks.push(
+            Mark::point(f64::NAN, f64::NAN, format!("{label} (rings)"), 6)
+                .styled(MarkStyle::Marker(Marker::Circle)),
+        ),
+        _ => c.series.push(
+            Series::new(format!("{label} (markers)"), Vec::new(), Style::Points)
+                .color(6)
+                .marker(Marker::Circle),
+        ),
+    }
+}
+
+/// The legend labels of families for print (`k = 20`, `θ = 0.5`), without the tokens all
+/// families share, which are returned apart (`α = 0°`) for the panel's title. A family
+/// without a base stiffness among families with one has a rigid base (`k = ∞`).
+fn family_labels(families: &[Family]) -> (Vec<String>, String) {
+    if let [only] = families {
+        return (vec![String::new()], pretty(&only.label));
+    }
+    let tokens: Vec<Vec<&str>> = families
+        .iter()
+        .map(|f| f.label.split_whitespace().collect())
+        .collect();
+    let shared: Vec<&str> = tokens
+        .first()
+        .map(|t| {
+            t.iter()
+                .copied()
+                .filter(|x| tokens.iter().all(|u| u.contains(x)))
+                .collect()
+        })
+        .unwrap_or_default();
+    let any_k = tokens.iter().flatten().any(|t| t.starts_with("k="));
+    let labels = tokens
+        .iter()
+        .map(|t| {
+            let mut own: Vec<&str> = t.iter().copied().filter(|x| !shared.contains(x)).collect();
+            if any_k && !t.iter().any(|x| x.starts_with("k=")) {
+                own.insert(0, "k=inf");
+            }
+            pretty(&own.join(" "))
+        })
+        .collect();
+    (labels, pretty(&shared.join(" ")))
+}
+
+/// A case label for print: `theta=0.25 alpha=0deg` becomes `θ = 0.25, α = 0°`.
+fn pretty(label: &str) -> String {
+    label
+        .split_whitespace()
+        .map(|t| match t.split_once('=') {
+            Some((name, value)) => {
+                let name = match name {
+                    "theta" => "θ",
+                    "alpha" => "α",
+                    "beta" => "β",
+                    n => n,
+                };
+                let value = match value {
+                    "inf" => "∞".to_string(),
+                    v => match v.strip_suffix("deg") {
+                        Some(d) => format!("{d}°"),
+                        None => v.to_string(),
+                    },
+                };
+                // No-break spaces: a title wraps between parameters, not inside one.
+                format!("{name}\u{a0}=\u{a0}{}", value.replacen('-', "−", 1))
+            }
+            None => t.to_string(),
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// Draws the figures written while it lives one column (85 mm) wide, for figures of one
+/// panel, then restores the size before (the page).
+struct ColumnWidth(FigureSize);
+
+impl ColumnWidth {
+    fn set() -> Self {
+        let before = figure_size();
+        set_figure_size(FigureSize::Column);
+        ColumnWidth(before)
+    }
+}
+
+impl Drop for ColumnWidth {
+    fn drop(&mut self) {
+        set_figure_size(self.0);
+    }
+}
+
+/// Writes charts as the panels of one figure, `cols` per row with plots `aspect` as high
+/// as wide, under a heading `title` and one legend for all of them (the first chart's
+/// entries), and records the file in `entry`.
+fn svg_keyed(
+    out: &OutputDir,
+    entry: &mut Entry,
+    name: &str,
+    charts: &[Chart],
+    cols: usize,
+    aspect: f64,
+    title: &str,
+) -> Result<(), String> {
+    let cols = cols.clamp(1, charts.len().max(1));
+    let rows = charts.len().div_ceil(cols).max(1);
+    let size = (560 * cols as u32, (560.0 * aspect) as u32 * rows as u32);
+    let path = out.path_for(name);
+    if let Some(parent) = path.parent() {
+        std::fs::create_dir_all(parent).map_err(|e| format!("{}: {e}", parent.display()))?;
+    }
+    let heading = Heading {
+        title: title.to_string(),
+        note: String::new(),
+    };
+    write_panels_with_heading(charts, cols, &heading, &path, size).map_err(|e| e.to_string())?;
+    entry.file(path);
+    Ok(())
+}
+
 fn load_grid(max: f64) -> Vec<f64> {
     (1..=GRID).map(|i| max * i as f64 / GRID as f64).collect()
 }
@@ -258,11 +518,7 @@ fn load_grid(max: f64) -> Vec<f64> {
 /// Figs. 4.3 and 4.4: DP tip load, beta = 0, FDM and RK4 at h = 0.01 and accurate.
 fn fig_4_3_4_4(out: &OutputDir, report: &mut Report) {
     let t0 = Instant::now();
-    let methods = [
-        (FDM, "fdm", Style::Line),
-        (RK4, "rk4", Style::Dashed),
-        (accurate(), "accurate", Style::Dashed),
-    ];
+    let methods = [(FDM, "fdm"), (RK4, "rk4"), (accurate(), "accurate")];
     let Some(sc) = scenarios::scenario(1) else {
         report
             .entry("4.3", caption("4.3"))
@@ -307,22 +563,37 @@ fn fig_4_3_4_4(out: &OutputDir, report: &mut Report) {
         (1, 2, "|rk4 - accurate|"),
     ];
     let mut cx = Chart::new(
-        "Fig. 4.4: error of x1",
+        "Fig. 4.4: difference of tip x_1",
         "f [–]",
-        "absolute difference |Δx₁| [–]",
+        "absolute difference |Δx_1| [–]",
     )
     .log(false, true);
     let mut cy = Chart::new(
-        "Fig. 4.4: error of y1",
+        "Fig. 4.4: difference of tip y_1",
         "f [–]",
-        "absolute difference |Δy₁| [–]",
+        "absolute difference |Δy_1| [–]",
     )
     .log(false, true);
+    cy.hide_legend = true;
     let mut w = CsvWriter::new(&["pair", "f", "dx1", "dy1"]);
     for (c, &(a, b, name)) in pairs.iter().enumerate() {
         let dx = diff(a, b, false);
         let dy = diff(a, b, true);
-        let style = if c == 0 { Style::Line } else { Style::Dashed };
+        // |fdm - rk4| and |fdm - accurate| coincide: a line and markers on it; the
+        // much smaller |rk4 - accurate| dash-dotted with its own markers.
+        let series = |pts: Vec<(f64, f64)>| {
+            let label = name.replace(" - ", " − ");
+            match c {
+                0 => Series::new(label, pts, Style::Line).color(0),
+                1 => Series::new(label, pts, Style::Points)
+                    .color(1)
+                    .marker(Marker::Square),
+                _ => Series::new(label, pts, Style::LinePoints)
+                    .color(2)
+                    .dash(Dash::DashDot)
+                    .marker(Marker::Triangle),
+            }
+        };
         for (px, py) in dx.iter().zip(&dy) {
             let _ = w.push_row(&[
                 Cell::Text(name),
@@ -338,8 +609,8 @@ fn fig_4_3_4_4(out: &OutputDir, report: &mut Report) {
             .filter(|v| v.is_finite())
             .fold(0.0, f64::max);
         entry.number(format!("max {name} (x1, y1)"), sci(mx), None);
-        cx.series.push(Series::new(name, dx, style).color(c));
-        cy.series.push(Series::new(name, dy, style).color(c));
+        cx.series.push(series(dx));
+        cy.series.push(series(dy));
     }
     let r = common::svg(out, entry, "fig4_4.svg", &[cx, cy], 2)
         .and_then(|()| common::csv(out, entry, "fig4_4.csv", &w));
@@ -353,11 +624,7 @@ fn fig_4_3_4_4(out: &OutputDir, report: &mut Report) {
 
 /// Fig. 4.7: tip coordinates against the force angle beta for f = 20 and f = 40.
 fn fig_4_7(out: &OutputDir, report: &mut Report) {
-    let methods = [
-        (FDM, "fdm", Style::Line),
-        (RK4, "rk4", Style::Dashed),
-        (accurate(), "accurate", Style::Dashed),
-    ];
+    let methods = [(FDM, "fdm"), (RK4, "rk4"), (accurate(), "accurate")];
     let base = Scene::new(
         beam_model::Whisker::uniform(),
         beam_model::Loads::tip(beam_model::TipForce::dp(20.0, 0.0)),
@@ -406,15 +673,8 @@ fn families(cases: &[Case], keep: impl Fn(&Case) -> bool) -> Vec<Family> {
 
 /// Figs. 4.9, 4.11, 4.14, 4.16, 4.17.
 fn tip_figures(out: &OutputDir, report: &mut Report) {
-    let both = [
-        (accurate(), "accurate", Style::Line),
-        (FDM, "fdm", Style::Dashed),
-    ];
-    let three = [
-        (accurate(), "accurate", Style::Line),
-        (FDM, "fdm", Style::Dashed),
-        (RK4, "rk4", Style::LinePoints),
-    ];
+    let both = [(accurate(), "accurate"), (FDM, "fdm")];
+    let three = [(accurate(), "accurate"), (FDM, "fdm"), (RK4, "rk4")];
     // (figure, scenario, rows split by this token prefix, vary, load max, methods)
     type Spec<'a> = (
         &'a str,
@@ -422,7 +682,7 @@ fn tip_figures(out: &OutputDir, report: &mut Report) {
         Option<&'a str>,
         Vary,
         f64,
-        &'a [(Method, &'static str, Style)],
+        &'a [(Method, &'static str)],
     );
     let specs: [Spec<'_>; 5] = [
         ("4.9", 2, None, Vary::TipForce, 30.0, &both),
@@ -517,18 +777,18 @@ const ELASTICA: [(&str, u8, Option<&str>, &str, usize); 18] = [
     ("4.12", 3, Some("alpha=0deg"), "q=", 1),
     ("4.13", 3, Some("alpha=45deg"), "q=", 1),
     ("4.15", 4, None, "k=", 2),
-    ("4.18", 7, None, "q=", 2),
-    ("4.19", 8, None, "k=", 2),
-    ("4.20", 9, None, "theta=", 2),
-    ("4.21", 10, None, "k=", 2),
+    ("4.18", 7, None, "q=", 3),
+    ("4.19", 8, None, "k=", 3),
+    ("4.20", 9, None, "theta=", 3),
+    ("4.21", 10, None, "k=", 3),
     ("4.22", 11, None, "f=", 2),
     ("4.23", 12, None, "f=", 2),
     ("4.24", 13, None, "f=", 2),
     ("4.25", 14, None, "f=", 2),
     ("4.26", 15, None, "f=", 2),
     ("4.27", 16, None, "f=", 2),
-    ("4.28", 17, None, "f=", 2),
-    ("4.29", 18, None, "f=", 2),
+    ("4.28", 17, None, "f=", 3),
+    ("4.29", 18, None, "f=", 3),
 ];
 
 fn elastica_figures(out: &OutputDir, report: &mut Report) {
@@ -625,35 +885,84 @@ fn elastica_figure(
     let names = ["accurate", "fdm", "rk4"];
     let mut charts = Vec::new();
     let mut w = CsvWriter::new(&["case", "method", "s", "x", "y", "phi", "m"]);
-    for p in &panels {
+    // The curve labels of each panel: one legend for the figure (in its first panel) if
+    // every panel has the same curves.
+    let curves_of = |p: &str| -> Vec<String> {
+        cases
+            .iter()
+            .map(|c| split(&c.label))
+            .filter(|(cp, _)| cp == p)
+            .map(|(_, cl)| cl)
+            .collect()
+    };
+    let same_curves = panels.iter().all(|p| curves_of(p) == curves_of(&panels[0]));
+    // Under one legend, the parameters all panels share go to the figure's heading.
+    let shared: Vec<&str> = if same_curves && panels.len() > 1 {
+        panels[0]
+            .split_whitespace()
+            .filter(|t| panels.iter().all(|p| p.split_whitespace().any(|u| u == *t)))
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let heading = pretty(&shared.join(" "));
+    for (k, p) in panels.iter().enumerate() {
+        let own: Vec<&str> = p
+            .split_whitespace()
+            .filter(|t| !shared.contains(t))
+            .collect();
         let title = if panels.len() == 1 {
-            format!("Fig. {fig} {p}")
+            format!("Fig. {fig} ({})", pretty(p))
         } else {
-            p.clone()
+            pretty(&own.join(" "))
         };
         let mut chart = Chart::new(title, "x [–]", "y [–]").equal_aspect();
+        chart.hide_legend = same_curves && k > 0;
         let mut color = 0;
         for (i, c) in cases.iter().enumerate() {
             let (cp, cl) = split(&c.label);
             if cp != *p {
                 continue;
             }
-            // accurate solid with the legend, fdm dashed (the thesis's method).
-            for (m, style) in [(0, Style::Line), (1, Style::Dashed)] {
-                if let Ok(s) = &sols[m][i] {
-                    let pts = s
-                        .elastica
-                        .x
-                        .iter()
-                        .copied()
-                        .zip(s.elastica.y.iter().copied());
-                    let name = if m == 0 { cl.clone() } else { String::new() };
-                    chart
-                        .series
-                        .push(Series::new(name, pts.collect(), style).color(color));
-                }
+            // Each curve its colour, dash and marker: fdm (the thesis's method) a line,
+            // accurate markers at every tenth node on it (the two coincide at print).
+            let (dash, marker) = (DASHES[color % DASHES.len()], family_marker(color));
+            chart.series.push(
+                Series::new(pretty(&cl), Vec::new(), Style::LinePoints)
+                    .color(color)
+                    .dash(dash)
+                    .marker(marker),
+            );
+            if let Ok(s) = &sols[1][i] {
+                let pts = s
+                    .elastica
+                    .x
+                    .iter()
+                    .copied()
+                    .zip(s.elastica.y.iter().copied());
+                chart.series.push(
+                    Series::new("", pts.collect(), Style::Line)
+                        .color(color)
+                        .dash(dash),
+                );
+            }
+            if let Ok(s) = &sols[0][i] {
+                let e = &s.elastica;
+                let pts = (0..e.len())
+                    .filter(|&j| j > 0 && (j % 10 == 0 || j + 1 == e.len()))
+                    .map(|j| (e.x[j], e.y[j]))
+                    .collect();
+                chart.series.push(
+                    Series::new("", pts, Style::Points)
+                        .color(color)
+                        .marker(marker),
+                );
             }
             color += 1;
+        }
+        if !chart.hide_legend {
+            method_key(&mut chart, "fdm");
+            method_key(&mut chart, "accurate");
         }
         charts.push(chart);
     }
@@ -677,7 +986,22 @@ fn elastica_figure(
         }
     }
     let stem = format!("fig{}", fig.replace('.', "_"));
-    common::svg(out, entry, &format!("{stem}.svg"), &charts, cols)?;
+    if charts.len() == 1 {
+        let _size = ColumnWidth::set();
+        common::svg(out, entry, &format!("{stem}.svg"), &charts, cols)?;
+    } else if same_curves {
+        svg_keyed(
+            out,
+            entry,
+            &format!("{stem}.svg"),
+            &charts,
+            cols,
+            0.75,
+            &heading,
+        )?;
+    } else {
+        common::svg(out, entry, &format!("{stem}.svg"), &charts, cols)?;
+    }
     common::csv(out, entry, &format!("{stem}.csv"), &w)?;
     entry.number("cases", cases.len().to_string(), None);
     for (m, name) in names.iter().enumerate() {
@@ -823,7 +1147,8 @@ fn work_precision(out: &OutputDir, report: &mut Report) {
             "Accuracy against speed of the three methods (beam-model issue): tip error \
              max(|x1 - x1_ref|, |y1 - y1_ref|) against an accurate solve at tol 1e-13, \
              against the median wall time of one solve (log-log); fdm n = 25..3200, \
-             rk4 n = 10..1280, accurate tol = 1e-4..1e-13.",
+             rk4 n = 10..1280, accurate tol = 1e-4..1e-13; auto (the automatic choice) \
+             asked for 1e-4..1e-12.",
         );
         let points = match study::work_precision(&scene, name) {
             Ok(p) => p,
@@ -838,7 +1163,7 @@ fn work_precision(out: &OutputDir, report: &mut Report) {
             "tip error [–]",
         )
         .log(true, true);
-        for (c, m) in ["fdm", "rk4", "accurate", "fdm-richardson"]
+        for (c, m) in ["fdm", "rk4", "accurate", "fdm-richardson", "auto"]
             .iter()
             .enumerate()
         {
@@ -847,9 +1172,17 @@ fn work_precision(out: &OutputDir, report: &mut Report) {
                 .filter(|p| p.method == *m)
                 .map(|p| (p.seconds, p.error.max(1e-16)))
                 .collect();
-            chart
-                .series
-                .push(Series::new(*m, pts, Style::LinePoints).color(c));
+            let series = Series::new(*m, pts, Style::LinePoints).color(c);
+            // The automatic choice: black, dashed, its own marker.
+            let series = if *m == "auto" {
+                series
+                    .color(6)
+                    .dash(vibrissa_cli::plot::Dash::Dashed)
+                    .marker(vibrissa_cli::plot::Marker::TriangleDown)
+            } else {
+                series
+            };
+            chart.series.push(series);
             let best = points
                 .iter()
                 .filter(|p| p.method == *m && p.error.is_finite())
@@ -873,6 +1206,14 @@ fn work_precision(out: &OutputDir, report: &mut Report) {
             if failed > 0 {
                 entry.number(format!("{m}: failed settings"), failed.to_string(), None);
             }
+            if *m == "auto" {
+                entry.number(
+                    "auto: time / cheapest method meeting the same accuracy (per tol)",
+                    auto_vs_envelope(&points),
+                    None,
+                );
+                continue;
+            }
             if *m != "accurate" {
                 let orders: Vec<String> = study::observed_orders(&points, m)
                     .iter()
@@ -882,20 +1223,43 @@ fn work_precision(out: &OutputDir, report: &mut Report) {
             }
         }
         let stem = format!("work_precision_{name}");
-        let r = common::svg(out, entry, &format!("{stem}.svg"), &[chart], 1).and_then(|()| {
-            common::text(out, entry, &format!("{stem}.csv"), &study::to_csv(&points))
-        });
+        let r = {
+            let _size = ColumnWidth::set();
+            common::svg(out, entry, &format!("{stem}.svg"), &[chart], 1)
+        }
+        .and_then(|()| common::text(out, entry, &format!("{stem}.csv"), &study::to_csv(&points)));
         note_err(entry, &stem, r);
         entry.number("time", format!("{:.2} s", t0.elapsed().as_secs_f64()), None);
     }
 }
 
+/// For each accuracy asked of `auto`: its time over the time of the fastest other setting
+/// of any method whose error meets that accuracy (1 = on the lower envelope).
+fn auto_vs_envelope(points: &[study::WorkPoint]) -> String {
+    points
+        .iter()
+        .filter(|p| p.method == "auto")
+        .map(|a| {
+            let best = points
+                .iter()
+                .filter(|p| p.method != "auto" && p.error <= a.setting)
+                .map(|p| p.seconds)
+                .fold(f64::INFINITY, f64::min);
+            format!("{}: {:.2}", sci(a.setting), a.seconds / best)
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// The outcomes of a stability map, in the order of the cell values, with colours whose
+/// grey levels differ too (about 250, 210, 30, 160, 100 in greyscale): converged white and
+/// light blue, the fallback a darker blue, a wrong branch orange, a failure dark red.
 const CATEGORIES: [(&str, (u8, u8, u8)); 5] = [
-    ("converged", (44, 160, 44)),
-    ("converged (continuation)", (152, 223, 138)),
-    ("failed", (214, 39, 40)),
-    ("wrong branch", (255, 127, 14)),
-    ("solved by the fallback (fdm-richardson)", (31, 119, 180)),
+    ("converged", (247, 251, 255)),
+    ("converged (continuation)", (189, 215, 238)),
+    ("failed", (103, 0, 13)),
+    ("wrong branch", (230, 159, 0)),
+    ("fallback (fdm-richardson)", (33, 113, 181)),
 ];
 
 fn heatmap(m: &StabilityMap) -> HeatMap {
@@ -917,7 +1281,16 @@ fn heatmap(m: &StabilityMap) -> HeatMap {
         })
         .collect();
     HeatMap {
-        title: format!("{} ({}, k = {})", m.method, m.kind.name(), m.k),
+        title: format!(
+            "{} ({}, {})",
+            m.method,
+            m.kind.name(),
+            if m.k.is_finite() {
+                format!("k = {}", m.k)
+            } else {
+                "rigid base".to_string()
+            }
+        ),
         x_label: "conicity θ [–]".to_string(),
         y_label: match m.kind {
             LoadAxis::Fluid => "fluid load q [–]",
@@ -1069,6 +1442,32 @@ mod tests {
                 "Work-precision: a"
             ]
         );
+    }
+
+    #[test]
+    fn labels_print_with_symbols() {
+        assert_eq!(
+            pretty("theta=0.25 alpha=0deg k=inf B=-0.5"),
+            "θ\u{a0}=\u{a0}0.25, α\u{a0}=\u{a0}0°, k\u{a0}=\u{a0}∞, B\u{a0}=\u{a0}−0.5"
+        );
+        let fam = |label: &str| Family {
+            label: label.to_string(),
+            scene: scenarios::scenario(4).unwrap().cases[0].scene,
+        };
+        let (labels, shared) = family_labels(&[fam("alpha=0deg"), fam("k=20 alpha=0deg")]);
+        assert_eq!(labels, ["k\u{a0}=\u{a0}∞", "k\u{a0}=\u{a0}20"]);
+        assert_eq!(shared, "α\u{a0}=\u{a0}0°");
+    }
+
+    #[test]
+    fn lines_break_at_jumps_only() {
+        let smooth: Vec<(f64, f64)> = (0..10).map(|i| (i as f64, 0.2 * i as f64)).collect();
+        assert_eq!(break_jumps(smooth.clone()), smooth);
+        let mut jump = smooth.clone();
+        jump.push((10.0, -3.0));
+        let out = break_jumps(jump);
+        assert_eq!(out.len(), 12);
+        assert!(out[10].0.is_nan());
     }
 
     #[test]

@@ -9,11 +9,14 @@ use profile_recon::{
 };
 use vibrissa_cli::atomic::OutputDir;
 use vibrissa_cli::csvio::{Cell, CsvWriter};
-use vibrissa_cli::plot::{Chart, Series, Style};
+use vibrissa_cli::plot::{
+    figure_size, set_figure_size, write_panels_with_heading, Chart, FigureSize, Heading, Marker,
+    Series, Style,
+};
 
 use crate::captions::caption;
 use crate::common::{self, md_table, note_err, par_map, sci, Ctx, SweepRun};
-use crate::{Failure, Report};
+use crate::{Entry, Failure, Report};
 
 /// Figures of the reconstruction errors: `(figure, case, profile)`.
 const FIGURES: [(&str, &str, &str); 12] = [
@@ -236,9 +239,13 @@ fn error_figure(
     for &i in idx {
         let r = &runs[i];
         let mut chart = Chart::new(
-            format!("{} ({})", r.case.label, r.case.profile_name),
-            "reconstructed x_rec [–]",
-            "e = |y_rec − g(x_rec)| [–]",
+            format!(
+                "{} ({})",
+                pretty(&r.case.label),
+                profile_symbol(r.case.profile_name)
+            ),
+            "reconstructed x_{rec} [–]",
+            "e = |y_{rec} − g(x_{rec})| [–]",
         )
         .log(false, true);
         let mut row = vec![r.case.label.clone()];
@@ -279,10 +286,15 @@ fn error_figure(
                         points.len(),
                         rec.seconds
                     ));
-                    let style = if m == 0 { Style::Line } else { Style::Dashed };
-                    chart
-                        .series
-                        .push(Series::new(method.name(), pts, style).color(m));
+                    // The accurate errors are round-off, independent from point to
+                    // point: markers. The thesis method's are a smooth function of x: a line.
+                    let series = match method {
+                        ReconMethod::Accurate => Series::new("accurate", pts, Style::Points)
+                            .color(0)
+                            .marker(Marker::Circle),
+                        _ => Series::new("thesis method", pts, Style::Line).color(1),
+                    };
+                    chart.series.push(series);
                 }
                 Err(e) => {
                     entry.fail(format!(
@@ -306,15 +318,99 @@ fn error_figure(
         &rows,
     ));
     let stem = format!("fig{}", fig.replace('.', "_"));
-    let cols = if charts.len() > 1 { 2 } else { 1 };
-    let r = common::svg(out, entry, &format!("{stem}.svg"), &charts, cols)
-        .and_then(|()| common::csv(out, entry, &format!("{stem}.csv"), &w));
+    // Two rows at most on the page (three columns for five or six panels); a lone panel
+    // is drawn one column (85 mm) wide.
+    let cols = match charts.len() {
+        1 => 1,
+        2 | 4 => 2,
+        _ => 3,
+    };
+    let r = if charts.len() == 1 {
+        let _size = ColumnWidth::set();
+        common::svg(out, entry, &format!("{stem}.svg"), &charts, cols)
+    } else {
+        svg_keyed(out, entry, &format!("{stem}.svg"), &charts, cols)
+    }
+    .and_then(|()| common::csv(out, entry, &format!("{stem}.csv"), &w));
     note_err(entry, &stem, r);
     entry.number(
         "thesis's reported error range",
         "-",
         Some("overall between 1e-4 and 1e-6 (§6.4)"),
     );
+}
+
+/// Writes charts as the panels of one figure, `cols` per row, under one legend for all of
+/// them (the first chart's entries), and records the file in `entry`.
+fn svg_keyed(
+    out: &OutputDir,
+    entry: &mut Entry,
+    name: &str,
+    charts: &[Chart],
+    cols: usize,
+) -> Result<(), String> {
+    let cols = cols.clamp(1, charts.len().max(1));
+    let rows = charts.len().div_ceil(cols).max(1);
+    let size = (560 * cols as u32, 420 * rows as u32);
+    let path = out.path_for(name);
+    if let Some(parent) = path.parent() {
+        std::fs::create_dir_all(parent).map_err(|e| format!("{}: {e}", parent.display()))?;
+    }
+    write_panels_with_heading(charts, cols, &Heading::default(), &path, size)
+        .map_err(|e| e.to_string())?;
+    entry.file(path);
+    Ok(())
+}
+
+/// Draws the figures written while it lives one column (85 mm) wide, then restores the
+/// size before (the page).
+struct ColumnWidth(FigureSize);
+
+impl ColumnWidth {
+    fn set() -> Self {
+        let before = figure_size();
+        set_figure_size(FigureSize::Column);
+        ColumnWidth(before)
+    }
+}
+
+impl Drop for ColumnWidth {
+    fn drop(&mut self) {
+        set_figure_size(self.0);
+    }
+}
+
+/// A case label for print: `theta=0.75 k=20` becomes `θ = 0.75, k = 20`.
+fn pretty(label: &str) -> String {
+    label
+        .split_whitespace()
+        .map(|t| match t.split_once('=') {
+            Some((name, value)) => {
+                let name = match name {
+                    "theta" => "θ",
+                    "alpha" => "α",
+                    "beta" => "β",
+                    n => n,
+                };
+                let value = match value {
+                    "inf" => "∞".to_string(),
+                    v => v.replacen('-', "−", 1),
+                };
+                // No-break spaces: a title wraps between parameters, not inside one.
+                format!("{name}\u{a0}=\u{a0}{value}")
+            }
+            None => t.to_string(),
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// The contour's symbol with its index as a subscript: `g1` becomes `g_1`.
+fn profile_symbol(name: &str) -> String {
+    match name.strip_prefix('g') {
+        Some(i) if i.chars().count() == 1 => format!("g_{i}"),
+        _ => name.to_string(),
+    }
 }
 
 #[cfg(test)]

@@ -153,8 +153,12 @@ pub fn work_precision(scene: &Scene, name: &str) -> Result<Vec<WorkPoint>> {
         let point = match time_solve(scene, &method) {
             Ok((seconds, sol)) => WorkPoint {
                 scene: name.to_string(),
-                // the method that produced the numbers (a fallback is credited to its method)
-                method: sol.stats.method_used.name(),
+                // the method that produced the numbers (a fallback is credited to its
+                // method), except the automatic choice, which is its own curve
+                method: match method {
+                    Method::Auto { .. } => "auto",
+                    _ => sol.stats.method_used.name(),
+                },
                 setting: setting(&method),
                 error: (sol.tip.x - reference.tip.x)
                     .abs()

@@ -8,6 +8,8 @@ use super::*;
 pub(super) fn wrap(text: &str, size: f64, width: f64) -> Vec<String> {
     let mut lines: Vec<String> = Vec::new();
     let mut cur = String::new();
+    // `k = 20` stays on one line: no break around an equals sign (no-break spaces).
+    let text = text.replace(" = ", "\u{a0}=\u{a0}");
     for word in text.split(' ') {
         let trial = if cur.is_empty() {
             word.to_string()
@@ -476,7 +478,11 @@ fn draw_series(svg: &mut Svg, chart: &Chart, axes: (&Axis, &Axis), rect: Rect, c
                 .step_by(every)
                 .filter(|&&p| is_valid(p, xl, yl))
             {
-                let r = if s.style == Style::LinePoints { MARKER_R } else { r };
+                let r = if s.style == Style::LinePoints {
+                    MARKER_R
+                } else {
+                    r
+                };
                 svg.marker(to_px(*p), s.marker_shape(), r, &col, None);
             }
         }
@@ -621,12 +627,14 @@ pub(super) fn draw_heatmap(
         for (ix, &cat) in row.iter().enumerate() {
             let (x0, x1) = (xa.px(xe[ix]), xa.px(xe[ix + 1]));
             let (y0, y1) = (ya.px(ye[iy + 1]), ya.px(ye[iy]));
+            // Each cell overlaps its upper right neighbours by a hair, so that no seam of
+            // the background shows between equal cells.
             svg.rect(
                 Rect {
                     x: x0,
-                    y: y0,
-                    w: x1 - x0,
-                    h: y1 - y0,
+                    y: y0 - 0.15,
+                    w: x1 - x0 + 0.15,
+                    h: y1 - y0 + 0.15,
                 },
                 &rgb(map.categories[cat as usize].1),
                 None,

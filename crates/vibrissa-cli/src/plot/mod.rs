@@ -30,8 +30,8 @@ pub use axis::format_tick;
 use axis::*;
 use draw::*;
 use legend::*;
-pub use svg::{segments, text_width};
 use svg::*;
+pub use svg::{segments, text_width};
 
 /// How a series is drawn.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

@@ -539,7 +539,16 @@ fn the_elastica_figure_draws_its_loads() {
     let dir = tempfile::tempdir().unwrap();
     let o = run(
         &[
-            "solve", "--f", "2", "--beta-deg", "30", "--q", "3", "--alpha-deg", "20", "--out",
+            "solve",
+            "--f",
+            "2",
+            "--beta-deg",
+            "30",
+            "--q",
+            "3",
+            "--alpha-deg",
+            "20",
+            "--out",
             "e",
         ],
         dir.path(),

@@ -536,7 +536,7 @@ fn figures_come_as_svg_and_png_with_symbols_units_and_events() {
     for needle in [
         "obstacle (solid above)",
         "flow direction",
-        "sweep direction",
+        "sweep (base → −x)",
         "first contact",
         "contact points",
     ] {

@@ -12,7 +12,7 @@ use contact_sim::{sweep_with_progress, Phase, Profile, SweepProgress, SweepResul
 use crate::atomic::{write_atomic, OutputDir};
 use crate::cli::SweepArgs;
 use crate::commands::{
-    first_contact_name, output_scene, phase_name, scene_unit_notes, separation_name, sweep_events,
+    first_contact_name, output_scene, scene_unit_notes, separation_name, sweep_events,
     sweep_summary_in, write_observables_csv_in, write_scene_ron, write_sweep_figures,
     FigureContext, RowCounts,
 };
@@ -494,7 +494,11 @@ fn write_shapes_svg(
             String::new()
         } else {
             named[idx] = true;
-            format!("whisker in {}", phase_name(p.phase))
+            match p.phase {
+                Phase::B => "whisker, phase B (tangential)",
+                _ => "whisker, phase A (tip)",
+            }
+            .to_string()
         };
         let (color, dash) = if idx == 2 {
             (1, Dash::Dashed)
@@ -563,7 +567,7 @@ fn write_shapes_svg(
         -0.08 * l,
         -0.3 * span * l,
         0.0,
-        "sweep direction (base moves towards −x)",
+        "sweep (base → −x)",
         7,
     ));
     if res.q > 0.0 {

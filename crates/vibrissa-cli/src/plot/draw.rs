@@ -25,7 +25,8 @@ pub(super) fn wrap(text: &str, size: f64, width: f64) -> Vec<String> {
     if !cur.is_empty() {
         lines.push(cur);
     }
-    lines
+    // The no-break spaces only held words together: they print as spaces.
+    lines.iter().map(|l| l.replace('\u{a0}', " ")).collect()
 }
 
 /// The height of a heading (title and note, wrapped to `w`).

@@ -9,13 +9,13 @@ use beam_model::{solve, EndState, Method, Scene, Solution};
 use vibrissa_cli::atomic::OutputDir;
 use vibrissa_cli::csvio::{Cell, CsvWriter};
 use vibrissa_cli::plot::{
-    figure_size, set_figure_size, write_panels_with_heading, Chart, Dash, FigureSize, Heading,
-    HeatMap, Mark, MarkStyle, Marker, Panel, Series, Style,
+    size_for_this_thread, Chart, Dash, FigureSize, HeatMap, Mark, MarkStyle, Marker, Panel, Series,
+    Style,
 };
 use xtask::study::{self, LoadAxis, Outcome, StabilityMap};
 
 use crate::captions::caption;
-use crate::common::{self, note_err, par_map, sci, sig, Ctx};
+use crate::common::{self, note_err, par_map, pretty, sci, sig, svg_keyed, Ctx};
 use crate::{Entry, Failure, Report};
 
 /// The thesis's FDM: h = 0.01.
@@ -435,80 +435,6 @@ fn family_labels(families: &[Family]) -> (Vec<String>, String) {
         })
         .collect();
     (labels, pretty(&shared.join(" ")))
-}
-
-/// A case label for print: `theta=0.25 alpha=0deg` becomes `θ = 0.25, α = 0°`.
-fn pretty(label: &str) -> String {
-    label
-        .split_whitespace()
-        .map(|t| match t.split_once('=') {
-            Some((name, value)) => {
-                let name = match name {
-                    "theta" => "θ",
-                    "alpha" => "α",
-                    "beta" => "β",
-                    n => n,
-                };
-                let value = match value {
-                    "inf" => "∞".to_string(),
-                    v => match v.strip_suffix("deg") {
-                        Some(d) => format!("{d}°"),
-                        None => v.to_string(),
-                    },
-                };
-                // No-break spaces: a title wraps between parameters, not inside one.
-                format!("{name}\u{a0}=\u{a0}{}", value.replacen('-', "−", 1))
-            }
-            None => t.to_string(),
-        })
-        .collect::<Vec<_>>()
-        .join(", ")
-}
-
-/// Draws the figures written while it lives one column (85 mm) wide, for figures of one
-/// panel, then restores the size before (the page).
-struct ColumnWidth(FigureSize);
-
-impl ColumnWidth {
-    fn set() -> Self {
-        let before = figure_size();
-        set_figure_size(FigureSize::Column);
-        ColumnWidth(before)
-    }
-}
-
-impl Drop for ColumnWidth {
-    fn drop(&mut self) {
-        set_figure_size(self.0);
-    }
-}
-
-/// Writes charts as the panels of one figure, `cols` per row with plots `aspect` as high
-/// as wide, under a heading `title` and one legend for all of them (the first chart's
-/// entries), and records the file in `entry`.
-fn svg_keyed(
-    out: &OutputDir,
-    entry: &mut Entry,
-    name: &str,
-    charts: &[Chart],
-    cols: usize,
-    aspect: f64,
-    title: &str,
-) -> Result<(), String> {
-    let cols = cols.clamp(1, charts.len().max(1));
-    let rows = charts.len().div_ceil(cols).max(1);
-    let size = (560 * cols as u32, (560.0 * aspect) as u32 * rows as u32);
-    let path = out.path_for(name);
-    if let Some(parent) = path.parent() {
-        std::fs::create_dir_all(parent).map_err(|e| format!("{}: {e}", parent.display()))?;
-    }
-    let heading = Heading {
-        title: title.to_string(),
-        note: String::new(),
-    };
-    write_panels_with_heading(charts, cols, &heading, &path, size).map_err(|e| e.to_string())?;
-    entry.file(path);
-    Ok(())
 }
 
 fn load_grid(max: f64) -> Vec<f64> {
@@ -987,7 +913,7 @@ fn elastica_figure(
     }
     let stem = format!("fig{}", fig.replace('.', "_"));
     if charts.len() == 1 {
-        let _size = ColumnWidth::set();
+        let _size = size_for_this_thread(FigureSize::Column);
         common::svg(out, entry, &format!("{stem}.svg"), &charts, cols)?;
     } else if same_curves {
         svg_keyed(
@@ -1224,7 +1150,7 @@ fn work_precision(out: &OutputDir, report: &mut Report) {
         }
         let stem = format!("work_precision_{name}");
         let r = {
-            let _size = ColumnWidth::set();
+            let _size = size_for_this_thread(FigureSize::Column);
             common::svg(out, entry, &format!("{stem}.svg"), &[chart], 1)
         }
         .and_then(|()| common::text(out, entry, &format!("{stem}.csv"), &study::to_csv(&points)));

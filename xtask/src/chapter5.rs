@@ -7,8 +7,8 @@ use contact_sim::{FirstContact, Phase, Separation, SweepPoint};
 use vibrissa_cli::atomic::OutputDir;
 use vibrissa_cli::csvio::{Cell, CsvWriter};
 use vibrissa_cli::plot::{
-    figure_size, set_figure_size, write_panels_with_heading, Chart, Dash, FigureSize, Heading,
-    Marker, Series, Style,
+    size_for_this_thread, write_panels_with_heading, Chart, Dash, FigureSize, Heading, Marker,
+    Series, Style,
 };
 
 use crate::captions::caption;
@@ -320,24 +320,6 @@ fn phase_chart(s: &contact_sim::SweepResult, q: usize, title: &str) -> Chart {
     c
 }
 
-/// Draws the figures written while it lives one column (85 mm) wide, for figures of one
-/// panel (which would otherwise span the page), then restores the size before.
-struct ColumnWidth(FigureSize);
-
-impl ColumnWidth {
-    fn set() -> Self {
-        let before = figure_size();
-        set_figure_size(FigureSize::Column);
-        ColumnWidth(before)
-    }
-}
-
-impl Drop for ColumnWidth {
-    fn drop(&mut self) {
-        set_figure_size(self.0);
-    }
-}
-
 /// Writes `charts` as one figure `name` (SVG and PNG), `cols` panels a row, with one key for
 /// all panels above them (the first chart's legend) and `note` under it; records the file.
 /// With `column`, the figure is one journal column wide instead of the page.
@@ -352,7 +334,7 @@ fn figure(
     note: &str,
     column: bool,
 ) -> Result<(), String> {
-    let _width = column.then(ColumnWidth::set);
+    let _width = column.then(|| size_for_this_thread(FigureSize::Column));
     let path = out.path_for(name);
     if let Some(parent) = path.parent() {
         std::fs::create_dir_all(parent).map_err(|e| format!("{}: {e}", parent.display()))?;

@@ -9,14 +9,11 @@ use profile_recon::{
 };
 use vibrissa_cli::atomic::OutputDir;
 use vibrissa_cli::csvio::{Cell, CsvWriter};
-use vibrissa_cli::plot::{
-    figure_size, set_figure_size, write_panels_with_heading, Chart, FigureSize, Heading, Marker,
-    Series, Style,
-};
+use vibrissa_cli::plot::{size_for_this_thread, Chart, FigureSize, Marker, Series, Style};
 
 use crate::captions::caption;
-use crate::common::{self, md_table, note_err, par_map, sci, Ctx, SweepRun};
-use crate::{Entry, Failure, Report};
+use crate::common::{self, md_table, note_err, par_map, pretty, sci, svg_keyed, Ctx, SweepRun};
+use crate::{Failure, Report};
 
 /// Figures of the reconstruction errors: `(figure, case, profile)`.
 const FIGURES: [(&str, &str, &str); 12] = [
@@ -326,10 +323,10 @@ fn error_figure(
         _ => 3,
     };
     let r = if charts.len() == 1 {
-        let _size = ColumnWidth::set();
+        let _size = size_for_this_thread(FigureSize::Column);
         common::svg(out, entry, &format!("{stem}.svg"), &charts, cols)
     } else {
-        svg_keyed(out, entry, &format!("{stem}.svg"), &charts, cols)
+        svg_keyed(out, entry, &format!("{stem}.svg"), &charts, cols, 0.75, "")
     }
     .and_then(|()| common::csv(out, entry, &format!("{stem}.csv"), &w));
     note_err(entry, &stem, r);
@@ -338,71 +335,6 @@ fn error_figure(
         "-",
         Some("overall between 1e-4 and 1e-6 (§6.4)"),
     );
-}
-
-/// Writes charts as the panels of one figure, `cols` per row, under one legend for all of
-/// them (the first chart's entries), and records the file in `entry`.
-fn svg_keyed(
-    out: &OutputDir,
-    entry: &mut Entry,
-    name: &str,
-    charts: &[Chart],
-    cols: usize,
-) -> Result<(), String> {
-    let cols = cols.clamp(1, charts.len().max(1));
-    let rows = charts.len().div_ceil(cols).max(1);
-    let size = (560 * cols as u32, 420 * rows as u32);
-    let path = out.path_for(name);
-    if let Some(parent) = path.parent() {
-        std::fs::create_dir_all(parent).map_err(|e| format!("{}: {e}", parent.display()))?;
-    }
-    write_panels_with_heading(charts, cols, &Heading::default(), &path, size)
-        .map_err(|e| e.to_string())?;
-    entry.file(path);
-    Ok(())
-}
-
-/// Draws the figures written while it lives one column (85 mm) wide, then restores the
-/// size before (the page).
-struct ColumnWidth(FigureSize);
-
-impl ColumnWidth {
-    fn set() -> Self {
-        let before = figure_size();
-        set_figure_size(FigureSize::Column);
-        ColumnWidth(before)
-    }
-}
-
-impl Drop for ColumnWidth {
-    fn drop(&mut self) {
-        set_figure_size(self.0);
-    }
-}
-
-/// A case label for print: `theta=0.75 k=20` becomes `θ = 0.75, k = 20`.
-fn pretty(label: &str) -> String {
-    label
-        .split_whitespace()
-        .map(|t| match t.split_once('=') {
-            Some((name, value)) => {
-                let name = match name {
-                    "theta" => "θ",
-                    "alpha" => "α",
-                    "beta" => "β",
-                    n => n,
-                };
-                let value = match value {
-                    "inf" => "∞".to_string(),
-                    v => v.replacen('-', "−", 1),
-                };
-                // No-break spaces: a title wraps between parameters, not inside one.
-                format!("{name}\u{a0}=\u{a0}{value}")
-            }
-            None => t.to_string(),
-        })
-        .collect::<Vec<_>>()
-        .join(", ")
 }
 
 /// The contour's symbol with its index as a subscript: `g1` becomes `g_1`.

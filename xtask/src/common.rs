@@ -10,7 +10,7 @@ use contact_sim::cases::SweepCase;
 use contact_sim::{SweepResult, SweepSettings};
 use vibrissa_cli::atomic::{write_atomic, OutputDir};
 use vibrissa_cli::csvio::CsvWriter;
-use vibrissa_cli::plot::{write_figure, Chart, Panel};
+use vibrissa_cli::plot::{write_figure, write_panels_with_heading, Chart, Heading, Panel};
 
 use crate::Entry;
 
@@ -275,6 +275,62 @@ fn run_sweeps() -> Vec<SweepRun> {
             }
         })
         .collect()
+}
+
+/// A case label for print: `theta=0.25 alpha=0deg` becomes `θ = 0.25, α = 0°`.
+pub fn pretty(label: &str) -> String {
+    label
+        .split_whitespace()
+        .map(|t| match t.split_once('=') {
+            Some((name, value)) => {
+                let name = match name {
+                    "theta" => "θ",
+                    "alpha" => "α",
+                    "beta" => "β",
+                    n => n,
+                };
+                let value = match value {
+                    "inf" => "∞".to_string(),
+                    v => match v.strip_suffix("deg") {
+                        Some(d) => format!("{d}°"),
+                        None => v.to_string(),
+                    },
+                };
+                // No-break spaces: a title wraps between parameters, not inside one.
+                format!("{name}\u{a0}=\u{a0}{}", value.replacen('-', "−", 1))
+            }
+            None => t.to_string(),
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// Writes charts as the panels of one figure, `cols` per row with plots `aspect` as high
+/// as wide, under a heading `title` and one legend for all of them (the first chart's
+/// entries), and records the file in `entry`.
+pub fn svg_keyed(
+    out: &OutputDir,
+    entry: &mut Entry,
+    name: &str,
+    charts: &[Chart],
+    cols: usize,
+    aspect: f64,
+    title: &str,
+) -> Result<(), String> {
+    let cols = cols.clamp(1, charts.len().max(1));
+    let rows = charts.len().div_ceil(cols).max(1);
+    let size = (560 * cols as u32, (560.0 * aspect) as u32 * rows as u32);
+    let path = out.path_for(name);
+    if let Some(parent) = path.parent() {
+        std::fs::create_dir_all(parent).map_err(|e| format!("{}: {e}", parent.display()))?;
+    }
+    let heading = Heading {
+        title: title.to_string(),
+        note: String::new(),
+    };
+    write_panels_with_heading(charts, cols, &heading, &path, size).map_err(|e| e.to_string())?;
+    entry.file(path);
+    Ok(())
 }
 
 #[cfg(test)]

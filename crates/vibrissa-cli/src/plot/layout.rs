@@ -193,7 +193,31 @@ pub fn set_figure_size(s: FigureSize) {
     SIZE.store(s.code(), std::sync::atomic::Ordering::Relaxed);
 }
 
-/// The printed size figures are made for ([`FigureSize::Column`] unless set).
+/// The printed size figures are made for: this thread's [`size_for_this_thread`] if one
+/// is in force, else the process's ([`FigureSize::Column`] unless set).
 pub fn figure_size() -> FigureSize {
-    FigureSize::from_code(SIZE.load(std::sync::atomic::Ordering::Relaxed))
+    SIZE_HERE
+        .with(std::cell::Cell::get)
+        .unwrap_or_else(|| FigureSize::from_code(SIZE.load(std::sync::atomic::Ordering::Relaxed)))
+}
+
+thread_local! {
+    static SIZE_HERE: std::cell::Cell<Option<FigureSize>> = const { std::cell::Cell::new(None) };
+}
+
+/// Draws the figures of this thread at `size` while the guard lives (e.g. a one-panel
+/// figure one column wide among page-wide ones), then as before; other threads are not
+/// affected.
+pub fn size_for_this_thread(size: FigureSize) -> SizeGuard {
+    SizeGuard(SIZE_HERE.with(|c| c.replace(Some(size))))
+}
+
+/// Restores this thread's figure size when dropped ([`size_for_this_thread`]).
+#[derive(Debug)]
+pub struct SizeGuard(Option<FigureSize>);
+
+impl Drop for SizeGuard {
+    fn drop(&mut self) {
+        SIZE_HERE.with(|c| c.set(self.0));
+    }
 }

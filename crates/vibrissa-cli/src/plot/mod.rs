@@ -590,4 +590,21 @@ mod tests {
         let svg = render_figure(&[Panel::Chart(&chart)], 1, (800, 500)).unwrap();
         assert!(svg.contains("width=\"85mm\""), "{}", &svg[..200]);
     }
+
+    #[test]
+    fn a_thread_draws_at_its_own_size_and_others_do_not_see_it() {
+        let global = figure_size();
+        {
+            let _page = size_for_this_thread(FigureSize::Page);
+            assert_eq!(figure_size(), FigureSize::Page);
+            {
+                let _slide = size_for_this_thread(FigureSize::Slide);
+                assert_eq!(figure_size(), FigureSize::Slide);
+            }
+            assert_eq!(figure_size(), FigureSize::Page);
+            let other = std::thread::spawn(figure_size).join().unwrap();
+            assert_eq!(other, global);
+        }
+        assert_eq!(figure_size(), global);
+    }
 }

@@ -115,6 +115,21 @@ pub(super) fn esc(s: &str) -> String {
         .replace('"', "&quot;")
 }
 
+/// The `d` attribute of a path through `pts` (`M x y L x y ...`).
+pub(super) fn path_data(pts: &[(f64, f64)]) -> String {
+    let mut d = String::new();
+    for (i, p) in pts.iter().enumerate() {
+        let _ = write!(
+            d,
+            "{}{} {}",
+            if i == 0 { "M" } else { " L" },
+            c(p.0),
+            c(p.1)
+        );
+    }
+    d
+}
+
 /// A coordinate with 1/100 pixel resolution.
 pub(super) fn c(v: f64) -> String {
     let s = format!("{v:.2}");
@@ -243,16 +258,7 @@ impl Svg {
         if pts.len() < 2 {
             return;
         }
-        let mut d = String::new();
-        for (i, p) in pts.iter().enumerate() {
-            let _ = write!(
-                d,
-                "{}{} {}",
-                if i == 0 { "M" } else { " L" },
-                c(p.0),
-                c(p.1)
-            );
-        }
+        let d = path_data(pts);
         let dash = dash.map_or(String::new(), |d| format!(" stroke-dasharray=\"{d}\""));
         let _ = writeln!(
             self.out,
@@ -338,16 +344,7 @@ impl Svg {
                 ]
             }
         };
-        let mut d = String::new();
-        for (i, q) in pts.iter().enumerate() {
-            let _ = write!(
-                d,
-                "{}{} {}",
-                if i == 0 { "M" } else { " L" },
-                c(q.0),
-                c(q.1)
-            );
-        }
+        let d = path_data(&pts);
         let _ = writeln!(self.out, "<path d=\"{d} Z\" fill=\"{fill}\"{stroke}/>");
     }
 
@@ -356,16 +353,7 @@ impl Svg {
         if pts.len() < 3 {
             return;
         }
-        let mut d = String::new();
-        for (i, q) in pts.iter().enumerate() {
-            let _ = write!(
-                d,
-                "{}{} {}",
-                if i == 0 { "M" } else { " L" },
-                c(q.0),
-                c(q.1)
-            );
-        }
+        let d = path_data(pts);
         let _ = writeln!(
             self.out,
             "<path d=\"{d} Z\" fill=\"{fill}\" stroke=\"none\" clip-path=\"url(#{clip})\"/>"

@@ -1,0 +1,687 @@
+//! The calibration itself (module docs of [`calibrate`](super)): checks, start values,
+//! rounds of fit and phase decision, the multi-start guard and the result.
+
+use super::fit::{cost, jacobian_central, levenberg_marquardt, LmSettings, Problem};
+use super::ident::analyse;
+use super::problem::{CalibProblem, Kinds};
+use super::residual::{flow_of, Model, RowKind, Whitener};
+use super::{
+    CalibLog, CalibParam, CalibSettings, Calibration, Combination, LogFit, ParamEstimate, RowFit,
+};
+use crate::common::{KnownFlow, NoiseScales};
+use crate::error::{ReconError, Result};
+use crate::identify::smoothness_noise;
+use crate::observables::ObservableRow;
+use beam_model::Whisker;
+use bvp_solvers::integrator::Dop853;
+use rand::rngs::StdRng;
+use rand::{Rng, SeedableRng};
+use std::f64::consts::FRAC_PI_2;
+
+/// Contact rows kept per log in the subsample of the multi-start screening.
+const SCREEN_ROWS: usize = 30;
+/// A further start replaces the main fit when it ends below this fraction of its cost.
+const SCREEN_BETTER: f64 = 0.5;
+/// The fit's noise level beyond this multiple of the logs' model-free level is reported.
+const NOISE_CHECK: f64 = 10.0;
+
+/// Fits the whisker's parameters `settings.fit` to `logs`, starting from `start` (module
+/// docs of [`calibrate`](super)).
+///
+/// # Errors
+/// [`ReconError::TooFewRows`] without logs or rows, [`ReconError::NonFinite`] for a bad
+/// value, [`ReconError::CalibrationRequest`] for an empty or repeated parameter list,
+/// [`ReconError::Model`] for a start whisker out of range, [`ReconError::CalibrationStart`]
+/// when the start whisker cannot evaluate a pre-contact row,
+/// [`ReconError::CalibrationUnderdetermined`] with fewer residuals than parameters.
+pub fn calibrate(
+    start: &Whisker,
+    logs: &[CalibLog],
+    settings: &CalibSettings,
+) -> Result<Calibration> {
+    check(start, logs, settings)?;
+    let pre: Vec<Vec<bool>> = logs.iter().map(|l| pre_contact(&l.rows)).collect();
+    let mut base = Model::of(start);
+    if settings.fit.contains(&CalibParam::K) {
+        if let Some(c) = start_compliance(logs) {
+            base.c = c;
+        }
+    }
+    let flows: Vec<(f64, f64)> = logs
+        .iter()
+        .zip(&pre)
+        .map(|(l, p)| start_flow(l, p))
+        .collect();
+    let mut prob = CalibProblem {
+        logs,
+        free: settings.fit.clone(),
+        base,
+        fixed_flow: logs.iter().map(fixed_flow).collect(),
+        used: logs.iter().map(|l| (0..l.rows.len()).collect()).collect(),
+        whiteners: Vec::new(),
+        scales: logs.iter().map(|l| NoiseScales::of(&l.rows)).collect(),
+        integrator: Dop853 {
+            h_init: Some(0.05),
+            ..Dop853::new(settings.tol, settings.tol)
+        },
+    };
+    let p0 = prob.pack(&base, &flows);
+    let main = fit_rounds(&mut prob, p0.clone(), &pre, settings)?;
+    let (main, screened) = guard(&mut prob, main, &pre, settings)?;
+    summarize(&mut prob, &main, &screened, settings, start)
+}
+
+/// Input checks.
+fn check(start: &Whisker, logs: &[CalibLog], settings: &CalibSettings) -> Result<()> {
+    start.validate()?;
+    if logs.is_empty() {
+        return Err(ReconError::TooFewRows {
+            found: 0,
+            needed: 1,
+            what: "a calibration needs at least one log",
+        });
+    }
+    if settings.fit.is_empty() {
+        return Err(ReconError::CalibrationRequest {
+            reason: "no parameter to fit",
+            requested: 0,
+        });
+    }
+    for (i, p) in settings.fit.iter().enumerate() {
+        if settings.fit[..i].contains(p) {
+            return Err(ReconError::CalibrationRequest {
+                reason: "a parameter is asked for twice",
+                requested: settings.fit.len(),
+            });
+        }
+    }
+    for log in logs {
+        if log.rows.is_empty() {
+            return Err(ReconError::TooFewRows {
+                found: 0,
+                needed: 1,
+                what: "every calibration log needs rows",
+            });
+        }
+        for (i, r) in log.rows.iter().enumerate() {
+            r.validate(i)?;
+        }
+        crate::identify::check_known(&log.flow)?;
+    }
+    if !(settings.tol.is_finite() && settings.tol > 0.0) {
+        return Err(ReconError::InvalidParameter {
+            name: "tol",
+            value: settings.tol,
+            reason: "the tolerance must be finite and > 0",
+        });
+    }
+    Ok(())
+}
+
+/// The flow of a log if it is given (both q and alpha), in Cartesian form.
+fn fixed_flow(log: &CalibLog) -> Option<(f64, f64)> {
+    match log.flow {
+        KnownFlow {
+            q: Some(q),
+            alpha: Some(a),
+        } => Some((q * a.cos(), q * a.sin())),
+        _ => None,
+    }
+}
+
+/// The start flow of a log: given, else the mean base forces of its pre-contact rows [6.1]
+/// (a given q keeps that direction), else a given q at alpha = 0, else no flow.
+fn start_flow(log: &CalibLog, pre: &[bool]) -> (f64, f64) {
+    if let Some(f) = fixed_flow(log) {
+        return f;
+    }
+    let idx: Vec<&ObservableRow> = log.rows.iter().zip(pre).filter(|(_, p)| **p).map(|(r, _)| r).collect();
+    let alpha = log.flow.alpha.unwrap_or(0.0);
+    if idx.is_empty() {
+        let q = log.flow.q.unwrap_or(0.0);
+        return (q * alpha.cos(), q * alpha.sin());
+    }
+    let n = idx.len() as f64;
+    let qc = -idx.iter().map(|r| r.ax).sum::<f64>() / n;
+    let qs = idx.iter().map(|r| r.ay).sum::<f64>() / n;
+    match log.flow.q {
+        Some(q) => {
+            let a = qs.atan2(qc);
+            (q * a.cos(), q * a.sin())
+        }
+        None => (qc, qs),
+    }
+}
+
+/// The compliance `1/k` by linear least squares of the follicle law over all rows:
+/// `phi0 - pi/2 = -MA c` [3.21, 3.22] (`None` without any moment).
+fn start_compliance(logs: &[CalibLog]) -> Option<f64> {
+    let (mut num, mut den) = (0.0, 0.0);
+    for r in logs.iter().flat_map(|l| &l.rows) {
+        num -= r.ma * (r.phi0 - FRAC_PI_2);
+        den += r.ma * r.ma;
+    }
+    (den > 0.0).then(|| (num / den).clamp(0.0, 1.0 / beam_model::support::K_MIN))
+}
+
+/// The pre-contact rows of a log: the largest group (at least two) of rows equal to one of
+/// them, first within 1e-9 of each column's scale (exact logs), else within five noise
+/// deviations of the log's model-free noise level (the free whisker under the flow gives
+/// the same observables wherever the base is [6.1]).
+pub(crate) fn pre_contact(rows: &[ObservableRow]) -> Vec<bool> {
+    let scales = NoiseScales::of(rows);
+    let level = smoothness_noise(rows, &scales);
+    for rel in [1e-9, 5.0 * level] {
+        let tol: Vec<f64> = scales.0.iter().map(|s| rel * s).collect();
+        let near = |a: &ObservableRow, b: &ObservableRow| {
+            let d = [a.ax - b.ax, a.ay - b.ay, a.ma - b.ma, a.phi0 - b.phi0];
+            d.iter().zip(&tol).all(|(d, t)| d.abs() <= *t)
+        };
+        let best = (0..rows.len())
+            .map(|i| (rows.iter().filter(|r| near(&rows[i], r)).count(), i))
+            .max_by_key(|c| c.0);
+        if let Some((count, i)) = best {
+            if count >= 2 {
+                return rows.iter().map(|r| near(&rows[i], r)).collect();
+            }
+        }
+        if !rel.is_finite() {
+            break;
+        }
+    }
+    vec![false; rows.len()]
+}
+
+/// A fit: parameters, kinds, residuals and cost, with the work spent.
+#[derive(Clone, Debug)]
+pub(crate) struct Rounds {
+    pub p: Vec<f64>,
+    pub kinds: Kinds,
+    pub cost: f64,
+    pub iterations: usize,
+    pub evaluations: usize,
+    /// Contact rows without any hypothesis at the last phase decision.
+    pub lost: usize,
+}
+
+/// Whether two kinds are the same phase (B roots within 1e-6).
+fn same_kind(a: &RowKind, b: &RowKind) -> bool {
+    match (a, b) {
+        (RowKind::B { s1: x }, RowKind::B { s1: y }) => (x - y).abs() < 1e-6,
+        _ => a == b,
+    }
+}
+
+/// Rounds of (whiteners, Levenberg-Marquardt, phase decision) from `p0` until the phases
+/// stay and the parameters do not move (at most `settings.rounds`); the whiteners are
+/// frozen at the final point.
+pub(crate) fn fit_rounds(
+    prob: &mut CalibProblem<'_>,
+    p0: Vec<f64>,
+    pre: &[Vec<bool>],
+    settings: &CalibSettings,
+) -> Result<Rounds> {
+    let bounds = prob.bounds();
+    let lm = LmSettings {
+        max_iter: settings.max_iter,
+        ..LmSettings::default()
+    };
+    let mut p = p0;
+    let (mut kinds, mut lost) = prob.judge_all(&p, pre);
+    let mut out = Rounds {
+        p: p.clone(),
+        kinds: kinds.clone(),
+        cost: f64::INFINITY,
+        iterations: 0,
+        evaluations: 0,
+        lost,
+    };
+    for round in 0..settings.rounds.max(1) {
+        if !prob.reweight(&p, &kinds) {
+            return Err(start_failure(prob, &p, &kinds));
+        }
+        let Some(res) = levenberg_marquardt(prob, &p, &kinds, &bounds, &lm) else {
+            return Err(start_failure(prob, &p, &kinds));
+        };
+        out.iterations += res.iterations;
+        out.evaluations += res.evaluations;
+        let moved = p
+            .iter()
+            .zip(&res.p)
+            .zip(&bounds.scale)
+            .any(|((a, b), s)| (a - b).abs() > 1e-9 * (a.abs() + s));
+        p = res.p;
+        let (judged, l) = prob.judge_all(&p, pre);
+        lost = l;
+        let stay = judged
+            .iter()
+            .flatten()
+            .zip(res.state.iter().flatten())
+            .all(|(a, b)| same_kind(a, b));
+        kinds = if stay { res.state } else { judged };
+        if stay && (!moved || round > 0) && round > 0 {
+            break;
+        }
+    }
+    if !prob.reweight(&p, &kinds) {
+        return Err(start_failure(prob, &p, &kinds));
+    }
+    let (r, kinds) = prob
+        .residuals(&p, &kinds)
+        .ok_or_else(|| start_failure(prob, &p, &kinds))?;
+    out.cost = cost(&r);
+    out.p = p;
+    out.kinds = kinds;
+    out.lost = lost;
+    Ok(out)
+}
+
+/// The first row the problem cannot evaluate at `p` (for the error).
+fn start_failure(prob: &CalibProblem<'_>, p: &[f64], kinds: &Kinds) -> ReconError {
+    let (model, flows) = prob.unpack(p);
+    for (l, used) in prob.used.iter().enumerate() {
+        let ctx = super::residual::RowCtx {
+            model: &model,
+            flow: flows[l],
+            profile: &prob.logs[l].profile,
+            integrator: &prob.integrator,
+        };
+        for (k, &i) in used.iter().enumerate() {
+            let row = &prob.logs[l].rows[i];
+            if super::residual::row_residuals(&ctx, row, kinds[l][k]).is_none() {
+                return ReconError::CalibrationStart {
+                    log: l,
+                    row: i,
+                    x0: row.x0,
+                };
+            }
+        }
+    }
+    ReconError::CalibrationStart {
+        log: 0,
+        row: 0,
+        x0: prob.logs[0].rows[0].x0,
+    }
+}
+
+/// The multi-start guard: further seeded starts fitted on a subsample of the rows; one that
+/// ends clearly below the main fit there is refined on all rows and replaces the main fit if
+/// it is better there too. Returns the fit and, per further start, `(its cost, the main
+/// fit's cost on the subsample, its parameters)`.
+#[allow(clippy::type_complexity)]
+fn guard(
+    prob: &mut CalibProblem<'_>,
+    main: Rounds,
+    pre: &[Vec<bool>],
+    settings: &CalibSettings,
+) -> Result<(Rounds, Vec<(f64, f64, Vec<f64>)>)> {
+    if settings.starts == 0 {
+        return Ok((main, Vec::new()));
+    }
+    let full_used = prob.used.clone();
+    let full_whiteners = prob.whiteners.clone();
+    let mut sub = prob.clone();
+    sub.used = prob
+        .logs
+        .iter()
+        .zip(pre)
+        .map(|(l, p)| subsample(l.rows.len(), p))
+        .collect();
+    let sub_pre: Vec<Vec<bool>> = pre.to_vec();
+    let main_sub = fit_cost_at(&mut sub, &main.p, &sub_pre);
+    let mut rng = StdRng::seed_from_u64(settings.seed);
+    let mut screened = Vec::new();
+    let mut best = main;
+    let nfree = prob.free.len();
+    for _ in 0..settings.starts {
+        let mut p = best.p.clone();
+        for (v, param) in p.iter_mut().zip(&prob.free).take(nfree) {
+            *v = match param {
+                CalibParam::Theta => rng.gen_range(0.1..1.0),
+                CalibParam::A | CalibParam::B => rng.gen_range(-2.0..2.0),
+                CalibParam::K => rng.gen_range(0.0..0.2),
+                CalibParam::Ei => rng.gen_range(-(2f64.ln())..2f64.ln()),
+            };
+        }
+        let Ok(r) = fit_rounds(&mut sub, p, &sub_pre, settings) else {
+            continue;
+        };
+        best.evaluations += r.evaluations;
+        screened.push((r.cost, main_sub, r.p.clone()));
+        if r.cost < SCREEN_BETTER * main_sub {
+            prob.used = full_used.clone();
+            if let Ok(full) = fit_rounds(prob, r.p.clone(), pre, settings) {
+                if full.cost < best.cost {
+                    best = Rounds {
+                        evaluations: best.evaluations + full.evaluations,
+                        ..full
+                    };
+                    continue;
+                }
+            }
+        }
+    }
+    // the problem's whiteners belong to the returned fit
+    prob.used = full_used;
+    if !prob.reweight(&best.p, &best.kinds) {
+        prob.whiteners = full_whiteners;
+    }
+    Ok((best, screened))
+}
+
+/// Every pre-contact row (at most 5) and about [`SCREEN_ROWS`] contact rows evenly spread.
+fn subsample(n: usize, pre: &[bool]) -> Vec<usize> {
+    let contact: Vec<usize> = (0..n).filter(|&i| !pre[i]).collect();
+    let step = contact.len().div_ceil(SCREEN_ROWS).max(1);
+    let mut out: Vec<usize> = (0..n).filter(|&i| pre[i]).take(5).collect();
+    out.extend(contact.iter().step_by(step));
+    out.sort_unstable();
+    out
+}
+
+/// The cost of `p` on `prob`'s rows, phases judged and whiteners made at `p`.
+fn fit_cost_at(prob: &mut CalibProblem<'_>, p: &[f64], pre: &[Vec<bool>]) -> f64 {
+    let (kinds, _) = prob.judge_all(p, pre);
+    if !prob.reweight(p, &kinds) {
+        return f64::INFINITY;
+    }
+    prob.residuals(p, &kinds)
+        .map_or(f64::INFINITY, |(r, _)| cost(&r))
+}
+
+/// The result: the final Jacobian (central differences), its analysis, the estimates, the
+/// flows, the rows and the checks.
+fn summarize(
+    prob: &mut CalibProblem<'_>,
+    fit: &Rounds,
+    screened: &[(f64, f64, Vec<f64>)],
+    settings: &CalibSettings,
+    start: &Whisker,
+) -> Result<Calibration> {
+    let n = prob.dim();
+    let nres = prob.residual_count(&fit.kinds);
+    if nres <= n {
+        return Err(ReconError::CalibrationUnderdetermined {
+            residuals: nres,
+            rows: nres / super::residual::RESIDUALS_PER_ROW,
+            parameters: n,
+        });
+    }
+    let bounds = prob.bounds();
+    let cols = jacobian_central(prob, &fit.p, &fit.kinds, &bounds, 1e-5)
+        .ok_or_else(|| start_failure(prob, &fit.p, &fit.kinds))?;
+    let info = analyse(&cols);
+    let s = (2.0 * fit.cost / (nres - n) as f64).sqrt();
+    let cov: Vec<Vec<f64>> = info
+        .covariance
+        .iter()
+        .map(|r| r.iter().map(|v| v * s * s).collect())
+        .collect();
+    let (model, flows) = prob.unpack(&fit.p);
+    let start_model = Model::of(start);
+    let parameters = estimates(prob, &fit.p, &cov, &info.identifiable, &start_model);
+    let nfree = prob.free.len();
+    let correlation = (0..nfree)
+        .map(|i| {
+            (0..nfree)
+                .map(|j| {
+                    let d = (cov[i][i] * cov[j][j]).sqrt();
+                    if info.identifiable[i] && info.identifiable[j] && d > 0.0 {
+                        cov[i][j] / d
+                    } else {
+                        f64::NAN
+                    }
+                })
+                .collect()
+        })
+        .collect();
+    let determined = combinations(prob, &fit.p, &info.determined, &cov);
+    let mut out_model = model;
+    for (i, param) in prob.free.iter().enumerate() {
+        if !info.identifiable[i] {
+            match param {
+                CalibParam::Theta => out_model.theta = start_model.theta,
+                CalibParam::A => out_model.a = start_model.a,
+                CalibParam::B => out_model.b = start_model.b,
+                CalibParam::K => out_model.c = start_model.c,
+                CalibParam::Ei => out_model.lambda = 1.0,
+            }
+        }
+    }
+    let logs = log_fits(prob, &flows, &fit.kinds, &cov);
+    let rows = row_fits(prob, &fit.p, &fit.kinds, s);
+    let contact: Vec<f64> = rows
+        .iter()
+        .filter(|r| matches!(r.kind, 'A' | 'B'))
+        .map(|r| r.distance)
+        .collect();
+    let rms_distance = (contact.iter().map(|d| d * d).sum::<f64>() / contact.len().max(1) as f64).sqrt();
+    let log_noise = prob
+        .logs
+        .iter()
+        .zip(&prob.scales)
+        .map(|(l, sc)| smoothness_noise(&l.rows, sc))
+        .fold(0.0, f64::max);
+    let mut cal = Calibration {
+        whisker: out_model.whisker(),
+        lambda: out_model.lambda,
+        parameters,
+        correlation,
+        determined,
+        singular_values: info.relative_singular_values,
+        logs,
+        rows,
+        rms_distance,
+        noise_level: s,
+        log_noise,
+        iterations: fit.iterations,
+        evaluations: fit.evaluations,
+        starts: screened.iter().map(|(a, b, _)| (*a, *b)).collect(),
+        warnings: Vec::new(),
+    };
+    cal.warnings = warnings(&cal, fit, screened, prob, settings);
+    Ok(cal)
+}
+
+/// The estimate of every fitted parameter (`k` and `ei` mapped back from `1/k`, `ln lambda`).
+fn estimates(
+    prob: &CalibProblem<'_>,
+    p: &[f64],
+    cov: &[Vec<f64>],
+    identifiable: &[bool],
+    start: &Model,
+) -> Vec<ParamEstimate> {
+    prob.free
+        .iter()
+        .enumerate()
+        .map(|(i, &param)| {
+            let sd = cov[i][i].max(0.0).sqrt();
+            let (value, stderr, st) = match param {
+                CalibParam::K => {
+                    let c = p[i];
+                    let k = if c > 0.0 { 1.0 / c } else { f64::INFINITY };
+                    (k, sd * k * k, 1.0 / start.c)
+                }
+                CalibParam::Ei => (p[i].exp(), sd * p[i].exp(), 1.0),
+                CalibParam::Theta => (p[i], sd, start.theta),
+                CalibParam::A => (p[i], sd, start.a),
+                CalibParam::B => (p[i], sd, start.b),
+            };
+            let ok = identifiable[i];
+            ParamEstimate {
+                param,
+                value: ok.then_some(value),
+                stderr: ok.then_some(stderr),
+                identifiable: ok,
+                start: st,
+            }
+        })
+        .collect()
+}
+
+/// The determined combinations as terms of the whisker's parameters.
+fn combinations(
+    prob: &CalibProblem<'_>,
+    p: &[f64],
+    determined: &[Vec<f64>],
+    cov: &[Vec<f64>],
+) -> Vec<Combination> {
+    determined
+        .iter()
+        .map(|c| {
+            let terms = prob
+                .free
+                .iter()
+                .zip(c)
+                .filter(|(_, v)| **v != 0.0)
+                .map(|(param, v)| (*param, *v))
+                .collect();
+            let value = c.iter().zip(p).map(|(a, b)| a * b).sum();
+            let var: f64 = (0..c.len())
+                .map(|i| (0..c.len()).map(|j| c[i] * cov[i][j] * c[j]).sum::<f64>())
+                .sum();
+            Combination {
+                terms,
+                value,
+                stderr: var.max(0.0).sqrt(),
+            }
+        })
+        .collect()
+}
+
+/// The flow of every log with its standard errors (delta method from the Cartesian form).
+fn log_fits(
+    prob: &CalibProblem<'_>,
+    flows: &[(f64, f64)],
+    kinds: &Kinds,
+    cov: &[Vec<f64>],
+) -> Vec<LogFit> {
+    let mut k = prob.free.len();
+    flows
+        .iter()
+        .enumerate()
+        .map(|(l, &(qc, qs))| {
+            let f = flow_of(qc, qs);
+            let given = prob.fixed_flow[l].is_some();
+            let (q_sd, a_sd) = if given {
+                (0.0, 0.0)
+            } else {
+                let (i, j) = (k, k + 1);
+                k += 2;
+                let q = f.q.max(f64::MIN_POSITIVE);
+                let gq = [qc / q, qs / q];
+                let ga = [-qs / (q * q), qc / (q * q)];
+                let quad = |g: [f64; 2]| {
+                    (g[0] * g[0] * cov[i][i] + 2.0 * g[0] * g[1] * cov[i][j] + g[1] * g[1] * cov[j][j])
+                        .max(0.0)
+                        .sqrt()
+                };
+                (quad(gq), quad(ga))
+            };
+            let count = |pred: fn(&RowKind) -> bool| kinds[l].iter().filter(|k| pred(k)).count();
+            LogFit {
+                q: f.q,
+                alpha: f.alpha,
+                q_stderr: q_sd,
+                alpha_stderr: a_sd,
+                given,
+                rows: prob.logs[l].rows.len(),
+                pre_contact: count(|k| *k == RowKind::Pre),
+                contact: count(|k| matches!(k, RowKind::A | RowKind::B { .. })),
+                skipped: count(|k| *k == RowKind::Skipped),
+            }
+        })
+        .collect()
+}
+
+/// Every row at the fit (`s` the fitted noise level).
+fn row_fits(prob: &CalibProblem<'_>, p: &[f64], kinds: &Kinds, s: f64) -> Vec<RowFit> {
+    let results = prob.evaluate(p, kinds).unwrap_or_default();
+    let mut out = Vec::new();
+    for (l, used) in prob.used.iter().enumerate() {
+        for (k, &i) in used.iter().enumerate() {
+            let Some(res) = results.get(l).and_then(|r| r.get(k)) else {
+                continue;
+            };
+            let w: &Whitener = &prob.whiteners[l][k];
+            let (kind, s1, di) = match res.kind {
+                RowKind::Pre => ('-', f64::NAN, None),
+                RowKind::A => ('A', 1.0, Some(2)),
+                RowKind::B { s1 } => ('B', s1, Some(1)),
+                RowKind::Skipped => ('x', f64::NAN, None),
+            };
+            let chi = if res.kind == RowKind::Skipped {
+                f64::NAN
+            } else {
+                w.apply(&res.r).iter().map(|v| v * v).sum::<f64>().sqrt() / s.max(f64::MIN_POSITIVE)
+            };
+            out.push(RowFit {
+                log: l,
+                row: i,
+                kind,
+                s1,
+                x: res.point.0,
+                y: res.point.1,
+                distance: res.distance,
+                sigma: di.map_or(f64::NAN, |d| w.sd(d) * s),
+                chi,
+            });
+        }
+    }
+    out
+}
+
+/// The checks' findings.
+fn warnings(
+    cal: &Calibration,
+    fit: &Rounds,
+    screened: &[(f64, f64, Vec<f64>)],
+    prob: &CalibProblem<'_>,
+    settings: &CalibSettings,
+) -> Vec<String> {
+    let mut w = Vec::new();
+    if fit.lost > 0 {
+        w.push(format!(
+            "{} contact row(s) admit no contact hypothesis with the fitted whisker and were left out",
+            fit.lost
+        ));
+    }
+    if cal.noise_level > NOISE_CHECK * cal.log_noise.max(1e-9) {
+        w.push(format!(
+            "the fit's residuals imply a relative noise level {:.2e}, {:.0} times the logs' own ({:.2e}): \
+             a local minimum, a wrong contour or flow, or a whisker the model cannot describe",
+            cal.noise_level,
+            cal.noise_level / cal.log_noise.max(1e-9),
+            cal.log_noise
+        ));
+    }
+    let nfree = prob.free.len();
+    for (c, main_c, p) in screened {
+        if *c > 2.0 * main_c + 1e-300 {
+            continue;
+        }
+        // as low as the main fit: does it sit elsewhere (beyond 5 standard errors)?
+        let elsewhere = cal.parameters.iter().take(nfree).enumerate().any(|(i, e)| {
+            let v = match e.param {
+                CalibParam::K => fit.p[i],
+                _ => fit.p[i],
+            };
+            let sd = e.stderr.unwrap_or(f64::INFINITY);
+            let sd = match e.param {
+                CalibParam::K => sd / e.value.unwrap_or(1.0).powi(2),
+                CalibParam::Ei => sd / e.value.unwrap_or(1.0),
+                _ => sd,
+            };
+            e.identifiable && (p[i] - v).abs() > 5.0 * sd.max(1e-9 * (1.0 + v.abs()))
+        });
+        if elsewhere {
+            w.push(format!(
+                "a further start (seed {}) fits as well at other parameters: the logs admit \
+                 more than one whisker; add a log past another object",
+                settings.seed
+            ));
+            break;
+        }
+    }
+    w
+}

@@ -139,7 +139,7 @@ fn predict(
         integrator: Dop853::new(1e-12, 1e-12),
     };
     let p = prob.pack(&model, &[qf]);
-    let kinds = vec![kinds];
+    let mut kinds = vec![kinds];
     let fail = || ReconError::CalibrationStart {
         log: 0,
         row: 0,
@@ -148,6 +148,7 @@ fn predict(
     if !prob.reweight(&p, &kinds) {
         return Err(fail());
     }
+    prob.skip_degenerate(&mut kinds);
     let cols = jacobian_central(&prob, &p, &kinds, &prob.bounds(), 1e-5).ok_or_else(fail)?;
     let info = analyse(&cols);
     let mut worst: f64 = 0.0;

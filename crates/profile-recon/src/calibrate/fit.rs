@@ -180,12 +180,25 @@ pub(crate) fn levenberg_marquardt<P: Problem>(
             break;
         }
         let dmax = (0..n).map(|i| jtj[i][i]).fold(0.0, f64::max);
+        // active set: a parameter at a bound that the descent direction pushes outwards
+        // stays there this iteration
+        let blocked: Vec<bool> = (0..n)
+            .map(|i| (p[i] <= bounds.lo[i] && g[i] > 0.0) || (p[i] >= bounds.hi[i] && g[i] < 0.0))
+            .collect();
         loop {
             let mut a = jtj.clone();
             for (i, row) in a.iter_mut().enumerate() {
                 row[i] += mu * row[i].max(1e-12 * dmax).max(f64::MIN_POSITIVE);
             }
-            let neg: Vec<f64> = g.iter().map(|v| -v).collect();
+            let mut neg: Vec<f64> = g.iter().map(|v| -v).collect();
+            for i in (0..n).filter(|&i| blocked[i]) {
+                for j in 0..n {
+                    a[i][j] = 0.0;
+                    a[j][i] = 0.0;
+                }
+                a[i][i] = 1.0;
+                neg[i] = 0.0;
+            }
             let Some(d) = solve_spd(&a, &neg) else {
                 mu *= 4.0;
                 if mu > 1e20 {

@@ -5,7 +5,7 @@
 use super::fit::{Bounds, Problem};
 use super::residual::{
     judge, row_residuals, tip_force, whitener, Model, RowCtx, RowKind, RowResult, Whitener,
-    F_MIN_REL,
+    DEGENERATE, F_MIN_REL,
 };
 use super::{CalibLog, CalibParam};
 use crate::common::NoiseScales;
@@ -168,6 +168,22 @@ impl<'a> CalibProblem<'a> {
         }
         self.whiteners = all;
         true
+    }
+
+    /// Marks the rows whose whiteners are degenerate ([`DEGENERATE`]) as skipped; returns
+    /// how many were.
+    pub fn skip_degenerate(&self, kinds: &mut Kinds) -> usize {
+        let mut n = 0;
+        for (l, ks) in kinds.iter_mut().enumerate() {
+            for (k, kind) in ks.iter_mut().enumerate() {
+                let bad = self.whiteners[l][k].degeneracy < DEGENERATE;
+                if bad && *kind != RowKind::Skipped && *kind != RowKind::Pre {
+                    *kind = RowKind::Skipped;
+                    n += 1;
+                }
+            }
+        }
+        n
     }
 
     /// The kinds of every used row at `p`: pre-contact rows stay so; a contact row takes the

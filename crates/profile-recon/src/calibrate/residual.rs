@@ -106,6 +106,10 @@ pub enum RowKind {
 /// left out of the fit ([`RowKind::Skipped`]).
 pub const F_MIN_REL: f64 = 1e-3;
 
+/// Rows whose whitener's [`Whitener::degeneracy`] falls below this are left out of the fit
+/// (a fold of the contact branch: the snap row).
+pub const DEGENERATE: f64 = 1e-6;
+
 /// Largest distance in arc length over which a phase-B root is followed from one evaluation
 /// to the next.
 const TRACK_SPAN: f64 = 0.25;
@@ -321,6 +325,10 @@ pub(crate) fn all_roots(sol: &OdeSolution) -> Vec<f64> {
 pub struct Whitener {
     /// Lower-triangular Cholesky factor `L` of `C`.
     pub l: [[f64; RESIDUALS_PER_ROW]; RESIDUALS_PER_ROW],
+    /// The smallest pivot of the correlation matrix of `C` (1: independent residuals; near
+    /// 0: the row's residuals are nearly dependent under the noise, as at a fold of the
+    /// contact branch where the whisker snaps off, and the linearised whitening fails).
+    pub degeneracy: f64,
 }
 
 impl Whitener {
@@ -330,7 +338,7 @@ impl Whitener {
         for (i, row) in l.iter_mut().enumerate() {
             row[i] = 1.0;
         }
-        Whitener { l }
+        Whitener { l, degeneracy: 1.0 }
     }
 
     /// `L^-1 r` by forward substitution.
@@ -387,7 +395,26 @@ pub(crate) fn whitener(
     }
     let trace: f64 = (0..n).map(|i| c[i][i]).sum();
     let ridge = 1e-14 * trace + f64::MIN_POSITIVE;
-    cholesky(&c, ridge)
+    let mut w = cholesky(&c, ridge)?;
+    w.degeneracy = degeneracy(&c);
+    Some(w)
+}
+
+/// The smallest Cholesky pivot (squared) of the correlation matrix of `c`: 1 for
+/// uncorrelated residuals, 0 when one is a combination of the others.
+fn degeneracy(c: &[[f64; RESIDUALS_PER_ROW]; RESIDUALS_PER_ROW]) -> f64 {
+    let n = RESIDUALS_PER_ROW;
+    let d: Vec<f64> = (0..n).map(|i| c[i][i].max(f64::MIN_POSITIVE).sqrt()).collect();
+    let mut r = [[0.0; RESIDUALS_PER_ROW]; RESIDUALS_PER_ROW];
+    for i in 0..n {
+        for k in 0..n {
+            r[i][k] = c[i][k] / (d[i] * d[k]);
+        }
+    }
+    match cholesky(&r, 0.0) {
+        Some(w) if w.degeneracy.is_finite() => (0..n).map(|i| w.l[i][i].powi(2)).fold(1.0, f64::min),
+        _ => 0.0,
+    }
 }
 
 /// Cholesky factor of `c + ridge I`, with the ridge raised until it succeeds.
@@ -419,7 +446,7 @@ fn cholesky(
             }
         }
         if ok {
-            return Some(Whitener { l });
+            return Some(Whitener { l, degeneracy: 1.0 });
         }
         ridge = (ridge * 100.0).max(1e-300);
     }

@@ -240,6 +240,7 @@ pub(crate) fn fit_rounds(
         if !prob.reweight(&p, &kinds) {
             return Err(start_failure(prob, &p, &kinds));
         }
+        prob.skip_degenerate(&mut kinds);
         let Some(res) = levenberg_marquardt(prob, &p, &kinds, &bounds, &lm) else {
             return Err(start_failure(prob, &p, &kinds));
         };
@@ -266,6 +267,7 @@ pub(crate) fn fit_rounds(
     if !prob.reweight(&p, &kinds) {
         return Err(start_failure(prob, &p, &kinds));
     }
+    prob.skip_degenerate(&mut kinds);
     let (r, kinds) = prob
         .residuals(&p, &kinds)
         .ok_or_else(|| start_failure(prob, &p, &kinds))?;

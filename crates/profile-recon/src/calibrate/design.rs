@@ -137,6 +137,7 @@ fn predict(
         whiteners: Vec::new(),
         scales: vec![NoiseScales::of(&rows)],
         integrator: Dop853::new(1e-12, 1e-12),
+        log_noise: settings.noise,
     };
     let p = prob.pack(&model, &[qf]);
     let mut kinds = vec![kinds];

@@ -19,9 +19,9 @@ pub(crate) trait Problem {
 pub(crate) struct LmSettings {
     /// Iterations at most.
     pub max_iter: usize,
-    /// Stop when every step component is below `xtol (|p_i| + scale_i)`.
+    /// Stop when a rejected step has every component below `xtol (|p_i| + scale_i)`.
     pub xtol: f64,
-    /// Stop when the cost falls by less than `ftol` relatively over an accepted step.
+    /// Stop when the Gauss-Newton step would lower the cost by less than `ftol` times it.
     pub ftol: f64,
 }
 
@@ -29,8 +29,8 @@ impl Default for LmSettings {
     fn default() -> Self {
         LmSettings {
             max_iter: 100,
-            xtol: 1e-12,
-            ftol: 1e-15,
+            xtol: 1e-13,
+            ftol: 1e-12,
         }
     }
 }
@@ -77,11 +77,21 @@ pub(crate) fn jacobian<P: Problem>(
         if p[i] + h > bounds.hi[i] {
             h = -h;
         }
-        let mut q = p.to_vec();
-        q[i] += h;
-        let h = q[i] - p[i];
-        let (rq, _) = prob.residuals(&q, state)?;
-        cols.push(rq.iter().zip(r).map(|(a, b)| (a - b) / h).collect());
+        // forwards, else backwards (a phase-B root may leave the whisker on one side)
+        let mut col = None;
+        for sign in [1.0, -1.0] {
+            let mut q = p.to_vec();
+            q[i] = (p[i] + sign * h).clamp(bounds.lo[i], bounds.hi[i]);
+            let d = q[i] - p[i];
+            if d == 0.0 {
+                continue;
+            }
+            if let Some((rq, _)) = prob.residuals(&q, state) {
+                col = Some(rq.iter().zip(r).map(|(a, b)| (a - b) / d).collect());
+                break;
+            }
+        }
+        cols.push(col?);
     }
     Some(cols)
 }
@@ -102,9 +112,14 @@ pub(crate) fn jacobian_central<P: Problem>(
         let mut down = p.to_vec();
         up[i] = (p[i] + h).min(bounds.hi[i]);
         down[i] = (p[i] - h).max(bounds.lo[i]);
-        let (ru, _) = prob.residuals(&up, state)?;
-        let (rd, _) = prob.residuals(&down, state)?;
-        let d = up[i] - down[i];
+        let ru = prob.residuals(&up, state).map(|x| x.0);
+        let rd = prob.residuals(&down, state).map(|x| x.0);
+        let (ru, rd, d) = match (ru, rd) {
+            (Some(u), Some(d)) => (u, d, up[i] - down[i]),
+            (Some(u), None) => (u, prob.residuals(p, state)?.0, up[i] - p[i]),
+            (None, Some(d)) => (prob.residuals(p, state)?.0, d, p[i] - down[i]),
+            (None, None) => return None,
+        };
         cols.push(ru.iter().zip(&rd).map(|(a, b)| (a - b) / d).collect());
     }
     Some(cols)
@@ -185,7 +200,7 @@ pub(crate) fn levenberg_marquardt<P: Problem>(
         let blocked: Vec<bool> = (0..n)
             .map(|i| (p[i] <= bounds.lo[i] && g[i] > 0.0) || (p[i] >= bounds.hi[i] && g[i] < 0.0))
             .collect();
-        loop {
+        let step = |mu: f64| -> Option<Vec<f64>> {
             let mut a = jtj.clone();
             for (i, row) in a.iter_mut().enumerate() {
                 row[i] += mu * row[i].max(1e-12 * dmax).max(f64::MIN_POSITIVE);
@@ -199,7 +214,17 @@ pub(crate) fn levenberg_marquardt<P: Problem>(
                 a[i][i] = 1.0;
                 neg[i] = 0.0;
             }
-            let Some(d) = solve_spd(&a, &neg) else {
+            solve_spd(&a, &neg)
+        };
+        // converged: the Gauss-Newton step would lower the cost by a negligible amount
+        if let Some(d) = step(1e-10) {
+            let pred = -0.5 * dot(&g, &d);
+            if pred <= settings.ftol * c || c == 0.0 {
+                break;
+            }
+        }
+        loop {
+            let Some(d) = step(mu) else {
                 mu *= 4.0;
                 if mu > 1e20 {
                     break 'outer;
@@ -215,12 +240,8 @@ pub(crate) fn levenberg_marquardt<P: Problem>(
             match prob.residuals(&trial, &state) {
                 Some((rt, st)) if cost(&rt) < c => {
                     let ct = cost(&rt);
-                    let fell = (c - ct) / c.max(f64::MIN_POSITIVE);
                     (p, r, state, c) = (trial, rt, st, ct);
                     mu = (mu / 3.0).max(1e-12);
-                    if small || fell < settings.ftol {
-                        break 'outer;
-                    }
                     break;
                 }
                 _ => {

@@ -9,6 +9,7 @@
 //! | `fit` | bounded Levenberg-Marquardt with a finite-difference Jacobian |
 //! | [`ident`] | standard errors, correlation and the identifiability verdict from the singular values of the scaled Jacobian |
 //! | [`design`] | advice before any experiment: the standard errors each candidate object would give |
+//! | `screen` | the global search: seeded candidates ranked by a phase-free objective |
 //! | `run` | the calibration itself: start values, rounds of fit and phase decision, multi-start, result |
 //!
 //! **The fit.** Least squares over all rows of all logs of the whitened residuals of
@@ -20,14 +21,16 @@
 //! decided at the current parameters (the hypothesis, tip contact or a root of `m`, with
 //! the smallest whitened residual) and decided again after each fit until it stays.
 //!
-//! **Local minima.** Guarded twice: (1) seeded multi-start: [`CalibSettings::starts`] further
-//! starts drawn inside a plausible box (theta 0.1..1, A, B in +-2, k >= 5, E I within a
-//! factor 2) are fitted on a subsample of the rows; one that ends clearly lower than the
-//! main fit (on the same subsample) is refined on all rows and replaces it, one that ends as
-//! low at other parameters is reported ([`Calibration::warnings`]); (2) the residual check:
-//! the noise level the fit implies ([`Calibration::noise_level`]) is compared with a
-//! model-free noise level of the logs (third differences along x0,
-//! [`Calibration::log_noise`]); a fit far above it is reported, never passed silently.
+//! **Local minima.** Guarded twice: (1) a global search: [`CalibSettings::screen`] seeded
+//! candidates around the start (theta within a factor 2, A, B within 75 % + 0.5, E I within a
+//! factor 2) are ranked by a phase-free objective on a subsample of the rows (each row with
+//! its best hypothesis), and the local fits start from the best-ranked ones; (2) the
+//! residual check: a fit is accepted when the noise level it implies
+//! ([`Calibration::noise_level`]) is within 10 times a model-free noise level of the logs
+//! (third differences along x0, [`Calibration::log_noise`]) and no row was lost; otherwise
+//! the next candidate is fitted (up to [`CalibSettings::starts`] local fits), the lowest
+//! cost wins, and a fit that still fails the check is reported in
+//! [`Calibration::warnings`], never passed silently.
 //!
 //! **E I.** In a dimensionless log the force unit IS E I_b / L^2: `ei` is then 1 by
 //! definition (the CLI refuses to fit it). The library fits `lambda = E I_b / E I_nominal`,
@@ -59,6 +62,7 @@ pub mod ident;
 mod problem;
 pub mod residual;
 mod run;
+mod screen;
 
 pub use design::{design, DesignPrediction, DesignSettings};
 pub use run::calibrate;
@@ -132,7 +136,9 @@ pub struct CalibSettings {
     pub fit: Vec<CalibParam>,
     /// Integrator tolerance of the base integrations.
     pub tol: f64,
-    /// Further seeded starts of the multi-start guard (module docs); 0 disables it.
+    /// Seeded candidate starts ranked by the screening objective (module docs).
+    pub screen: usize,
+    /// Local fits at most, from the best-ranked candidates (module docs), at least 1.
     pub starts: usize,
     /// Seed of the further starts.
     pub seed: u64,
@@ -152,10 +158,11 @@ impl Default for CalibSettings {
                 CalibParam::K,
             ],
             tol: 1e-12,
-            starts: 3,
+            screen: 48,
+            starts: 4,
             seed: 19,
             max_iter: 60,
-            rounds: 4,
+            rounds: 8,
         }
     }
 }
@@ -285,9 +292,8 @@ pub struct Calibration {
     pub iterations: usize,
     /// Residual evaluations (all fits, the multi-start included).
     pub evaluations: usize,
-    /// Costs reached from the further starts on their subsample, against the main fit's
-    /// cost there: `(start cost, main cost)`.
-    pub starts: Vec<(f64, f64)>,
+    /// The final cost of every local fit made (module docs), in order.
+    pub fits: Vec<f64>,
     /// What the checks found (another minimum, a residual above the noise, rows left out).
     pub warnings: Vec<String>,
 }

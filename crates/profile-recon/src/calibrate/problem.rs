@@ -33,6 +33,8 @@ pub(crate) struct CalibProblem<'a> {
     /// Per log: the noise scales of its columns.
     pub scales: Vec<NoiseScales>,
     pub integrator: Dop853,
+    /// The largest model-free noise level of the logs (the residual check's reference).
+    pub log_noise: f64,
 }
 
 /// Per log and used row: the row's kind (`s1` of phase B tracked).
@@ -226,6 +228,66 @@ impl<'a> CalibProblem<'a> {
             })
             .collect();
         (kinds, lost)
+    }
+
+    /// The norm of every used row's whitened residuals at `p` (NaN for skipped rows or if
+    /// the evaluation fails).
+    pub fn row_norms(&self, p: &[f64], kinds: &Kinds) -> Vec<Vec<f64>> {
+        let results = self.evaluate(p, kinds);
+        kinds
+            .iter()
+            .enumerate()
+            .map(|(l, ks)| {
+                ks.iter()
+                    .enumerate()
+                    .map(|(k, kind)| match (&results, kind) {
+                        (Some(res), RowKind::A | RowKind::B { .. } | RowKind::Pre) => {
+                            let z = self.whiteners[l][k].apply(&res[l][k].r);
+                            z.iter().map(|v| v * v).sum::<f64>().sqrt()
+                        }
+                        _ => f64::NAN,
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+
+    /// The leverage of every used row at `p` (`sum over its residuals of
+    /// J_i (J^T J)^-1 J_i^T`, the row's share of the Fisher information; the shares add up to
+    /// the number of parameters), with the residual Jacobian `cols` (column-major) of the
+    /// rows in `kinds`; NaN for skipped rows.
+    pub fn leverages(&self, cols: &[Vec<f64>], kinds: &Kinds) -> Vec<Vec<f64>> {
+        let n = cols.len();
+        let jtj: Vec<Vec<f64>> = (0..n)
+            .map(|i| (0..n).map(|k| super::fit::dot(&cols[i], &cols[k])).collect())
+            .collect();
+        let dmax = (0..n).map(|i| jtj[i][i]).fold(0.0, f64::max);
+        let mut reg = jtj.clone();
+        for (i, row) in reg.iter_mut().enumerate() {
+            row[i] += 1e-12 * dmax + f64::MIN_POSITIVE;
+        }
+        let mut idx = 0;
+        kinds
+            .iter()
+            .map(|ks| {
+                ks.iter()
+                    .map(|k| {
+                        if *k == RowKind::Skipped {
+                            return f64::NAN;
+                        }
+                        let mut h = 0.0;
+                        for _ in 0..super::residual::RESIDUALS_PER_ROW {
+                            let ji: Vec<f64> = cols.iter().map(|c| c[idx]).collect();
+                            if let Some(x) = super::fit::solve_spd(&reg, &ji) {
+                                h += super::fit::dot(&ji, &x);
+                            }
+                            idx += 1;
+                        }
+                        h
+                    })
+                    .collect()
+            })
+            .collect()
     }
 
     /// Number of residuals at `kinds`.

@@ -14,14 +14,8 @@ use crate::identify::smoothness_noise;
 use crate::observables::ObservableRow;
 use beam_model::Whisker;
 use bvp_solvers::integrator::Dop853;
-use rand::rngs::StdRng;
-use rand::{Rng, SeedableRng};
 use std::f64::consts::FRAC_PI_2;
 
-/// Contact rows kept per log in the subsample of the multi-start screening.
-const SCREEN_ROWS: usize = 30;
-/// A further start replaces the main fit when it ends below this fraction of its cost.
-const SCREEN_BETTER: f64 = 0.5;
 /// The fit's noise level beyond this multiple of the logs' model-free level is reported.
 const NOISE_CHECK: f64 = 10.0;
 
@@ -64,11 +58,12 @@ pub fn calibrate(
             h_init: Some(0.05),
             ..Dop853::new(settings.tol, settings.tol)
         },
+        log_noise: 0.0,
     };
+    prob.log_noise = logs_noise(&prob);
     let p0 = prob.pack(&base, &flows);
-    let main = fit_rounds(&mut prob, p0.clone(), &pre, settings)?;
-    let (main, screened) = guard(&mut prob, main, &pre, settings)?;
-    summarize(&mut prob, &main, &screened, settings, start)
+    let (fit, costs) = search(&mut prob, &p0, &pre, settings)?;
+    summarize(&mut prob, &fit, &costs, start)
 }
 
 /// Input checks.
@@ -228,6 +223,7 @@ pub(crate) fn fit_rounds(
     };
     let mut p = p0;
     let (mut kinds, mut lost) = prob.judge_all(&p, pre);
+    let mut never: Vec<Vec<bool>> = kinds.iter().map(|k| vec![false; k.len()]).collect();
     let mut out = Rounds {
         p: p.clone(),
         kinds: kinds.clone(),
@@ -254,11 +250,40 @@ pub(crate) fn fit_rounds(
         p = res.p;
         let (judged, l) = prob.judge_all(&p, pre);
         lost = l;
+        // a row that carries most of a direction of the information alone (a fold of the
+        // contact branch, where the linearised whitening fails) is left out for good
+        if let Some(cols) = jacobian(prob, &p, &res.state, &bounds) {
+            let lev = prob.leverages(&cols, &res.state);
+            let mut dropped = false;
+            for (l, ks) in lev.iter().enumerate() {
+                for (k, h) in ks.iter().enumerate() {
+                    if *h > LEVERAGE_MAX && pre.get(l).is_some_and(|p| !p[prob.used[l][k]]) {
+                        never[l][k] = true;
+                        dropped = true;
+                    }
+                }
+            }
+            if dropped && round + 1 < settings.rounds {
+                kinds = without(&judged, &never);
+                continue;
+            }
+        }
+        let judged = without(&judged, &never);
+        // a fit far above the noise (a compromise held by rows decided in the wrong phase):
+        // the next round leaves out the rows that fit worst, which come back at the round
+        // after, decided again at better parameters
+        if round + 2 < settings.rounds {
+            if let Some(trimmed) = trim(prob, &p, &res.state, &judged) {
+                kinds = trimmed;
+                continue;
+            }
+        }
+        // (a row left out as degenerate stays out)
         let stay = judged
             .iter()
             .flatten()
             .zip(res.state.iter().flatten())
-            .all(|(a, b)| same_kind(a, b));
+            .all(|(a, b)| *b == RowKind::Skipped || same_kind(a, b));
         kinds = if stay { res.state } else { judged };
         if stay && (!moved || round > 0) && round > 0 {
             break;
@@ -276,6 +301,67 @@ pub(crate) fn fit_rounds(
     out.kinds = kinds;
     out.lost = lost;
     Ok(out)
+}
+
+/// Contact rows with a leverage beyond this are left out of the fit.
+const LEVERAGE_MAX: f64 = 0.75;
+
+/// `kinds` with the rows marked in `never` skipped.
+fn without(kinds: &Kinds, never: &[Vec<bool>]) -> Kinds {
+    kinds
+        .iter()
+        .zip(never)
+        .map(|(ks, nv)| {
+            ks.iter()
+                .zip(nv)
+                .map(|(k, n)| if *n { RowKind::Skipped } else { *k })
+                .collect()
+        })
+        .collect()
+}
+
+/// The forward-difference Jacobian of the whitened residuals at `p`.
+fn jacobian(
+    prob: &CalibProblem<'_>,
+    p: &[f64],
+    kinds: &Kinds,
+    bounds: &super::fit::Bounds,
+) -> Option<Vec<Vec<f64>>> {
+    let (r, _) = prob.residuals(p, kinds)?;
+    super::fit::jacobian(prob, p, &r, kinds, bounds, 1e-7)
+}
+
+/// Rows whose whitened residual norm exceeds this multiple of the median are left out of
+/// the next round of a fit that fails the residual check.
+const TRIM: f64 = 3.0;
+
+/// For a fit at `p` (kinds `state`) that fails the residual check: `judged` with the contact
+/// rows that fit worst (norm beyond [`TRIM`] times the median) left out; `None` when the fit
+/// passes the check or no row stands out.
+fn trim(prob: &CalibProblem<'_>, p: &[f64], state: &Kinds, judged: &Kinds) -> Option<Kinds> {
+    let norms = prob.row_norms(p, state);
+    let mut all: Vec<f64> = norms.iter().flatten().copied().filter(|v| v.is_finite()).collect();
+    if all.is_empty() {
+        return None;
+    }
+    let n = prob.residual_count(state).saturating_sub(prob.dim()).max(1);
+    let level = (all.iter().map(|v| v * v).sum::<f64>() / n as f64).sqrt();
+    if level <= NOISE_CHECK * prob.log_noise.max(1e-9) {
+        return None;
+    }
+    all.sort_by(f64::total_cmp);
+    let median = all[all.len() / 2];
+    let mut out = judged.clone();
+    let mut trimmed = 0;
+    for (l, ks) in out.iter_mut().enumerate() {
+        for (k, kind) in ks.iter_mut().enumerate() {
+            if matches!(kind, RowKind::A | RowKind::B { .. }) && norms[l][k] > TRIM * median {
+                *kind = RowKind::Skipped;
+                trimmed += 1;
+            }
+        }
+    }
+    (trimmed > 0).then_some(out)
 }
 
 /// The first row the problem cannot evaluate at `p` (for the error).
@@ -306,89 +392,63 @@ fn start_failure(prob: &CalibProblem<'_>, p: &[f64], kinds: &Kinds) -> ReconErro
     }
 }
 
-/// The multi-start guard: further seeded starts fitted on a subsample of the rows; one that
-/// ends clearly below the main fit there is refined on all rows and replaces the main fit if
-/// it is better there too. Returns the fit and, per further start, `(its cost, the main
-/// fit's cost on the subsample, its parameters)`.
-#[allow(clippy::type_complexity)]
-fn guard(
+/// The local fits from the best screened candidates ([`screen`](super::screen)), in the
+/// order of their screening objective, until one passes the residual check (its noise level
+/// within [`NOISE_CHECK`] times the logs' model-free level, no row lost) or
+/// `settings.starts` fits were made; the lowest cost wins. Returns it with the cost of
+/// every fit made.
+fn search(
     prob: &mut CalibProblem<'_>,
-    main: Rounds,
+    p0: &[f64],
     pre: &[Vec<bool>],
     settings: &CalibSettings,
-) -> Result<(Rounds, Vec<(f64, f64, Vec<f64>)>)> {
-    if settings.starts == 0 {
-        return Ok((main, Vec::new()));
-    }
-    let full_used = prob.used.clone();
-    let full_whiteners = prob.whiteners.clone();
-    let mut sub = prob.clone();
-    sub.used = prob
-        .logs
-        .iter()
-        .zip(pre)
-        .map(|(l, p)| subsample(l.rows.len(), p))
-        .collect();
-    let sub_pre: Vec<Vec<bool>> = pre.to_vec();
-    let main_sub = fit_cost_at(&mut sub, &main.p, &sub_pre);
-    let mut rng = StdRng::seed_from_u64(settings.seed);
-    let mut screened = Vec::new();
-    let mut best = main;
-    let nfree = prob.free.len();
-    for _ in 0..settings.starts {
-        let mut p = best.p.clone();
-        for (v, param) in p.iter_mut().zip(&prob.free).take(nfree) {
-            *v = match param {
-                CalibParam::Theta => rng.gen_range(0.1..1.0),
-                CalibParam::A | CalibParam::B => rng.gen_range(-2.0..2.0),
-                CalibParam::K => rng.gen_range(0.0..0.2),
-                CalibParam::Ei => rng.gen_range(-(2f64.ln())..2f64.ln()),
-            };
-        }
-        let Ok(r) = fit_rounds(&mut sub, p, &sub_pre, settings) else {
-            continue;
-        };
-        best.evaluations += r.evaluations;
-        screened.push((r.cost, main_sub, r.p.clone()));
-        if r.cost < SCREEN_BETTER * main_sub {
-            prob.used = full_used.clone();
-            if let Ok(full) = fit_rounds(prob, r.p.clone(), pre, settings) {
-                if full.cost < best.cost {
-                    best = Rounds {
-                        evaluations: best.evaluations + full.evaluations,
-                        ..full
-                    };
-                    continue;
-                }
+) -> Result<(Rounds, Vec<f64>)> {
+    let cands = super::screen::candidates(prob, p0, pre, settings.screen, settings.seed);
+    let log_noise = prob.log_noise;
+    let mut best: Option<Rounds> = None;
+    let mut costs = Vec::new();
+    let mut first_err = None;
+    let mut evaluations = cands.len() * 2 * super::screen::subsample(prob, pre).iter().map(Vec::len).sum::<usize>();
+    for (_, p) in cands.iter().take(settings.starts.max(1)) {
+        let fit = match fit_rounds(prob, p.clone(), pre, settings) {
+            Ok(f) => f,
+            Err(e) => {
+                first_err.get_or_insert(e);
+                continue;
             }
+        };
+        evaluations += fit.evaluations;
+        costs.push(fit.cost);
+        let n = prob.residual_count(&fit.kinds).saturating_sub(prob.dim()).max(1);
+        let level = (2.0 * fit.cost / n as f64).sqrt();
+        let clean = fit.lost == 0 && level <= NOISE_CHECK * log_noise.max(1e-9);
+        if best.as_ref().is_none_or(|b| fit.cost < b.cost) {
+            best = Some(fit);
+        }
+        if clean {
+            break;
         }
     }
+    let mut best = match (best, first_err) {
+        (Some(b), _) => b,
+        (None, Some(e)) => return Err(e),
+        (None, None) => return Err(start_failure(prob, p0, &prob.judge_all(p0, pre).0)),
+    };
+    best.evaluations = evaluations;
     // the problem's whiteners belong to the returned fit
-    prob.used = full_used;
     if !prob.reweight(&best.p, &best.kinds) {
-        prob.whiteners = full_whiteners;
+        return Err(start_failure(prob, &best.p, &best.kinds));
     }
-    Ok((best, screened))
+    Ok((best, costs))
 }
 
-/// Every pre-contact row (at most 5) and about [`SCREEN_ROWS`] contact rows evenly spread.
-fn subsample(n: usize, pre: &[bool]) -> Vec<usize> {
-    let contact: Vec<usize> = (0..n).filter(|&i| !pre[i]).collect();
-    let step = contact.len().div_ceil(SCREEN_ROWS).max(1);
-    let mut out: Vec<usize> = (0..n).filter(|&i| pre[i]).take(5).collect();
-    out.extend(contact.iter().step_by(step));
-    out.sort_unstable();
-    out
-}
-
-/// The cost of `p` on `prob`'s rows, phases judged and whiteners made at `p`.
-fn fit_cost_at(prob: &mut CalibProblem<'_>, p: &[f64], pre: &[Vec<bool>]) -> f64 {
-    let (kinds, _) = prob.judge_all(p, pre);
-    if !prob.reweight(p, &kinds) {
-        return f64::INFINITY;
-    }
-    prob.residuals(p, &kinds)
-        .map_or(f64::INFINITY, |(r, _)| cost(&r))
+/// The largest model-free noise level over the logs.
+fn logs_noise(prob: &CalibProblem<'_>) -> f64 {
+    prob.logs
+        .iter()
+        .zip(&prob.scales)
+        .map(|(l, sc)| smoothness_noise(&l.rows, sc))
+        .fold(0.0, f64::max)
 }
 
 /// The result: the final Jacobian (central differences), its analysis, the estimates, the
@@ -396,8 +456,7 @@ fn fit_cost_at(prob: &mut CalibProblem<'_>, p: &[f64], pre: &[Vec<bool>]) -> f64
 fn summarize(
     prob: &mut CalibProblem<'_>,
     fit: &Rounds,
-    screened: &[(f64, f64, Vec<f64>)],
-    settings: &CalibSettings,
+    costs: &[f64],
     start: &Whisker,
 ) -> Result<Calibration> {
     let n = prob.dim();
@@ -458,12 +517,7 @@ fn summarize(
         .map(|r| r.distance)
         .collect();
     let rms_distance = (contact.iter().map(|d| d * d).sum::<f64>() / contact.len().max(1) as f64).sqrt();
-    let log_noise = prob
-        .logs
-        .iter()
-        .zip(&prob.scales)
-        .map(|(l, sc)| smoothness_noise(&l.rows, sc))
-        .fold(0.0, f64::max);
+    let log_noise = logs_noise(prob);
     let mut cal = Calibration {
         whisker: out_model.whisker(),
         lambda: out_model.lambda,
@@ -478,10 +532,10 @@ fn summarize(
         log_noise,
         iterations: fit.iterations,
         evaluations: fit.evaluations,
-        starts: screened.iter().map(|(a, b, _)| (*a, *b)).collect(),
+        fits: costs.to_vec(),
         warnings: Vec::new(),
     };
-    cal.warnings = warnings(&cal, fit, screened, prob, settings);
+    cal.warnings = warnings(&cal, fit, costs);
     Ok(cal)
 }
 
@@ -634,13 +688,7 @@ fn row_fits(prob: &CalibProblem<'_>, p: &[f64], kinds: &Kinds, s: f64) -> Vec<Ro
 }
 
 /// The checks' findings.
-fn warnings(
-    cal: &Calibration,
-    fit: &Rounds,
-    screened: &[(f64, f64, Vec<f64>)],
-    prob: &CalibProblem<'_>,
-    settings: &CalibSettings,
-) -> Vec<String> {
+fn warnings(cal: &Calibration, fit: &Rounds, costs: &[f64]) -> Vec<String> {
     let mut w = Vec::new();
     if fit.lost > 0 {
         w.push(format!(
@@ -650,40 +698,14 @@ fn warnings(
     }
     if cal.noise_level > NOISE_CHECK * cal.log_noise.max(1e-9) {
         w.push(format!(
-            "the fit's residuals imply a relative noise level {:.2e}, {:.0} times the logs' own ({:.2e}): \
-             a local minimum, a wrong contour or flow, or a whisker the model cannot describe",
+            "the fit's residuals imply a relative noise level {:.2e}, {:.0} times the logs' own \
+             ({:.2e}) after {} local fit(s): a local minimum, a wrong contour or flow, or a \
+             whisker the model cannot describe",
             cal.noise_level,
             cal.noise_level / cal.log_noise.max(1e-9),
-            cal.log_noise
+            cal.log_noise,
+            costs.len()
         ));
-    }
-    let nfree = prob.free.len();
-    for (c, main_c, p) in screened {
-        if *c > 2.0 * main_c + 1e-300 {
-            continue;
-        }
-        // as low as the main fit: does it sit elsewhere (beyond 5 standard errors)?
-        let elsewhere = cal.parameters.iter().take(nfree).enumerate().any(|(i, e)| {
-            let v = match e.param {
-                CalibParam::K => fit.p[i],
-                _ => fit.p[i],
-            };
-            let sd = e.stderr.unwrap_or(f64::INFINITY);
-            let sd = match e.param {
-                CalibParam::K => sd / e.value.unwrap_or(1.0).powi(2),
-                CalibParam::Ei => sd / e.value.unwrap_or(1.0),
-                _ => sd,
-            };
-            e.identifiable && (p[i] - v).abs() > 5.0 * sd.max(1e-9 * (1.0 + v.abs()))
-        });
-        if elsewhere {
-            w.push(format!(
-                "a further start (seed {}) fits as well at other parameters: the logs admit \
-                 more than one whisker; add a log past another object",
-                settings.seed
-            ));
-            break;
-        }
     }
     w
 }

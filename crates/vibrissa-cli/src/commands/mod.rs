@@ -1,5 +1,6 @@
 //! The commands of the binary and the outputs they share.
 
+pub mod calibrate;
 pub mod demo;
 pub mod recon_io;
 pub mod reconstruct;
@@ -27,6 +28,7 @@ pub fn run(command: Command) -> Result<(), CliError> {
         Command::Sweep(args) => sweep::run(&args),
         Command::Reconstruct(args) => reconstruct::run(&args),
         Command::Demo(args) => demo::run(&args),
+        Command::Calibrate(args) => calibrate::run(&args),
     }
 }
 

@@ -324,7 +324,7 @@ Examples:
   vibrissa reconstruct unknown.csv cal/scene.ron --out rec  the calibrated whisker on an unknown object
 
 Each LOG is an observables CSV (x0,Ax,Ay,MA,phi0 at least) or a sweep folder; its known
-contour comes from LOG=PROFILE, else --profile, else the folder's scene.ron. Several logs of
+contour comes from LOG=PROFILE, else --profile, else the folder's scene.ron (else --scene's). Several logs of
 one whisker are fitted jointly, each with its own flow (q, alpha), fitted too. Start values:
 --scene (else the first folder's scene.ron) under the whisker flags; k from the follicle law
 of the rows. Outputs (--out): scene.ron (the calibrated whisker, ready for sweep and

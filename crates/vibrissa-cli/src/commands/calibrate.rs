@@ -208,13 +208,17 @@ fn read_log(
     let prof = match (profile, &args.profile) {
         (Some(p), _) => ProfileArg { spec: p.to_string(), file: None },
         (None, Some(p)) => ProfileArg { spec: p.clone(), file: None },
-        (None, None) => match folder.as_ref().and_then(|f| f.file.profile.clone()) {
-            Some(spec) => ProfileArg { spec, file: folder.clone() },
+        (None, None) => match folder
+            .as_ref()
+            .or(r.file.as_ref())
+            .and_then(|f| f.file.profile.clone().map(|p| (p, f.clone())))
+        {
+            Some((spec, f)) => ProfileArg { spec, file: Some(f) },
             None => {
                 return Err(CliError::Usage {
                     reason: format!(
-                        "log `{arg}`: no known contour: give --profile P, `{arg}=PROFILE`, or a \
-                         sweep folder whose scene.ron names its profile"
+                        "log `{arg}`: no known contour: give --profile P, `{arg}=PROFILE`, a \
+                         sweep folder or a --scene whose scene.ron names its profile"
                     ),
                 })
             }

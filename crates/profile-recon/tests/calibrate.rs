@@ -207,7 +207,7 @@ fn exact_logs_give_the_truth_and_reconstruct_an_unknown_contour() {
 /// errors, over `n` random cases at relative noise `level`.
 fn noisy_battery(n: usize, level: f64, points: usize, seed: u64) -> (usize, usize, usize) {
     let mut rng = StdRng::seed_from_u64(seed);
-    let (mut within, mut total, mut cases) = (0, 0, 0);
+    let (mut within, mut total, mut cases, mut flagged) = (0, 0, 0, 0);
     let mut i = 0;
     while cases < n && i < 10 * n {
         i += 1;
@@ -225,6 +225,7 @@ fn noisy_battery(n: usize, level: f64, points: usize, seed: u64) -> (usize, usiz
             continue;
         };
         cases += 1;
+        flagged += usize::from(!cal.warnings.is_empty());
         for (p, e, sd) in errors(&cal, &case.truth) {
             total += 1;
             if e.abs() <= 3.0 * sd {
@@ -240,6 +241,7 @@ fn noisy_battery(n: usize, level: f64, points: usize, seed: u64) -> (usize, usiz
             }
         }
     }
+    eprintln!("noise {level:e}: {flagged} of {cases} calibrations came with a warning");
     (within, total, cases)
 }
 
@@ -397,3 +399,33 @@ fn bad_requests_are_refused() {
     assert!(e.to_string().contains("row 3"), "{e}");
 }
 
+
+/// The figure of the issue: one calibration of a 200-row log (release: `cargo test --release
+/// -p profile-recon --test calibrate timing -- --ignored --nocapture`).
+#[test]
+#[ignore = "timing: run in release"]
+fn timing_200_rows() {
+    let case = Case {
+        truth: Whisker::new(0.6, 0.5, 0.3, 20.0),
+        flow: FluidLoad { q: 2.0, alpha: 0.2 },
+        profile: ("g2".into(), Profile::g2()),
+    };
+    let log = log_of(&case, 190).unwrap();
+    let rows = log.rows.len();
+    let start = Whisker::new(0.8, 0.3, 0.2, 30.0);
+    for screen in [0, 48] {
+        let t = std::time::Instant::now();
+        let cal = calibrate(&start, &[log.clone()], &CalibSettings { screen, ..Default::default() }).unwrap();
+        eprintln!("screen {screen}: {:?} it {} ev {}", t.elapsed(), cal.iterations, cal.evaluations);
+    }
+    let mut times = Vec::new();
+    for _ in 0..5 {
+        let t = std::time::Instant::now();
+        let cal = calibrate(&start, &[log.clone()], &CalibSettings::default()).unwrap();
+        times.push(t.elapsed().as_secs_f64());
+        assert!(cal.warnings.is_empty() && cal.fits.len() == 1, "{:?}", cal.warnings);
+    }
+    times.sort_by(f64::total_cmp);
+    eprintln!("calibration of a {rows}-row log: median {:.3} s, best {:.3} s", times[2], times[0]);
+    assert!(rows >= 200 && times[2] < 0.5);
+}

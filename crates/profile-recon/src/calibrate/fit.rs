@@ -23,6 +23,8 @@ pub(crate) struct LmSettings {
     pub xtol: f64,
     /// Stop when the Gauss-Newton step would lower the cost by less than `ftol` times it.
     pub ftol: f64,
+    /// Stop when the RMS residual is below this (the residuals' numerical floor).
+    pub floor: f64,
 }
 
 impl Default for LmSettings {
@@ -31,6 +33,7 @@ impl Default for LmSettings {
             max_iter: 100,
             xtol: 1e-13,
             ftol: 1e-12,
+            floor: 0.0,
         }
     }
 }
@@ -219,7 +222,8 @@ pub(crate) fn levenberg_marquardt<P: Problem>(
         // converged: the Gauss-Newton step would lower the cost by a negligible amount
         if let Some(d) = step(1e-10) {
             let pred = -0.5 * dot(&g, &d);
-            if pred <= settings.ftol * c || c == 0.0 {
+            let floor = 0.5 * r.len() as f64 * settings.floor * settings.floor;
+            if pred <= settings.ftol * c || c <= floor {
                 break;
             }
         }

@@ -26,7 +26,7 @@
 //! factor 2) are ranked by a phase-free objective on a subsample of the rows (each row with
 //! its best hypothesis), and the local fits start from the best-ranked ones; (2) the
 //! residual check: a fit is accepted when the noise level it implies
-//! ([`Calibration::noise_level`]) is within 10 times a model-free noise level of the logs
+//! ([`Calibration::noise_level`]) is within 3 times a model-free noise level of the logs
 //! (third differences along x0, [`Calibration::log_noise`]) and no row was lost; otherwise
 //! the next candidate is fitted (up to [`CalibSettings::starts`] local fits), the lowest
 //! cost wins, and a fit that still fails the check is reported in
@@ -157,7 +157,7 @@ impl Default for CalibSettings {
                 CalibParam::B,
                 CalibParam::K,
             ],
-            tol: 1e-12,
+            tol: 1e-10,
             screen: 48,
             starts: 4,
             seed: 19,

@@ -13,6 +13,9 @@ use beam_model::support::K_MIN;
 use beam_model::whisker::{PRECURVATURE_MAX, THETA_MIN};
 use bvp_solvers::integrator::Dop853;
 
+/// See [`CalibProblem::min_force`].
+pub const F_MIN_NOISE: f64 = 10.0;
+
 /// Bounds of the stiffness ratio `lambda` (its logarithm is fitted).
 pub const LAMBDA_RANGE: (f64, f64) = (1e-3, 1e3);
 
@@ -213,7 +216,7 @@ impl<'a> CalibProblem<'a> {
                         if pre[l][i] {
                             return RowKind::Pre;
                         }
-                        if tip_force(&model, flows[l], &rows[i]) < F_MIN_REL * fmax {
+                        if tip_force(&model, flows[l], &rows[i]) < self.min_force() * fmax {
                             return RowKind::Skipped;
                         }
                         match judge(&ctx, &rows[i], &self.scales[l]) {
@@ -288,6 +291,14 @@ impl<'a> CalibProblem<'a> {
                     .collect()
             })
             .collect()
+    }
+
+    /// Contact rows with a force below this fraction of the log's largest are left out:
+    /// [`F_MIN_REL`], or [`F_MIN_NOISE`] times the logs' noise level if that is larger (a
+    /// contact force within a few noise deviations of zero fixes neither the phase nor the
+    /// force's direction, and the linearised whitening fails there).
+    pub fn min_force(&self) -> f64 {
+        F_MIN_REL.max(F_MIN_NOISE * self.log_noise)
     }
 
     /// Number of residuals at `kinds`.

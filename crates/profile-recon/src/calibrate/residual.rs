@@ -495,8 +495,11 @@ pub(crate) fn judge(
     row: &ObservableRow,
     scales: &NoiseScales,
 ) -> Option<RowResult> {
-    hypotheses(ctx, row)
-        .into_iter()
+    let hyps = hypotheses(ctx, row);
+    if hyps.len() <= 1 {
+        return hyps.into_iter().next();
+    }
+    hyps.into_iter()
         .filter_map(|h| {
             let w = whitener(ctx, row, &h, scales)?;
             let z = w.apply(&h.r);

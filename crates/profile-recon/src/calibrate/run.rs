@@ -17,7 +17,7 @@ use bvp_solvers::integrator::Dop853;
 use std::f64::consts::FRAC_PI_2;
 
 /// The fit's noise level beyond this multiple of the logs' model-free level is reported.
-const NOISE_CHECK: f64 = 10.0;
+const NOISE_CHECK: f64 = 3.0;
 
 /// Fits the whisker's parameters `settings.fit` to `logs`, starting from `start` (module
 /// docs of [`calibrate`](super)).
@@ -217,13 +217,17 @@ pub(crate) fn fit_rounds(
     settings: &CalibSettings,
 ) -> Result<Rounds> {
     let bounds = prob.bounds();
+    // whitened residuals are in units of the relative noise level: an integration to
+    // `tol` leaves them at about `tol`
     let lm = LmSettings {
         max_iter: settings.max_iter,
+        floor: settings.tol,
         ..LmSettings::default()
     };
     let mut p = p0;
     let (mut kinds, mut lost) = prob.judge_all(&p, pre);
     let mut never: Vec<Vec<bool>> = kinds.iter().map(|k| vec![false; k.len()]).collect();
+    let mut settled = false;
     let mut out = Rounds {
         p: p.clone(),
         kinds: kinds.clone(),
@@ -237,6 +241,12 @@ pub(crate) fn fit_rounds(
             return Err(start_failure(prob, &p, &kinds));
         }
         prob.skip_degenerate(&mut kinds);
+        // while the phases still change, a few iterations are enough before deciding them
+        // again
+        let lm = LmSettings {
+            max_iter: if settled { lm.max_iter } else { lm.max_iter.min(SETTLING_ITER) },
+            ..lm
+        };
         let Some(res) = levenberg_marquardt(prob, &p, &kinds, &bounds, &lm) else {
             return Err(start_failure(prob, &p, &kinds));
         };
@@ -284,6 +294,7 @@ pub(crate) fn fit_rounds(
             .flatten()
             .zip(res.state.iter().flatten())
             .all(|(a, b)| *b == RowKind::Skipped || same_kind(a, b));
+        settled = stay;
         kinds = if stay { res.state } else { judged };
         if stay && (!moved || round > 0) && round > 0 {
             break;
@@ -302,6 +313,9 @@ pub(crate) fn fit_rounds(
     out.lost = lost;
     Ok(out)
 }
+
+/// Levenberg-Marquardt iterations of a round whose phases were just decided anew.
+const SETTLING_ITER: usize = 12;
 
 /// Contact rows with a leverage beyond this are left out of the fit.
 const LEVERAGE_MAX: f64 = 0.75;

@@ -261,9 +261,22 @@ fn noisy_logs_truth_within_three_standard_errors() {
 fn battery_exact_and_noisy() {
     let mut rng = StdRng::seed_from_u64(19);
     let (mut done, mut failed_sweeps, mut flagged, mut silent) = (0, 0, 0, 0);
+    let mut singular = 0;
     let t = std::time::Instant::now();
     for i in 0..30 {
         let case = random_case(&mut rng, i);
+        // the singular case of each scene: its free rows only (one configuration, seen ten
+        // times) cannot determine theta, A, B
+        if let Some(mut free) = log_of(&case, 20) {
+            free.rows.truncate(10);
+            let start = wrong_start(&case.truth, &mut rng);
+            if let Ok(cal) = calibrate(&start, &[free], &CalibSettings::default()) {
+                singular += 1;
+                for p in &cal.parameters[..3] {
+                    assert!(!p.identifiable, "case {i}: {:?}", cal.parameters);
+                }
+            }
+        }
         match exact_case(&case, 60, &mut rng) {
             Some((_, None)) => done += 1,
             Some((_, Some((what, warned)))) => {
@@ -279,7 +292,8 @@ fn battery_exact_and_noisy() {
     }
     eprintln!(
         "exact: {done} cases calibrated to 1e-7, {flagged} missed with a warning, {silent} \
-         missed silently, {failed_sweeps} sweeps failed or too short ({:?})",
+         missed silently, {failed_sweeps} sweeps failed or too short; {singular} free-rows-only \
+         logs all reported theta, a, b as not identifiable ({:?})",
         t.elapsed()
     );
     // The issue asks for 95 % at both levels; measured: 152/160 = 95.0 % at 1e-4 and

@@ -32,7 +32,7 @@ impl Default for LmSettings {
         LmSettings {
             max_iter: 100,
             xtol: 1e-13,
-            ftol: 1e-12,
+            ftol: 1e-8,
             floor: 0.0,
         }
     }

@@ -134,8 +134,10 @@ pub struct CalibLog {
 pub struct CalibSettings {
     /// The parameters fitted (the others keep the start whisker's values).
     pub fit: Vec<CalibParam>,
-    /// Integrator tolerance of the base integrations.
+    /// Integrator tolerance of the base integrations during the search.
     pub tol: f64,
+    /// Integrator tolerance of the final polish (the fit's last digits).
+    pub polish_tol: f64,
     /// Seeded candidate starts ranked by the screening objective (module docs).
     pub screen: usize,
     /// Local fits at most, from the best-ranked candidates (module docs), at least 1.
@@ -158,6 +160,7 @@ impl Default for CalibSettings {
                 CalibParam::K,
             ],
             tol: 1e-10,
+            polish_tol: 1e-12,
             screen: 48,
             starts: 4,
             seed: 19,

@@ -175,6 +175,28 @@ impl<'a> CalibProblem<'a> {
         true
     }
 
+    /// Marks the rows that cannot be evaluated at `p` (or not whitened there) as skipped;
+    /// returns how many were. For a start far off, where the trial whisker admits no
+    /// solution for some rows: they come back at the next phase decision.
+    pub fn skip_failing(&self, p: &[f64], kinds: &mut Kinds) -> usize {
+        let (model, flows) = self.unpack(p);
+        let mut n = 0;
+        for (l, used) in self.used.iter().enumerate() {
+            let ctx = self.ctx(l, &model, flows[l]);
+            for (k, &i) in used.iter().enumerate() {
+                let row = &self.logs[l].rows[i];
+                let ok = row_residuals(&ctx, row, kinds[l][k])
+                    .and_then(|res| whitener(&ctx, row, &res, &self.scales[l]))
+                    .is_some();
+                if !ok {
+                    kinds[l][k] = RowKind::Skipped;
+                    n += 1;
+                }
+            }
+        }
+        n
+    }
+
     /// Marks the rows whose whiteners are degenerate ([`DEGENERATE`]) as skipped; returns
     /// how many were.
     pub fn skip_degenerate(&self, kinds: &mut Kinds) -> usize {

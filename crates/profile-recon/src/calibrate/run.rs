@@ -103,12 +103,14 @@ fn check(start: &Whisker, logs: &[CalibLog], settings: &CalibSettings) -> Result
         }
         crate::identify::check_known(&log.flow)?;
     }
-    if !(settings.tol.is_finite() && settings.tol > 0.0) {
-        return Err(ReconError::InvalidParameter {
-            name: "tol",
-            value: settings.tol,
-            reason: "the tolerance must be finite and > 0",
-        });
+    for (name, tol) in [("tol", settings.tol), ("polish_tol", settings.polish_tol)] {
+        if !(tol.is_finite() && tol > 0.0) {
+            return Err(ReconError::InvalidParameter {
+                name,
+                value: tol,
+                reason: "the tolerance must be finite and > 0",
+            });
+        }
     }
     Ok(())
 }
@@ -238,7 +240,11 @@ pub(crate) fn fit_rounds(
     };
     for round in 0..settings.rounds.max(1) {
         if !prob.reweight(&p, &kinds) {
-            return Err(start_failure(prob, &p, &kinds));
+            // rows the trial whisker admits no solution for sit this round out
+            prob.skip_failing(&p, &mut kinds);
+            if !prob.reweight(&p, &kinds) {
+                return Err(start_failure(prob, &p, &kinds));
+            }
         }
         prob.skip_degenerate(&mut kinds);
         // while the phases still change, a few iterations are enough before deciding them
@@ -423,7 +429,12 @@ fn search(
     let mut costs = Vec::new();
     let mut first_err = None;
     let mut evaluations = cands.len() * 2 * super::screen::subsample(prob, pre).iter().map(Vec::len).sum::<usize>();
-    for (_, p) in cands.iter().take(settings.starts.max(1)) {
+    let mut tried = 0;
+    for (_, p) in cands.iter().take(3 * settings.starts.max(1)) {
+        if tried == settings.starts.max(1) {
+            break;
+        }
+        // a candidate that cannot be fitted at all does not count
         let fit = match fit_rounds(prob, p.clone(), pre, settings) {
             Ok(f) => f,
             Err(e) => {
@@ -431,6 +442,7 @@ fn search(
                 continue;
             }
         };
+        tried += 1;
         evaluations += fit.evaluations;
         costs.push(fit.cost);
         let n = prob.residual_count(&fit.kinds).saturating_sub(prob.dim()).max(1);
@@ -449,11 +461,42 @@ fn search(
         (None, None) => return Err(start_failure(prob, p0, &prob.judge_all(p0, pre).0)),
     };
     best.evaluations = evaluations;
-    // the problem's whiteners belong to the returned fit
-    if !prob.reweight(&best.p, &best.kinds) {
-        return Err(start_failure(prob, &best.p, &best.kinds));
-    }
+    polish(prob, &mut best, settings)?;
     Ok((best, costs))
+}
+
+/// The final polish: the phases as settled, the integrations at [`CalibSettings::polish_tol`]
+/// (the searches run at the looser [`CalibSettings::tol`]), the whiteners made at the fit,
+/// and Levenberg-Marquardt to convergence; the problem keeps the polished integrator and
+/// whiteners for the result.
+fn polish(prob: &mut CalibProblem<'_>, fit: &mut Rounds, settings: &CalibSettings) -> Result<()> {
+    let tol = settings.polish_tol.min(settings.tol);
+    prob.integrator = Dop853 {
+        h_init: Some(0.05),
+        ..Dop853::new(tol, tol)
+    };
+    if !prob.reweight(&fit.p, &fit.kinds) {
+        return Err(start_failure(prob, &fit.p, &fit.kinds));
+    }
+    let lm = LmSettings {
+        max_iter: settings.max_iter,
+        floor: tol,
+        ..LmSettings::default()
+    };
+    if let Some(res) = levenberg_marquardt(prob, &fit.p, &fit.kinds, &prob.bounds(), &lm) {
+        fit.iterations += res.iterations;
+        fit.evaluations += res.evaluations;
+        fit.p = res.p;
+        fit.kinds = res.state;
+    }
+    if !prob.reweight(&fit.p, &fit.kinds) {
+        return Err(start_failure(prob, &fit.p, &fit.kinds));
+    }
+    let (r, _) = prob
+        .residuals(&fit.p, &fit.kinds)
+        .ok_or_else(|| start_failure(prob, &fit.p, &fit.kinds))?;
+    fit.cost = cost(&r);
+    Ok(())
 }
 
 /// The largest model-free noise level over the logs.

@@ -399,6 +399,36 @@ fn design_predicts_the_fitted_standard_errors() {
 }
 
 #[test]
+fn several_logs_of_one_whisker_are_fitted_jointly_each_with_its_flow() {
+    let truth = Whisker::new(0.5, -0.4, 0.6, 12.0);
+    let cases = [
+        Case {
+            truth,
+            flow: FluidLoad { q: 2.0, alpha: 0.3 },
+            profile: ("g2".into(), Profile::g2()),
+        },
+        Case {
+            truth,
+            flow: FluidLoad { q: 0.8, alpha: -0.2 },
+            profile: ("post".into(), Profile::Circle { xc: -0.3, yc: 1.3, r: 0.5 }),
+        },
+    ];
+    let logs: Vec<CalibLog> = cases.iter().map(|c| log_of(c, 30).unwrap()).collect();
+    let start = Whisker::new(0.7, -0.2, 0.4, 20.0);
+    let cal = calibrate(&start, &logs, &CalibSettings::default()).unwrap();
+    for (p, e, _) in errors(&cal, &truth) {
+        assert!(relative(p, e, &truth) < 1e-7, "{}: {e:e}", p.name());
+    }
+    for (fit, case) in cal.logs.iter().zip(&cases) {
+        assert!((fit.q - case.flow.q).abs() < 1e-8 && (fit.alpha - case.flow.alpha).abs() < 1e-8);
+    }
+    // the joint fit determines the whisker better than either log alone
+    let alone = calibrate(&start, &logs[..1], &CalibSettings::default()).unwrap();
+    let sd = |c: &Calibration| c.parameter(CalibParam::A).unwrap().stderr.unwrap();
+    assert!(sd(&cal) < sd(&alone) * 1.5, "{} vs {}", sd(&cal), sd(&alone));
+}
+
+#[test]
 fn bad_requests_are_refused() {
     let truth = Whisker::new(0.6, 0.5, 0.3, 20.0);
     let case = Case {

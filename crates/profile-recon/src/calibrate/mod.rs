@@ -10,6 +10,7 @@
 //! | [`ident`] | standard errors, correlation and the identifiability verdict from the singular values of the scaled Jacobian |
 //! | [`design`] | advice before any experiment: the standard errors each candidate object would give |
 //! | `screen` | the global search: seeded candidates ranked by a phase-free objective |
+//! | `result` | the result: covariance, estimates, flows, rows, warnings |
 //! | `run` | the calibration itself: start values, rounds of fit and phase decision, multi-start, result |
 //!
 //! **The fit.** Least squares over all rows of all logs of the whitened residuals of
@@ -61,6 +62,7 @@ mod fit;
 pub mod ident;
 mod problem;
 pub mod residual;
+mod result;
 mod run;
 mod screen;
 

@@ -175,6 +175,16 @@ impl<'a> CalibProblem<'a> {
         true
     }
 
+    /// [`CalibProblem::reweight`], with the rows that cannot be evaluated or whitened at `p`
+    /// skipped ([`CalibProblem::skip_failing`]) if it fails at first.
+    pub fn reweight_or_skip(&mut self, p: &[f64], kinds: &mut Kinds) -> bool {
+        if self.reweight(p, kinds) {
+            return true;
+        }
+        self.skip_failing(p, kinds);
+        self.reweight(p, kinds)
+    }
+
     /// Marks the rows that cannot be evaluated at `p` (or not whitened there) as skipped;
     /// returns how many were. For a start far off, where the trial whisker admits no
     /// solution for some rows: they come back at the next phase decision.

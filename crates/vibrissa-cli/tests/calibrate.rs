@@ -42,9 +42,27 @@ const POST: &str = "circle:-0.2,1.3,0.5";
 fn sweep_post(cwd: &Path) {
     let o = run(
         &[
-            "sweep", "--profile", POST, "--theta", "0.6", "--a", "0.5", "--b", "0.3", "--k",
-            "20", "--q", "2", "--alpha-deg", "10", "--points", "40", "--figures", "none",
-            "--out", "post",
+            "sweep",
+            "--profile",
+            POST,
+            "--theta",
+            "0.6",
+            "--a",
+            "0.5",
+            "--b",
+            "0.3",
+            "--k",
+            "20",
+            "--q",
+            "2",
+            "--alpha-deg",
+            "10",
+            "--points",
+            "40",
+            "--figures",
+            "none",
+            "--out",
+            "post",
         ],
         cwd,
     );
@@ -59,8 +77,19 @@ fn sweep_then_calibrate_gives_the_truth_and_a_reusable_scene() {
     // a wrong start (the folder's scene.ron holds the truth: the flags override it)
     let o = run(
         &[
-            "calibrate", "post", "--theta", "0.8", "--a", "0.3", "--b", "0.2", "--k", "30",
-            "--json", "--out", "cal",
+            "calibrate",
+            "post",
+            "--theta",
+            "0.8",
+            "--a",
+            "0.3",
+            "--b",
+            "0.2",
+            "--k",
+            "30",
+            "--json",
+            "--out",
+            "cal",
         ],
         cwd,
     );
@@ -77,7 +106,13 @@ fn sweep_then_calibrate_gives_the_truth_and_a_reusable_scene() {
     assert!((log["alpha_deg"].as_f64().unwrap() - 10.0).abs() < 1e-6);
     assert!(log["rows"].as_u64().unwrap() >= 40);
     assert!(v["rms_residual"].as_f64().unwrap() < 1e-8);
-    for f in ["scene.ron", "residuals.csv", "residuals.units.csv", "contour-1.svg", "residuals.svg"] {
+    for f in [
+        "scene.ron",
+        "residuals.csv",
+        "residuals.units.csv",
+        "contour-1.svg",
+        "residuals.svg",
+    ] {
         assert!(cwd.join("cal").join(f).is_file(), "{f}");
     }
     let res = fs::read_to_string(cwd.join("cal/residuals.csv")).unwrap();
@@ -85,24 +120,60 @@ fn sweep_then_calibrate_gives_the_truth_and_a_reusable_scene() {
     // the calibrated scene reconstructs an unknown object swept with the true whisker
     let o = run(
         &[
-            "sweep", "--profile", "parabola:1.5,-0.2,0.55", "--theta", "0.6", "--a", "0.5",
-            "--b", "0.3", "--k", "20", "--q", "2", "--points", "20", "--figures", "none",
-            "--out", "unknown",
+            "sweep",
+            "--profile",
+            "parabola:1.5,-0.2,0.55",
+            "--theta",
+            "0.6",
+            "--a",
+            "0.5",
+            "--b",
+            "0.3",
+            "--k",
+            "20",
+            "--q",
+            "2",
+            "--points",
+            "20",
+            "--figures",
+            "none",
+            "--out",
+            "unknown",
         ],
         cwd,
     );
     assert!(o.status.success(), "{}", stderr(&o));
     let o = run(
         &[
-            "reconstruct", "unknown/observables.csv", "cal/scene.ron", "--profile",
-            "parabola:1.5,-0.2,0.55", "--json", "--figures", "none", "--out", "rec",
+            "reconstruct",
+            "unknown/observables.csv",
+            "cal/scene.ron",
+            "--profile",
+            "parabola:1.5,-0.2,0.55",
+            "--json",
+            "--figures",
+            "none",
+            "--out",
+            "rec",
         ],
         cwd,
     );
     let r = json(&o);
     assert!(r["max_error"].as_f64().unwrap() < 1e-7, "{r}");
     // and is a scene `sweep` runs
-    let o = run(&["sweep", "cal/scene.ron", "--points", "10", "--figures", "none", "--out", "again"], cwd);
+    let o = run(
+        &[
+            "sweep",
+            "cal/scene.ron",
+            "--points",
+            "10",
+            "--figures",
+            "none",
+            "--out",
+            "again",
+        ],
+        cwd,
+    );
     assert!(o.status.success(), "{}", stderr(&o));
 }
 
@@ -116,7 +187,15 @@ fn a_log_of_the_free_whisker_only_cannot_determine_the_taper() {
     let free: Vec<&str> = text.lines().take(11).collect();
     fs::write(cwd.join("free.csv"), free.join("\n") + "\n").unwrap();
     let o = run(
-        &["calibrate", &format!("free.csv={POST}"), "--theta", "0.8", "--k", "30", "--json"],
+        &[
+            "calibrate",
+            &format!("free.csv={POST}"),
+            "--theta",
+            "0.8",
+            "--k",
+            "30",
+            "--json",
+        ],
         cwd,
     );
     let v = json(&o);
@@ -135,16 +214,31 @@ fn physical_units_fit_the_bending_stiffness() {
     // the beta whisker with E = 1.4 GPa sweeps; the start says 2 GPa
     let truth = "(units: Physical(preset: \"beta\"), whisker: (theta: 0.6, a: 20.0, b: 5.0, k: Some(2e-5)), loads: (q: 0.002), profile: Some(\"circle:-13,86,33\"), sweep: Some((points: 40)))";
     fs::write(cwd.join("truth.ron"), truth).unwrap();
-    let o = run(&["sweep", "truth.ron", "--figures", "none", "--out", "sw"], cwd);
+    let o = run(
+        &["sweep", "truth.ron", "--figures", "none", "--out", "sw"],
+        cwd,
+    );
     assert!(o.status.success(), "{}", stderr(&o));
     let start = truth
-        .replace("preset: \"beta\"", "preset: \"beta\", youngs_modulus_gpa: Some(2.0)")
+        .replace(
+            "preset: \"beta\"",
+            "preset: \"beta\", youngs_modulus_gpa: Some(2.0)",
+        )
         .replace("theta: 0.6", "theta: 0.7");
     fs::write(cwd.join("start.ron"), start).unwrap();
     let o = run(
         &[
-            "calibrate", "sw/observables.csv", "--scene", "start.ron", "--fit",
-            "theta,a,b,k,ei", "--json", "--figures", "none", "--out", "cal",
+            "calibrate",
+            "sw/observables.csv",
+            "--scene",
+            "start.ron",
+            "--fit",
+            "theta,a,b,k,ei",
+            "--json",
+            "--figures",
+            "none",
+            "--out",
+            "cal",
         ],
         cwd,
     );
@@ -154,14 +248,36 @@ fn physical_units_fit_the_bending_stiffness() {
     let ei = 1.4e9 * std::f64::consts::PI * 0.225e-3f64.powi(4) / 64.0;
     let est = p["ei"]["value"].as_f64().unwrap();
     assert!((est / ei - 1.0).abs() < 1e-6, "ei {est} vs {ei}: {v}");
-    assert!((p["k"]["value"].as_f64().unwrap() / 2e-5 - 1.0).abs() < 1e-6, "{v}");
-    assert!((p["a"]["value"].as_f64().unwrap() / 20.0 - 1.0).abs() < 1e-6, "{v}");
-    assert!((v["logs"][0]["q"].as_f64().unwrap() / 0.002 - 1.0).abs() < 1e-6, "{v}");
+    assert!(
+        (p["k"]["value"].as_f64().unwrap() / 2e-5 - 1.0).abs() < 1e-6,
+        "{v}"
+    );
+    assert!(
+        (p["a"]["value"].as_f64().unwrap() / 20.0 - 1.0).abs() < 1e-6,
+        "{v}"
+    );
+    assert!(
+        (v["logs"][0]["q"].as_f64().unwrap() / 0.002 - 1.0).abs() < 1e-6,
+        "{v}"
+    );
     let scene = fs::read_to_string(cwd.join("cal/scene.ron")).unwrap();
-    assert!(scene.contains("youngs_modulus_gpa: Some(1.39999"), "{scene}");
+    assert!(
+        scene.contains("youngs_modulus_gpa: Some(1.39999"),
+        "{scene}"
+    );
     // ei in a dimensionless log is refused
     fs::remove_dir_all(cwd.join("cal")).unwrap();
-    let o = run(&["calibrate", "sw/observables.csv", "--profile", "g1", "--fit", "ei"], cwd);
+    let o = run(
+        &[
+            "calibrate",
+            "sw/observables.csv",
+            "--profile",
+            "g1",
+            "--fit",
+            "ei",
+        ],
+        cwd,
+    );
     assert_fails(&o, 2, &["--fit", "ei", "dimensionless"], cwd);
 }
 
@@ -170,9 +286,22 @@ fn bad_input_names_the_culprit() {
     let dir = tempfile::tempdir().unwrap();
     let cwd = dir.path();
     sweep_post(cwd);
-    let o = run(&["calibrate", "nowhere.csv", "--profile", "g1", "--out", "cal"], cwd);
+    let o = run(
+        &[
+            "calibrate",
+            "nowhere.csv",
+            "--profile",
+            "g1",
+            "--out",
+            "cal",
+        ],
+        cwd,
+    );
     assert_fails(&o, 2, &["nowhere.csv"], cwd);
-    let o = run(&["calibrate", "post", "--fit", "theta,zeta", "--out", "cal"], cwd);
+    let o = run(
+        &["calibrate", "post", "--fit", "theta,zeta", "--out", "cal"],
+        cwd,
+    );
     assert_fails(&o, 2, &["--fit", "zeta"], cwd);
     let o = run(&["calibrate", "post/observables.csv", "--out", "cal"], cwd);
     assert_fails(&o, 2, &["no known contour", "--profile"], cwd);
@@ -185,6 +314,9 @@ fn bad_input_names_the_culprit() {
     cells[1] = "abc";
     lines[5] = cells.join(",");
     fs::write(cwd.join("bad.csv"), lines.join("\n") + "\n").unwrap();
-    let o = run(&["calibrate", &format!("bad.csv={POST}"), "--out", "cal"], cwd);
+    let o = run(
+        &["calibrate", &format!("bad.csv={POST}"), "--out", "cal"],
+        cwd,
+    );
     assert_fails(&o, 2, &["bad.csv:6", "Ax"], cwd);
 }

@@ -116,7 +116,10 @@ fn predict(
     }];
     let model = Model::of(whisker);
     let qf = (flow.q * flow.alpha.cos(), flow.q * flow.alpha.sin());
-    let fmax = rows.iter().map(|r| tip_force(&model, qf, r)).fold(0.0, f64::max);
+    let fmax = rows
+        .iter()
+        .map(|r| tip_force(&model, qf, r))
+        .fold(0.0, f64::max);
     let kinds: Vec<RowKind> = res
         .points
         .iter()

@@ -182,7 +182,12 @@ pub(crate) fn levenberg_marquardt<P: Problem>(
     let mut mu = 1e-3;
     let mut iterations = 0;
     if n == 0 {
-        return Some(LmResult { p, state, iterations, evaluations });
+        return Some(LmResult {
+            p,
+            state,
+            iterations,
+            evaluations,
+        });
     }
     'outer: while iterations < settings.max_iter {
         iterations += 1;
@@ -210,9 +215,9 @@ pub(crate) fn levenberg_marquardt<P: Problem>(
             }
             let mut neg: Vec<f64> = g.iter().map(|v| -v).collect();
             for i in (0..n).filter(|&i| blocked[i]) {
-                for j in 0..n {
-                    a[i][j] = 0.0;
-                    a[j][i] = 0.0;
+                a[i].iter_mut().for_each(|v| *v = 0.0);
+                for row in a.iter_mut() {
+                    row[i] = 0.0;
                 }
                 a[i][i] = 1.0;
                 neg[i] = 0.0;
@@ -237,9 +242,8 @@ pub(crate) fn levenberg_marquardt<P: Problem>(
             };
             let mut trial: Vec<f64> = p.iter().zip(&d).map(|(a, b)| a + b).collect();
             bounds.clamp(&mut trial);
-            let small = (0..n).all(|i| {
-                (trial[i] - p[i]).abs() <= settings.xtol * (p[i].abs() + bounds.scale[i])
-            });
+            let small = (0..n)
+                .all(|i| (trial[i] - p[i]).abs() <= settings.xtol * (p[i].abs() + bounds.scale[i]));
             evaluations += 1;
             match prob.residuals(&trial, &state) {
                 Some((rt, st)) if cost(&rt) < c => {
@@ -296,17 +300,37 @@ mod tests {
 
     #[test]
     fn rosenbrock_minimum() {
-        let r = levenberg_marquardt(&Rosen, &[-1.2, 1.0], &(), &bounds(5.0), &LmSettings::default())
-            .unwrap();
-        assert!((r.p[0] - 1.0).abs() < 1e-9 && (r.p[1] - 1.0).abs() < 1e-9, "{:?}", r.p);
+        let r = levenberg_marquardt(
+            &Rosen,
+            &[-1.2, 1.0],
+            &(),
+            &bounds(5.0),
+            &LmSettings::default(),
+        )
+        .unwrap();
+        assert!(
+            (r.p[0] - 1.0).abs() < 1e-9 && (r.p[1] - 1.0).abs() < 1e-9,
+            "{:?}",
+            r.p
+        );
     }
 
     #[test]
     fn bound_is_respected() {
-        let r = levenberg_marquardt(&Rosen, &[-1.2, 1.0], &(), &bounds(0.5), &LmSettings::default())
-            .unwrap();
+        let r = levenberg_marquardt(
+            &Rosen,
+            &[-1.2, 1.0],
+            &(),
+            &bounds(0.5),
+            &LmSettings::default(),
+        )
+        .unwrap();
         assert!(r.p[0] <= 0.5);
-        assert!((r.p[0] - 0.5).abs() < 1e-6 && (r.p[1] - 0.25).abs() < 1e-6, "{:?}", r.p);
+        assert!(
+            (r.p[0] - 0.5).abs() < 1e-6 && (r.p[1] - 0.25).abs() < 1e-6,
+            "{:?}",
+            r.p
+        );
     }
 
     #[test]

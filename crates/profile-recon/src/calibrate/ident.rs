@@ -218,7 +218,11 @@ mod tests {
     #[test]
     fn svd_of_a_known_matrix() {
         // columns (3, 0, 0), (0, 4, 0) and their sum: singular, rank 2
-        let cols = vec![vec![3.0, 0.0, 0.0], vec![0.0, 4.0, 0.0], vec![3.0, 4.0, 0.0]];
+        let cols = vec![
+            vec![3.0, 0.0, 0.0],
+            vec![0.0, 4.0, 0.0],
+            vec![3.0, 4.0, 0.0],
+        ];
         let (s, v) = svd_cols(&cols);
         assert!(s[2] < 1e-12 * s[0], "{s:?}");
         // the null vector is (1, 1, -1)/sqrt(3) up to sign

@@ -216,7 +216,12 @@ impl Combination {
                 format!("{c:+.6}·{name}")
             })
             .collect();
-        format!("{} = {:.9} ± {:.2e}", terms.join(" "), self.value, self.stderr)
+        format!(
+            "{} = {:.9} ± {:.2e}",
+            terms.join(" "),
+            self.value,
+            self.stderr
+        )
     }
 }
 

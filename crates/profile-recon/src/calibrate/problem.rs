@@ -294,7 +294,11 @@ impl<'a> CalibProblem<'a> {
     pub fn leverages(&self, cols: &[Vec<f64>], kinds: &Kinds) -> Vec<Vec<f64>> {
         let n = cols.len();
         let jtj: Vec<Vec<f64>> = (0..n)
-            .map(|i| (0..n).map(|k| super::fit::dot(&cols[i], &cols[k])).collect())
+            .map(|i| {
+                (0..n)
+                    .map(|k| super::fit::dot(&cols[i], &cols[k]))
+                    .collect()
+            })
             .collect();
         let dmax = (0..n).map(|i| jtj[i][i]).fold(0.0, f64::max);
         let mut reg = jtj.clone();

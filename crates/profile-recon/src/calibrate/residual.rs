@@ -275,8 +275,20 @@ fn track_root(sol: &OdeSolution, guess: f64) -> Option<f64> {
         let left = a.is_finite() && a.signum() != mlo.signum();
         let right = b.is_finite() && b.signum() != mhi.signum();
         let found = match (left, right) {
-            (true, _) => brent(|s| Ok::<_, bvp_solvers::BvpError>(m_at(sol, s)), nlo, lo, &ROOT_OPTS).ok(),
-            (false, true) => brent(|s| Ok::<_, bvp_solvers::BvpError>(m_at(sol, s)), hi, nhi, &ROOT_OPTS).ok(),
+            (true, _) => brent(
+                |s| Ok::<_, bvp_solvers::BvpError>(m_at(sol, s)),
+                nlo,
+                lo,
+                &ROOT_OPTS,
+            )
+            .ok(),
+            (false, true) => brent(
+                |s| Ok::<_, bvp_solvers::BvpError>(m_at(sol, s)),
+                hi,
+                nhi,
+                &ROOT_OPTS,
+            )
+            .ok(),
             _ => None,
         };
         if let Some(r) = found {
@@ -358,6 +370,8 @@ impl Whitener {
 }
 
 /// The [`Whitener`] of `row` at `ctx` (`None` if a perturbed row cannot be evaluated).
+// `j` indexes the observables in the scales, the perturbation and the Jacobian's columns
+#[allow(clippy::needless_range_loop)]
 pub(crate) fn whitener(
     ctx: &RowCtx<'_>,
     row: &ObservableRow,
@@ -404,7 +418,9 @@ pub(crate) fn whitener(
 /// uncorrelated residuals, 0 when one is a combination of the others.
 fn degeneracy(c: &[[f64; RESIDUALS_PER_ROW]; RESIDUALS_PER_ROW]) -> f64 {
     let n = RESIDUALS_PER_ROW;
-    let d: Vec<f64> = (0..n).map(|i| c[i][i].max(f64::MIN_POSITIVE).sqrt()).collect();
+    let d: Vec<f64> = (0..n)
+        .map(|i| c[i][i].max(f64::MIN_POSITIVE).sqrt())
+        .collect();
     let mut r = [[0.0; RESIDUALS_PER_ROW]; RESIDUALS_PER_ROW];
     for i in 0..n {
         for k in 0..n {
@@ -412,16 +428,15 @@ fn degeneracy(c: &[[f64; RESIDUALS_PER_ROW]; RESIDUALS_PER_ROW]) -> f64 {
         }
     }
     match cholesky(&r, 0.0) {
-        Some(w) if w.degeneracy.is_finite() => (0..n).map(|i| w.l[i][i].powi(2)).fold(1.0, f64::min),
+        Some(w) if w.degeneracy.is_finite() => {
+            (0..n).map(|i| w.l[i][i].powi(2)).fold(1.0, f64::min)
+        }
         _ => 0.0,
     }
 }
 
 /// Cholesky factor of `c + ridge I`, with the ridge raised until it succeeds.
-fn cholesky(
-    c: &[[f64; RESIDUALS_PER_ROW]; RESIDUALS_PER_ROW],
-    ridge: f64,
-) -> Option<Whitener> {
+fn cholesky(c: &[[f64; RESIDUALS_PER_ROW]; RESIDUALS_PER_ROW], ridge: f64) -> Option<Whitener> {
     let n = RESIDUALS_PER_ROW;
     let mut ridge = ridge;
     for _ in 0..40 {
@@ -529,10 +544,10 @@ mod tests {
         ];
         let w = cholesky(&c, 0.0).unwrap();
         // L L^T = C
-        for i in 0..4 {
-            for k in 0..4 {
+        for (i, ci) in c.iter().enumerate() {
+            for (k, cik) in ci.iter().enumerate() {
                 let v: f64 = (0..4).map(|j| w.l[i][j] * w.l[k][j]).sum();
-                assert!((v - c[i][k]).abs() < 1e-12);
+                assert!((v - cik).abs() < 1e-12);
             }
         }
         let z = w.apply(&[w.l[0][0], w.l[1][0], w.l[2][0], w.l[3][0]]);

@@ -75,7 +75,8 @@ pub(crate) fn summarize(
         .filter(|r| matches!(r.kind, 'A' | 'B'))
         .map(|r| r.distance)
         .collect();
-    let rms_distance = (contact.iter().map(|d| d * d).sum::<f64>() / contact.len().max(1) as f64).sqrt();
+    let rms_distance =
+        (contact.iter().map(|d| d * d).sum::<f64>() / contact.len().max(1) as f64).sqrt();
     let log_noise = logs_noise(prob);
     let mut cal = Calibration {
         whisker: out_model.whisker(),
@@ -187,7 +188,9 @@ fn log_fits(
                 let gq = [qc / q, qs / q];
                 let ga = [-qs / (q * q), qc / (q * q)];
                 let quad = |g: [f64; 2]| {
-                    (g[0] * g[0] * cov[i][i] + 2.0 * g[0] * g[1] * cov[i][j] + g[1] * g[1] * cov[j][j])
+                    (g[0] * g[0] * cov[i][i]
+                        + 2.0 * g[0] * g[1] * cov[i][j]
+                        + g[1] * g[1] * cov[j][j])
                         .max(0.0)
                         .sqrt()
                 };

@@ -4,9 +4,7 @@
 use super::fit::{cost, levenberg_marquardt, LmSettings, Problem};
 use super::problem::{CalibProblem, Kinds};
 use super::residual::{Model, RowKind};
-use super::{
-    CalibLog, CalibParam, CalibSettings, Calibration,
-};
+use super::{CalibLog, CalibParam, CalibSettings, Calibration};
 use crate::common::{KnownFlow, NoiseScales};
 use crate::error::{ReconError, Result};
 use crate::identify::smoothness_noise;
@@ -131,7 +129,13 @@ fn start_flow(log: &CalibLog, pre: &[bool]) -> (f64, f64) {
     if let Some(f) = fixed_flow(log) {
         return f;
     }
-    let idx: Vec<&ObservableRow> = log.rows.iter().zip(pre).filter(|(_, p)| **p).map(|(r, _)| r).collect();
+    let idx: Vec<&ObservableRow> = log
+        .rows
+        .iter()
+        .zip(pre)
+        .filter(|(_, p)| **p)
+        .map(|(r, _)| r)
+        .collect();
     let alpha = log.flow.alpha.unwrap_or(0.0);
     if idx.is_empty() {
         let q = log.flow.q.unwrap_or(0.0);
@@ -246,7 +250,11 @@ pub(crate) fn fit_rounds(
         // while the phases still change, a few iterations are enough before deciding them
         // again
         let lm = LmSettings {
-            max_iter: if settled { lm.max_iter } else { lm.max_iter.min(SETTLING_ITER) },
+            max_iter: if settled {
+                lm.max_iter
+            } else {
+                lm.max_iter.min(SETTLING_ITER)
+            },
             ..lm
         };
         let Some(res) = levenberg_marquardt(prob, &p, &kinds, &bounds, &lm) else {
@@ -254,11 +262,6 @@ pub(crate) fn fit_rounds(
         };
         out.iterations += res.iterations;
         out.evaluations += res.evaluations;
-        let moved = p
-            .iter()
-            .zip(&res.p)
-            .zip(&bounds.scale)
-            .any(|((a, b), s)| (a - b).abs() > 1e-9 * (a.abs() + s));
         p = res.p;
         let (judged, l) = prob.judge_all(&p, pre);
         lost = l;
@@ -298,7 +301,7 @@ pub(crate) fn fit_rounds(
             .all(|(a, b)| *b == RowKind::Skipped || same_kind(a, b));
         settled = stay;
         kinds = if stay { res.state } else { judged };
-        if stay && (!moved || round > 0) && round > 0 {
+        if stay && round > 0 {
             break;
         }
     }
@@ -356,7 +359,12 @@ const TRIM: f64 = 3.0;
 /// passes the check or no row stands out.
 fn trim(prob: &CalibProblem<'_>, p: &[f64], state: &Kinds, judged: &Kinds) -> Option<Kinds> {
     let norms = prob.row_norms(p, state);
-    let mut all: Vec<f64> = norms.iter().flatten().copied().filter(|v| v.is_finite()).collect();
+    let mut all: Vec<f64> = norms
+        .iter()
+        .flatten()
+        .copied()
+        .filter(|v| v.is_finite())
+        .collect();
     if all.is_empty() {
         return None;
     }
@@ -424,7 +432,12 @@ fn search(
     let mut best: Option<Rounds> = None;
     let mut costs = Vec::new();
     let mut first_err = None;
-    let mut evaluations = cands.len() * 2 * super::screen::subsample(prob, pre).iter().map(Vec::len).sum::<usize>();
+    let mut evaluations = cands.len()
+        * 2
+        * super::screen::subsample(prob, pre)
+            .iter()
+            .map(Vec::len)
+            .sum::<usize>();
     let mut tried = 0;
     for (_, p) in cands.iter().take(3 * settings.starts.max(1)) {
         if tried == settings.starts.max(1) {
@@ -441,7 +454,10 @@ fn search(
         tried += 1;
         evaluations += fit.evaluations;
         costs.push(fit.cost);
-        let n = prob.residual_count(&fit.kinds).saturating_sub(prob.dim()).max(1);
+        let n = prob
+            .residual_count(&fit.kinds)
+            .saturating_sub(prob.dim())
+            .max(1);
         let level = (2.0 * fit.cost / n as f64).sqrt();
         let clean = fit.lost == 0 && level <= NOISE_CHECK * log_noise.max(1e-9);
         if best.as_ref().is_none_or(|b| fit.cost < b.cost) {
@@ -509,4 +525,3 @@ pub(crate) fn logs_noise(prob: &CalibProblem<'_>) -> f64 {
         .map(|(l, sc)| smoothness_noise(&l.rows, sc))
         .fold(0.0, f64::max)
 }
-

@@ -70,8 +70,11 @@ pub(crate) fn subsample(prob: &CalibProblem<'_>, pre: &[Vec<bool>]) -> Vec<Vec<(
             let n = log.rows.len();
             let contact: Vec<usize> = (0..n).filter(|&i| !p[i]).collect();
             let step = contact.len().div_ceil(ROWS).max(1);
-            let mut out: Vec<(usize, bool)> =
-                (0..n).filter(|&i| p[i]).take(1).map(|i| (i, true)).collect();
+            let mut out: Vec<(usize, bool)> = (0..n)
+                .filter(|&i| p[i])
+                .take(1)
+                .map(|i| (i, true))
+                .collect();
             out.extend(contact.iter().step_by(step).map(|&i| (i, false)));
             out
         })

@@ -18,7 +18,9 @@ use crate::commands::{recon_io, scene_unit_notes, write_scene_ron, write_units_o
 use crate::csvio::{read_table, Cell, CsvWriter, Table};
 use crate::error::CliError;
 use crate::plot::{write_svg, Chart, Series, Style};
-use crate::resolve::{parse_count, physical_whisker, resolve_model, LoadedScene, ProfileArg, Resolved};
+use crate::resolve::{
+    parse_count, physical_whisker, resolve_model, LoadedScene, ProfileArg, Resolved,
+};
 use crate::scene_file::{LoadSpec, MethodSpec, SceneFile, Units, WhiskerSpec};
 use crate::units::{Quantity, UnitSystem};
 
@@ -59,10 +61,16 @@ struct LogInput {
 
 /// Runs `vibrissa calibrate`.
 pub fn run(args: &CalibrateArgs) -> Result<(), CliError> {
-    let specs: Vec<(String, PathBuf, Option<String>)> =
-        args.logs.iter().map(|a| split_log_arg(a)).collect::<Result<_, _>>()?;
+    let specs: Vec<(String, PathBuf, Option<String>)> = args
+        .logs
+        .iter()
+        .map(|a| split_log_arg(a))
+        .collect::<Result<_, _>>()?;
     // the whisker's start values and the units: --scene, else the first sweep folder's
-    let first_folder = specs.iter().find(|s| s.1.is_dir()).map(|s| s.1.join(recon_io::SCENE_RON));
+    let first_folder = specs
+        .iter()
+        .find(|s| s.1.is_dir())
+        .map(|s| s.1.join(recon_io::SCENE_RON));
     let scene_path = args.scene.clone().or(first_folder.filter(|p| p.is_file()));
     let file = LoadedScene::load_opt(scene_path.as_deref())?;
     let flags = ModelFlags {
@@ -108,11 +116,17 @@ pub fn run(args: &CalibrateArgs) -> Result<(), CliError> {
         out.commit()?;
     }
     if args.json {
-        println!("{}", json_of(&cal, &inputs, &units, phys.as_ref(), args.out.as_deref()));
+        println!(
+            "{}",
+            json_of(&cal, &inputs, &units, phys.as_ref(), args.out.as_deref())
+        );
     } else {
         print_summary(&cal, &inputs, &units, phys.as_ref());
         if let Some(d) = &args.out {
-            println!("wrote scene.ron, {RESIDUALS_CSV} and figures to {}", d.display());
+            println!(
+                "wrote scene.ron, {RESIDUALS_CSV} and figures to {}",
+                d.display()
+            );
         }
     }
     Ok(())
@@ -166,12 +180,20 @@ fn parse_fit(raw: Option<&str>, units: &UnitSystem) -> Result<Vec<CalibParam>, C
             ));
         }
         if out.contains(&p) {
-            return Err(CliError::invalid_argument("--fit", raw, format!("`{name}` is given twice")));
+            return Err(CliError::invalid_argument(
+                "--fit",
+                raw,
+                format!("`{name}` is given twice"),
+            ));
         }
         out.push(p);
     }
     if out.is_empty() {
-        return Err(CliError::invalid_argument("--fit", raw, "no parameter to fit"));
+        return Err(CliError::invalid_argument(
+            "--fit",
+            raw,
+            "no parameter to fit",
+        ));
     }
     Ok(out)
 }
@@ -206,14 +228,23 @@ fn read_log(
         }
     }
     let prof = match (profile, &args.profile) {
-        (Some(p), _) => ProfileArg { spec: p.to_string(), file: None },
-        (None, Some(p)) => ProfileArg { spec: p.clone(), file: None },
+        (Some(p), _) => ProfileArg {
+            spec: p.to_string(),
+            file: None,
+        },
+        (None, Some(p)) => ProfileArg {
+            spec: p.clone(),
+            file: None,
+        },
         (None, None) => match folder
             .as_ref()
             .or(r.file.as_ref())
             .and_then(|f| f.file.profile.clone().map(|p| (p, f.clone())))
         {
-            Some((spec, f)) => ProfileArg { spec, file: Some(f) },
+            Some((spec, f)) => ProfileArg {
+                spec,
+                file: Some(f),
+            },
             None => {
                 return Err(CliError::Usage {
                     reason: format!(
@@ -464,12 +495,19 @@ fn write_calibrated_scene(
     path: &Path,
 ) -> Result<(), CliError> {
     let w: &Whisker = &cal.whisker;
-    let mut units = r.file.as_ref().map(|f| f.file.units.clone()).unwrap_or_default();
+    let mut units = r
+        .file
+        .as_ref()
+        .map(|f| f.file.units.clone())
+        .unwrap_or_default();
     let (a, b, k, q) = match &r.physical {
         None => (w.a, w.b, w.support.stiffness(), cal.logs[0].q),
         Some(ph) => {
             let l = ph.length;
-            if let Units::Physical { youngs_modulus_gpa, .. } = &mut units {
+            if let Units::Physical {
+                youngs_modulus_gpa, ..
+            } = &mut units
+            {
                 *youngs_modulus_gpa = Some(ph.youngs_modulus * cal.lambda * 1e-9);
             }
             (
@@ -501,7 +539,11 @@ fn write_calibrated_scene(
         format!(
             "Written by vibrissa {} (`calibrate`): the whisker fitted to {}.",
             env!("CARGO_PKG_VERSION"),
-            inputs.iter().map(|i| i.arg.as_str()).collect::<Vec<_>>().join(", ")
+            inputs
+                .iter()
+                .map(|i| i.arg.as_str())
+                .collect::<Vec<_>>()
+                .join(", ")
         ),
         format!(
             "fitted: {}; not identifiable (start values kept): {}",
@@ -538,7 +580,11 @@ fn write_residuals(
     let l = units.scale(Quantity::Length);
     let mut w = CsvWriter::new(&RESIDUALS_HEADER);
     for r in &cal.rows {
-        let x0 = inputs[r.log].x0_given.get(r.row).copied().unwrap_or(f64::NAN);
+        let x0 = inputs[r.log]
+            .x0_given
+            .get(r.row)
+            .copied()
+            .unwrap_or(f64::NAN);
         let kind = match r.kind {
             '-' => "none",
             'A' => "A",
@@ -598,10 +644,19 @@ fn write_figures(
             profile_recon::reconstruct_with(start, &log.rows, flow, &before_settings)
                 .map(|rec| rec.points.iter().map(|p| (p.x * l, p.y * l)).collect())
                 .unwrap_or_default();
-        let xs = after.iter().chain(&before).map(|p| p.0 / l).filter(|v| v.is_finite());
-        let (lo, hi) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(v), b.max(v)));
+        let xs = after
+            .iter()
+            .chain(&before)
+            .map(|p| p.0 / l)
+            .filter(|v| v.is_finite());
+        let (lo, hi) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+            (a.min(v), b.max(v))
+        });
         let mut chart = Chart::new(
-            format!("log {}: the known contour and the reconstructed contact points", i + 1),
+            format!(
+                "log {}: the known contour and the reconstructed contact points",
+                i + 1
+            ),
             units.label("x", Quantity::Length),
             units.label("y", Quantity::Length),
         )
@@ -617,17 +672,28 @@ fn write_figures(
             chart = chart.with(Series::new("known contour", contour, Style::Line).color(7));
         }
         if !before.is_empty() {
-            chart = chart.with(Series::new("before (start whisker)", before, Style::Points).color(1));
+            chart =
+                chart.with(Series::new("before (start whisker)", before, Style::Points).color(1));
         }
         chart = chart.with(Series::new("after calibration", after, Style::Points).color(0));
-        write_svg(&chart, &path_for(&format!("contour-{}.svg", i + 1)), (720, 640))?;
+        write_svg(
+            &chart,
+            &path_for(&format!("contour-{}.svg", i + 1)),
+            (720, 640),
+        )?;
         let res: Vec<(f64, f64)> = cal
             .rows
             .iter()
             .filter(|r| r.log == i && matches!(r.kind, 'A' | 'B'))
-            .map(|r| (input.x0_given.get(r.row).copied().unwrap_or(f64::NAN), r.distance * l))
+            .map(|r| {
+                (
+                    input.x0_given.get(r.row).copied().unwrap_or(f64::NAN),
+                    r.distance * l,
+                )
+            })
             .collect();
-        res_chart = res_chart.with(Series::new(format!("log {}", i + 1), res, Style::LinePoints).color(i));
+        res_chart =
+            res_chart.with(Series::new(format!("log {}", i + 1), res, Style::LinePoints).color(i));
     }
     write_svg(&res_chart, &path_for("residuals.svg"), (900, 480))
 }

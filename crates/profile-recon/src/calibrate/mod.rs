@@ -8,7 +8,7 @@
 //! | `problem` | the parameter vector over all logs and the stacked whitened residuals |
 //! | `fit` | bounded Levenberg-Marquardt with a finite-difference Jacobian |
 //! | [`ident`] | standard errors, correlation and the identifiability verdict from the singular values of the scaled Jacobian |
-//! | [`design`] | advice before any experiment: the standard errors each candidate object would give |
+//! | [`design`](mod@design) | advice before any experiment: the standard errors each candidate object would give |
 //! | `screen` | the global search: seeded candidates ranked by a phase-free objective |
 //! | `result` | the result: covariance, estimates, flows, rows, warnings |
 //! | `run` | the calibration itself: start values, rounds of fit and phase decision, multi-start, result |

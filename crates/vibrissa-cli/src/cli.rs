@@ -322,6 +322,7 @@ Examples:
   vibrissa calibrate run1/observables.csv --profile circle:0,1.4,0.5 --theta 0.7 --k 20 --out cal
   vibrissa calibrate post.csv=circle:0,1.4,0.5 bar.csv=parabola:2,0,0.5 --scene beta.ron --fit theta,a,b,k,ei --out cal
   vibrissa reconstruct unknown.csv cal/scene.ron --out rec  the calibrated whisker on an unknown object
+  vibrissa calibrate --advise circle:0,1.4,0.5 --advise g2 --theta 0.7 --k 20 --q 2   which object to sweep past
 
 Each LOG is an observables CSV (x0,Ax,Ay,MA,phi0 at least) or a sweep folder; its known
 contour comes from LOG=PROFILE, else --profile, else the folder's scene.ron (else --scene's). Several logs of
@@ -338,7 +339,7 @@ value null), with the combination they do determine.";
 pub struct CalibrateArgs {
     /// Logs: observables CSVs or sweep folders, each optionally with its contour as
     /// LOG=PROFILE.
-    #[arg(value_name = "LOG[=PROFILE]", required = true, num_args = 1..)]
+    #[arg(value_name = "LOG[=PROFILE]", required_unless_present = "advise", num_args = 1..)]
     pub logs: Vec<String>,
     /// A RON scene file with the whisker's start values and the units (default: the first
     /// sweep folder's scene.ron).
@@ -358,6 +359,21 @@ pub struct CalibrateArgs {
     /// local minima) [default: 4]
     #[arg(long, value_name = "N")]
     pub starts: Option<String>,
+    /// Advice before any experiment, instead of a calibration: for each candidate object P
+    /// (repeat the flag), the standard errors a sweep past it would give the parameters of
+    /// --fit, for the start whisker under the flow (--q, --alpha-deg or the scene's) at the
+    /// sensor's noise level (--noise).
+    #[arg(long, value_name = "P")]
+    pub advise: Vec<String>,
+    /// With --advise: the flow of the planned sweeps [default: the scene's, else 0]
+    #[command(flatten)]
+    pub fluid: FluidFlags,
+    /// With --advise: the sensor's relative noise level [default: 1e-4]
+    #[arg(long, value_name = "L", allow_hyphen_values = true)]
+    pub noise: Option<String>,
+    /// With --advise: contact rows of each planned sweep [default: 100]
+    #[arg(long, value_name = "N", allow_hyphen_values = true)]
+    pub points: Option<String>,
     /// Print one JSON object on stdout instead of a human summary.
     #[arg(long)]
     pub json: bool,

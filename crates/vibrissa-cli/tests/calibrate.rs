@@ -320,3 +320,53 @@ fn bad_input_names_the_culprit() {
     );
     assert_fails(&o, 2, &["bad.csv:6", "Ax"], cwd);
 }
+
+#[test]
+fn advice_ranks_candidate_objects_before_any_experiment() {
+    let dir = tempfile::tempdir().unwrap();
+    let cwd = dir.path();
+    let o = run(
+        &[
+            "calibrate",
+            "--advise",
+            POST,
+            "--advise",
+            "g2",
+            "--advise",
+            "circle:9,9,0.1",
+            "--theta",
+            "0.6",
+            "--a",
+            "0.5",
+            "--b",
+            "0.3",
+            "--k",
+            "20",
+            "--q",
+            "2",
+            "--points",
+            "30",
+            "--json",
+        ],
+        cwd,
+    );
+    let v = json(&o);
+    let advice = v["advice"].as_array().unwrap();
+    assert_eq!(advice.len(), 3);
+    for a in &advice[..2] {
+        for name in ["theta", "a", "b", "k"] {
+            let sd = a["parameters"][name]["stderr"].as_f64().unwrap();
+            assert!(sd > 0.0 && sd < 1.0, "{a}");
+        }
+    }
+    // a post the whisker never reaches gets no advice, said so
+    assert!(
+        advice[2]["error"]
+            .as_str()
+            .unwrap()
+            .contains("never touches"),
+        "{v}"
+    );
+    let o = run(&["calibrate", "x.csv", "--advise", "g2"], cwd);
+    assert_fails(&o, 2, &["--advise"], cwd);
+}

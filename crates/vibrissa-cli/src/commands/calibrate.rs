@@ -61,6 +61,9 @@ struct LogInput {
 
 /// Runs `vibrissa calibrate`.
 pub fn run(args: &CalibrateArgs) -> Result<(), CliError> {
+    if !args.advise.is_empty() {
+        return crate::commands::calibrate_advice::run(args);
+    }
     let specs: Vec<(String, PathBuf, Option<String>)> = args
         .logs
         .iter()
@@ -158,7 +161,10 @@ fn split_log_arg(arg: &str) -> Result<(String, PathBuf, Option<String>), CliErro
 }
 
 /// Parses `--fit` (default `theta,a,b,k`; `ei` only in physical units).
-fn parse_fit(raw: Option<&str>, units: &UnitSystem) -> Result<Vec<CalibParam>, CliError> {
+pub(crate) fn parse_fit(
+    raw: Option<&str>,
+    units: &UnitSystem,
+) -> Result<Vec<CalibParam>, CliError> {
     let Some(raw) = raw else {
         return Ok(CalibSettings::default().fit);
     };
@@ -325,7 +331,7 @@ fn culprit(err: ReconError, inputs: &[LogInput]) -> CliError {
 
 /// A fitted parameter in the scene's units: `(value, stderr)` (None when not identifiable).
 /// Physical: a in 1/m², b in 1/m, k in N m/rad, ei in N m² (k scaled with the fitted E I).
-fn in_units(
+pub(crate) fn in_units(
     p: &ParamEstimate,
     lambda: f64,
     phys: Option<&PhysicalWhisker>,
@@ -345,7 +351,7 @@ fn in_units(
 }
 
 /// The unit of a parameter in the scene's units.
-fn unit_of(p: CalibParam, physical: bool) -> &'static str {
+pub(crate) fn unit_of(p: CalibParam, physical: bool) -> &'static str {
     match (p, physical) {
         (_, false) | (CalibParam::Theta, _) => "1",
         (CalibParam::A, true) => "1/m²",
@@ -356,7 +362,7 @@ fn unit_of(p: CalibParam, physical: bool) -> &'static str {
 }
 
 /// A number for JSON (null for NaN and infinities).
-fn num(v: f64) -> serde_json::Value {
+pub(crate) fn num(v: f64) -> serde_json::Value {
     if v.is_finite() {
         serde_json::json!(v)
     } else {
@@ -382,8 +388,17 @@ fn json_of(
             "unit": unit_of(p.param, phys.is_some()),
         });
         if p.param == CalibParam::K {
-            // a rigid fit: k = inf is written as null, with rigid = true
+            // a rigid fit: k = inf is written as null, with rigid = true; the compliance 1/k
+            // (what is fitted) is finite either way
             o["rigid"] = serde_json::json!(p.value.is_some_and(f64::is_infinite));
+            if let (Some(k), Some(sd)) = (v, sd) {
+                o["compliance"] = num(1.0 / k);
+                o["compliance_stderr"] = num(if k.is_finite() {
+                    sd / (k * k)
+                } else {
+                    f64::NAN
+                });
+            }
         }
         params.insert(p.param.name().to_string(), o);
     }

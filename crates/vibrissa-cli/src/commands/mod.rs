@@ -1,6 +1,7 @@
 //! The commands of the binary and the outputs they share.
 
 pub mod calibrate;
+pub mod calibrate_advice;
 pub mod demo;
 pub mod recon_io;
 pub mod reconstruct;

@@ -365,7 +365,9 @@ pub struct CalibrateArgs {
     /// sensor's noise level (--noise).
     #[arg(long, value_name = "P")]
     pub advise: Vec<String>,
-    /// With --advise: the flow of the planned sweeps [default: the scene's, else 0]
+    /// The flow: with both --q and --alpha-deg it is known and held fixed for every log
+    /// (else fitted per log, --q alone as its start); with --advise, the flow of the planned
+    /// sweeps [default: fitted; with --advise the scene's, else 0]
     #[command(flatten)]
     pub fluid: FluidFlags,
     /// With --advise: the sensor's relative noise level [default: 1e-4]

@@ -115,6 +115,27 @@ fn sweep_then_calibrate_gives_the_truth_and_a_reusable_scene() {
     ] {
         assert!(cwd.join("cal").join(f).is_file(), "{f}");
     }
+    // the flow known and held fixed
+    let o = run(
+        &[
+            "calibrate",
+            "post",
+            "--theta",
+            "0.8",
+            "--k",
+            "30",
+            "--q",
+            "2",
+            "--alpha-deg",
+            "10",
+            "--json",
+        ],
+        cwd,
+    );
+    let fixed = json(&o);
+    assert_eq!(fixed["logs"][0]["q"].as_f64().unwrap(), 2.0);
+    assert_eq!(fixed["logs"][0]["q_stderr"].as_f64().unwrap(), 0.0);
+    assert!((fixed["parameters"]["theta"]["value"].as_f64().unwrap() - 0.6).abs() < 1e-7);
     let res = fs::read_to_string(cwd.join("cal/residuals.csv")).unwrap();
     assert!(res.starts_with("log,row,x0,kind,s1,x,y,distance,sigma,chi\n"));
     // the calibrated scene reconstructs an unknown object swept with the true whisker

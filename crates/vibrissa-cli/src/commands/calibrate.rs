@@ -78,11 +78,30 @@ pub fn run(args: &CalibrateArgs) -> Result<(), CliError> {
     let file = LoadedScene::load_opt(scene_path.as_deref())?;
     let flags = ModelFlags {
         whisker: args.whisker.clone(),
+        fluid: args.fluid.clone(),
         ..ModelFlags::default()
     };
     let r = resolve_model(&flags, file)?;
+    // --q and --alpha-deg given: the flow of every log is known and held fixed; --q alone
+    // starts the fit (the scene's loads are not taken as known)
+    let known = KnownFlow {
+        q: args.fluid.q.as_ref().map(|_| r.scene.loads.fluid.q),
+        alpha: args
+            .fluid
+            .alpha_deg
+            .as_ref()
+            .map(|_| r.scene.loads.fluid.alpha),
+    };
     let units = r.units();
     let fit = parse_fit(args.fit.as_deref(), &units)?;
+    if known.q.is_some() && known.alpha.is_some() && fit.contains(&CalibParam::Ei) {
+        return Err(CliError::invalid_argument(
+            "--q",
+            args.fluid.q.clone().unwrap_or_default(),
+            "a flow held fixed cannot be combined with fitting ei (the flow is in units of the \
+             stiffness being fitted): leave out --q/--alpha-deg to fit the flow too",
+        ));
+    }
     let mut settings = CalibSettings {
         fit,
         ..CalibSettings::default()
@@ -104,7 +123,7 @@ pub fn run(args: &CalibrateArgs) -> Result<(), CliError> {
             Ok(CalibLog {
                 rows: rows_of(&l.table)?,
                 profile: l.profile.1.clone(),
-                flow: KnownFlow::default(),
+                flow: known,
             })
         })
         .collect::<Result<_, CliError>>()?;

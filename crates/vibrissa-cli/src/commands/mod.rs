@@ -2,6 +2,7 @@
 
 pub mod calibrate;
 pub mod calibrate_advice;
+pub mod calibrate_out;
 pub mod demo;
 pub mod recon_io;
 pub mod reconstruct;

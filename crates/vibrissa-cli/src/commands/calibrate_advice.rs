@@ -1,5 +1,5 @@
 //! `vibrissa calibrate --advise P...`: which object to calibrate on, before any experiment
-//! (profile-recon's [`design`](profile_recon::calibrate::design)): the standard errors a
+//! (profile-recon's [`design()`](profile_recon::calibrate::design())): the standard errors a
 //! sweep of the start whisker past each candidate would give.
 
 use profile_recon::calibrate::{design, DesignSettings};

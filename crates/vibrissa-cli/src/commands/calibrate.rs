@@ -66,6 +66,8 @@ pub fn run(args: &CalibrateArgs) -> Result<(), CliError> {
     };
     let r = resolve_model(&flags, file)?;
     let units = r.units();
+    // the request is checked before any log is read
+    parse_fit(args.fit.as_deref(), &units)?;
     let inputs: Vec<LogInput> = specs
         .iter()
         .map(|(arg, path, profile)| read_log(arg, path, profile.as_deref(), args, &r))

@@ -355,7 +355,7 @@ pub struct CalibrateArgs {
     /// stiffness E·Ib, in physical units only) [default: theta,a,b,k]
     #[arg(long, value_name = "LIST")]
     pub fit: Option<String>,
-    /// Local fits at most, from the best of 48 seeded candidate starts (the guard against
+    /// Local fits at most, from the best of 96 seeded candidate starts (the guard against
     /// local minima) [default: 4]
     #[arg(long, value_name = "N")]
     pub starts: Option<String>,

@@ -154,7 +154,7 @@ fn predict(
     }
     prob.skip_degenerate(&mut kinds);
     let cols = jacobian_central(&prob, &p, &kinds, &prob.bounds(), 1e-5).ok_or_else(fail)?;
-    let info = analyse(&cols);
+    let info = analyse(&cols, &prob.bounds().scale);
     let mut worst: f64 = 0.0;
     let parameters = prob
         .free

@@ -7,16 +7,18 @@
 //!   the Fisher information `J^T J`: the residuals do not change along it;
 //! - a parameter with a component `|v_k,i| > NULL_COMPONENT` in a null direction is not
 //!   identifiable; the combinations of those parameters orthogonal to the null directions
-//!   are what the logs determine;
+//!   are what the logs determine; a column whose effect (norm times the parameter's typical
+//!   size) is below [`TINY_COLUMN`] of the largest counts as zero;
 //! - the covariance is `s^2 S^-1 V Sigma^-2 V^T S^-1` over the non-null directions (the
 //!   pseudo-inverse of the Fisher information), `s^2` the residual variance.
 
 use super::fit::dot;
 
-/// Relative singular value below which a direction is taken as null (the finite-difference
-/// Jacobian is accurate to ~1e-8 relatively; an identifiable but weak direction at 1e-6
-/// would have standard errors 1e6 times the noise).
-pub const NULL_RATIO: f64 = 1e-6;
+/// Relative singular value below which a direction is taken as null: the central-difference
+/// Jacobian of integrations at 1e-12 leaves exactly singular directions at 1e-9..1.3e-6
+/// (measured on free-whisker logs, where three columns are parallel); an identifiable but
+/// weak direction at 1e-5 would have standard errors 1e5 times the noise level.
+pub const NULL_RATIO: f64 = 1e-5;
 /// Component of a null direction beyond which a parameter takes part in it.
 pub const NULL_COMPONENT: f64 = 0.01;
 
@@ -89,10 +91,23 @@ pub struct Information {
     pub determined: Vec<Vec<f64>>,
 }
 
-/// Analyses the Jacobian `cols` (column-major, one column per parameter).
-pub fn analyse(cols: &[Vec<f64>]) -> Information {
+/// Columns whose norm times the parameter's typical size is below this fraction of the
+/// largest are taken as zero: the parameter has no effect beyond the finite differences'
+/// noise (normalised, such a column would be noise of unit norm and pass for information).
+pub const TINY_COLUMN: f64 = 1e-7;
+
+/// Analyses the Jacobian `cols` (column-major, one column per parameter; `scale` the
+/// parameters' typical sizes).
+pub fn analyse(cols: &[Vec<f64>], scale: &[f64]) -> Information {
     let n = cols.len();
-    let norms: Vec<f64> = cols.iter().map(|c| dot(c, c).sqrt()).collect();
+    let raw: Vec<f64> = cols.iter().map(|c| dot(c, c).sqrt()).collect();
+    let effect: Vec<f64> = raw.iter().zip(scale).map(|(r, s)| r * s).collect();
+    let top = effect.iter().copied().fold(0.0, f64::max);
+    let norms: Vec<f64> = raw
+        .iter()
+        .zip(&effect)
+        .map(|(&r, &e)| if e > TINY_COLUMN * top { r } else { 0.0 })
+        .collect();
     let scaled: Vec<Vec<f64>> = cols
         .iter()
         .zip(&norms)
@@ -100,7 +115,7 @@ pub fn analyse(cols: &[Vec<f64>]) -> Information {
             if s > 0.0 {
                 c.iter().map(|v| v / s).collect()
             } else {
-                c.clone()
+                vec![0.0; c.len()]
             }
         })
         .collect();
@@ -238,7 +253,7 @@ mod tests {
         let c0: Vec<f64> = (0..m).map(|i| 1.0 + i as f64).collect();
         let c1: Vec<f64> = c0.iter().map(|v| 2.0 * v).collect();
         let c2: Vec<f64> = (0..m).map(|i| ((i * i) % 7) as f64 - 3.0).collect();
-        let info = analyse(&[c0, c1, c2]);
+        let info = analyse(&[c0, c1, c2], &[1.0; 3]);
         assert_eq!(info.identifiable, vec![false, false, true]);
         assert_eq!(info.determined.len(), 1);
         let d = &info.determined[0];
@@ -251,7 +266,7 @@ mod tests {
     #[test]
     fn full_rank_is_identifiable_with_the_classic_covariance() {
         let cols = vec![vec![1.0, 1.0, 1.0], vec![0.0, 1.0, 2.0]];
-        let info = analyse(&cols);
+        let info = analyse(&cols, &[1.0; 2]);
         assert_eq!(info.identifiable, vec![true, true]);
         // (X^T X)^-1 for the straight-line fit: [[5/6, -1/2], [-1/2, 1/2]]
         assert!((info.covariance[0][0] - 5.0 / 6.0).abs() < 1e-12);

@@ -163,7 +163,7 @@ impl Default for CalibSettings {
             ],
             tol: 1e-10,
             polish_tol: 1e-12,
-            screen: 48,
+            screen: 96,
             starts: 4,
             seed: 19,
             max_iter: 60,

@@ -30,7 +30,7 @@ pub(crate) fn summarize(
     let bounds = prob.bounds();
     let cols = jacobian_central(prob, &fit.p, &fit.kinds, &bounds, 1e-5)
         .ok_or_else(|| start_failure(prob, &fit.p, &fit.kinds))?;
-    let info = analyse(&cols);
+    let info = analyse(&cols, &prob.bounds().scale);
     let s = (2.0 * fit.cost / (nres - n) as f64).sqrt();
     let cov: Vec<Vec<f64>> = info
         .covariance

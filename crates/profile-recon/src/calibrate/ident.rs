@@ -7,8 +7,7 @@
 //!   the Fisher information `J^T J`: the residuals do not change along it;
 //! - a parameter with a component `|v_k,i| > NULL_COMPONENT` in a null direction is not
 //!   identifiable; the combinations of those parameters orthogonal to the null directions
-//!   are what the logs determine; a column whose effect (norm times the parameter's typical
-//!   size) is below [`TINY_COLUMN`] of the largest counts as zero;
+//!   are what the logs determine;
 //! - the covariance is `s^2 S^-1 V Sigma^-2 V^T S^-1` over the non-null directions (the
 //!   pseudo-inverse of the Fisher information), `s^2` the residual variance.
 
@@ -91,23 +90,12 @@ pub struct Information {
     pub determined: Vec<Vec<f64>>,
 }
 
-/// Columns whose norm times the parameter's typical size is below this fraction of the
-/// largest are taken as zero: the parameter has no effect beyond the finite differences'
-/// noise (normalised, such a column would be noise of unit norm and pass for information).
-pub const TINY_COLUMN: f64 = 1e-7;
-
 /// Analyses the Jacobian `cols` (column-major, one column per parameter; `scale` the
-/// parameters' typical sizes).
+/// parameters' typical sizes, kept for the callers' symmetry: the verdict is scale-free).
 pub fn analyse(cols: &[Vec<f64>], scale: &[f64]) -> Information {
     let n = cols.len();
-    let raw: Vec<f64> = cols.iter().map(|c| dot(c, c).sqrt()).collect();
-    let effect: Vec<f64> = raw.iter().zip(scale).map(|(r, s)| r * s).collect();
-    let top = effect.iter().copied().fold(0.0, f64::max);
-    let norms: Vec<f64> = raw
-        .iter()
-        .zip(&effect)
-        .map(|(&r, &e)| if e > TINY_COLUMN * top { r } else { 0.0 })
-        .collect();
+    debug_assert_eq!(scale.len(), n);
+    let norms: Vec<f64> = cols.iter().map(|c| dot(c, c).sqrt()).collect();
     let scaled: Vec<Vec<f64>> = cols
         .iter()
         .zip(&norms)

@@ -391,3 +391,75 @@ fn advice_ranks_candidate_objects_before_any_experiment() {
     let o = run(&["calibrate", "x.csv", "--advise", "g2"], cwd);
     assert_fails(&o, 2, &["--advise"], cwd);
 }
+
+#[test]
+fn two_logs_of_one_whisker_past_two_objects() {
+    let dir = tempfile::tempdir().unwrap();
+    let cwd = dir.path();
+    sweep_post(cwd);
+    let o = run(
+        &[
+            "sweep",
+            "--profile",
+            "g2",
+            "--theta",
+            "0.6",
+            "--a",
+            "0.5",
+            "--b",
+            "0.3",
+            "--k",
+            "20",
+            "--q",
+            "1",
+            "--alpha-deg",
+            "-20",
+            "--points",
+            "30",
+            "--figures",
+            "none",
+            "--out",
+            "bar",
+        ],
+        cwd,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    // a sweep folder and a bare CSV with its own contour, fitted jointly
+    let o = run(
+        &[
+            "calibrate",
+            "post",
+            "bar/observables.csv=g2",
+            "--theta",
+            "0.8",
+            "--a",
+            "0.3",
+            "--b",
+            "0.2",
+            "--k",
+            "30",
+            "--json",
+            "--figures",
+            "none",
+            "--out",
+            "cal",
+        ],
+        cwd,
+    );
+    let v = json(&o);
+    for (name, truth) in [("theta", 0.6), ("a", 0.5), ("b", 0.3), ("k", 20.0)] {
+        let est = v["parameters"][name]["value"].as_f64().unwrap();
+        assert!((est - truth).abs() < 1e-7 * truth.max(1.0), "{name}: {est}");
+    }
+    let logs = v["logs"].as_array().unwrap();
+    assert_eq!(logs.len(), 2);
+    assert!((logs[0]["alpha_deg"].as_f64().unwrap() - 10.0).abs() < 1e-6);
+    assert!((logs[1]["q"].as_f64().unwrap() - 1.0).abs() < 1e-8);
+    assert!((logs[1]["alpha_deg"].as_f64().unwrap() + 20.0).abs() < 1e-6);
+    assert_eq!(logs[1]["profile"], "g2");
+    let res = fs::read_to_string(cwd.join("cal/residuals.csv")).unwrap();
+    assert!(
+        res.lines().any(|l| l.starts_with("2,")),
+        "rows of the second log"
+    );
+}

@@ -67,6 +67,34 @@ pub enum ReconError {
         /// What is admissible.
         reason: &'static str,
     },
+    /// A calibration asked for the same parameter twice, or for none.
+    #[error("calibration: {reason} (asked for {requested} parameter(s))")]
+    CalibrationRequest {
+        /// What is wrong with the request.
+        reason: &'static str,
+        /// Parameters asked for.
+        requested: usize,
+    },
+    /// The start whisker admits no solution for a row of a calibration log.
+    #[error("calibration log {log}, row {row} (x0 = {x0}): the start whisker admits no solution for this row (its integration from the base stops short); start closer to the truth")]
+    CalibrationStart {
+        /// 0-based index of the log.
+        log: usize,
+        /// 0-based index of the row (the crate's row convention).
+        row: usize,
+        /// Its base position.
+        x0: f64,
+    },
+    /// Too few residuals for the parameters of a calibration.
+    #[error("calibration: {residuals} residuals from {rows} usable rows cannot determine {parameters} parameters (whisker and flows)")]
+    CalibrationUnderdetermined {
+        /// Residuals available.
+        residuals: usize,
+        /// Rows in use.
+        rows: usize,
+        /// Parameters to fit.
+        parameters: usize,
+    },
 }
 
 /// Result alias of this crate.

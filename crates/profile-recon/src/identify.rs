@@ -157,7 +157,7 @@ fn is_pre_contact(e: &RowEval, level: f64) -> bool {
 /// column scale, the largest over the columns. The smooth part of a log adds `O(h^3)`, so
 /// this is an upper reference, not an estimate for exact logs; infinite with fewer than 4
 /// distinct `x0`.
-fn smoothness_noise(rows: &[ObservableRow], scales: &NoiseScales) -> f64 {
+pub(crate) fn smoothness_noise(rows: &[ObservableRow], scales: &NoiseScales) -> f64 {
     let mut order: Vec<usize> = (0..rows.len()).collect();
     order.sort_by(|&a, &b| rows[a].x0.total_cmp(&rows[b].x0));
     order.dedup_by(|a, b| (rows[*a].x0 - rows[*b].x0).abs() <= 1e-12 * (1.0 + rows[*b].x0.abs()));

@@ -13,6 +13,7 @@
 //! | [`reconstruct`](mod@reconstruct) | identification then one point per contact row with either method |
 //! | [`stream`] | rows one at a time, each point as soon as it is known |
 //! | [`noise`] | seeded sensor noise and the error-against-noise study |
+//! | [`calibrate`](mod@calibrate) | the whisker's own parameters from sweeps past known contours; design advice |
 //!
 //! ```
 //! use beam_model::Whisker;
@@ -29,6 +30,7 @@
 //! ```
 
 pub mod accurate;
+pub mod calibrate;
 pub mod common;
 pub mod error;
 pub mod identify;

@@ -114,6 +114,9 @@ pub enum Command {
     /// Run the whole chain on a built-in scene and write its figures and CSVs.
     #[command(after_help = DEMO_EXAMPLES)]
     Demo(DemoArgs),
+    /// Fit the whisker's own parameters to logs of sweeps past known contours.
+    #[command(after_help = CALIBRATE_EXAMPLES)]
+    Calibrate(CalibrateArgs),
 }
 
 /// Tip-force kind.
@@ -329,4 +332,72 @@ pub struct DemoArgs {
     /// Contact rows of the demo sweep (event rows are added, as for `sweep --points`).
     #[arg(long, value_name = "N", default_value_t = 120)]
     pub points: usize,
+}
+
+const CALIBRATE_EXAMPLES: &str = "\
+Examples:
+  vibrissa calibrate out/post --json                       a sweep folder: contour and start from its scene.ron
+  vibrissa calibrate run1/observables.csv --profile circle:0,1.4,0.5 --theta 0.7 --k 20 --out cal
+  vibrissa calibrate post.csv=circle:0,1.4,0.5 bar.csv=parabola:2,0,0.5 --scene beta.ron --fit theta,a,b,k,ei --out cal
+  vibrissa reconstruct unknown.csv cal/scene.ron --out rec  the calibrated whisker on an unknown object
+  vibrissa calibrate --advise circle:0,1.4,0.5 --advise g2 --theta 0.7 --k 20 --q 2   which object to sweep past
+
+Each LOG is an observables CSV (x0,Ax,Ay,MA,phi0 at least) or a sweep folder; its known
+contour comes from LOG=PROFILE, else --profile, else the folder's scene.ron (else --scene's). Several logs of
+one whisker are fitted jointly, each with its own flow (q, alpha), fitted too. Start values:
+--scene (else the first folder's scene.ron) under the whisker flags; k from the follicle law
+of the rows. Outputs (--out): scene.ron (the calibrated whisker, ready for sweep and
+reconstruct), residuals.csv (every row: its phase, contact point, distance to the contour,
+sigma, chi) and the figures contour-N.svg (contour, points before and after) and
+residuals.svg. A parameter the logs cannot determine is reported as not identifiable (JSON:
+value null), with the combination they do determine.";
+
+/// `vibrissa calibrate`.
+#[derive(Debug, Clone, Args)]
+pub struct CalibrateArgs {
+    /// Logs: observables CSVs or sweep folders, each optionally with its contour as
+    /// LOG=PROFILE.
+    #[arg(value_name = "LOG[=PROFILE]", required_unless_present = "advise", num_args = 1..)]
+    pub logs: Vec<String>,
+    /// A RON scene file with the whisker's start values and the units (default: the first
+    /// sweep folder's scene.ron).
+    #[arg(long, value_name = "SCENE.ron")]
+    pub scene: Option<PathBuf>,
+    /// Start values of the whisker (override the scene).
+    #[command(flatten)]
+    pub whisker: WhiskerFlags,
+    /// The known contour of every log without its own (LOG=PROFILE).
+    #[arg(long, value_name = "P")]
+    pub profile: Option<String>,
+    /// The parameters to fit, a comma-separated list of theta, a, b, k, ei (ei, the bending
+    /// stiffness E·Ib, in physical units only) [default: theta,a,b,k]
+    #[arg(long, value_name = "LIST")]
+    pub fit: Option<String>,
+    /// Local fits at most, from the best of 96 seeded candidate starts (the guard against
+    /// local minima) [default: 4]
+    #[arg(long, value_name = "N")]
+    pub starts: Option<String>,
+    /// Advice before any experiment, instead of a calibration: for each candidate object P
+    /// (repeat the flag), the standard errors a sweep past it would give the parameters of
+    /// --fit, for the start whisker under the flow (--q, --alpha-deg or the scene's) at the
+    /// sensor's noise level (--noise).
+    #[arg(long, value_name = "P")]
+    pub advise: Vec<String>,
+    /// The flow: with both --q and --alpha-deg it is known and held fixed for every log
+    /// (else fitted per log, --q alone as its start); with --advise, the flow of the planned
+    /// sweeps [default: fitted; with --advise the scene's, else 0]
+    #[command(flatten)]
+    pub fluid: FluidFlags,
+    /// With --advise: the sensor's relative noise level [default: 1e-4]
+    #[arg(long, value_name = "L", allow_hyphen_values = true)]
+    pub noise: Option<String>,
+    /// With --advise: contact rows of each planned sweep [default: 100]
+    #[arg(long, value_name = "N", allow_hyphen_values = true)]
+    pub points: Option<String>,
+    /// Print one JSON object on stdout instead of a human summary.
+    #[arg(long)]
+    pub json: bool,
+    /// Output directory: scene.ron, residuals.csv (+ units), contour-N.svg, residuals.svg.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
 }

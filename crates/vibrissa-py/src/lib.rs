@@ -10,13 +10,14 @@
 //! - [`errors`]: the CLI's errors -> `vibrissa.InvalidInput`, `SolverError`, `NoContact`,
 //!   and the guard that keeps panics out of Python;
 //! - [`convert`]: numpy arrays and JSON values to and from Python;
-//! - [`solve`], [`sweep`], [`reconstruct`], [`stream`], [`scene`]: the functions.
+//! - [`solve`], [`sweep`], [`reconstruct`], [`calibrate`], [`stream`], [`scene`]: the functions.
 //!
 //! Every computation runs with the GIL released (`Python::detach`), so threads run in
 //! parallel.
 
 use pyo3::prelude::*;
 
+pub mod calibrate;
 pub mod convert;
 pub mod errors;
 pub mod params;
@@ -34,6 +35,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(solve::solve, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::sweep, m)?)?;
     m.add_function(wrap_pyfunction!(reconstruct::reconstruct, m)?)?;
+    m.add_function(wrap_pyfunction!(calibrate::calibrate, m)?)?;
     m.add_function(wrap_pyfunction!(scene::load_scene, m)?)?;
     m.add_class::<stream::Streamer>()?;
     Ok(())

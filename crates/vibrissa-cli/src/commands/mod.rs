@@ -1,5 +1,8 @@
 //! The commands of the binary and the outputs they share.
 
+pub mod calibrate;
+pub mod calibrate_advice;
+pub mod calibrate_out;
 pub mod demo;
 pub mod recon_io;
 pub mod reconstruct;
@@ -27,6 +30,7 @@ pub fn run(command: Command) -> Result<(), CliError> {
         Command::Sweep(args) => sweep::run(&args),
         Command::Reconstruct(args) => reconstruct::run(&args),
         Command::Demo(args) => demo::run(&args),
+        Command::Calibrate(args) => calibrate::run(&args),
     }
 }
 

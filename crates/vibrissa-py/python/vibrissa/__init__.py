@@ -38,7 +38,7 @@ import numpy as np
 from . import _core
 from ._errors import InvalidInput, NoContact, SolverError, VibrissaError
 from ._params import check_tol, number, profile_spec, scene_kwargs, units_spec, whisker_spec
-from ._results import Reconstruction, Solution, Sweep, log_columns
+from ._results import Calibration, Reconstruction, Solution, Sweep, log_columns
 from ._study import study
 
 __version__: str = _core.__version__
@@ -47,12 +47,14 @@ __all__ = [
     "solve",
     "sweep",
     "reconstruct",
+    "calibrate",
     "Streamer",
     "load_scene",
     "study",
     "Solution",
     "Sweep",
     "Reconstruction",
+    "Calibration",
     "VibrissaError",
     "InvalidInput",
     "SolverError",
@@ -230,6 +232,71 @@ def reconstruct(
         profile=profile_spec(profile),
     )
     return Reconstruction(_core.reconstruct(log_columns(log), spec))
+
+
+def calibrate(
+    logs: Any,
+    profile: Any = None,
+    *,
+    fit: Any = None,
+    theta: Optional[float] = None,
+    a: Optional[float] = None,
+    b: Optional[float] = None,
+    k: Optional[float] = None,
+    q: Optional[float] = None,
+    alpha_deg: Optional[float] = None,
+    starts: Optional[int] = None,
+    units: Any = None,
+) -> Calibration:
+    """Fits the whisker's own parameters to logs of sweeps past known contours
+    (``vibrissa calibrate``).
+
+    ``logs``: one log or a list of logs (each a :class:`Sweep`, a DataFrame or a dict of 1-D
+    arrays with ``x0, Ax, Ay, MA, phi0`` in the scene's units), or a list of ``(log,
+    profile)`` pairs; ``profile``: the known contour of every log without its own (a profile
+    string or ``(x, y)`` arrays; a :class:`Sweep` brings its own). ``fit``: the parameters, a
+    list or comma-separated string of ``theta, a, b, k, ei`` (``ei`` in physical units only;
+    default ``theta, a, b, k``). ``theta, a, b, k, units``: the start whisker (those left at
+    None from the first Sweep's scene). ``q`` with ``alpha_deg``: a known flow held fixed
+    (else each log's flow is fitted). ``starts``: local fits at most (default 4).
+
+    Returns a :class:`Calibration`. Raises :class:`InvalidInput` for a bad parameter or log,
+    :class:`SolverError` when the fit fails.
+    """
+    items = logs if isinstance(logs, (list, tuple)) and not _is_pair(logs) else [logs]
+    pairs = []
+    first = None
+    for item in items:
+        log, prof = item if _is_pair(item) else (item, None)
+        if prof is None and isinstance(log, Sweep):
+            prof = log.scene.get("profile")
+        if prof is None:
+            prof = profile
+        if prof is None:
+            raise InvalidInput("profile: every log needs its known contour (profile=... or (log, profile))")
+        first = first if first is not None else log
+        pairs.append((log_columns(log), profile_spec(prof)))
+    theta, a, b, k, units = _whisker_of(first, theta, a, b, k, units)
+    spec = whisker_spec(theta, a, b, k, units)
+    if isinstance(fit, (list, tuple)):
+        fit = ",".join(fit)
+    spec.update(
+        fit=fit,
+        starts=number("starts", starts),
+        q=number("q", q),
+        alpha_deg=number("alpha_deg", alpha_deg),
+    )
+    return Calibration(_core.calibrate(pairs, spec))
+
+
+def _is_pair(x: Any) -> bool:
+    """Whether ``x`` is a ``(log, profile)`` pair."""
+    return (
+        isinstance(x, tuple)
+        and len(x) == 2
+        and not isinstance(x[0], (str, float, int))
+        and (isinstance(x[1], str) or (isinstance(x[1], tuple) and len(x[1]) == 2))
+    )
 
 
 def _whisker_of(log: Any, theta: Any, a: Any, b: Any, k: Any, units: Any) -> tuple:

@@ -16,6 +16,7 @@ def sweep(spec: Dict[str, Any]) -> Dict[str, Any]:
     """{"columns": {x0, Ax, Ay, MA, phi0, f, s1, xc, yc, psi: float64 arrays},
     "phase": list[str], "summary": dict (sweep --json), "scene": dict (scene.ron)}"""
 
+def calibrate(logs: List[Tuple[Dict[str, npt.NDArray[np.float64]], Any]], spec: Dict[str, Any]) -> Dict[str, Any]: ...
 def reconstruct(log: Dict[str, npt.NDArray[np.float64]], spec: Dict[str, Any]) -> Dict[str, Any]:
     """{"columns": {x0, x, y, s1, f, psi, sigma, residual, hypotheses[, error]},
     "phase": list[str], "summary": dict}"""

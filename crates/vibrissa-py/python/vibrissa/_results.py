@@ -156,6 +156,52 @@ class Reconstruction(_Columns):
         )
 
 
+class Calibration:
+    """The whisker's own parameters fitted to logs of sweeps past known contours
+    (``vibrissa calibrate``).
+
+    ``parameters``: per fitted name (``theta, a, b, k, ei``) a dict ``value, stderr,
+    identifiable, unit`` (``value`` and ``stderr`` None where the logs cannot determine the
+    parameter; ``k`` also ``rigid`` and its ``compliance``); ``whisker``: the calibrated
+    whisker as keywords (``theta, a, b, k``, scene units; unidentifiable parameters at their
+    start values) for ``solve``, ``sweep``, ``reconstruct``; ``logs``: per log its fitted flow
+    (``q, q_stderr, alpha_deg, alpha_deg_stderr``) and row counts; ``rms_residual``: the RMS
+    distance of the reconstructed contact points to their contours (scene length unit);
+    ``correlation``, ``determined`` (combinations of unidentifiable parameters the logs do
+    determine), ``noise_level``, ``warnings``; ``raw`` the whole object."""
+
+    def __init__(self, raw: Dict[str, Any]) -> None:
+        self.raw: Dict[str, Any] = raw
+        self.parameters: Dict[str, Dict[str, Any]] = raw["parameters"]
+        w = dict(raw["whisker"])
+        w.pop("ei", None)
+        if w.get("k") is None:
+            w["k"] = None
+        self.whisker: Dict[str, Any] = w
+        self.logs: List[Dict[str, Any]] = raw["logs"]
+        self.rms_residual: float = optional(raw["rms_residual"])
+        self.correlation: Dict[str, Any] = raw["correlation"]
+        self.determined: List[str] = raw["determined"]
+        self.noise_level: float = optional(raw["noise_level"])
+        self.warnings: List[str] = raw["warnings"]
+        self.units: str = raw["units"]
+
+    def value(self, name: str) -> Optional[float]:
+        """The estimate of parameter ``name`` (None if not identifiable)."""
+        return self.parameters[name]["value"]
+
+    def __repr__(self) -> str:
+        parts = []
+        for name, p in self.parameters.items():
+            if p["identifiable"] and p["value"] is not None:
+                parts.append(f"{name}={p['value']:.6g}±{p['stderr']:.1e}")
+            elif p["identifiable"]:
+                parts.append(f"{name}=inf (rigid)")
+            else:
+                parts.append(f"{name}=not identifiable")
+        return f"Calibration({', '.join(parts)}, logs={len(self.logs)}, units={self.units!r})"
+
+
 def log_columns(log: Any) -> Dict[str, np.ndarray]:
     """The columns ``x0, Ax, Ay, MA, phi0`` of a Sweep, a DataFrame or a dict of arrays,
     as contiguous float64 arrays."""

@@ -1,0 +1,343 @@
+//! A small bounded Levenberg-Marquardt (Moré 1978: Marquardt's diagonal scaling, steps
+//! projected onto the box of bounds) with a forward-difference Jacobian, for problems of a
+//! few parameters and many residuals. Hand-written rather than argmin's trust region: the
+//! calibration needs the bounds, a residual function that may fail for a trial point (the
+//! step is then shortened, as for a rise of the cost), and a state carried from one accepted
+//! point to the next (the tracked phase-B roots).
+
+/// A least-squares problem `min |r(p)|^2 / 2` for the fit.
+pub(crate) trait Problem {
+    /// The state an evaluation carries to the next (tracked roots).
+    type State: Clone;
+    /// Residuals at `p` starting from `state`, with the state reached; `None` where the
+    /// model admits no solution.
+    fn residuals(&self, p: &[f64], state: &Self::State) -> Option<(Vec<f64>, Self::State)>;
+}
+
+/// Settings of [`levenberg_marquardt`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct LmSettings {
+    /// Iterations at most.
+    pub max_iter: usize,
+    /// Stop when a rejected step has every component below `xtol (|p_i| + scale_i)`.
+    pub xtol: f64,
+    /// Stop when the Gauss-Newton step would lower the cost by less than `ftol` times it.
+    pub ftol: f64,
+    /// Stop when the RMS residual is below this (the residuals' numerical floor).
+    pub floor: f64,
+}
+
+impl Default for LmSettings {
+    fn default() -> Self {
+        LmSettings {
+            max_iter: 100,
+            xtol: 1e-13,
+            ftol: 1e-8,
+            floor: 0.0,
+        }
+    }
+}
+
+/// The box and the typical sizes of the parameters.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Bounds {
+    pub lo: Vec<f64>,
+    pub hi: Vec<f64>,
+    /// Typical size: finite-difference steps and the stopping test are relative to it.
+    pub scale: Vec<f64>,
+}
+
+impl Bounds {
+    fn clamp(&self, p: &mut [f64]) {
+        for (i, v) in p.iter_mut().enumerate() {
+            *v = v.clamp(self.lo[i], self.hi[i]);
+        }
+    }
+}
+
+/// The result of a fit.
+#[derive(Clone, Debug)]
+pub(crate) struct LmResult<S> {
+    pub p: Vec<f64>,
+    pub state: S,
+    pub iterations: usize,
+    pub evaluations: usize,
+}
+
+/// Forward-difference Jacobian (column-major: `jac[i]` is `dr / dp_i`), steps
+/// `sqrt(eps)`-relative to the parameter's scale, taken inwards at an upper bound.
+pub(crate) fn jacobian<P: Problem>(
+    prob: &P,
+    p: &[f64],
+    r: &[f64],
+    state: &P::State,
+    bounds: &Bounds,
+    step_rel: f64,
+) -> Option<Vec<Vec<f64>>> {
+    let mut cols = Vec::with_capacity(p.len());
+    for i in 0..p.len() {
+        let mut h = step_rel * (p[i].abs() + bounds.scale[i]);
+        if p[i] + h > bounds.hi[i] {
+            h = -h;
+        }
+        // forwards, else backwards (a phase-B root may leave the whisker on one side)
+        let mut col = None;
+        for sign in [1.0, -1.0] {
+            let mut q = p.to_vec();
+            q[i] = (p[i] + sign * h).clamp(bounds.lo[i], bounds.hi[i]);
+            let d = q[i] - p[i];
+            if d == 0.0 {
+                continue;
+            }
+            if let Some((rq, _)) = prob.residuals(&q, state) {
+                col = Some(rq.iter().zip(r).map(|(a, b)| (a - b) / d).collect());
+                break;
+            }
+        }
+        cols.push(col?);
+    }
+    Some(cols)
+}
+
+/// Central-difference Jacobian (for the final covariance: error `O(h^2)`), one-sided at a
+/// bound.
+pub(crate) fn jacobian_central<P: Problem>(
+    prob: &P,
+    p: &[f64],
+    state: &P::State,
+    bounds: &Bounds,
+    step_rel: f64,
+) -> Option<Vec<Vec<f64>>> {
+    let mut cols = Vec::with_capacity(p.len());
+    for i in 0..p.len() {
+        let h = step_rel * (p[i].abs() + bounds.scale[i]);
+        let mut up = p.to_vec();
+        let mut down = p.to_vec();
+        up[i] = (p[i] + h).min(bounds.hi[i]);
+        down[i] = (p[i] - h).max(bounds.lo[i]);
+        let ru = prob.residuals(&up, state).map(|x| x.0);
+        let rd = prob.residuals(&down, state).map(|x| x.0);
+        let (ru, rd, d) = match (ru, rd) {
+            (Some(u), Some(d)) => (u, d, up[i] - down[i]),
+            (Some(u), None) => (u, prob.residuals(p, state)?.0, up[i] - p[i]),
+            (None, Some(d)) => (prob.residuals(p, state)?.0, d, p[i] - down[i]),
+            (None, None) => return None,
+        };
+        cols.push(ru.iter().zip(&rd).map(|(a, b)| (a - b) / d).collect());
+    }
+    Some(cols)
+}
+
+/// `sum r^2 / 2`.
+pub(crate) fn cost(r: &[f64]) -> f64 {
+    0.5 * r.iter().map(|v| v * v).sum::<f64>()
+}
+
+/// Solves the symmetric positive definite system `a x = b` by Cholesky (`None` if not SPD).
+pub(crate) fn solve_spd(a: &[Vec<f64>], b: &[f64]) -> Option<Vec<f64>> {
+    let n = b.len();
+    let mut l = vec![vec![0.0; n]; n];
+    for i in 0..n {
+        for j in 0..=i {
+            let s: f64 = (0..j).map(|k| l[i][k] * l[j][k]).sum();
+            if i == j {
+                let d = a[i][i] - s;
+                if !(d > 0.0 && d.is_finite()) {
+                    return None;
+                }
+                l[i][i] = d.sqrt();
+            } else {
+                l[i][j] = (a[i][j] - s) / l[j][j];
+            }
+        }
+    }
+    let mut y = vec![0.0; n];
+    for i in 0..n {
+        y[i] = (b[i] - (0..i).map(|k| l[i][k] * y[k]).sum::<f64>()) / l[i][i];
+    }
+    let mut x = vec![0.0; n];
+    for i in (0..n).rev() {
+        x[i] = (y[i] - (i + 1..n).map(|k| l[k][i] * x[k]).sum::<f64>()) / l[i][i];
+    }
+    Some(x)
+}
+
+/// Bounded Levenberg-Marquardt from `p0` (clamped into the box): each iteration solves
+/// `(J^T J + mu diag(J^T J)) d = -J^T r`, projects `p + d` onto the box and accepts it if the
+/// cost falls (then `mu` shrinks by 3), else raises `mu` by 4 (a failed evaluation counts
+/// as a rise). `None` if the start itself cannot be evaluated.
+pub(crate) fn levenberg_marquardt<P: Problem>(
+    prob: &P,
+    p0: &[f64],
+    state0: &P::State,
+    bounds: &Bounds,
+    settings: &LmSettings,
+) -> Option<LmResult<P::State>> {
+    let n = p0.len();
+    let mut p = p0.to_vec();
+    bounds.clamp(&mut p);
+    let (mut r, mut state) = prob.residuals(&p, state0)?;
+    let mut c = cost(&r);
+    let mut evaluations = 1;
+    let mut mu = 1e-3;
+    let mut iterations = 0;
+    if n == 0 {
+        return Some(LmResult {
+            p,
+            state,
+            iterations,
+            evaluations,
+        });
+    }
+    'outer: while iterations < settings.max_iter {
+        iterations += 1;
+        let Some(jac) = jacobian(prob, &p, &r, &state, bounds, 1e-7) else {
+            break;
+        };
+        evaluations += n;
+        let jtj: Vec<Vec<f64>> = (0..n)
+            .map(|i| (0..n).map(|k| dot(&jac[i], &jac[k])).collect())
+            .collect();
+        let g: Vec<f64> = (0..n).map(|i| dot(&jac[i], &r)).collect();
+        if g.iter().all(|v| *v == 0.0) {
+            break;
+        }
+        let dmax = (0..n).map(|i| jtj[i][i]).fold(0.0, f64::max);
+        // active set: a parameter at a bound that the descent direction pushes outwards
+        // stays there this iteration
+        let blocked: Vec<bool> = (0..n)
+            .map(|i| (p[i] <= bounds.lo[i] && g[i] > 0.0) || (p[i] >= bounds.hi[i] && g[i] < 0.0))
+            .collect();
+        let step = |mu: f64| -> Option<Vec<f64>> {
+            let mut a = jtj.clone();
+            for (i, row) in a.iter_mut().enumerate() {
+                row[i] += mu * row[i].max(1e-12 * dmax).max(f64::MIN_POSITIVE);
+            }
+            let mut neg: Vec<f64> = g.iter().map(|v| -v).collect();
+            for i in (0..n).filter(|&i| blocked[i]) {
+                a[i].iter_mut().for_each(|v| *v = 0.0);
+                for row in a.iter_mut() {
+                    row[i] = 0.0;
+                }
+                a[i][i] = 1.0;
+                neg[i] = 0.0;
+            }
+            solve_spd(&a, &neg)
+        };
+        // converged: the Gauss-Newton step would lower the cost by a negligible amount
+        if let Some(d) = step(1e-10) {
+            let pred = -0.5 * dot(&g, &d);
+            let floor = 0.5 * r.len() as f64 * settings.floor * settings.floor;
+            if pred <= settings.ftol * c || c <= floor {
+                break;
+            }
+        }
+        loop {
+            let Some(d) = step(mu) else {
+                mu *= 4.0;
+                if mu > 1e20 {
+                    break 'outer;
+                }
+                continue;
+            };
+            let mut trial: Vec<f64> = p.iter().zip(&d).map(|(a, b)| a + b).collect();
+            bounds.clamp(&mut trial);
+            let small = (0..n)
+                .all(|i| (trial[i] - p[i]).abs() <= settings.xtol * (p[i].abs() + bounds.scale[i]));
+            evaluations += 1;
+            match prob.residuals(&trial, &state) {
+                Some((rt, st)) if cost(&rt) < c => {
+                    let ct = cost(&rt);
+                    (p, r, state, c) = (trial, rt, st, ct);
+                    mu = (mu / 3.0).max(1e-12);
+                    break;
+                }
+                _ => {
+                    if small {
+                        break 'outer;
+                    }
+                    mu *= 4.0;
+                    if mu > 1e20 {
+                        break 'outer;
+                    }
+                }
+            }
+        }
+    }
+    let _ = (r, c);
+    Some(LmResult {
+        p,
+        state,
+        iterations,
+        evaluations,
+    })
+}
+
+pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Rosenbrock as residuals, with a bound that cuts off the minimum in one test.
+    struct Rosen;
+    impl Problem for Rosen {
+        type State = ();
+        fn residuals(&self, p: &[f64], _: &()) -> Option<(Vec<f64>, ())> {
+            Some((vec![10.0 * (p[1] - p[0] * p[0]), 1.0 - p[0]], ()))
+        }
+    }
+
+    fn bounds(hi0: f64) -> Bounds {
+        Bounds {
+            lo: vec![-5.0, -5.0],
+            hi: vec![hi0, 5.0],
+            scale: vec![1.0, 1.0],
+        }
+    }
+
+    #[test]
+    fn rosenbrock_minimum() {
+        let r = levenberg_marquardt(
+            &Rosen,
+            &[-1.2, 1.0],
+            &(),
+            &bounds(5.0),
+            &LmSettings::default(),
+        )
+        .unwrap();
+        assert!(
+            (r.p[0] - 1.0).abs() < 1e-9 && (r.p[1] - 1.0).abs() < 1e-9,
+            "{:?}",
+            r.p
+        );
+    }
+
+    #[test]
+    fn bound_is_respected() {
+        let r = levenberg_marquardt(
+            &Rosen,
+            &[-1.2, 1.0],
+            &(),
+            &bounds(0.5),
+            &LmSettings::default(),
+        )
+        .unwrap();
+        assert!(r.p[0] <= 0.5);
+        assert!(
+            (r.p[0] - 0.5).abs() < 1e-6 && (r.p[1] - 0.25).abs() < 1e-6,
+            "{:?}",
+            r.p
+        );
+    }
+
+    #[test]
+    fn spd_solve() {
+        let a = vec![vec![4.0, 1.0], vec![1.0, 3.0]];
+        let x = solve_spd(&a, &[1.0, 2.0]).unwrap();
+        assert!((4.0 * x[0] + x[1] - 1.0).abs() < 1e-14 && (x[0] + 3.0 * x[1] - 2.0).abs() < 1e-14);
+        assert!(solve_spd(&[vec![0.0]], &[1.0]).is_none());
+    }
+}

@@ -1,0 +1,316 @@
+//! Calibration: the whisker's own parameters (taper theta [3.8], pre-curvature A, B [3.5],
+//! follicle spring k [3.21, 3.22], and the base stiffness E I_b [3.16-3.19] in physical
+//! units) from logs of sweeps past objects of known contour.
+//!
+//! | module | concept |
+//! |---|---|
+//! | [`residual`] | the four residuals of a row (follicle law, free whisker or contact on the known contour) and their whitening by the sensor noise |
+//! | `problem` | the parameter vector over all logs and the stacked whitened residuals |
+//! | `fit` | bounded Levenberg-Marquardt with a finite-difference Jacobian |
+//! | [`ident`] | standard errors, correlation and the identifiability verdict from the singular values of the scaled Jacobian |
+//! | [`design`](mod@design) | advice before any experiment: the standard errors each candidate object would give |
+//! | `screen` | the global search: seeded candidates ranked by a phase-free objective |
+//! | `result` | the result: covariance, estimates, flows, rows, warnings |
+//! | `run` | the calibration itself: start values, rounds of fit and phase decision, multi-start, result |
+//!
+//! **The fit.** Least squares over all rows of all logs of the whitened residuals of
+//! [`residual`] (to first order the maximum-likelihood fit of the measured observables), in
+//! the parameters asked for and the flow `(q cos alpha, q sin alpha)` of every log whose flow
+//! is not given (fitted jointly, started from the pre-contact rows [6.1]). Start values: k from
+//! all rows' `MA`, `phi0` by the follicle law (linear least squares), the flow from the
+//! pre-contact rows, the others from the start whisker. The phase of each contact row is
+//! decided at the current parameters (the hypothesis, tip contact or a root of `m`, with
+//! the smallest whitened residual) and decided again after each fit until it stays.
+//!
+//! **Local minima.** Guarded twice: (1) a global search: [`CalibSettings::screen`] seeded
+//! candidates around the start (theta within a factor 2, A, B within 75 % + 0.5, E I within a
+//! factor 2) are ranked by a phase-free objective on a subsample of the rows (each row with
+//! its best hypothesis), and the local fits start from the best-ranked ones; (2) the
+//! residual check: a fit is accepted when the noise level it implies
+//! ([`Calibration::noise_level`]) is within 3 times a model-free noise level of the logs
+//! (third differences along x0, [`Calibration::log_noise`]) and no row was lost; otherwise
+//! the next candidate is fitted (up to [`CalibSettings::starts`] local fits), the lowest
+//! cost wins, and a fit that still fails the check is reported in
+//! [`Calibration::warnings`], never passed silently.
+//!
+//! **E I.** In a dimensionless log the force unit IS E I_b / L^2: `ei` is then 1 by
+//! definition (the CLI refuses to fit it). The library fits `lambda = E I_b / E I_nominal`,
+//! the factor by which the log's forces and moments (in units of a nominal stiffness)
+//! exceed the model's; it is determined only by contact with a known contour (the force
+//! needed for a known deflection), never by the free whisker alone.
+//!
+//! ```
+//! use beam_model::{FluidLoad, Whisker};
+//! use contact_sim::{sweep, Profile, SweepSettings};
+//! use profile_recon::calibrate::{calibrate, CalibLog, CalibParam, CalibSettings};
+//! use profile_recon::{from_sweep, KnownFlow};
+//!
+//! let truth = Whisker::new(0.6, 0.0, 0.3, 20.0);
+//! let settings = SweepSettings { points: 30, ..Default::default() };
+//! let flow = FluidLoad { q: 2.0, alpha: 0.0 };
+//! let log = sweep(&truth, flow, &Profile::g2(), &settings).unwrap();
+//! let logs = [CalibLog { rows: from_sweep(&log), profile: Profile::g2(), flow: KnownFlow::default() }];
+//! let start = Whisker::new(0.8, 0.0, 0.2, 30.0);
+//! let fit = CalibSettings { fit: vec![CalibParam::Theta, CalibParam::B, CalibParam::K], ..Default::default() };
+//! let cal = calibrate(&start, &logs, &fit).unwrap();
+//! let theta = cal.parameter(CalibParam::Theta).unwrap();
+//! assert!((theta.value.unwrap() - 0.6).abs() < 1e-7);
+//! ```
+
+pub mod design;
+mod fit;
+pub mod ident;
+mod problem;
+pub mod residual;
+mod result;
+mod run;
+mod screen;
+
+pub use design::{design, DesignPrediction, DesignSettings};
+pub use run::calibrate;
+
+use crate::common::KnownFlow;
+use crate::observables::ObservableRow;
+use beam_model::Whisker;
+use contact_sim::Profile;
+use serde::{Deserialize, Serialize};
+
+/// A parameter of the whisker that a calibration can fit.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+pub enum CalibParam {
+    /// Conicity theta [3.8].
+    Theta,
+    /// Cesaro slope A [3.5].
+    A,
+    /// Cesaro offset B [3.5].
+    B,
+    /// Follicle spring k [3.21, 3.22] (fitted as the compliance `1/k`; 0 is rigid).
+    K,
+    /// Base stiffness E I_b relative to the log's force unit (`lambda`, module docs).
+    Ei,
+}
+
+impl CalibParam {
+    /// Every parameter, in the order of the CLI.
+    pub const ALL: [CalibParam; 5] = [
+        CalibParam::Theta,
+        CalibParam::A,
+        CalibParam::B,
+        CalibParam::K,
+        CalibParam::Ei,
+    ];
+
+    /// The CLI name (`theta`, `a`, `b`, `k`, `ei`).
+    pub fn name(&self) -> &'static str {
+        match self {
+            CalibParam::Theta => "theta",
+            CalibParam::A => "a",
+            CalibParam::B => "b",
+            CalibParam::K => "k",
+            CalibParam::Ei => "ei",
+        }
+    }
+
+    /// The parameter of a CLI name (case-insensitive).
+    pub fn parse(name: &str) -> Option<Self> {
+        let n = name.trim().to_ascii_lowercase();
+        Self::ALL.into_iter().find(|p| p.name() == n)
+    }
+}
+
+/// One log of a sweep past a known contour.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CalibLog {
+    /// Its rows (any order; pre-contact rows are recognised as the largest group of equal
+    /// rows).
+    pub rows: Vec<ObservableRow>,
+    /// The known contour.
+    pub profile: Profile,
+    /// The flow, if known: with both `q` and `alpha` given it is held fixed; otherwise the
+    /// flow of the log is fitted (started from its pre-contact rows, or from a given `q`).
+    pub flow: KnownFlow,
+}
+
+/// Settings of a calibration.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CalibSettings {
+    /// The parameters fitted (the others keep the start whisker's values).
+    pub fit: Vec<CalibParam>,
+    /// Integrator tolerance of the base integrations during the search.
+    pub tol: f64,
+    /// Integrator tolerance of the final polish (the fit's last digits).
+    pub polish_tol: f64,
+    /// Seeded candidate starts ranked by the screening objective (module docs).
+    pub screen: usize,
+    /// Local fits at most, from the best-ranked candidates (module docs), at least 1.
+    pub starts: usize,
+    /// Seed of the further starts.
+    pub seed: u64,
+    /// Levenberg-Marquardt iterations per round at most.
+    pub max_iter: usize,
+    /// Rounds of (fit, phase decision) at most.
+    pub rounds: usize,
+}
+
+impl Default for CalibSettings {
+    fn default() -> Self {
+        CalibSettings {
+            fit: vec![
+                CalibParam::Theta,
+                CalibParam::A,
+                CalibParam::B,
+                CalibParam::K,
+            ],
+            tol: 1e-10,
+            polish_tol: 1e-12,
+            screen: 96,
+            starts: 4,
+            seed: 19,
+            max_iter: 60,
+            rounds: 8,
+        }
+    }
+}
+
+/// The estimate of one parameter.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ParamEstimate {
+    /// The parameter.
+    pub param: CalibParam,
+    /// The estimate (`k`: the stiffness, infinite for a rigid fit; `ei`: the ratio
+    /// `lambda`); `None` when not identifiable.
+    pub value: Option<f64>,
+    /// Its standard error (`k`: by the delta method from that of `1/k`); `None` when not
+    /// identifiable.
+    pub stderr: Option<f64>,
+    /// Whether the logs determine it.
+    pub identifiable: bool,
+    /// The start value.
+    pub start: f64,
+}
+
+/// A combination `sum c_i p_i` of unidentifiable parameters that the logs determine.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Combination {
+    /// The coefficients (largest 1) with their parameters (`k` enters as `1/k`, `ei` as
+    /// `ln lambda`).
+    pub terms: Vec<(CalibParam, f64)>,
+    /// Its value.
+    pub value: f64,
+    /// Its standard error.
+    pub stderr: f64,
+}
+
+impl Combination {
+    /// As text, e.g. `1·a + 0.42·b = 0.713 ± 1.2e-5`.
+    pub fn describe(&self) -> String {
+        let terms: Vec<String> = self
+            .terms
+            .iter()
+            .map(|(p, c)| {
+                let name = match p {
+                    CalibParam::K => "(1/k)",
+                    CalibParam::Ei => "ln(ei)",
+                    other => other.name(),
+                };
+                format!("{c:+.6}·{name}")
+            })
+            .collect();
+        format!(
+            "{} = {:.9} ± {:.2e}",
+            terms.join(" "),
+            self.value,
+            self.stderr
+        )
+    }
+}
+
+/// The fitted flow of one log.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct LogFit {
+    /// Fluid load q (model units of the fitted whisker).
+    pub q: f64,
+    /// Flow angle (rad).
+    pub alpha: f64,
+    /// Standard errors of q and alpha (0 when given).
+    pub q_stderr: f64,
+    /// Standard error of alpha (rad).
+    pub alpha_stderr: f64,
+    /// Whether the flow was given rather than fitted.
+    pub given: bool,
+    /// Rows of the log.
+    pub rows: usize,
+    /// Pre-contact rows.
+    pub pre_contact: usize,
+    /// Contact rows in the fit.
+    pub contact: usize,
+    /// Rows left out (force below [`residual::F_MIN_REL`] of the largest, or no hypothesis).
+    pub skipped: usize,
+}
+
+/// The fit at one row.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RowFit {
+    /// Index of the log.
+    pub log: usize,
+    /// 0-based row of the log (the crate's row convention).
+    pub row: usize,
+    /// `-` pre-contact, `A`, `B`, or `x` left out.
+    pub kind: char,
+    /// Contact arc length (1 for A, NaN otherwise).
+    pub s1: f64,
+    /// Reconstructed contact point with the fitted whisker (NaN for pre-contact rows).
+    pub x: f64,
+    /// Reconstructed contact point y.
+    pub y: f64,
+    /// Signed normal distance of that point to the known contour (positive inside).
+    pub distance: f64,
+    /// Its standard deviation at the fitted noise level.
+    pub sigma: f64,
+    /// Norm of the row's whitened residuals over the fitted noise level (~2 for a row that
+    /// fits as well as the others).
+    pub chi: f64,
+}
+
+/// The result of a calibration.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Calibration {
+    /// The calibrated whisker (unidentifiable parameters keep their start values).
+    pub whisker: Whisker,
+    /// The stiffness ratio `lambda` (1 unless `ei` was fitted).
+    pub lambda: f64,
+    /// One estimate per fitted parameter, in the order asked for.
+    pub parameters: Vec<ParamEstimate>,
+    /// Correlation matrix of the fitted parameters (NaN rows for unidentifiable ones).
+    pub correlation: Vec<Vec<f64>>,
+    /// The combinations of unidentifiable parameters that the logs determine.
+    pub determined: Vec<Combination>,
+    /// Relative singular values of the scaled Jacobian (whisker and flow parameters).
+    pub singular_values: Vec<f64>,
+    /// The flow of every log.
+    pub logs: Vec<LogFit>,
+    /// Every row of every log.
+    pub rows: Vec<RowFit>,
+    /// RMS of the contact rows' normal distances to their contours (model lengths).
+    pub rms_distance: f64,
+    /// Relative noise level the fit implies (RMS of the whitened residuals).
+    pub noise_level: f64,
+    /// Model-free relative noise level of the logs (third differences along x0; an upper
+    /// reference on exact logs).
+    pub log_noise: f64,
+    /// Levenberg-Marquardt iterations (all rounds of the main fit).
+    pub iterations: usize,
+    /// Residual evaluations (all fits, the multi-start included).
+    pub evaluations: usize,
+    /// The final cost of every local fit made (module docs), in order.
+    pub fits: Vec<f64>,
+    /// What the checks found (another minimum, a residual above the noise, rows left out).
+    pub warnings: Vec<String>,
+}
+
+impl Calibration {
+    /// The estimate of `param`, if it was fitted.
+    pub fn parameter(&self, param: CalibParam) -> Option<&ParamEstimate> {
+        self.parameters.iter().find(|p| p.param == param)
+    }
+}

@@ -1,0 +1,370 @@
+//! The least-squares problem of a calibration: the parameter vector (the whisker's free
+//! parameters, then the flow of every log whose flow is not given), the rows in use with
+//! their kinds and whiteners, and the stacked whitened residuals of every row of every log.
+
+use super::fit::{Bounds, Problem};
+use super::residual::{
+    judge, row_residuals, tip_force, whitener, Model, RowCtx, RowKind, RowResult, Whitener,
+    DEGENERATE, F_MIN_REL,
+};
+use super::{CalibLog, CalibParam};
+use crate::common::NoiseScales;
+use beam_model::support::K_MIN;
+use beam_model::whisker::{PRECURVATURE_MAX, THETA_MIN};
+use bvp_solvers::integrator::Dop853;
+
+/// See [`CalibProblem::min_force`].
+pub const F_MIN_NOISE: f64 = 10.0;
+
+/// Bounds of the stiffness ratio `lambda` (its logarithm is fitted).
+pub const LAMBDA_RANGE: (f64, f64) = (1e-3, 1e3);
+
+/// The least-squares problem over all logs (module docs).
+#[derive(Clone, Debug)]
+pub(crate) struct CalibProblem<'a> {
+    pub logs: &'a [CalibLog],
+    /// The whisker parameters fitted, in the order of the parameter vector.
+    pub free: Vec<CalibParam>,
+    /// The fixed values of everything not fitted.
+    pub base: Model,
+    /// Per log: its flow `(q cos alpha, q sin alpha)` if fixed (given), `None` if fitted.
+    pub fixed_flow: Vec<Option<(f64, f64)>>,
+    /// Per log: the rows in use (indices into its rows).
+    pub used: Vec<Vec<usize>>,
+    /// Per log and used row: the whitener (frozen during a fit round).
+    pub whiteners: Vec<Vec<Whitener>>,
+    /// Per log: the noise scales of its columns.
+    pub scales: Vec<NoiseScales>,
+    pub integrator: Dop853,
+    /// The largest model-free noise level of the logs (the residual check's reference).
+    pub log_noise: f64,
+}
+
+/// Per log and used row: the row's kind (`s1` of phase B tracked).
+pub(crate) type Kinds = Vec<Vec<RowKind>>;
+
+impl<'a> CalibProblem<'a> {
+    /// Number of flow parameters.
+    fn flow_params(&self) -> usize {
+        2 * self.fixed_flow.iter().filter(|f| f.is_none()).count()
+    }
+
+    /// Length of the parameter vector.
+    pub fn dim(&self) -> usize {
+        self.free.len() + self.flow_params()
+    }
+
+    /// The model and the flows of a parameter vector.
+    pub fn unpack(&self, p: &[f64]) -> (Model, Vec<(f64, f64)>) {
+        let mut m = self.base;
+        for (v, param) in p.iter().zip(&self.free) {
+            match param {
+                CalibParam::Theta => m.theta = *v,
+                CalibParam::A => m.a = *v,
+                CalibParam::B => m.b = *v,
+                CalibParam::K => m.c = *v,
+                CalibParam::Ei => m.lambda = v.exp(),
+            }
+        }
+        let mut k = self.free.len();
+        let flows = self
+            .fixed_flow
+            .iter()
+            .map(|f| {
+                f.unwrap_or_else(|| {
+                    k += 2;
+                    (p[k - 2], p[k - 1])
+                })
+            })
+            .collect();
+        (m, flows)
+    }
+
+    /// The parameter vector of a model and flows.
+    pub fn pack(&self, m: &Model, flows: &[(f64, f64)]) -> Vec<f64> {
+        let mut p: Vec<f64> = self
+            .free
+            .iter()
+            .map(|param| match param {
+                CalibParam::Theta => m.theta,
+                CalibParam::A => m.a,
+                CalibParam::B => m.b,
+                CalibParam::K => m.c,
+                CalibParam::Ei => m.lambda.ln(),
+            })
+            .collect();
+        for (f, fixed) in flows.iter().zip(&self.fixed_flow) {
+            if fixed.is_none() {
+                p.extend([f.0, f.1]);
+            }
+        }
+        p
+    }
+
+    /// The box of the parameters and their typical sizes.
+    pub fn bounds(&self) -> Bounds {
+        let mut b = Bounds {
+            lo: Vec::new(),
+            hi: Vec::new(),
+            scale: Vec::new(),
+        };
+        for param in &self.free {
+            let (lo, hi, sc) = match param {
+                CalibParam::Theta => (THETA_MIN, 1.0, 1.0),
+                CalibParam::A | CalibParam::B => (-PRECURVATURE_MAX, PRECURVATURE_MAX, 1.0),
+                CalibParam::K => (0.0, 1.0 / K_MIN, 0.01),
+                CalibParam::Ei => (LAMBDA_RANGE.0.ln(), LAMBDA_RANGE.1.ln(), 1.0),
+            };
+            b.lo.push(lo);
+            b.hi.push(hi);
+            b.scale.push(sc);
+        }
+        for _ in 0..self.flow_params() {
+            b.lo.push(-1e3);
+            b.hi.push(1e3);
+            b.scale.push(1.0);
+        }
+        b
+    }
+
+    /// The context of log `l` at `model` and `flow`.
+    fn ctx<'b>(&'b self, l: usize, model: &'b Model, flow: (f64, f64)) -> RowCtx<'b> {
+        RowCtx {
+            model,
+            flow,
+            profile: &self.logs[l].profile,
+            integrator: &self.integrator,
+        }
+    }
+
+    /// Every used row evaluated at `p` with `kinds` (unwhitened), `None` if one fails.
+    pub fn evaluate(&self, p: &[f64], kinds: &Kinds) -> Option<Vec<Vec<RowResult>>> {
+        let (model, flows) = self.unpack(p);
+        self.used
+            .iter()
+            .enumerate()
+            .map(|(l, used)| {
+                let ctx = self.ctx(l, &model, flows[l]);
+                used.iter()
+                    .zip(&kinds[l])
+                    .map(|(&i, &kind)| row_residuals(&ctx, &self.logs[l].rows[i], kind))
+                    .collect()
+            })
+            .collect()
+    }
+
+    /// Freezes the whiteners at `p` (per row, at its kind).
+    pub fn reweight(&mut self, p: &[f64], kinds: &Kinds) -> bool {
+        let Some(results) = self.evaluate(p, kinds) else {
+            return false;
+        };
+        let (model, flows) = self.unpack(p);
+        let mut all = Vec::with_capacity(self.used.len());
+        for (l, used) in self.used.iter().enumerate() {
+            let ctx = self.ctx(l, &model, flows[l]);
+            let mut w = Vec::with_capacity(used.len());
+            for (k, &i) in used.iter().enumerate() {
+                match whitener(&ctx, &self.logs[l].rows[i], &results[l][k], &self.scales[l]) {
+                    Some(x) => w.push(x),
+                    None => return false,
+                }
+            }
+            all.push(w);
+        }
+        self.whiteners = all;
+        true
+    }
+
+    /// [`CalibProblem::reweight`], with the rows that cannot be evaluated or whitened at `p`
+    /// skipped ([`CalibProblem::skip_failing`]) if it fails at first.
+    pub fn reweight_or_skip(&mut self, p: &[f64], kinds: &mut Kinds) -> bool {
+        if self.reweight(p, kinds) {
+            return true;
+        }
+        self.skip_failing(p, kinds);
+        self.reweight(p, kinds)
+    }
+
+    /// Marks the rows that cannot be evaluated at `p` (or not whitened there) as skipped;
+    /// returns how many were. For a start far off, where the trial whisker admits no
+    /// solution for some rows: they come back at the next phase decision.
+    pub fn skip_failing(&self, p: &[f64], kinds: &mut Kinds) -> usize {
+        let (model, flows) = self.unpack(p);
+        let mut n = 0;
+        for (l, used) in self.used.iter().enumerate() {
+            let ctx = self.ctx(l, &model, flows[l]);
+            for (k, &i) in used.iter().enumerate() {
+                let row = &self.logs[l].rows[i];
+                let ok = row_residuals(&ctx, row, kinds[l][k])
+                    .and_then(|res| whitener(&ctx, row, &res, &self.scales[l]))
+                    .is_some();
+                if !ok {
+                    kinds[l][k] = RowKind::Skipped;
+                    n += 1;
+                }
+            }
+        }
+        n
+    }
+
+    /// Marks the rows whose whiteners are degenerate ([`DEGENERATE`]) as skipped; returns
+    /// how many were.
+    pub fn skip_degenerate(&self, kinds: &mut Kinds) -> usize {
+        let mut n = 0;
+        for (l, ks) in kinds.iter_mut().enumerate() {
+            for (k, kind) in ks.iter_mut().enumerate() {
+                let bad = self.whiteners[l][k].degeneracy < DEGENERATE;
+                if bad && *kind != RowKind::Skipped && *kind != RowKind::Pre {
+                    *kind = RowKind::Skipped;
+                    n += 1;
+                }
+            }
+        }
+        n
+    }
+
+    /// The kinds of every used row at `p`: pre-contact rows stay so; a contact row takes the
+    /// hypothesis with the smallest whitened residual ([`judge`]), or is skipped when its
+    /// contact force is below [`F_MIN_REL`] of the log's largest or no hypothesis exists.
+    /// `pre[l]` marks the pre-contact rows of log `l`. Returns the kinds and the number of
+    /// contact rows without any hypothesis.
+    pub fn judge_all(&self, p: &[f64], pre: &[Vec<bool>]) -> (Kinds, usize) {
+        let (model, flows) = self.unpack(p);
+        let mut lost = 0;
+        let kinds = self
+            .used
+            .iter()
+            .enumerate()
+            .map(|(l, used)| {
+                let ctx = self.ctx(l, &model, flows[l]);
+                let rows = &self.logs[l].rows;
+                let fmax = used
+                    .iter()
+                    .filter(|&&i| !pre[l][i])
+                    .map(|&i| tip_force(&model, flows[l], &rows[i]))
+                    .fold(0.0, f64::max);
+                used.iter()
+                    .map(|&i| {
+                        if pre[l][i] {
+                            return RowKind::Pre;
+                        }
+                        if tip_force(&model, flows[l], &rows[i]) < self.min_force() * fmax {
+                            return RowKind::Skipped;
+                        }
+                        match judge(&ctx, &rows[i], &self.scales[l]) {
+                            Some(h) => h.kind,
+                            None => {
+                                lost += 1;
+                                RowKind::Skipped
+                            }
+                        }
+                    })
+                    .collect()
+            })
+            .collect();
+        (kinds, lost)
+    }
+
+    /// The norm of every used row's whitened residuals at `p` (NaN for skipped rows or if
+    /// the evaluation fails).
+    pub fn row_norms(&self, p: &[f64], kinds: &Kinds) -> Vec<Vec<f64>> {
+        let results = self.evaluate(p, kinds);
+        kinds
+            .iter()
+            .enumerate()
+            .map(|(l, ks)| {
+                ks.iter()
+                    .enumerate()
+                    .map(|(k, kind)| match (&results, kind) {
+                        (Some(res), RowKind::A | RowKind::B { .. } | RowKind::Pre) => {
+                            let z = self.whiteners[l][k].apply(&res[l][k].r);
+                            z.iter().map(|v| v * v).sum::<f64>().sqrt()
+                        }
+                        _ => f64::NAN,
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+
+    /// The leverage of every used row at `p` (`sum over its residuals of
+    /// J_i (J^T J)^-1 J_i^T`, the row's share of the Fisher information; the shares add up to
+    /// the number of parameters), with the residual Jacobian `cols` (column-major) of the
+    /// rows in `kinds`; NaN for skipped rows.
+    pub fn leverages(&self, cols: &[Vec<f64>], kinds: &Kinds) -> Vec<Vec<f64>> {
+        let n = cols.len();
+        let jtj: Vec<Vec<f64>> = (0..n)
+            .map(|i| {
+                (0..n)
+                    .map(|k| super::fit::dot(&cols[i], &cols[k]))
+                    .collect()
+            })
+            .collect();
+        let dmax = (0..n).map(|i| jtj[i][i]).fold(0.0, f64::max);
+        let mut reg = jtj.clone();
+        for (i, row) in reg.iter_mut().enumerate() {
+            row[i] += 1e-12 * dmax + f64::MIN_POSITIVE;
+        }
+        let mut idx = 0;
+        kinds
+            .iter()
+            .map(|ks| {
+                ks.iter()
+                    .map(|k| {
+                        if *k == RowKind::Skipped {
+                            return f64::NAN;
+                        }
+                        let mut h = 0.0;
+                        for _ in 0..super::residual::RESIDUALS_PER_ROW {
+                            let ji: Vec<f64> = cols.iter().map(|c| c[idx]).collect();
+                            if let Some(x) = super::fit::solve_spd(&reg, &ji) {
+                                h += super::fit::dot(&ji, &x);
+                            }
+                            idx += 1;
+                        }
+                        h
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+
+    /// Contact rows with a force below this fraction of the log's largest are left out:
+    /// [`F_MIN_REL`], or [`F_MIN_NOISE`] times the logs' noise level if that is larger (a
+    /// contact force within a few noise deviations of zero fixes neither the phase nor the
+    /// force's direction, and the linearised whitening fails there).
+    pub fn min_force(&self) -> f64 {
+        F_MIN_REL.max(F_MIN_NOISE * self.log_noise)
+    }
+
+    /// Number of residuals at `kinds`.
+    pub fn residual_count(&self, kinds: &Kinds) -> usize {
+        kinds
+            .iter()
+            .flatten()
+            .filter(|k| **k != RowKind::Skipped)
+            .count()
+            * super::residual::RESIDUALS_PER_ROW
+    }
+}
+
+impl Problem for CalibProblem<'_> {
+    type State = Kinds;
+
+    fn residuals(&self, p: &[f64], state: &Kinds) -> Option<(Vec<f64>, Kinds)> {
+        let results = self.evaluate(p, state)?;
+        let mut r = Vec::with_capacity(self.residual_count(state));
+        let mut kinds = Vec::with_capacity(results.len());
+        for (l, rows) in results.iter().enumerate() {
+            let mut k = Vec::with_capacity(rows.len());
+            for (j, res) in rows.iter().enumerate() {
+                k.push(res.kind);
+                if res.kind != RowKind::Skipped {
+                    r.extend(self.whiteners[l][j].apply(&res.r));
+                }
+            }
+            kinds.push(k);
+        }
+        Some((r, kinds))
+    }
+}

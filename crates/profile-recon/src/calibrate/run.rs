@@ -1,0 +1,527 @@
+//! The calibration itself (module docs of [`calibrate`](super)): checks, start values,
+//! rounds of fit and phase decision, the multi-start guard and the result.
+
+use super::fit::{cost, levenberg_marquardt, LmSettings, Problem};
+use super::problem::{CalibProblem, Kinds};
+use super::residual::{Model, RowKind};
+use super::{CalibLog, CalibParam, CalibSettings, Calibration};
+use crate::common::{KnownFlow, NoiseScales};
+use crate::error::{ReconError, Result};
+use crate::identify::smoothness_noise;
+use crate::observables::ObservableRow;
+use beam_model::Whisker;
+use bvp_solvers::integrator::Dop853;
+use std::f64::consts::FRAC_PI_2;
+
+/// The fit's noise level beyond this multiple of the logs' model-free level is reported.
+pub(crate) const NOISE_CHECK: f64 = 3.0;
+
+/// Fits the whisker's parameters `settings.fit` to `logs`, starting from `start` (module
+/// docs of [`calibrate`](super)).
+///
+/// # Errors
+/// [`ReconError::TooFewRows`] without logs or rows, [`ReconError::NonFinite`] for a bad
+/// value, [`ReconError::CalibrationRequest`] for an empty or repeated parameter list,
+/// [`ReconError::Model`] for a start whisker out of range, [`ReconError::CalibrationStart`]
+/// when the start whisker cannot evaluate a pre-contact row,
+/// [`ReconError::CalibrationUnderdetermined`] with fewer residuals than parameters.
+pub fn calibrate(
+    start: &Whisker,
+    logs: &[CalibLog],
+    settings: &CalibSettings,
+) -> Result<Calibration> {
+    check(start, logs, settings)?;
+    let pre: Vec<Vec<bool>> = logs.iter().map(|l| pre_contact(&l.rows)).collect();
+    let mut base = Model::of(start);
+    if settings.fit.contains(&CalibParam::K) {
+        if let Some(c) = start_compliance(logs) {
+            base.c = c;
+        }
+    }
+    let flows: Vec<(f64, f64)> = logs
+        .iter()
+        .zip(&pre)
+        .map(|(l, p)| start_flow(l, p))
+        .collect();
+    let mut prob = CalibProblem {
+        logs,
+        free: settings.fit.clone(),
+        base,
+        fixed_flow: logs.iter().map(fixed_flow).collect(),
+        used: logs.iter().map(|l| (0..l.rows.len()).collect()).collect(),
+        whiteners: Vec::new(),
+        scales: logs.iter().map(|l| NoiseScales::of(&l.rows)).collect(),
+        integrator: Dop853 {
+            h_init: Some(0.05),
+            ..Dop853::new(settings.tol, settings.tol)
+        },
+        log_noise: 0.0,
+    };
+    prob.log_noise = logs_noise(&prob);
+    let p0 = prob.pack(&base, &flows);
+    let (fit, costs) = search(&mut prob, &p0, &pre, settings)?;
+    super::result::summarize(&mut prob, &fit, &costs, start)
+}
+
+/// Input checks.
+fn check(start: &Whisker, logs: &[CalibLog], settings: &CalibSettings) -> Result<()> {
+    start.validate()?;
+    if logs.is_empty() {
+        return Err(ReconError::TooFewRows {
+            found: 0,
+            needed: 1,
+            what: "a calibration needs at least one log",
+        });
+    }
+    if settings.fit.is_empty() {
+        return Err(ReconError::CalibrationRequest {
+            reason: "no parameter to fit",
+            requested: 0,
+        });
+    }
+    for (i, p) in settings.fit.iter().enumerate() {
+        if settings.fit[..i].contains(p) {
+            return Err(ReconError::CalibrationRequest {
+                reason: "a parameter is asked for twice",
+                requested: settings.fit.len(),
+            });
+        }
+    }
+    for log in logs {
+        if log.rows.is_empty() {
+            return Err(ReconError::TooFewRows {
+                found: 0,
+                needed: 1,
+                what: "every calibration log needs rows",
+            });
+        }
+        for (i, r) in log.rows.iter().enumerate() {
+            r.validate(i)?;
+        }
+        crate::identify::check_known(&log.flow)?;
+    }
+    for (name, tol) in [("tol", settings.tol), ("polish_tol", settings.polish_tol)] {
+        if !(tol.is_finite() && tol > 0.0) {
+            return Err(ReconError::InvalidParameter {
+                name,
+                value: tol,
+                reason: "the tolerance must be finite and > 0",
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The flow of a log if it is given (both q and alpha), in Cartesian form.
+fn fixed_flow(log: &CalibLog) -> Option<(f64, f64)> {
+    match log.flow {
+        KnownFlow {
+            q: Some(q),
+            alpha: Some(a),
+        } => Some((q * a.cos(), q * a.sin())),
+        _ => None,
+    }
+}
+
+/// The start flow of a log: given, else the mean base forces of its pre-contact rows [6.1]
+/// (a given q keeps that direction), else a given q at alpha = 0, else no flow.
+fn start_flow(log: &CalibLog, pre: &[bool]) -> (f64, f64) {
+    if let Some(f) = fixed_flow(log) {
+        return f;
+    }
+    let idx: Vec<&ObservableRow> = log
+        .rows
+        .iter()
+        .zip(pre)
+        .filter(|(_, p)| **p)
+        .map(|(r, _)| r)
+        .collect();
+    let alpha = log.flow.alpha.unwrap_or(0.0);
+    if idx.is_empty() {
+        let q = log.flow.q.unwrap_or(0.0);
+        return (q * alpha.cos(), q * alpha.sin());
+    }
+    let n = idx.len() as f64;
+    let qc = -idx.iter().map(|r| r.ax).sum::<f64>() / n;
+    let qs = idx.iter().map(|r| r.ay).sum::<f64>() / n;
+    match log.flow.q {
+        Some(q) => {
+            let a = qs.atan2(qc);
+            (q * a.cos(), q * a.sin())
+        }
+        None => (qc, qs),
+    }
+}
+
+/// The compliance `1/k` by linear least squares of the follicle law over all rows:
+/// `phi0 - pi/2 = -MA c` [3.21, 3.22] (`None` without any moment).
+fn start_compliance(logs: &[CalibLog]) -> Option<f64> {
+    let (mut num, mut den) = (0.0, 0.0);
+    for r in logs.iter().flat_map(|l| &l.rows) {
+        num -= r.ma * (r.phi0 - FRAC_PI_2);
+        den += r.ma * r.ma;
+    }
+    (den > 0.0).then(|| (num / den).clamp(0.0, 1.0 / beam_model::support::K_MIN))
+}
+
+/// The pre-contact rows of a log: the largest group (at least two) of rows equal to one of
+/// them, first within 1e-9 of each column's scale (exact logs), else within five noise
+/// deviations of the log's model-free noise level (the free whisker under the flow gives
+/// the same observables wherever the base is [6.1]).
+pub(crate) fn pre_contact(rows: &[ObservableRow]) -> Vec<bool> {
+    let scales = NoiseScales::of(rows);
+    let level = smoothness_noise(rows, &scales);
+    for rel in [1e-9, 5.0 * level] {
+        let tol: Vec<f64> = scales.0.iter().map(|s| rel * s).collect();
+        let near = |a: &ObservableRow, b: &ObservableRow| {
+            let d = [a.ax - b.ax, a.ay - b.ay, a.ma - b.ma, a.phi0 - b.phi0];
+            d.iter().zip(&tol).all(|(d, t)| d.abs() <= *t)
+        };
+        let best = (0..rows.len())
+            .map(|i| (rows.iter().filter(|r| near(&rows[i], r)).count(), i))
+            .max_by_key(|c| c.0);
+        if let Some((count, i)) = best {
+            if count >= 2 {
+                return rows.iter().map(|r| near(&rows[i], r)).collect();
+            }
+        }
+        if !rel.is_finite() {
+            break;
+        }
+    }
+    vec![false; rows.len()]
+}
+
+/// A fit: parameters, kinds, residuals and cost, with the work spent.
+#[derive(Clone, Debug)]
+pub(crate) struct Rounds {
+    pub p: Vec<f64>,
+    pub kinds: Kinds,
+    pub cost: f64,
+    pub iterations: usize,
+    pub evaluations: usize,
+    /// Contact rows without any hypothesis at the last phase decision.
+    pub lost: usize,
+}
+
+/// Whether two kinds are the same phase (B roots within 1e-6).
+fn same_kind(a: &RowKind, b: &RowKind) -> bool {
+    match (a, b) {
+        (RowKind::B { s1: x }, RowKind::B { s1: y }) => (x - y).abs() < 1e-6,
+        _ => a == b,
+    }
+}
+
+/// Rounds of (whiteners, Levenberg-Marquardt, phase decision) from `p0` until the phases
+/// stay and the parameters do not move (at most `settings.rounds`); the whiteners are
+/// frozen at the final point.
+pub(crate) fn fit_rounds(
+    prob: &mut CalibProblem<'_>,
+    p0: Vec<f64>,
+    pre: &[Vec<bool>],
+    settings: &CalibSettings,
+) -> Result<Rounds> {
+    let bounds = prob.bounds();
+    // whitened residuals are in units of the relative noise level: an integration to
+    // `tol` leaves them at about `tol`
+    let lm = LmSettings {
+        max_iter: settings.max_iter,
+        floor: settings.tol,
+        ..LmSettings::default()
+    };
+    let mut p = p0;
+    let (mut kinds, mut lost) = prob.judge_all(&p, pre);
+    let mut never: Vec<Vec<bool>> = kinds.iter().map(|k| vec![false; k.len()]).collect();
+    let mut settled = false;
+    let mut out = Rounds {
+        p: p.clone(),
+        kinds: kinds.clone(),
+        cost: f64::INFINITY,
+        iterations: 0,
+        evaluations: 0,
+        lost,
+    };
+    for round in 0..settings.rounds.max(1) {
+        // rows the trial whisker admits no solution for sit this round out
+        if !prob.reweight_or_skip(&p, &mut kinds) {
+            return Err(start_failure(prob, &p, &kinds));
+        }
+        prob.skip_degenerate(&mut kinds);
+        // while the phases still change, a few iterations are enough before deciding them
+        // again
+        let lm = LmSettings {
+            max_iter: if settled {
+                lm.max_iter
+            } else {
+                lm.max_iter.min(SETTLING_ITER)
+            },
+            ..lm
+        };
+        let Some(res) = levenberg_marquardt(prob, &p, &kinds, &bounds, &lm) else {
+            return Err(start_failure(prob, &p, &kinds));
+        };
+        out.iterations += res.iterations;
+        out.evaluations += res.evaluations;
+        p = res.p;
+        let (judged, l) = prob.judge_all(&p, pre);
+        lost = l;
+        // a row that carries most of a direction of the information alone (a fold of the
+        // contact branch, where the linearised whitening fails) is left out for good
+        if let Some(cols) = jacobian(prob, &p, &res.state, &bounds) {
+            let lev = prob.leverages(&cols, &res.state);
+            let mut dropped = false;
+            for (l, ks) in lev.iter().enumerate() {
+                for (k, h) in ks.iter().enumerate() {
+                    if *h > LEVERAGE_MAX && pre.get(l).is_some_and(|p| !p[prob.used[l][k]]) {
+                        never[l][k] = true;
+                        dropped = true;
+                    }
+                }
+            }
+            if dropped && round + 1 < settings.rounds {
+                kinds = without(&judged, &never);
+                continue;
+            }
+        }
+        let judged = without(&judged, &never);
+        // a fit far above the noise (a compromise held by rows decided in the wrong phase):
+        // the next round leaves out the rows that fit worst, which come back at the round
+        // after, decided again at better parameters
+        if round + 2 < settings.rounds {
+            if let Some(trimmed) = trim(prob, &p, &res.state, &judged) {
+                kinds = trimmed;
+                continue;
+            }
+        }
+        // (a row left out as degenerate stays out)
+        let stay = judged
+            .iter()
+            .flatten()
+            .zip(res.state.iter().flatten())
+            .all(|(a, b)| *b == RowKind::Skipped || same_kind(a, b));
+        settled = stay;
+        kinds = if stay { res.state } else { judged };
+        if stay && round > 0 {
+            break;
+        }
+    }
+    if !prob.reweight_or_skip(&p, &mut kinds) {
+        return Err(start_failure(prob, &p, &kinds));
+    }
+    prob.skip_degenerate(&mut kinds);
+    let (r, kinds) = prob
+        .residuals(&p, &kinds)
+        .ok_or_else(|| start_failure(prob, &p, &kinds))?;
+    out.cost = cost(&r);
+    out.p = p;
+    out.kinds = kinds;
+    out.lost = lost;
+    Ok(out)
+}
+
+/// Levenberg-Marquardt iterations of a round whose phases were just decided anew.
+const SETTLING_ITER: usize = 12;
+
+/// Contact rows with a leverage beyond this are left out of the fit.
+const LEVERAGE_MAX: f64 = 0.75;
+
+/// `kinds` with the rows marked in `never` skipped.
+fn without(kinds: &Kinds, never: &[Vec<bool>]) -> Kinds {
+    kinds
+        .iter()
+        .zip(never)
+        .map(|(ks, nv)| {
+            ks.iter()
+                .zip(nv)
+                .map(|(k, n)| if *n { RowKind::Skipped } else { *k })
+                .collect()
+        })
+        .collect()
+}
+
+/// The forward-difference Jacobian of the whitened residuals at `p`.
+fn jacobian(
+    prob: &CalibProblem<'_>,
+    p: &[f64],
+    kinds: &Kinds,
+    bounds: &super::fit::Bounds,
+) -> Option<Vec<Vec<f64>>> {
+    let (r, _) = prob.residuals(p, kinds)?;
+    super::fit::jacobian(prob, p, &r, kinds, bounds, 1e-7)
+}
+
+/// Rows whose whitened residual norm exceeds this multiple of the median are left out of
+/// the next round of a fit that fails the residual check.
+const TRIM: f64 = 3.0;
+
+/// For a fit at `p` (kinds `state`) that fails the residual check: `judged` with the contact
+/// rows that fit worst (norm beyond [`TRIM`] times the median) left out; `None` when the fit
+/// passes the check or no row stands out.
+fn trim(prob: &CalibProblem<'_>, p: &[f64], state: &Kinds, judged: &Kinds) -> Option<Kinds> {
+    let norms = prob.row_norms(p, state);
+    let mut all: Vec<f64> = norms
+        .iter()
+        .flatten()
+        .copied()
+        .filter(|v| v.is_finite())
+        .collect();
+    if all.is_empty() {
+        return None;
+    }
+    let n = prob.residual_count(state).saturating_sub(prob.dim()).max(1);
+    let level = (all.iter().map(|v| v * v).sum::<f64>() / n as f64).sqrt();
+    if level <= NOISE_CHECK * prob.log_noise.max(1e-9) {
+        return None;
+    }
+    all.sort_by(f64::total_cmp);
+    let median = all[all.len() / 2];
+    let mut out = judged.clone();
+    let mut trimmed = 0;
+    for (l, ks) in out.iter_mut().enumerate() {
+        for (k, kind) in ks.iter_mut().enumerate() {
+            if matches!(kind, RowKind::A | RowKind::B { .. }) && norms[l][k] > TRIM * median {
+                *kind = RowKind::Skipped;
+                trimmed += 1;
+            }
+        }
+    }
+    (trimmed > 0).then_some(out)
+}
+
+/// The first row the problem cannot evaluate at `p` (for the error).
+pub(crate) fn start_failure(prob: &CalibProblem<'_>, p: &[f64], kinds: &Kinds) -> ReconError {
+    let (model, flows) = prob.unpack(p);
+    for (l, used) in prob.used.iter().enumerate() {
+        let ctx = super::residual::RowCtx {
+            model: &model,
+            flow: flows[l],
+            profile: &prob.logs[l].profile,
+            integrator: &prob.integrator,
+        };
+        for (k, &i) in used.iter().enumerate() {
+            let row = &prob.logs[l].rows[i];
+            if super::residual::row_residuals(&ctx, row, kinds[l][k]).is_none() {
+                return ReconError::CalibrationStart {
+                    log: l,
+                    row: i,
+                    x0: row.x0,
+                };
+            }
+        }
+    }
+    ReconError::CalibrationStart {
+        log: 0,
+        row: 0,
+        x0: prob.logs[0].rows[0].x0,
+    }
+}
+
+/// The local fits from the best screened candidates ([`screen`](super::screen)), in the
+/// order of their screening objective, until one passes the residual check (its noise level
+/// within [`NOISE_CHECK`] times the logs' model-free level, no row lost) or
+/// `settings.starts` fits were made; the lowest cost wins. Returns it with the cost of
+/// every fit made.
+fn search(
+    prob: &mut CalibProblem<'_>,
+    p0: &[f64],
+    pre: &[Vec<bool>],
+    settings: &CalibSettings,
+) -> Result<(Rounds, Vec<f64>)> {
+    let cands = super::screen::candidates(prob, p0, pre, settings.screen, settings.seed);
+    let log_noise = prob.log_noise;
+    let mut best: Option<Rounds> = None;
+    let mut costs = Vec::new();
+    let mut first_err = None;
+    let mut evaluations = cands.len()
+        * 2
+        * super::screen::subsample(prob, pre)
+            .iter()
+            .map(Vec::len)
+            .sum::<usize>();
+    let mut tried = 0;
+    for (_, p) in cands.iter().take(3 * settings.starts.max(1)) {
+        if tried == settings.starts.max(1) {
+            break;
+        }
+        // a candidate that cannot be fitted at all does not count
+        let fit = match fit_rounds(prob, p.clone(), pre, settings) {
+            Ok(f) => f,
+            Err(e) => {
+                first_err.get_or_insert(e);
+                continue;
+            }
+        };
+        tried += 1;
+        evaluations += fit.evaluations;
+        costs.push(fit.cost);
+        let n = prob
+            .residual_count(&fit.kinds)
+            .saturating_sub(prob.dim())
+            .max(1);
+        let level = (2.0 * fit.cost / n as f64).sqrt();
+        let clean = fit.lost == 0 && level <= NOISE_CHECK * log_noise.max(1e-9);
+        if best.as_ref().is_none_or(|b| fit.cost < b.cost) {
+            best = Some(fit);
+        }
+        if clean {
+            break;
+        }
+    }
+    let mut best = match (best, first_err) {
+        (Some(b), _) => b,
+        (None, Some(e)) => return Err(e),
+        (None, None) => return Err(start_failure(prob, p0, &prob.judge_all(p0, pre).0)),
+    };
+    best.evaluations = evaluations;
+    polish(prob, &mut best, settings)?;
+    Ok((best, costs))
+}
+
+/// The final polish: the phases as settled, the integrations at [`CalibSettings::polish_tol`]
+/// (the searches run at the looser [`CalibSettings::tol`]), the whiteners made at the fit,
+/// and Levenberg-Marquardt to convergence; the problem keeps the polished integrator and
+/// whiteners for the result.
+fn polish(prob: &mut CalibProblem<'_>, fit: &mut Rounds, settings: &CalibSettings) -> Result<()> {
+    let tol = settings.polish_tol.min(settings.tol);
+    let search = prob.integrator.clone();
+    prob.integrator = Dop853 {
+        h_init: Some(0.05),
+        ..Dop853::new(tol, tol)
+    };
+    if !prob.reweight_or_skip(&fit.p, &mut fit.kinds) {
+        // no polish: the search's fit stands
+        prob.integrator = search;
+        if !prob.reweight_or_skip(&fit.p, &mut fit.kinds) {
+            return Err(start_failure(prob, &fit.p, &fit.kinds));
+        }
+        return Ok(());
+    }
+    let lm = LmSettings {
+        max_iter: settings.max_iter,
+        floor: tol,
+        ..LmSettings::default()
+    };
+    if let Some(res) = levenberg_marquardt(prob, &fit.p, &fit.kinds, &prob.bounds(), &lm) {
+        fit.iterations += res.iterations;
+        fit.evaluations += res.evaluations;
+        fit.p = res.p;
+        fit.kinds = res.state;
+    }
+    if !prob.reweight_or_skip(&fit.p, &mut fit.kinds) {
+        return Err(start_failure(prob, &fit.p, &fit.kinds));
+    }
+    let (r, _) = prob
+        .residuals(&fit.p, &fit.kinds)
+        .ok_or_else(|| start_failure(prob, &fit.p, &fit.kinds))?;
+    fit.cost = cost(&r);
+    Ok(())
+}
+
+/// The largest model-free noise level over the logs.
+pub(crate) fn logs_noise(prob: &CalibProblem<'_>) -> f64 {
+    prob.logs
+        .iter()
+        .zip(&prob.scales)
+        .map(|(l, sc)| smoothness_noise(&l.rows, sc))
+        .fold(0.0, f64::max)
+}

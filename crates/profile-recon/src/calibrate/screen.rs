@@ -1,0 +1,116 @@
+//! The global part of the guard against local minima: before any local fit, seeded
+//! candidate whiskers around the start are ranked by a phase-free objective on a subsample
+//! of the rows, and the local fits start from the best ones.
+//!
+//! The local fit decides each contact row's phase at its current parameters; from a start
+//! far off, rows near a phase switch are decided wrongly and the fit can settle in a
+//! consistent but wrong compromise. The screening objective has no phase decision: every row
+//! counts with its best hypothesis (tip contact or any root of `m`), its residuals scaled by
+//! fixed per-log scales (the columns' full scales), each row's contribution capped so that
+//! a hopeless row does not dominate.
+
+use super::problem::CalibProblem;
+use super::residual::{hypotheses, row_residuals, Model, RowCtx, RowKind};
+use super::CalibParam;
+use rand::rngs::StdRng;
+use rand::{Rng, SeedableRng};
+
+/// Contact rows per log in the screening subsample.
+const ROWS: usize = 16;
+/// Cap of one row's scaled squared residual.
+const CAP: f64 = 1e4;
+
+/// The screening objective of the parameter vector `p` (module docs): the sum over the
+/// subsample `rows[l]` of each row's smallest scaled squared residual, capped.
+pub(crate) fn objective(prob: &CalibProblem<'_>, p: &[f64], rows: &[Vec<(usize, bool)>]) -> f64 {
+    let (model, flows) = prob.unpack(p);
+    let mut total = 0.0;
+    for (l, sub) in rows.iter().enumerate() {
+        let sc = &prob.scales[l].0;
+        let sf = sc[0].max(sc[1]).max(1e-12);
+        let sm = sc[2].max(1e-12);
+        let sp = sc[3].max(1e-12) * 1e-2 + sm * model.c;
+        let ctx = RowCtx {
+            model: &model,
+            flow: flows[l],
+            profile: &prob.logs[l].profile,
+            integrator: &prob.integrator,
+        };
+        for &(i, pre) in sub {
+            let row = &prob.logs[l].rows[i];
+            let scaled = |kind: RowKind, r: &[f64; 4]| -> f64 {
+                let s = match kind {
+                    RowKind::Pre => [sp, sf, sf, sm],
+                    RowKind::A => [sp, sm, 1e-2, sf],
+                    _ => [sp, 1e-2, sf, sf],
+                };
+                r.iter().zip(s).map(|(v, s)| (v / s).powi(2)).sum::<f64>()
+            };
+            let best = if pre {
+                row_residuals(&ctx, row, RowKind::Pre).map_or(CAP, |h| scaled(h.kind, &h.r))
+            } else {
+                hypotheses(&ctx, row)
+                    .iter()
+                    .map(|h| scaled(h.kind, &h.r))
+                    .fold(CAP, f64::min)
+            };
+            total += best.min(CAP);
+        }
+    }
+    total
+}
+
+/// The subsample: per log one pre-contact row and about [`ROWS`] contact rows evenly
+/// spread, each with whether it is pre-contact.
+pub(crate) fn subsample(prob: &CalibProblem<'_>, pre: &[Vec<bool>]) -> Vec<Vec<(usize, bool)>> {
+    prob.logs
+        .iter()
+        .zip(pre)
+        .map(|(log, p)| {
+            let n = log.rows.len();
+            let contact: Vec<usize> = (0..n).filter(|&i| !p[i]).collect();
+            let step = contact.len().div_ceil(ROWS).max(1);
+            let mut out: Vec<(usize, bool)> = (0..n)
+                .filter(|&i| p[i])
+                .take(1)
+                .map(|i| (i, true))
+                .collect();
+            out.extend(contact.iter().step_by(step).map(|&i| (i, false)));
+            out
+        })
+        .collect()
+}
+
+/// `count` seeded candidates around `p0` (theta within a factor 2 and in [0.02, 1], A and
+/// B within `0.75 |value| + 0.5`, `1/k` kept (the follicle law's), E I within a factor 2), the
+/// flows kept; returned with `p0` first, sorted by the screening [`objective`].
+pub(crate) fn candidates(
+    prob: &CalibProblem<'_>,
+    p0: &[f64],
+    pre: &[Vec<bool>],
+    count: usize,
+    seed: u64,
+) -> Vec<(f64, Vec<f64>)> {
+    let rows = subsample(prob, pre);
+    let mut rng = StdRng::seed_from_u64(seed);
+    let start: Model = prob.unpack(p0).0;
+    let mut out = vec![(objective(prob, p0, &rows), p0.to_vec())];
+    for _ in 0..count {
+        let mut p = p0.to_vec();
+        for (v, param) in p.iter_mut().zip(&prob.free) {
+            *v = match param {
+                CalibParam::Theta => {
+                    (start.theta * 2f64.powf(rng.gen_range(-1.0..1.0))).clamp(0.02, 1.0)
+                }
+                CalibParam::A => start.a + (0.75 * start.a.abs() + 0.5) * rng.gen_range(-1.0..1.0),
+                CalibParam::B => start.b + (0.75 * start.b.abs() + 0.5) * rng.gen_range(-1.0..1.0),
+                // the follicle law gives 1/k directly (linear least squares)
+                CalibParam::K => *v,
+                CalibParam::Ei => start.lambda.ln() + 2f64.ln() * rng.gen_range(-1.0..1.0),
+            };
+        }
+        out.push((objective(prob, &p, &rows), p));
+    }
+    out.sort_by(|a, b| a.0.total_cmp(&b.0));
+    out
+}

@@ -1,0 +1,465 @@
+//! End-to-end tests of `vibrissa calibrate`: sweep past a known post -> calibrate from a
+//! wrong start -> the JSON against the truth; the calibrated scene.ron reused by `sweep` and
+//! `reconstruct`; physical units with E I; one-line errors naming the culprit.
+
+use std::fs;
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn run(args: &[&str], cwd: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_vibrissa"))
+        .args(args)
+        .current_dir(cwd)
+        .output()
+        .expect("the binary runs")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn json(o: &Output) -> serde_json::Value {
+    assert!(o.status.success(), "stderr: {}", stderr(o));
+    serde_json::from_slice(&o.stdout).expect("stdout is one JSON object")
+}
+
+/// A failure: exit code `code`, one line on stderr mentioning every needle, no panic, no
+/// output folder `cal`.
+fn assert_fails(o: &Output, code: i32, needles: &[&str], cwd: &Path) {
+    let err = stderr(o);
+    assert_eq!(o.status.code(), Some(code), "stderr: {err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "one-line error: {err:?}");
+    assert!(!err.contains("panicked"), "{err}");
+    for n in needles {
+        assert!(err.contains(n), "stderr {err:?} should mention {n:?}");
+    }
+    assert!(!cwd.join("cal").exists(), "no output directory on failure");
+}
+
+const POST: &str = "circle:-0.2,1.3,0.5";
+
+/// The true whisker's sweep past the post into `cwd/post`.
+fn sweep_post(cwd: &Path) {
+    let o = run(
+        &[
+            "sweep",
+            "--profile",
+            POST,
+            "--theta",
+            "0.6",
+            "--a",
+            "0.5",
+            "--b",
+            "0.3",
+            "--k",
+            "20",
+            "--q",
+            "2",
+            "--alpha-deg",
+            "10",
+            "--points",
+            "40",
+            "--figures",
+            "none",
+            "--out",
+            "post",
+        ],
+        cwd,
+    );
+    assert!(o.status.success(), "sweep: {}", stderr(&o));
+}
+
+#[test]
+fn sweep_then_calibrate_gives_the_truth_and_a_reusable_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    let cwd = dir.path();
+    sweep_post(cwd);
+    // a wrong start (the folder's scene.ron holds the truth: the flags override it)
+    let o = run(
+        &[
+            "calibrate",
+            "post",
+            "--theta",
+            "0.8",
+            "--a",
+            "0.3",
+            "--b",
+            "0.2",
+            "--k",
+            "30",
+            "--json",
+            "--out",
+            "cal",
+        ],
+        cwd,
+    );
+    let v = json(&o);
+    let p = &v["parameters"];
+    for (name, truth) in [("theta", 0.6), ("a", 0.5), ("b", 0.3), ("k", 20.0)] {
+        let est = p[name]["value"].as_f64().unwrap();
+        assert!((est - truth).abs() < 1e-7 * truth.max(1.0), "{name}: {est}");
+        assert_eq!(p[name]["identifiable"], true);
+        assert!(p[name]["stderr"].as_f64().unwrap() < 1e-6);
+    }
+    let log = &v["logs"][0];
+    assert!((log["q"].as_f64().unwrap() - 2.0).abs() < 1e-8);
+    assert!((log["alpha_deg"].as_f64().unwrap() - 10.0).abs() < 1e-6);
+    assert!(log["rows"].as_u64().unwrap() >= 40);
+    assert!(v["rms_residual"].as_f64().unwrap() < 1e-8);
+    for f in [
+        "scene.ron",
+        "residuals.csv",
+        "residuals.units.csv",
+        "contour-1.svg",
+        "residuals.svg",
+    ] {
+        assert!(cwd.join("cal").join(f).is_file(), "{f}");
+    }
+    // the flow known and held fixed
+    let o = run(
+        &[
+            "calibrate",
+            "post",
+            "--theta",
+            "0.8",
+            "--k",
+            "30",
+            "--q",
+            "2",
+            "--alpha-deg",
+            "10",
+            "--json",
+        ],
+        cwd,
+    );
+    let fixed = json(&o);
+    assert_eq!(fixed["logs"][0]["q"].as_f64().unwrap(), 2.0);
+    assert_eq!(fixed["logs"][0]["q_stderr"].as_f64().unwrap(), 0.0);
+    assert!((fixed["parameters"]["theta"]["value"].as_f64().unwrap() - 0.6).abs() < 1e-7);
+    let res = fs::read_to_string(cwd.join("cal/residuals.csv")).unwrap();
+    assert!(res.starts_with("log,row,x0,kind,s1,x,y,distance,sigma,chi\n"));
+    // the calibrated scene reconstructs an unknown object swept with the true whisker
+    let o = run(
+        &[
+            "sweep",
+            "--profile",
+            "parabola:1.5,-0.2,0.55",
+            "--theta",
+            "0.6",
+            "--a",
+            "0.5",
+            "--b",
+            "0.3",
+            "--k",
+            "20",
+            "--q",
+            "2",
+            "--points",
+            "20",
+            "--figures",
+            "none",
+            "--out",
+            "unknown",
+        ],
+        cwd,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = run(
+        &[
+            "reconstruct",
+            "unknown/observables.csv",
+            "cal/scene.ron",
+            "--profile",
+            "parabola:1.5,-0.2,0.55",
+            "--json",
+            "--figures",
+            "none",
+            "--out",
+            "rec",
+        ],
+        cwd,
+    );
+    let r = json(&o);
+    assert!(r["max_error"].as_f64().unwrap() < 1e-7, "{r}");
+    // and is a scene `sweep` runs
+    let o = run(
+        &[
+            "sweep",
+            "cal/scene.ron",
+            "--points",
+            "10",
+            "--figures",
+            "none",
+            "--out",
+            "again",
+        ],
+        cwd,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+}
+
+#[test]
+fn a_log_of_the_free_whisker_only_cannot_determine_the_taper() {
+    let dir = tempfile::tempdir().unwrap();
+    let cwd = dir.path();
+    sweep_post(cwd);
+    // the 10 rows before contact only
+    let text = fs::read_to_string(cwd.join("post/observables.csv")).unwrap();
+    let free: Vec<&str> = text.lines().take(11).collect();
+    fs::write(cwd.join("free.csv"), free.join("\n") + "\n").unwrap();
+    let o = run(
+        &[
+            "calibrate",
+            &format!("free.csv={POST}"),
+            "--theta",
+            "0.8",
+            "--k",
+            "30",
+            "--json",
+        ],
+        cwd,
+    );
+    let v = json(&o);
+    for name in ["theta", "a", "b"] {
+        assert_eq!(v["parameters"][name]["identifiable"], false, "{v}");
+        assert!(v["parameters"][name]["value"].is_null());
+    }
+    assert_eq!(v["parameters"]["k"]["identifiable"], true);
+    assert_eq!(v["determined"].as_array().unwrap().len(), 1, "{v}");
+}
+
+#[test]
+fn physical_units_fit_the_bending_stiffness() {
+    let dir = tempfile::tempdir().unwrap();
+    let cwd = dir.path();
+    // the beta whisker with E = 1.4 GPa sweeps; the start says 2 GPa
+    let truth = "(units: Physical(preset: \"beta\"), whisker: (theta: 0.6, a: 20.0, b: 5.0, k: Some(2e-5)), loads: (q: 0.002), profile: Some(\"circle:-13,86,33\"), sweep: Some((points: 40)))";
+    fs::write(cwd.join("truth.ron"), truth).unwrap();
+    let o = run(
+        &["sweep", "truth.ron", "--figures", "none", "--out", "sw"],
+        cwd,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let start = truth
+        .replace(
+            "preset: \"beta\"",
+            "preset: \"beta\", youngs_modulus_gpa: Some(2.0)",
+        )
+        .replace("theta: 0.6", "theta: 0.7");
+    fs::write(cwd.join("start.ron"), start).unwrap();
+    let o = run(
+        &[
+            "calibrate",
+            "sw/observables.csv",
+            "--scene",
+            "start.ron",
+            "--fit",
+            "theta,a,b,k,ei",
+            "--json",
+            "--figures",
+            "none",
+            "--out",
+            "cal",
+        ],
+        cwd,
+    );
+    let v = json(&o);
+    let p = &v["parameters"];
+    // E I of the beta whisker: 1.4 GPa * pi (0.225 mm)^4 / 64
+    let ei = 1.4e9 * std::f64::consts::PI * 0.225e-3f64.powi(4) / 64.0;
+    let est = p["ei"]["value"].as_f64().unwrap();
+    assert!((est / ei - 1.0).abs() < 1e-6, "ei {est} vs {ei}: {v}");
+    assert!(
+        (p["k"]["value"].as_f64().unwrap() / 2e-5 - 1.0).abs() < 1e-6,
+        "{v}"
+    );
+    assert!(
+        (p["a"]["value"].as_f64().unwrap() / 20.0 - 1.0).abs() < 1e-6,
+        "{v}"
+    );
+    assert!(
+        (v["logs"][0]["q"].as_f64().unwrap() / 0.002 - 1.0).abs() < 1e-6,
+        "{v}"
+    );
+    let scene = fs::read_to_string(cwd.join("cal/scene.ron")).unwrap();
+    assert!(
+        scene.contains("youngs_modulus_gpa: Some(1.39999"),
+        "{scene}"
+    );
+    // ei in a dimensionless log is refused
+    fs::remove_dir_all(cwd.join("cal")).unwrap();
+    let o = run(
+        &[
+            "calibrate",
+            "sw/observables.csv",
+            "--profile",
+            "g1",
+            "--fit",
+            "ei",
+        ],
+        cwd,
+    );
+    assert_fails(&o, 2, &["--fit", "ei", "dimensionless"], cwd);
+}
+
+#[test]
+fn bad_input_names_the_culprit() {
+    let dir = tempfile::tempdir().unwrap();
+    let cwd = dir.path();
+    sweep_post(cwd);
+    let o = run(
+        &[
+            "calibrate",
+            "nowhere.csv",
+            "--profile",
+            "g1",
+            "--out",
+            "cal",
+        ],
+        cwd,
+    );
+    assert_fails(&o, 2, &["nowhere.csv"], cwd);
+    let o = run(
+        &["calibrate", "post", "--fit", "theta,zeta", "--out", "cal"],
+        cwd,
+    );
+    assert_fails(&o, 2, &["--fit", "zeta"], cwd);
+    let o = run(&["calibrate", "post/observables.csv", "--out", "cal"], cwd);
+    assert_fails(&o, 2, &["no known contour", "--profile"], cwd);
+    let o = run(&["calibrate", "post=parabola:x", "--out", "cal"], cwd);
+    assert_fails(&o, 2, &["parabola:x"], cwd);
+    // a value that is not a number names the file, line and column
+    let text = fs::read_to_string(cwd.join("post/observables.csv")).unwrap();
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    let mut cells: Vec<&str> = lines[5].split(',').collect();
+    cells[1] = "abc";
+    lines[5] = cells.join(",");
+    fs::write(cwd.join("bad.csv"), lines.join("\n") + "\n").unwrap();
+    let o = run(
+        &["calibrate", &format!("bad.csv={POST}"), "--out", "cal"],
+        cwd,
+    );
+    assert_fails(&o, 2, &["bad.csv:6", "Ax"], cwd);
+}
+
+#[test]
+fn advice_ranks_candidate_objects_before_any_experiment() {
+    let dir = tempfile::tempdir().unwrap();
+    let cwd = dir.path();
+    let o = run(
+        &[
+            "calibrate",
+            "--advise",
+            POST,
+            "--advise",
+            "g2",
+            "--advise",
+            "circle:9,9,0.1",
+            "--theta",
+            "0.6",
+            "--a",
+            "0.5",
+            "--b",
+            "0.3",
+            "--k",
+            "20",
+            "--q",
+            "2",
+            "--points",
+            "30",
+            "--json",
+        ],
+        cwd,
+    );
+    let v = json(&o);
+    let advice = v["advice"].as_array().unwrap();
+    assert_eq!(advice.len(), 3);
+    for a in &advice[..2] {
+        for name in ["theta", "a", "b", "k"] {
+            let sd = a["parameters"][name]["stderr"].as_f64().unwrap();
+            assert!(sd > 0.0 && sd < 1.0, "{a}");
+        }
+    }
+    // a post the whisker never reaches gets no advice, said so
+    assert!(
+        advice[2]["error"]
+            .as_str()
+            .unwrap()
+            .contains("never touches"),
+        "{v}"
+    );
+    let o = run(&["calibrate", "x.csv", "--advise", "g2"], cwd);
+    assert_fails(&o, 2, &["--advise"], cwd);
+}
+
+#[test]
+fn two_logs_of_one_whisker_past_two_objects() {
+    let dir = tempfile::tempdir().unwrap();
+    let cwd = dir.path();
+    sweep_post(cwd);
+    let o = run(
+        &[
+            "sweep",
+            "--profile",
+            "g2",
+            "--theta",
+            "0.6",
+            "--a",
+            "0.5",
+            "--b",
+            "0.3",
+            "--k",
+            "20",
+            "--q",
+            "1",
+            "--alpha-deg",
+            "-20",
+            "--points",
+            "30",
+            "--figures",
+            "none",
+            "--out",
+            "bar",
+        ],
+        cwd,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    // a sweep folder and a bare CSV with its own contour, fitted jointly
+    let o = run(
+        &[
+            "calibrate",
+            "post",
+            "bar/observables.csv=g2",
+            "--theta",
+            "0.8",
+            "--a",
+            "0.3",
+            "--b",
+            "0.2",
+            "--k",
+            "30",
+            "--json",
+            "--figures",
+            "none",
+            "--out",
+            "cal",
+        ],
+        cwd,
+    );
+    let v = json(&o);
+    for (name, truth) in [("theta", 0.6), ("a", 0.5), ("b", 0.3), ("k", 20.0)] {
+        let est = v["parameters"][name]["value"].as_f64().unwrap();
+        assert!((est - truth).abs() < 1e-7 * truth.max(1.0), "{name}: {est}");
+    }
+    let logs = v["logs"].as_array().unwrap();
+    assert_eq!(logs.len(), 2);
+    assert!((logs[0]["alpha_deg"].as_f64().unwrap() - 10.0).abs() < 1e-6);
+    assert!((logs[1]["q"].as_f64().unwrap() - 1.0).abs() < 1e-8);
+    assert!((logs[1]["alpha_deg"].as_f64().unwrap() + 20.0).abs() < 1e-6);
+    assert_eq!(logs[1]["profile"], "g2");
+    let res = fs::read_to_string(cwd.join("cal/residuals.csv")).unwrap();
+    assert!(
+        res.lines().any(|l| l.starts_with("2,")),
+        "rows of the second log"
+    );
+}

@@ -176,7 +176,7 @@ pub fn write_figures(
     };
     let mut res_chart = Chart::new(
         "Distance of each reconstructed contact point to its known contour",
-        units.label("base position x₀", Quantity::Length),
+        units.label("base x_0", Quantity::Length),
         units.label("distance", Quantity::Length),
     );
     for (i, (input, log)) in inputs.iter().zip(logs).enumerate() {
@@ -220,13 +220,22 @@ pub fn write_figures(
                 .map(|x| (x * l, input.profile.1.y(x) * l))
                 .filter(|p| p.1.is_finite())
                 .collect();
-            chart = chart.with(Series::new("known contour", contour, Style::Line).color(7));
+            // The object (solid above its contour) under the points, its contour on top.
+            chart =
+                chart.with(Series::new("known object", contour.clone(), Style::Obstacle).color(6));
+            chart
+                .series
+                .push(Series::new("", contour, Style::Line).color(6));
         }
         if !before.is_empty() {
             chart =
                 chart.with(Series::new("before (start whisker)", before, Style::Points).color(1));
         }
         chart = chart.with(Series::new("after calibration", after, Style::Points).color(0));
+        if let Some(line) = chart.series.iter().position(|s| s.name.is_empty()) {
+            let top = chart.series.remove(line);
+            chart.series.push(top);
+        }
         write_svg(
             &chart,
             &path_for(&format!("contour-{}.svg", i + 1)),
@@ -244,7 +253,8 @@ pub fn write_figures(
             })
             .collect();
         res_chart =
-            res_chart.with(Series::new(format!("log {}", i + 1), res, Style::LinePoints).color(i));
+            // Each row's distance is its own: points, not a line through them.
+            res_chart.with(Series::new(format!("log {}", i + 1), res, Style::Points).color(i));
     }
     write_svg(&res_chart, &path_for("residuals.svg"), (900, 480))
 }

@@ -10,21 +10,19 @@ use contact_sim::Profile;
 use profile_recon::calibrate::{
     calibrate, CalibLog, CalibParam, CalibSettings, Calibration, ParamEstimate,
 };
-use profile_recon::{KnownFlow, ObservableRow, ReconError};
+use profile_recon::{KnownFlow, ReconError};
 
 use crate::atomic::OutputDir;
 use crate::cli::{CalibrateArgs, ModelFlags};
 use crate::commands::calibrate_out::{self, RESIDUALS_CSV};
 use crate::commands::recon_io;
+use crate::commands::reconstruct::{rows_of, REQUIRED_COLUMNS};
 use crate::csvio::{read_table, Table};
 use crate::error::CliError;
 use crate::resolve::{
     parse_count, physical_whisker, resolve_model, LoadedScene, ProfileArg, Resolved,
 };
 use crate::units::{Quantity, UnitSystem};
-
-/// The columns a calibration log must have.
-const REQUIRED_COLUMNS: [&str; 5] = ["x0", "Ax", "Ay", "MA", "phi0"];
 
 /// One log as read: its origin, table (model units), x0 as given and contour. The Python
 /// package builds these from columns in memory (`path` then names the log in messages).
@@ -301,28 +299,6 @@ fn read_log(
         x0_given,
         profile: (prof.spec.clone(), parsed),
     })
-}
-
-/// The observable rows of a table read with [`REQUIRED_COLUMNS`].
-fn rows_of(table: &Table) -> Result<Vec<ObservableRow>, CliError> {
-    let col = |name: &str| {
-        table.column(name).ok_or_else(|| CliError::Csv {
-            path: table.path.clone(),
-            line: 1,
-            column: Some(name.to_string()),
-            reason: "missing required column".to_string(),
-        })
-    };
-    let (x0, ax, ay, ma, phi0) = (col("x0")?, col("Ax")?, col("Ay")?, col("MA")?, col("phi0")?);
-    Ok((0..table.rows())
-        .map(|i| ObservableRow {
-            x0: x0[i],
-            ax: ax[i],
-            ay: ay[i],
-            ma: ma[i],
-            phi0: phi0[i],
-        })
-        .collect())
 }
 
 /// Maps a calibration error to its culprit (a log's file and line, or the solver).

@@ -279,7 +279,7 @@ fn parse_tolerance(raw: Option<&str>, method: ReconMethod) -> Result<Option<f64>
 }
 
 /// The observable rows of a table read with [`REQUIRED_COLUMNS`].
-fn rows_of(table: &Table) -> Result<Vec<ObservableRow>, CliError> {
+pub(crate) fn rows_of(table: &Table) -> Result<Vec<ObservableRow>, CliError> {
     let col = |name: &str| {
         table.column(name).ok_or_else(|| CliError::Csv {
             path: table.path.clone(),

@@ -141,6 +141,7 @@ fn predict(
         scales: vec![NoiseScales::of(&rows)],
         integrator: Dop853::new(1e-12, 1e-12),
         log_noise: settings.noise,
+        projection: 0,
     };
     let p = prob.pack(&model, &[qf]);
     let mut kinds = vec![kinds];

@@ -4,8 +4,8 @@
 
 use super::fit::{Bounds, Problem};
 use super::residual::{
-    judge, row_residuals, tip_force, whitener, Model, RowCtx, RowKind, RowResult, Whitener,
-    DEGENERATE, F_MIN_REL,
+    judge, projected, row_residuals, tip_force, whitener, Model, RowCtx, RowKind, RowResult,
+    Whitener, DEGENERATE, F_MIN_REL,
 };
 use super::{CalibLog, CalibParam};
 use crate::common::NoiseScales;
@@ -38,6 +38,9 @@ pub(crate) struct CalibProblem<'a> {
     pub integrator: Dop853,
     /// The largest model-free noise level of the logs (the residual check's reference).
     pub log_noise: f64,
+    /// Chord-Newton steps that project each row onto the model ([`projected`]; 0: the
+    /// first-order whitened residuals).
+    pub projection: usize,
 }
 
 /// Per log and used row: the row's kind (`s1` of phase B tracked).
@@ -128,7 +131,7 @@ impl<'a> CalibProblem<'a> {
     }
 
     /// The context of log `l` at `model` and `flow`.
-    fn ctx<'b>(&'b self, l: usize, model: &'b Model, flow: (f64, f64)) -> RowCtx<'b> {
+    pub fn ctx<'b>(&'b self, l: usize, model: &'b Model, flow: (f64, f64)) -> RowCtx<'b> {
         RowCtx {
             model,
             flow,
@@ -151,6 +154,20 @@ impl<'a> CalibProblem<'a> {
                     .collect()
             })
             .collect()
+    }
+
+    /// The whitened residuals of used row `k` of log `l` evaluated as `res` at `ctx`
+    /// ([`projected`] with [`CalibProblem::projection`] steps).
+    pub fn whitened(
+        &self,
+        ctx: &RowCtx<'_>,
+        l: usize,
+        k: usize,
+        res: &RowResult,
+    ) -> [f64; super::residual::RESIDUALS_PER_ROW] {
+        let row = &self.logs[l].rows[self.used[l][k]];
+        let w = &self.whiteners[l][k];
+        projected(ctx, row, res, w, &self.scales[l], self.projection)
     }
 
     /// Freezes the whiteners at `p` (per row, at its kind).
@@ -269,15 +286,17 @@ impl<'a> CalibProblem<'a> {
     /// the evaluation fails).
     pub fn row_norms(&self, p: &[f64], kinds: &Kinds) -> Vec<Vec<f64>> {
         let results = self.evaluate(p, kinds);
+        let (model, flows) = self.unpack(p);
         kinds
             .iter()
             .enumerate()
             .map(|(l, ks)| {
+                let ctx = self.ctx(l, &model, flows[l]);
                 ks.iter()
                     .enumerate()
                     .map(|(k, kind)| match (&results, kind) {
                         (Some(res), RowKind::A | RowKind::B { .. } | RowKind::Pre) => {
-                            let z = self.whiteners[l][k].apply(&res[l][k].r);
+                            let z = self.whitened(&ctx, l, k, &res[l][k]);
                             z.iter().map(|v| v * v).sum::<f64>().sqrt()
                         }
                         _ => f64::NAN,
@@ -353,14 +372,16 @@ impl Problem for CalibProblem<'_> {
 
     fn residuals(&self, p: &[f64], state: &Kinds) -> Option<(Vec<f64>, Kinds)> {
         let results = self.evaluate(p, state)?;
+        let (model, flows) = self.unpack(p);
         let mut r = Vec::with_capacity(self.residual_count(state));
         let mut kinds = Vec::with_capacity(results.len());
         for (l, rows) in results.iter().enumerate() {
+            let ctx = self.ctx(l, &model, flows[l]);
             let mut k = Vec::with_capacity(rows.len());
             for (j, res) in rows.iter().enumerate() {
                 k.push(res.kind);
                 if res.kind != RowKind::Skipped {
-                    r.extend(self.whiteners[l][j].apply(&res.r));
+                    r.extend(self.whitened(&ctx, l, j, res));
                 }
             }
             kinds.push(k);

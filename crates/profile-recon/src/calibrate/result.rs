@@ -215,8 +215,10 @@ fn log_fits(
 /// Every row at the fit (`s` the fitted noise level).
 fn row_fits(prob: &CalibProblem<'_>, p: &[f64], kinds: &Kinds, s: f64) -> Vec<RowFit> {
     let results = prob.evaluate(p, kinds).unwrap_or_default();
+    let (model, flows) = prob.unpack(p);
     let mut out = Vec::new();
     for (l, used) in prob.used.iter().enumerate() {
+        let ctx = prob.ctx(l, &model, flows[l]);
         for (k, &i) in used.iter().enumerate() {
             let Some(res) = results.get(l).and_then(|r| r.get(k)) else {
                 continue;
@@ -231,7 +233,8 @@ fn row_fits(prob: &CalibProblem<'_>, p: &[f64], kinds: &Kinds, s: f64) -> Vec<Ro
             let chi = if res.kind == RowKind::Skipped {
                 f64::NAN
             } else {
-                w.apply(&res.r).iter().map(|v| v * v).sum::<f64>().sqrt() / s.max(f64::MIN_POSITIVE)
+                let z = prob.whitened(&ctx, l, k, res);
+                z.iter().map(|v| v * v).sum::<f64>().sqrt() / s.max(f64::MIN_POSITIVE)
             };
             out.push(RowFit {
                 log: l,

@@ -56,6 +56,7 @@ pub fn calibrate(
             ..Dop853::new(settings.tol, settings.tol)
         },
         log_noise: 0.0,
+        projection: 0,
     };
     prob.log_noise = logs_noise(&prob);
     let p0 = prob.pack(&base, &flows);
@@ -495,6 +496,11 @@ fn polish(prob: &mut CalibProblem<'_>, fit: &mut Rounds, settings: &CalibSetting
             return Err(start_failure(prob, &fit.p, &fit.kinds));
         }
         return Ok(());
+    }
+    // the projection changes a row's whitened residual by about the noise level squared:
+    // below the integration's tolerance (exact logs) there is nothing to gain
+    if prob.log_noise.powi(2) > tol {
+        prob.projection = settings.projection;
     }
     let lm = LmSettings {
         max_iter: settings.max_iter,

@@ -30,6 +30,8 @@ pub struct OdeSolution {
     /// Lazy dense output: work space of [`OdeSolution::refine`].
     pub(super) scratch: Vec<f64>,
     pub(super) dense: bool,
+    /// Lazy dense output: the stages are stored and steps refined on demand.
+    pub(super) lazy: bool,
 }
 
 /// Evaluates the DOP853 dense output of one step with coefficients `rc` (8 blocks of `n`).
@@ -189,6 +191,56 @@ impl OdeSolution {
         true
     }
 
+    /// An empty solution at `(s0, u0)` (room reserved for a typical dense output).
+    pub(super) fn start(s0: f64, u0: &[f64], dense: bool, lazy: bool) -> Self {
+        let n = u0.len();
+        let mut sol = OdeSolution {
+            s_end: s0,
+            u_end: u0.to_vec(),
+            stats: super::IntegrationStats::default(),
+            dim: n,
+            s_start: s0,
+            u_start: if dense { u0.to_vec() } else { Vec::new() },
+            points: Vec::new(),
+            hs: Vec::new(),
+            cont: Vec::new(),
+            stages: Vec::new(),
+            refined: Vec::new(),
+            scratch: Vec::new(),
+            dense,
+            lazy: dense && lazy,
+        };
+        if dense {
+            // room for a typical integration (vector growth was ~4 % of a short one)
+            const GUESS: usize = 32;
+            sol.points.reserve(GUESS + 1);
+            sol.points.push(s0);
+            sol.hs.reserve(GUESS);
+            sol.cont.reserve(GUESS * 8 * n);
+            if lazy {
+                sol.stages.reserve(GUESS * 9 * n);
+                sol.refined.reserve(GUESS);
+            }
+        }
+        sol
+    }
+
+    /// Stores the stepper's held step, ending at `end` (its interpolant as far as computed;
+    /// the stages too when the step is not complete, for [`OdeSolution::refine`]).
+    pub(super) fn store_step<S: OdeSystem + ?Sized>(
+        &mut self,
+        st: &super::Stepper<'_, S>,
+        end: f64,
+    ) {
+        let (rc, level) = st.coefficients();
+        self.points.push(end);
+        self.hs.push(st.h());
+        self.cont.extend_from_slice(rc);
+        if self.lazy {
+            self.store_stages(st.stages(), level == super::Interpolant::Full);
+        }
+    }
+
     /// Lazy dense output: keeps the stages of the step just stored.
     pub(super) fn store_stages(&mut self, k: &[f64], complete: bool) {
         let n = self.dim;
@@ -210,23 +262,6 @@ impl OdeSolution {
     }
 }
 
-/// Computes the 8 blocks of dense-output coefficients of the step `[x, x + h]` into `rc`
-/// (uses `k1..k13`, evaluates the extra stages `k14..k16`).
-#[allow(clippy::too_many_arguments)]
-pub(super) fn prepare<S: OdeSystem + ?Sized>(
-    sys: &S,
-    x: f64,
-    h: f64,
-    y: &[f64],
-    ynew: &[f64],
-    k: &mut [f64],
-    tmp: &mut [f64],
-    rc: &mut [f64],
-) {
-    hermite(h, y, ynew, k, rc);
-    extend(sys, x, h, y, k, tmp, rc);
-}
-
 /// The first 4 blocks of the dense-output coefficients of the step `[x, x + h]` (uses `k1`
 /// and `k13`): alone they are the cubic Hermite interpolant of the step's ends.
 pub(super) fn hermite(h: f64, y: &[f64], ynew: &[f64], k: &[f64], rc: &mut [f64]) {
@@ -246,7 +281,6 @@ pub(super) const LAZY_SLOTS: [usize; 9] = [0, 5, 6, 7, 8, 9, 10, 11, 12];
 
 /// The last 4 blocks of the dense-output coefficients of the step `[x, x + h]` from `y`
 /// and the stages `k1, k6..k13` in `k`: evaluates the extra stages `k14..k16`.
-#[allow(clippy::too_many_arguments)]
 pub(super) fn extend<S: OdeSystem + ?Sized>(
     sys: &S,
     x: f64,

@@ -5,20 +5,24 @@ use super::dense::dense_eval;
 use crate::roots::{brent, RootOptions};
 use crate::{BvpError, Result};
 
-/// Locates the zero of `ev` in the step `[x, x + h]` (`posneg` its direction) whose dense
-/// coefficients are `rc`, given a sign change (or an exact zero at the end `xph`), to
-/// `|ds| <= 1e-14 max(|x|, |xph|, |h|)`; `buf` (length `n`) is scratch.
-#[allow(clippy::too_many_arguments)]
+/// An accepted step `[x, x + h]` (`posneg` its direction) with its dense coefficients `rc`.
+pub(super) struct StepSpan<'a> {
+    pub x: f64,
+    pub h: f64,
+    pub posneg: f64,
+    pub rc: &'a [f64],
+}
+
+/// Locates the zero of `ev` in the step `span`, given a sign change (or an exact zero at the
+/// end `xph`), to `|ds| <= 1e-14 max(|x|, |xph|, |h|)`; `buf` (length `dim`) is scratch.
 pub(super) fn locate<E: FnMut(f64, &[f64]) -> f64>(
     ev: &mut E,
     g_new: f64,
-    x: f64,
-    h: f64,
-    posneg: f64,
-    rc: &[f64],
-    n: usize,
+    span: &StepSpan<'_>,
     buf: &mut [f64],
 ) -> Result<f64> {
+    let StepSpan { x, h, posneg, rc } = *span;
+    let n = buf.len();
     let xph = x + h;
     if g_new == 0.0 {
         return Ok(xph);

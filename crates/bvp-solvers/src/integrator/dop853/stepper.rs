@@ -1,0 +1,364 @@
+//! The DOP853 stepper: one accepted step at a time (rejected attempts are retried inside),
+//! with the step's interpolant on demand. [`Dop853::integrate`] and
+//! [`Dop853::integrate_until`] drive it; a caller that needs to look at every step (its own
+//! stopping rule, a scan of the solution as it grows) drives it directly.
+
+use super::control::{StepControl, Verdict};
+use super::dense::{dense_eval, extend, hermite};
+use super::step;
+use super::{Dop853, IntegrationStats};
+use crate::integrator::{all_finite, check_initial, check_span, OdeSystem};
+use crate::{BvpError, Result};
+
+/// How much of the current step's interpolant is computed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Interpolant {
+    /// None yet.
+    None,
+    /// The cubic Hermite part (the step's ends and slopes: no extra evaluation).
+    Cubic,
+    /// Hairer's 7th-order continuous extension (three extra evaluations).
+    Full,
+}
+
+/// A DOP853 integration advanced one accepted step at a time (module docs).
+///
+/// ```
+/// use bvp_solvers::integrator::{Dop853, OdeSystem};
+///
+/// struct Decay;
+/// impl OdeSystem for Decay {
+///     fn dim(&self) -> usize { 1 }
+///     fn rhs(&self, _s: f64, u: &[f64], du: &mut [f64]) { du[0] = -u[0]; }
+/// }
+/// let opts = Dop853::new(1e-12, 1e-12);
+/// let mut st = opts.stepper(&Decay, 0.0, 2.0, &[1.0]).unwrap();
+/// let mut mid = [0.0];
+/// while st.step().unwrap() {
+///     // the middle of every step, from its 7th-order interpolant
+///     st.interpolate(0.5, &mut mid);
+///     let s = st.start() + 0.5 * st.h();
+///     assert!((mid[0] - (-s).exp()).abs() < 1e-11);
+/// }
+/// assert!((st.state()[0] - (-2.0f64).exp()).abs() < 1e-12);
+/// ```
+pub struct Stepper<'a, S: OdeSystem + ?Sized> {
+    sys: &'a S,
+    opts: &'a Dop853,
+    n: usize,
+    s1: f64,
+    posneg: f64,
+    /// Start of the current step (after [`Stepper::step`]), else the current point.
+    x: f64,
+    /// Size of the current step, else of the next attempt.
+    h: f64,
+    /// The controller's proposal for the step after the current one.
+    h_next: f64,
+    /// Stages `k1..k16` (16 blocks of `n`).
+    k: Vec<f64>,
+    /// State at `x`.
+    y: Vec<f64>,
+    /// State at the end of the current step.
+    ynew: Vec<f64>,
+    tmp: Vec<f64>,
+    /// Interpolation coefficients of the current step (8 blocks of `n`).
+    rc: Vec<f64>,
+    control: StepControl,
+    stats: IntegrationStats,
+    attempts: usize,
+    /// The current step ends at `s1`.
+    last: bool,
+    /// An accepted step is held (not yet committed by the next [`Stepper::step`]).
+    held: bool,
+    done: bool,
+    interp: Interpolant,
+}
+
+impl Dop853 {
+    /// A [`Stepper`] for `u' = G(s, u)`, `u(s0) = u0` from `s0` to `s1` (either direction):
+    /// checks the input, evaluates `G(s0, u0)` and chooses the initial step.
+    ///
+    /// # Errors
+    /// `InvalidInput` (bad tolerances/bounds, non-finite `u0`), `DimensionMismatch`,
+    /// `NonFinite` (`G(s0, u0)` not finite).
+    pub fn stepper<'a, S: OdeSystem + ?Sized>(
+        &'a self,
+        sys: &'a S,
+        s0: f64,
+        s1: f64,
+        u0: &[f64],
+    ) -> Result<Stepper<'a, S>> {
+        self.check()?;
+        check_span(s0, s1)?;
+        let n = sys.dim();
+        check_initial(n, u0)?;
+        let posneg = if s1 > s0 { 1.0 } else { -1.0 };
+        let hmax = (s1 - s0).abs();
+        let mut st = Stepper {
+            sys,
+            opts: self,
+            n,
+            s1,
+            posneg,
+            x: s0,
+            h: 0.0,
+            h_next: 0.0,
+            k: vec![0.0; super::coef::NSTAGE * n],
+            y: u0.to_vec(),
+            ynew: vec![0.0; n],
+            tmp: vec![0.0; n],
+            rc: vec![0.0; 8 * n],
+            control: StepControl::new(hmax, posneg),
+            stats: IntegrationStats::default(),
+            attempts: 0,
+            last: false,
+            held: false,
+            done: s0 == s1,
+            interp: Interpolant::None,
+        };
+        if st.done {
+            return Ok(st);
+        }
+        sys.rhs(s0, &st.y, &mut st.k[..n]);
+        st.stats.rhs_evals += 1;
+        if !all_finite(&st.k[..n]) {
+            return Err(BvpError::NonFinite {
+                what: "ODE right-hand side",
+                s: s0,
+            });
+        }
+        st.h = match self.h_init {
+            Some(h0) => h0.abs().min(hmax) * posneg,
+            None => {
+                let hh = st.hinit(hmax);
+                st.stats.rhs_evals += 1;
+                hh * posneg
+            }
+        };
+        Ok(st)
+    }
+}
+
+impl<S: OdeSystem + ?Sized> Stepper<'_, S> {
+    /// Hairer's `HINIT`: initial step guess for order `iord = 8` (uses `k1` and two stage
+    /// slots as scratch).
+    fn hinit(&mut self, hmax: f64) -> f64 {
+        let (n, x, posneg) = (self.n, self.x, self.posneg);
+        let (atol, rtol) = (self.opts.atol, self.opts.rtol);
+        let (f0, rest) = self.k.split_at_mut(n);
+        let f1 = &mut rest[..n];
+        let (y, y1) = (&self.y, &mut self.tmp);
+        let mut dnf = 0.0;
+        let mut dny = 0.0;
+        for i in 0..n {
+            let sk = atol + rtol * y[i].abs();
+            dnf += (f0[i] / sk).powi(2);
+            dny += (y[i] / sk).powi(2);
+        }
+        let mut h = if dnf <= 1e-10 || dny <= 1e-10 {
+            1e-6
+        } else {
+            (dny / dnf).sqrt() * 0.01
+        };
+        h = h.min(hmax) * posneg;
+        for i in 0..n {
+            y1[i] = y[i] + h * f0[i];
+        }
+        self.sys.rhs(x + h, y1, f1);
+        let mut der2: f64 = 0.0;
+        for i in 0..n {
+            let sk = atol + rtol * y[i].abs();
+            der2 += ((f1[i] - f0[i]) / sk).powi(2);
+        }
+        der2 = der2.sqrt() / h.abs();
+        let der12 = der2.abs().max(dnf.sqrt());
+        let h1 = if der12 <= 1e-15 || !der12.is_finite() {
+            (1e-6f64).max(h.abs() * 1e-3)
+        } else {
+            (0.01 / der12).powf(1.0 / 8.0)
+        };
+        let h = (100.0 * h.abs()).min(h1).min(hmax);
+        if h.is_finite() && h > 0.0 {
+            h
+        } else {
+            hmax.min(1e-6)
+        }
+    }
+
+    /// Moves past the held step (FSAL: `k1 <- k13`).
+    fn commit(&mut self) {
+        let n = self.n;
+        self.k.copy_within(12 * n..13 * n, 0);
+        std::mem::swap(&mut self.y, &mut self.ynew);
+        self.x += self.h;
+        self.held = false;
+        self.interp = Interpolant::None;
+        if self.last {
+            self.done = true;
+        } else {
+            self.h = self.h_next;
+        }
+    }
+
+    /// Takes the next accepted step (retrying rejected attempts with smaller steps): `true`
+    /// with the step held ([`Stepper::start`], [`Stepper::h`], [`Stepper::end_state`],
+    /// [`Stepper::interpolate`]), `false` once the end `s1` was reached.
+    ///
+    /// # Errors
+    /// `StepSizeUnderflow`, `TooManySteps`, `NonFinite` (the right-hand side returned NaN/inf
+    /// at an accepted state, or at every retreat of a trial stage).
+    pub fn step(&mut self) -> Result<bool> {
+        if self.held {
+            self.commit();
+        }
+        if self.done {
+            return Ok(false);
+        }
+        let n = self.n;
+        let mut last_err_nonfinite = false;
+        // the step budget bounds the loop: every pass is one attempt
+        loop {
+            let (x, mut h) = (self.x, self.h);
+            if self.attempts >= self.opts.max_steps {
+                return Err(BvpError::TooManySteps {
+                    max_steps: self.opts.max_steps,
+                    s: x,
+                });
+            }
+            if 0.1 * h.abs() <= x.abs() * f64::EPSILON || h == 0.0 {
+                if last_err_nonfinite {
+                    return Err(BvpError::NonFinite {
+                        what: "ODE right-hand side",
+                        s: x,
+                    });
+                }
+                return Err(BvpError::StepSizeUnderflow { s: x, h });
+            }
+            if (x + 1.01 * h - self.s1) * self.posneg > 0.0 {
+                h = self.s1 - x;
+                self.h = h;
+                self.last = true;
+            }
+            self.attempts += 1;
+            step::stages(self.sys, x, h, &self.y, &mut self.k, &mut self.tmp);
+            self.stats.rhs_evals += 11;
+            let err = step::update_and_error(
+                &self.y,
+                h,
+                &self.k,
+                &mut self.ynew,
+                self.opts.rtol,
+                self.opts.atol,
+            );
+            if !err.is_finite() {
+                // a trial stage left the domain of G (or overflowed): retreat
+                last_err_nonfinite = true;
+                self.last = false;
+                self.stats.rejected += 1;
+                self.h = self.control.retreat(h);
+                continue;
+            }
+            last_err_nonfinite = false;
+            match self.control.judge(err, h) {
+                Verdict::Reject { h_retry } => {
+                    self.stats.rejected += 1;
+                    self.last = false;
+                    self.h = h_retry;
+                }
+                Verdict::Accept { h_next } => {
+                    self.h_next = h_next;
+                    break;
+                }
+            }
+        }
+        self.stats.steps += 1;
+        // k13 = G(x + h, u_new): FSAL derivative
+        let xph = self.x + self.h;
+        self.sys.rhs(xph, &self.ynew, &mut self.k[12 * n..13 * n]);
+        self.stats.rhs_evals += 1;
+        if !all_finite(&self.k[12 * n..13 * n]) || !all_finite(&self.ynew) {
+            return Err(BvpError::NonFinite {
+                what: "ODE right-hand side",
+                s: xph,
+            });
+        }
+        self.held = true;
+        Ok(true)
+    }
+
+    /// Computes the held step's interpolant up to `level` (the cubic part costs nothing;
+    /// the full one three evaluations, once).
+    pub fn prepare(&mut self, level: Interpolant) {
+        if !self.held || level == Interpolant::None {
+            return;
+        }
+        if self.interp == Interpolant::None {
+            hermite(self.h, &self.y, &self.ynew, &self.k, &mut self.rc);
+            self.interp = Interpolant::Cubic;
+        }
+        if level == Interpolant::Full && self.interp != Interpolant::Full {
+            let (sys, x, h) = (self.sys, self.x, self.h);
+            extend(sys, x, h, &self.y, &mut self.k, &mut self.tmp, &mut self.rc);
+            self.stats.rhs_evals += 3;
+            self.interp = Interpolant::Full;
+        }
+    }
+
+    /// The held step's 7th-order interpolant at `theta = (s - start) / h` into `out`
+    /// (computed first if need be).
+    pub fn interpolate(&mut self, theta: f64, out: &mut [f64]) {
+        self.prepare(Interpolant::Full);
+        dense_eval(&self.rc, self.n, theta, out);
+    }
+
+    /// Start of the held step (the current point otherwise).
+    pub fn start(&self) -> f64 {
+        self.x
+    }
+
+    /// Size of the held step.
+    pub fn h(&self) -> f64 {
+        self.h
+    }
+
+    /// End of the held step as computed (`start + h`).
+    pub fn end(&self) -> f64 {
+        self.x + self.h
+    }
+
+    /// Whether the held step is the last (it ends at `s1`).
+    pub fn is_last(&self) -> bool {
+        self.last
+    }
+
+    /// Direction of integration (`+1` or `-1`).
+    pub fn direction(&self) -> f64 {
+        self.posneg
+    }
+
+    /// State at the start of the held step (the current state otherwise).
+    pub fn state(&self) -> &[f64] {
+        &self.y
+    }
+
+    /// State at the end of the held step.
+    pub fn end_state(&self) -> &[f64] {
+        &self.ynew
+    }
+
+    /// The held step's interpolation coefficients (8 blocks of `dim`; the last four valid
+    /// once [`Interpolant::Full`] is prepared) and how far they are computed.
+    pub(super) fn coefficients(&self) -> (&[f64], Interpolant) {
+        (&self.rc, self.interp)
+    }
+
+    /// The stage slots of the held step (for a lazy dense output).
+    pub(super) fn stages(&self) -> &[f64] {
+        &self.k
+    }
+
+    /// Work counters so far.
+    pub fn stats(&self) -> IntegrationStats {
+        self.stats
+    }
+}

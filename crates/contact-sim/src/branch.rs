@@ -147,7 +147,7 @@ impl Branch<'_> {
         };
         if !(s1 > 1e-6 && s1 <= 1.5 && f.is_finite() && phi1.is_finite()) {
             return Err(ContactError::PhaseSolve {
-                phase: phase_letter(phase),
+                phase: phase.letter(),
                 xc: g.x,
                 iterations: 0,
                 residual: f64::NAN,
@@ -347,7 +347,7 @@ impl Branch<'_> {
             return Ok(done);
         }
         Err(ContactError::PhaseSolve {
-            phase: phase_letter(phase),
+            phase: phase.letter(),
             xc: node.state.point.xc,
             iterations: MAX_NEWTON as u64,
             residual: rn,
@@ -418,15 +418,6 @@ pub(crate) fn lerp(a: &[f64; 3], b: &[f64; 3], w: f64) -> [f64; 3] {
 
 pub(crate) fn sub(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-/// `A` or `B`.
-pub(crate) fn phase_letter(phase: Phase) -> char {
-    if phase == Phase::B {
-        'B'
-    } else {
-        'A'
-    }
 }
 
 pub(crate) fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {

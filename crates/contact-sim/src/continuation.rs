@@ -84,14 +84,87 @@ enum Event {
 /// obstacle reaches the base's path and the single-contact sweep ends there.
 pub(crate) const BASE_CONTACT: f64 = 1e-2;
 
+impl Event {
+    /// Whether the event has happened at `node` (its condition crossed; `tn` the tangent
+    /// there). The second contact is not checked here: it costs a shot of its own.
+    fn passed(self, node: &Node, tn: &[f64; 3]) -> bool {
+        match self {
+            Event::Switch => phase_margin(node) <= 0.0,
+            Event::Release => node.state.f < 0.0,
+            Event::Snap => node.x0_rate(tn) >= 0.0,
+            Event::AtBase => node.phase == Phase::B && node.state.s1 <= BASE_CONTACT,
+            Event::SecondContact => false,
+        }
+    }
+
+    /// The event's condition, positive before the event and zero at it (`t_ref` the
+    /// tangent that orients the snap's x0 rate).
+    fn condition(self, branch: &Branch, n: &Node, t_ref: &[f64; 3]) -> Result<f64> {
+        Ok(match self {
+            Event::Switch => phase_margin(n),
+            Event::Release => n.state.f,
+            Event::Snap => -x0_rate(n, t_ref),
+            Event::AtBase => n.state.s1 - BASE_CONTACT,
+            Event::SecondContact => PENETRATION_MARGIN - depth(branch, n)?,
+        })
+    }
+
+    /// The constraint that puts a corrected node on the event directly (switch and
+    /// release), `None` for events located along the chord.
+    fn constraint(self) -> Option<Constraint> {
+        match self {
+            Event::Switch => Some(Constraint::PhaseEnd),
+            Event::Release => Some(Constraint::NoForce),
+            _ => None,
+        }
+    }
+
+    /// How the trace ends at the event located at `at` (`None`: a phase switch, the trace
+    /// goes on).
+    fn end(self, at: Node) -> Option<End> {
+        match self {
+            Event::Release => Some(End::Release(at)),
+            Event::Snap => Some(End::Snap(at)),
+            Event::SecondContact => Some(End::MultiContact(at)),
+            Event::AtBase => Some(End::AtBase(at)),
+            Event::Switch => None,
+        }
+    }
+}
+
+/// Penetration depth of the rest of the whisker into the contour at `n` ([`penetration`]).
+fn depth(branch: &Branch, n: &Node) -> Result<f64> {
+    penetration(branch.whisker, branch.flow, branch.profile, &n.state)
+}
+
+/// What one predictor-corrector step gave (moved once per step: a box would allocate).
+#[allow(clippy::large_enum_variant)]
+enum Step {
+    /// The corrector failed or the tangent turned too fast: the step was shrunk, try again.
+    Retry,
+    /// A corrected node with its tangent.
+    Node(Node, [f64; 3]),
+    /// The corrector failed at the smallest step because the contact point left the contour.
+    End(End),
+}
+
+/// The state of a trace: the nodes so far, the current node, tangent and step.
+struct Tracer<'a> {
+    branch: &'a Branch<'a>,
+    ctl: &'a StepControl,
+    nodes: Vec<Node>,
+    switches: Vec<Node>,
+    cur: Node,
+    t: [f64; 3],
+    h: f64,
+}
+
 /// Traces the branch from `first` until it separates.
 pub(crate) fn trace(branch: &Branch, first: Node, ctl: &StepControl) -> Result<Trace> {
     let down = [-first.jac[2][0], -first.jac[2][1], -first.jac[2][2]];
-    let mut t = first.tangent(&down);
-    let mut nodes = vec![first];
-    let mut switches = Vec::new();
+    let t = first.tangent(&down);
     if ctl.check_penetration {
-        let depth = penetration(branch.whisker, branch.flow, branch.profile, &first.state)?;
+        let depth = depth(branch, &first)?;
         if depth > PENETRATION_MARGIN {
             return Err(ContactError::NoContact {
                 reason: format!(
@@ -102,180 +175,177 @@ pub(crate) fn trace(branch: &Branch, first: Node, ctl: &StepControl) -> Result<T
             });
         }
     }
-    if x0_rate(&first, &t) >= 0.0 {
-        return Ok(Trace {
-            nodes,
-            switches,
-            end: End::Snap(first),
-        });
-    }
-    let mut cur = first;
-    let mut h = ctl.initial;
-    let stalled = |cur: &Node, h: f64, reason: String| ContactError::BranchStalled {
-        phase: crate::branch::phase_letter(cur.phase),
-        x0: cur.x0(),
-        xc: cur.state.point.xc,
-        step: h,
-        reason,
+    let mut tr = Tracer {
+        branch,
+        ctl,
+        nodes: vec![first],
+        switches: Vec::new(),
+        cur: first,
+        t,
+        h: ctl.initial,
     };
+    if x0_rate(&first, &t) >= 0.0 {
+        return Ok(tr.finish(End::Snap(first)));
+    }
     for _ in 0..ctl.max_steps {
+        let (node, tn) = match tr.step()? {
+            Step::Node(node, tn) => (node, tn),
+            Step::Retry => continue,
+            Step::End(end) => return Ok(tr.finish(end)),
+        };
+        let events = tr.events(&node, &tn)?;
+        if events.is_empty() {
+            if let Some(end) = tr.advance(node, tn)? {
+                return Ok(tr.finish(end));
+            }
+            continue;
+        }
+        let Some((ev, at)) = tr.earliest(&events, &node)? else {
+            continue;
+        };
+        if at.u != tr.cur.u && at.x0() < tr.cur.x0() {
+            tr.nodes.push(at);
+        }
+        if let Some(end) = ev.end(at) {
+            return Ok(tr.finish(end));
+        }
+        if let Some(end) = tr.switch(at)? {
+            return Ok(tr.finish(end));
+        }
+    }
+    let end = End::NotReached(tr.cur, ctl.max_steps);
+    Ok(tr.finish(end))
+}
+
+impl Tracer<'_> {
+    /// The trace as it ends.
+    fn finish(self, end: End) -> Trace {
+        Trace {
+            nodes: self.nodes,
+            switches: self.switches,
+            end,
+        }
+    }
+
+    /// The error of a trace that cannot go on from the current node.
+    fn stalled(&self, reason: String) -> ContactError {
+        ContactError::BranchStalled {
+            phase: self.cur.phase.letter(),
+            x0: self.cur.x0(),
+            xc: self.cur.state.point.xc,
+            step: self.h,
+            reason,
+        }
+    }
+
+    /// One predictor-corrector step from the current node.
+    fn step(&mut self) -> Result<Step> {
+        let (cur, t) = (&self.cur, self.t);
         // The step is measured with the force relative to its size, `|(dv, df/F, dt)|` with
         // `F = max(1, |f|)`: forces that grow large (a contact sliding to the base) are
         // followed in proportion, not in unit steps.
         let fscale = cur.state.f.abs().max(1.0);
         let len = (t[0] * t[0] + (t[1] / fscale).powi(2) + t[2] * t[2]).sqrt();
-        let hs = h / len;
+        let hs = self.h / len;
         let p = [
             cur.u[0] + hs * t[0],
             cur.u[1] + hs * t[1],
             cur.u[2] + hs * t[2],
         ];
-        let node = match branch.correct(
-            cur.phase,
+        let plane = Constraint::Hyperplane {
+            n: t,
             p,
-            Constraint::Hyperplane {
-                n: t,
-                p,
-                radius: 0.5 * hs + 1e-9,
-            },
-            true,
-        ) {
+            radius: 0.5 * hs + 1e-9,
+        };
+        let node = match self.branch.correct(cur.phase, p, plane, true) {
             Ok(n) => n,
             Err(e) => {
-                h *= 0.5;
-                if h < ctl.min {
+                self.h *= 0.5;
+                if self.h < self.ctl.min {
                     return match e {
-                        ContactError::LeftContour { .. } => Ok(Trace {
-                            nodes,
-                            switches,
-                            end: End::OffContour(cur),
-                        }),
-                        e => Err(stalled(&cur, h, e.to_string())),
+                        ContactError::LeftContour { .. } => {
+                            Ok(Step::End(End::OffContour(self.cur)))
+                        }
+                        e => Err(self.stalled(e.to_string())),
                     };
                 }
-                continue;
+                return Ok(Step::Retry);
             }
         };
         let tn = node.tangent(&t);
-        if !smooth_turn(&t, &tn) && h > ctl.min {
-            h *= 0.5;
-            continue;
+        if !smooth_turn(&t, &tn) && self.h > self.ctl.min {
+            self.h *= 0.5;
+            return Ok(Step::Retry);
         }
-        // The earliest event in (cur, node].
-        let mut events = Vec::new();
-        if phase_margin(&node) <= 0.0 {
-            events.push(Event::Switch);
-        }
-        if node.state.f < 0.0 {
-            events.push(Event::Release);
-        }
-        if node.x0_rate(&tn) >= 0.0 {
-            events.push(Event::Snap);
-        }
-        if node.phase == Phase::B && node.state.s1 <= BASE_CONTACT {
-            events.push(Event::AtBase);
-        }
-        // The shape check for a second contact costs a shot of its own: done only for a
-        // step that is otherwise accepted (and at located events, below).
+        Ok(Step::Node(node, tn))
+    }
+
+    /// The events passed between the current node and `node` (the second contact checked,
+    /// at the cost of a shot, only for a step that is otherwise accepted).
+    fn events(&self, node: &Node, tn: &[f64; 3]) -> Result<Vec<Event>> {
+        let mut events: Vec<Event> = [Event::Switch, Event::Release, Event::Snap, Event::AtBase]
+            .into_iter()
+            .filter(|ev| ev.passed(node, tn))
+            .collect();
         if events.is_empty()
-            && ctl.check_penetration
-            && penetration(branch.whisker, branch.flow, branch.profile, &node.state)?
-                > PENETRATION_MARGIN
+            && self.ctl.check_penetration
+            && depth(self.branch, node)? > PENETRATION_MARGIN
         {
             events.push(Event::SecondContact);
         }
-        if events.is_empty() {
-            if node.x0() >= cur.x0() {
-                // x0 must fall along an oriented tangent with a negative rate at both ends;
-                // a rise means the step jumped over a pair of turning points, or, on a tiny
-                // step, that x0 is stationary to within the shots' accuracy: the turning
-                // point of the snap, reached within the step.
-                if h < SNAP_STEP {
-                    return Ok(Trace {
-                        nodes,
-                        switches,
-                        end: End::Snap(cur),
-                    });
-                }
-                h *= 0.5;
-                if h < ctl.min {
-                    return Err(stalled(&cur, h, "x0 rose between two nodes".into()));
-                }
-                continue;
+        Ok(events)
+    }
+
+    /// Accepts `node` when x0 fell (and grows the step after an easy correction); a rise
+    /// of x0 shrinks the step, or is the snap's turning point on a tiny step.
+    fn advance(&mut self, node: Node, tn: [f64; 3]) -> Result<Option<End>> {
+        if node.x0() >= self.cur.x0() {
+            // x0 must fall along an oriented tangent with a negative rate at both ends;
+            // a rise means the step jumped over a pair of turning points, or, on a tiny
+            // step, that x0 is stationary to within the shots' accuracy: the turning
+            // point of the snap, reached within the step.
+            if self.h < SNAP_STEP {
+                return Ok(Some(End::Snap(self.cur)));
             }
-            let easy = node.state.iterations <= 3;
-            cur = node;
-            t = tn;
-            nodes.push(node);
-            if easy {
-                h = (h * 1.6).min(ctl.max);
+            self.h *= 0.5;
+            if self.h < self.ctl.min {
+                return Err(self.stalled("x0 rose between two nodes".into()));
             }
-            continue;
+            return Ok(None);
         }
-        // Switches and releases alone are solved directly, with the event condition as the
-        // third equation from the secant point of the bracket. Other events are located by
-        // regula falsi along the chord in short brackets, where the chord stays close to the
-        // branch: longer steps are shrunk first (this also separates several events).
-        let single_direct =
-            events.len() == 1 && matches!(events[0], Event::Switch | Event::Release);
-        let mut best: Option<(Event, Node)> = None;
-        if single_direct {
-            let ev = events[0];
-            let c = if ev == Event::Switch {
-                Constraint::PhaseEnd
-            } else {
-                Constraint::NoForce
-            };
-            let g = |n: &Node| {
-                if ev == Event::Switch {
-                    phase_margin(n)
-                } else {
-                    n.state.f
-                }
-            };
-            let (ga, gb) = (g(&cur), g(&node));
-            let w = ga / (ga - gb);
-            let p = crate::branch::lerp(&cur.u, &node.u, w);
-            if let Ok(mut at) = branch.correct(cur.phase, p, c, true) {
-                if ev == Event::Release {
-                    // f = 0 to the corrector's tolerance: the release row carries f = 0
-                    at.state.f = at.state.f.max(0.0);
-                    at.u[1] = at.state.f;
-                }
-                let d = crate::branch::sub(&node.u, &cur.u);
-                let along = dot(&crate::branch::sub(&at.u, &cur.u), &d) / dot(&d, &d);
-                if along > -1e-12 && along < 1.0 + 1e-12 && at.x0() <= cur.x0() {
-                    best = Some((ev, at));
-                }
-            }
+        let easy = node.state.iterations <= 3;
+        self.cur = node;
+        self.t = tn;
+        self.nodes.push(node);
+        if easy {
+            self.h = (self.h * 1.6).min(self.ctl.max);
         }
+        Ok(None)
+    }
+
+    /// The earliest of `events` between the current node and `node`, located; `None` when
+    /// the step was shrunk first. A second contact before it takes its place.
+    ///
+    /// Switches and releases alone are solved directly, with the event condition as the
+    /// third equation from the secant point of the bracket. Other events are located by
+    /// regula falsi along the chord in short brackets, where the chord stays close to the
+    /// branch: longer steps are shrunk first (this also separates several events).
+    fn earliest(&mut self, events: &[Event], node: &Node) -> Result<Option<(Event, Node)>> {
+        let mut best = match events {
+            [ev] => self.direct(*ev, node),
+            _ => None,
+        };
         if best.is_none() {
-            if h > EVENT_BRACKET || (events.len() > 1 && h > 64.0 * ctl.min) {
-                h = (h * 0.25).max(ctl.min);
-                continue;
+            if self.h > EVENT_BRACKET || (events.len() > 1 && self.h > 64.0 * self.ctl.min) {
+                self.h = (self.h * 0.25).max(self.ctl.min);
+                return Ok(None);
             }
-            let t_ref = t;
-            for &ev in &events {
-                let g = |n: &Node| -> Result<f64> {
-                    Ok(match ev {
-                        Event::Switch => phase_margin(n),
-                        Event::Release => n.state.f,
-                        Event::Snap => -x0_rate(n, &t_ref),
-                        Event::AtBase => n.state.s1 - BASE_CONTACT,
-                        Event::SecondContact => {
-                            PENETRATION_MARGIN
-                                - penetration(
-                                    branch.whisker,
-                                    branch.flow,
-                                    branch.profile,
-                                    &n.state,
-                                )?
-                        }
-                    })
-                };
-                let at = locate(branch, &cur, &node, &g, ctl.event_tol)?;
-                let along = dot(&crate::branch::sub(&at.u, &cur.u), &t);
-                if best.is_none_or(|(_, b)| along < dot(&crate::branch::sub(&b.u, &cur.u), &t)) {
+            let (cur, t) = (&self.cur, &self.t);
+            for &ev in events {
+                let g = |n: &Node| ev.condition(self.branch, n, t);
+                let at = locate(self.branch, cur, node, &g, self.ctl.event_tol)?;
+                let along = dot(&crate::branch::sub(&at.u, &cur.u), t);
+                if best.is_none_or(|(_, b)| along < dot(&crate::branch::sub(&b.u, &cur.u), t)) {
                     best = Some((ev, at));
                 }
             }
@@ -283,76 +353,56 @@ pub(crate) fn trace(branch: &Branch, first: Node, ctl: &StepControl) -> Result<T
         // A second contact before the located event ends the trace there.
         if let Some((ev, at)) = best {
             if ev != Event::SecondContact
-                && ctl.check_penetration
-                && penetration(branch.whisker, branch.flow, branch.profile, &at.state)?
-                    > PENETRATION_MARGIN
+                && self.ctl.check_penetration
+                && depth(self.branch, &at)? > PENETRATION_MARGIN
             {
-                let g = |n: &Node| -> Result<f64> {
-                    Ok(PENETRATION_MARGIN
-                        - penetration(branch.whisker, branch.flow, branch.profile, &n.state)?)
-                };
-                let sc = locate(branch, &cur, &at, &g, ctl.event_tol)?;
+                let g = |n: &Node| Event::SecondContact.condition(self.branch, n, &self.t);
+                let sc = locate(self.branch, &self.cur, &at, &g, self.ctl.event_tol)?;
                 best = Some((Event::SecondContact, sc));
             }
         }
-        let Some((ev, at)) = best else { continue };
-        if at.u != cur.u && at.x0() < cur.x0() {
-            nodes.push(at);
-        }
-        match ev {
-            Event::Release => {
-                return Ok(Trace {
-                    nodes,
-                    switches,
-                    end: End::Release(at),
-                })
-            }
-            Event::Snap => {
-                return Ok(Trace {
-                    nodes,
-                    switches,
-                    end: End::Snap(at),
-                })
-            }
-            Event::SecondContact => {
-                return Ok(Trace {
-                    nodes,
-                    switches,
-                    end: End::MultiContact(at),
-                })
-            }
-            Event::AtBase => {
-                return Ok(Trace {
-                    nodes,
-                    switches,
-                    end: End::AtBase(at),
-                })
-            }
-            Event::Switch => {
-                let (next, tn) = switch_phase(branch, &at)?;
-                // the switch row in tip-contact form: s1 = 1 exactly, phi1 = psi
-                switches.push(if next.phase == Phase::A { next } else { at });
-                if x0_rate(&next, &tn) >= 0.0 {
-                    // The other phase's branch leaves towards larger x0: no quasi-static
-                    // continuation, the whisker snaps off at the switch.
-                    return Ok(Trace {
-                        nodes,
-                        switches,
-                        end: End::Snap(at),
-                    });
-                }
-                nodes.push(next);
-                cur = next;
-                t = tn;
-                h = ctl.initial.min(h);
-            }
-        }
+        Ok(best)
     }
-    Ok(Trace {
-        nodes,
-        switches,
-        end: End::NotReached(cur, ctl.max_steps),
-    })
+
+    /// A switch or a release solved directly from the secant point of its condition over
+    /// the step to `node` (`None` for other events, or if the solve fails or lands outside
+    /// the step).
+    fn direct(&self, ev: Event, node: &Node) -> Option<(Event, Node)> {
+        let c = ev.constraint()?;
+        let cur = &self.cur;
+        let g = |n: &Node| ev.condition(self.branch, n, &self.t).unwrap_or(f64::NAN);
+        let (ga, gb) = (g(cur), g(node));
+        let w = ga / (ga - gb);
+        let p = crate::branch::lerp(&cur.u, &node.u, w);
+        let mut at = self.branch.correct(cur.phase, p, c, true).ok()?;
+        if ev == Event::Release {
+            // f = 0 to the corrector's tolerance: the release row carries f = 0
+            at.state.f = at.state.f.max(0.0);
+            at.u[1] = at.state.f;
+        }
+        let d = crate::branch::sub(&node.u, &cur.u);
+        let along = dot(&crate::branch::sub(&at.u, &cur.u), &d) / dot(&d, &d);
+        (along > -1e-12 && along < 1.0 + 1e-12 && at.x0() <= cur.x0()).then_some((ev, at))
+    }
+
+    /// Continues on the other phase's branch at the switch node `at`; `Some(snap)` when
+    /// that branch leaves towards larger x0.
+    fn switch(&mut self, at: Node) -> Result<Option<End>> {
+        let (next, tn) = switch_phase(self.branch, &at)?;
+        // the switch row in tip-contact form: s1 = 1 exactly, phi1 = psi
+        self.switches
+            .push(if next.phase == Phase::A { next } else { at });
+        if x0_rate(&next, &tn) >= 0.0 {
+            // The other phase's branch leaves towards larger x0: no quasi-static
+            // continuation, the whisker snaps off at the switch.
+            return Ok(Some(End::Snap(at)));
+        }
+        self.nodes.push(next);
+        self.cur = next;
+        self.t = tn;
+        self.h = self.ctl.initial.min(self.h);
+        Ok(None)
+    }
 }
 
 /// The node of the other phase at a switch node `at` (where `phi1 = psi` and `s1 = 1`), with

@@ -493,89 +493,8 @@ fn rows(
             break;
         }
         let (a, b) = (&nodes[seg], &nodes[seg + 1]);
-        let (phase, ua, ub) = if a.phase == b.phase {
-            (a.phase, a.u, b.u)
-        } else {
-            (b.phase, b.u, b.u)
-        };
-        // Prediction. Between two nodes of the traced branch in one phase (their Jacobians
-        // exact): the cubic Hermite interpolant in x0 through their states and slopes
-        // du/dx0, and their Jacobians interpolated linearly (Broyden's first step then
-        // contracts the residual ~1000x). Across a phase switch: Lagrange extrapolation in x0
-        // through the last rows of this phase (cubic from four, quadratic from three) when
-        // they exist, else interpolation between the bracketing nodes.
-        let w = (a.x0() - target) / (a.x0() - b.x0());
-        let lin = crate::branch::lerp(&ua, &ub, w);
-        let mut guess = lin;
-        let mut jac = if w < 0.5 { a.jac } else { b.jac };
-        let same: Vec<&Node> = recent
-            .iter()
-            .rev()
-            .take(4)
-            .take_while(|r| r.phase == phase)
-            .collect();
-        if a.phase == b.phase {
-            guess = hermite(
-                (a.x0(), &a.u, &a.slope()),
-                (b.x0(), &b.u, &b.slope()),
-                target,
-            );
-            for (r, (ra, rb)) in jac.iter_mut().zip(a.jac.iter().zip(&b.jac)) {
-                *r = crate::branch::lerp(ra, rb, w);
-            }
-        } else if same.len() >= 3 {
-            let xs: Vec<f64> = same.iter().map(|r| r.x0()).collect();
-            for (i, g) in guess.iter_mut().enumerate() {
-                *g = same
-                    .iter()
-                    .enumerate()
-                    .map(|(k, r)| {
-                        let l: f64 = (0..xs.len())
-                            .filter(|&m| m != k)
-                            .map(|m| (target - xs[m]) / (xs[k] - xs[m]))
-                            .product();
-                        l * r.u[i]
-                    })
-                    .sum();
-            }
-            jac = same[0].jac;
-        }
-        if !guess.iter().all(|g| g.is_finite()) {
-            guess = lin;
-        }
-        // Broyden's method from the prediction; Newton from it, from the interpolation
-        // between the bracketing nodes, and from the nearer node as fallbacks.
-        let near = if w < 0.5 { ua } else { ub };
-        let node = match branch.broyden_at_base(phase, guess, target, &jac) {
-            Some(n) => n,
-            None => {
-                let mut found = None;
-                let mut last_err = None;
-                for start in [guess, lin, near] {
-                    match branch.correct(phase, start, Constraint::BasePosition(target), true) {
-                        Ok(n) if (n.x0() - target).abs() <= 1e-9 => {
-                            found = Some(n);
-                            break;
-                        }
-                        Ok(_) => {}
-                        Err(e) => last_err = Some(e),
-                    }
-                }
-                match (found, last_err) {
-                    (Some(n), _) => n,
-                    (None, Some(e)) => return Err(e),
-                    (None, None) => {
-                        return Err(ContactError::BranchStalled {
-                            phase: crate::branch::phase_letter(phase),
-                            x0: target,
-                            xc: a.state.point.xc,
-                            step: 0.0,
-                            reason: "no row solution at this base position".into(),
-                        })
-                    }
-                }
-            }
-        };
+        let pred = predict(a, b, &recent, target);
+        let node = solve_row(branch, &pred, target, a.state.point.xc)?;
         recent.push(node);
         out.push(node.state);
     }
@@ -590,6 +509,106 @@ fn rows(
         total: points,
     });
     Ok(out)
+}
+
+/// The prediction of a row at base position `target` between the traced nodes `a`, `b`.
+struct RowPrediction {
+    phase: Phase,
+    /// The best prediction.
+    guess: [f64; 3],
+    /// Linear interpolation between the bracketing nodes.
+    lin: [f64; 3],
+    /// The nearer bracketing node.
+    near: [f64; 3],
+    /// The Jacobian for Broyden's method.
+    jac: [[f64; 3]; 3],
+}
+
+/// Predicts the row at `target` between `a` and `b` (`recent`: the rows solved so far).
+///
+/// Between two nodes of the traced branch in one phase (their Jacobians exact): the cubic
+/// Hermite interpolant in x0 through their states and slopes du/dx0, and their Jacobians
+/// interpolated linearly (Broyden's first step then contracts the residual ~1000x). Across a
+/// phase switch: Lagrange extrapolation in x0 through the last rows of this phase (cubic
+/// from four, quadratic from three) when they exist, else interpolation between the
+/// bracketing nodes.
+fn predict(a: &Node, b: &Node, recent: &[Node], target: f64) -> RowPrediction {
+    let (phase, ua, ub) = if a.phase == b.phase {
+        (a.phase, a.u, b.u)
+    } else {
+        (b.phase, b.u, b.u)
+    };
+    let w = (a.x0() - target) / (a.x0() - b.x0());
+    let lin = crate::branch::lerp(&ua, &ub, w);
+    let mut guess = lin;
+    let mut jac = if w < 0.5 { a.jac } else { b.jac };
+    let same: Vec<&Node> = recent
+        .iter()
+        .rev()
+        .take(4)
+        .take_while(|r| r.phase == phase)
+        .collect();
+    if a.phase == b.phase {
+        guess = hermite(
+            (a.x0(), &a.u, &a.slope()),
+            (b.x0(), &b.u, &b.slope()),
+            target,
+        );
+        for (r, (ra, rb)) in jac.iter_mut().zip(a.jac.iter().zip(&b.jac)) {
+            *r = crate::branch::lerp(ra, rb, w);
+        }
+    } else if same.len() >= 3 {
+        let xs: Vec<f64> = same.iter().map(|r| r.x0()).collect();
+        for (i, g) in guess.iter_mut().enumerate() {
+            *g = same
+                .iter()
+                .enumerate()
+                .map(|(k, r)| {
+                    let l: f64 = (0..xs.len())
+                        .filter(|&m| m != k)
+                        .map(|m| (target - xs[m]) / (xs[k] - xs[m]))
+                        .product();
+                    l * r.u[i]
+                })
+                .sum();
+        }
+        jac = same[0].jac;
+    }
+    if !guess.iter().all(|g| g.is_finite()) {
+        guess = lin;
+    }
+    RowPrediction {
+        phase,
+        guess,
+        lin,
+        near: if w < 0.5 { ua } else { ub },
+        jac,
+    }
+}
+
+/// Solves the row at `target` from its prediction: Broyden's method from the prediction;
+/// Newton from it, from the interpolation between the bracketing nodes, and from the nearer
+/// node as fallbacks (`xc` the contact point reported if all fail).
+fn solve_row(branch: &Branch, pred: &RowPrediction, target: f64, xc: f64) -> Result<Node> {
+    let phase = pred.phase;
+    if let Some(n) = branch.broyden_at_base(phase, pred.guess, target, &pred.jac) {
+        return Ok(n);
+    }
+    let mut last_err = None;
+    for start in [pred.guess, pred.lin, pred.near] {
+        match branch.correct(phase, start, Constraint::BasePosition(target), true) {
+            Ok(n) if (n.x0() - target).abs() <= 1e-9 => return Ok(n),
+            Ok(_) => {}
+            Err(e) => last_err = Some(e),
+        }
+    }
+    Err(last_err.unwrap_or_else(|| ContactError::BranchStalled {
+        phase: phase.letter(),
+        x0: target,
+        xc,
+        step: 0.0,
+        reason: "no row solution at this base position".into(),
+    }))
 }
 
 /// The cubic Hermite interpolant at `x` through `(xa, ua)` and `(xb, ub)` with slopes `da`,

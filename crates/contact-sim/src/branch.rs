@@ -23,6 +23,10 @@ use crate::profile::Profile;
 use beam_model::equations::Sensitivities;
 use beam_model::shot::{shoot, Integration, Shot};
 use beam_model::{FluidLoad, Whisker};
+use bvp_solvers::newton::{
+    newton, Evaluation, JacobianUpdate, NewtonPolicy, NewtonSystem, Termination,
+};
+use std::cell::Cell;
 
 /// A point of the contact branch: the phase, the state `u = (v, f, t)` and everything the
 /// sweep needs from it.
@@ -239,11 +243,13 @@ impl Branch<'_> {
     }
 
     /// Newton's method on `R(u) = 0` with the third equation `constraint`, from `u`, until the
-    /// residual norm is at most the tolerance; damped by step halving when it grows. Trial
-    /// points are shot without sensitivities; the Jacobian is kept while it contracts the
-    /// residual by 20x per step (simplified Newton) and recomputed otherwise, and at the
-    /// solution only if `jac` is set (otherwise the node carries the last one). Fails with
-    /// the last residual.
+    /// residual norm is at most the tolerance ([`bvp_solvers::newton`]): damped by step
+    /// halving when it grows; trial points are shot without sensitivities; the Jacobian is
+    /// kept while it contracts the residual by 20x per step (simplified Newton) and
+    /// recomputed otherwise, and at the solution only if `jac` is set (otherwise the node
+    /// carries the last one). Slender tips put a noise floor on the shots (adaptive steps):
+    /// a corrector that stalls just above the tolerance but within [`NOISE_FLOOR`] is
+    /// accepted, its residual recorded in the state. Fails with the last residual.
     pub fn correct(
         &self,
         phase: Phase,
@@ -251,106 +257,134 @@ impl Branch<'_> {
         constraint: Constraint,
         jac: bool,
     ) -> Result<Node> {
-        let value = |node: &Node| -> f64 {
-            match constraint {
-                Constraint::BasePosition(x) => node.state.x0 - x,
-                Constraint::Hyperplane { n, p, .. } => dot(&n, &sub(&node.u, &p)),
-                Constraint::PhaseEnd => match phase {
-                    Phase::B => node.state.s1 - 1.0,
-                    _ => node.state.phi1 - node.state.point.psi,
-                },
-                Constraint::NoForce => node.state.f,
-            }
+        let sys = Corrector {
+            branch: self,
+            phase,
+            constraint,
+            last_jac: Cell::new(None),
         };
-        let mut u = u;
-        let (r, mut node) = self.eval_with(phase, u, true)?;
-        let mut res = [r[0], r[1], value(&node)];
-        let mut rn = norm(&res);
-        if rn <= self.tol {
-            return Ok(node);
+        let policy = NewtonPolicy {
+            tol: self.tol,
+            max_iter: MAX_NEWTON,
+            halvings: 5,
+            update: JacobianUpdate::Reevaluate { keep_below: 0.05 },
+            jacobian_at_solution: jac,
+            noise_floor: NOISE_FLOOR,
+        };
+        let ans = newton(&sys, u, None, &policy)?;
+        let mut node = sys.node(ans.point);
+        match ans.termination {
+            Termination::Converged => {
+                node.state.iterations = ans.iterations as u64;
+                Ok(node)
+            }
+            Termination::NoiseFloor => {
+                node.state.residual = ans.norm;
+                node.state.iterations = MAX_NEWTON as u64;
+                Ok(node)
+            }
+            _ => Err(ContactError::PhaseSolve {
+                phase: phase.letter(),
+                xc: node.state.point.xc,
+                iterations: MAX_NEWTON as u64,
+                residual: ans.norm,
+            }),
         }
-        for it in 0..MAX_NEWTON {
-            let grad = match constraint {
-                Constraint::BasePosition(_) => node.jac[2],
-                Constraint::Hyperplane { n, .. } => n,
-                Constraint::PhaseEnd => match phase {
-                    Phase::B => [1.0, 0.0, 0.0],
-                    _ => [1.0, 0.0, -self.profile.at(u[2]).dpsi],
-                },
-                Constraint::NoForce => [0.0, 1.0, 0.0],
-            };
-            let m = [node.jac[0], node.jac[1], grad];
-            let Some(du) = solve3(&m, &res) else {
-                break;
-            };
-            let mut lambda = 1.0;
-            let mut next = None;
-            for _ in 0..5 {
-                let trial = [
-                    u[0] - lambda * du[0],
-                    u[1] - lambda * du[1],
-                    u[2] - lambda * du[2],
-                ];
-                if let Constraint::Hyperplane { p, radius, .. } = constraint {
-                    if norm(&sub(&trial, &p)) > radius {
-                        lambda *= 0.5;
-                        continue;
-                    }
-                }
-                if let Ok((r2, n2)) = self.eval_with(phase, trial, false) {
-                    let res2 = [r2[0], r2[1], value(&n2)];
-                    let rn2 = norm(&res2);
-                    if rn2.is_finite() && (rn2 < rn || rn2 <= self.tol) {
-                        next = Some((trial, n2, res2, rn2));
-                        break;
-                    }
-                }
-                lambda *= 0.5;
-            }
-            let Some((trial, plain, res2, rn2)) = next else {
-                break;
-            };
-            let contraction = rn2 / rn;
-            u = trial;
-            res = res2;
-            rn = rn2;
-            if rn <= self.tol && !jac {
-                let mut done = plain;
-                done.jac = node.jac;
-                done.state.iterations = it as u64 + 1;
-                return Ok(done);
-            }
-            if rn <= self.tol || contraction > 0.05 {
-                // a fresh Jacobian at the solution, or where the old one converges slowly
-                node = self.eval_with(phase, u, true)?.1;
-            } else {
-                // a simplified Newton step: the Jacobian is kept
-                let j = node.jac;
-                node = plain;
+    }
+}
+
+/// The corrector's square system: `R0`, `R1` and the constraint's value, with the
+/// constraint's gradient as the Jacobian's third row. The point is the node with whether its
+/// Jacobian was evaluated there; `last_jac` keeps the branch Jacobian of the last node that
+/// had one (a simplified-Newton node carries it).
+struct Corrector<'b, 'a> {
+    branch: &'b Branch<'a>,
+    phase: Phase,
+    constraint: Constraint,
+    last_jac: Cell<Option<[[f64; 3]; 3]>>,
+}
+
+impl Corrector<'_, '_> {
+    /// The constraint's value at `node`.
+    fn value(&self, node: &Node) -> f64 {
+        match self.constraint {
+            Constraint::BasePosition(x) => node.state.x0 - x,
+            Constraint::Hyperplane { n, p, .. } => dot(&n, &sub(&node.u, &p)),
+            Constraint::PhaseEnd => match self.phase {
+                Phase::B => node.state.s1 - 1.0,
+                _ => node.state.phi1 - node.state.point.psi,
+            },
+            Constraint::NoForce => node.state.f,
+        }
+    }
+
+    /// The constraint's gradient at `node` (its branch Jacobian for the base position).
+    fn gradient(&self, node: &Node) -> [f64; 3] {
+        match self.constraint {
+            Constraint::BasePosition(_) => node.jac[2],
+            Constraint::Hyperplane { n, .. } => n,
+            Constraint::PhaseEnd => match self.phase {
+                Phase::B => [1.0, 0.0, 0.0],
+                _ => [1.0, 0.0, -self.branch.profile.at(node.u[2]).dpsi],
+            },
+            Constraint::NoForce => [0.0, 1.0, 0.0],
+        }
+    }
+
+    /// The answer's node, carrying the last evaluated branch Jacobian if its own was not.
+    fn node(&self, (mut node, fresh): (Node, bool)) -> Node {
+        if !fresh {
+            if let Some(j) = self.last_jac.get() {
                 node.jac = j;
             }
-            if rn <= self.tol {
-                node.state.iterations = it as u64 + 1;
-                return Ok(node);
-            }
         }
-        // Slender tips put a noise floor on the shots (adaptive steps): a corrector that
-        // stalls just above the tolerance but within NOISE_FLOOR is accepted, its residual
-        // recorded in the state.
-        if rn <= NOISE_FLOOR {
-            let mut done = self.eval_with(phase, u, jac)?.1;
-            if !jac {
-                done.jac = node.jac;
-            }
-            done.state.residual = rn;
-            done.state.iterations = MAX_NEWTON as u64;
-            return Ok(done);
+        node
+    }
+}
+
+impl NewtonSystem<3> for Corrector<'_, '_> {
+    type Point = (Node, bool);
+    type Error = ContactError;
+
+    fn eval(&self, u: &[f64; 3], jacobian: bool) -> Result<Evaluation<3, (Node, bool)>> {
+        let (r, node) = self.branch.eval_with(self.phase, *u, jacobian)?;
+        let jac = jacobian.then(|| {
+            self.last_jac.set(Some(node.jac));
+            [node.jac[0], node.jac[1], self.gradient(&node)]
+        });
+        Ok(Evaluation {
+            r: [r[0], r[1], self.value(&node)],
+            jac,
+            point: (node, jacobian),
+        })
+    }
+
+    fn admissible(&self, u: &[f64; 3]) -> bool {
+        match self.constraint {
+            Constraint::Hyperplane { p, radius, .. } => norm(&sub(u, &p)) <= radius,
+            _ => true,
         }
-        Err(ContactError::PhaseSolve {
-            phase: phase.letter(),
-            xc: node.state.point.xc,
-            iterations: MAX_NEWTON as u64,
-            residual: rn,
+    }
+}
+
+/// The rows `x0 = X` of [`Branch::broyden_at_base`]: `R0`, `R1`, `x0 - X`, never with a
+/// Jacobian.
+struct AtBase<'b, 'a> {
+    branch: &'b Branch<'a>,
+    phase: Phase,
+    x0: f64,
+}
+
+impl NewtonSystem<3> for AtBase<'_, '_> {
+    type Point = Node;
+    type Error = ContactError;
+
+    fn eval(&self, u: &[f64; 3], _jacobian: bool) -> Result<Evaluation<3, Node>> {
+        let (r, node) = self.branch.eval_with(self.phase, *u, false)?;
+        Ok(Evaluation {
+            r: [r[0], r[1], node.state.x0 - self.x0],
+            jac: None,
+            point: node,
         })
     }
 }
@@ -359,8 +393,8 @@ impl Branch<'_> {
     /// Broyden's method for the equations `R = 0`, `x0 = X` from `u`, started with the
     /// Jacobian `jac` of a nearby row or node (rows `dR0, dR1, dx0`) and improved by a rank-one
     /// update after every step; shots without sensitivities only. Used from good predictions;
-    /// `None` if the residual stops falling or the tolerance is not reached in a few steps.
-    /// The node carries the updated Jacobian, a good start for the next row.
+    /// `None` if the residual does not halve at every step or the tolerance is not reached in
+    /// seven steps. The node carries the updated Jacobian, a good start for the next row.
     pub fn broyden_at_base(
         &self,
         phase: Phase,
@@ -368,42 +402,26 @@ impl Branch<'_> {
         x0: f64,
         jac: &[[f64; 3]; 3],
     ) -> Option<Node> {
-        let mut u = u;
-        let mut j = *jac;
-        let mut last: Option<([f64; 3], [f64; 3])> = None;
-        let mut last_norm = f64::INFINITY;
-        for it in 0..8 {
-            let (r, mut node) = self.eval_with(phase, u, false).ok()?;
-            let res = [r[0], r[1], node.state.x0 - x0];
-            let rn = norm(&res);
-            if let Some((du, res_prev)) = last {
-                // J += (dr - J du) du^T / (du . du)
-                let dr = sub(&res, &res_prev);
-                let jdu = [dot(&j[0], &du), dot(&j[1], &du), dot(&j[2], &du)];
-                let dd = dot(&du, &du);
-                if dd > 0.0 {
-                    for (row, (dri, jdi)) in j.iter_mut().zip(dr.iter().zip(&jdu)) {
-                        for (jk, duk) in row.iter_mut().zip(&du) {
-                            *jk += (dri - jdi) * duk / dd;
-                        }
-                    }
-                }
-            }
-            if rn <= self.tol {
-                node.jac = j;
-                node.state.iterations = it;
-                return Some(node);
-            }
-            if rn.is_nan() || rn >= 0.5 * last_norm {
-                return None;
-            }
-            last_norm = rn;
-            let step = solve3(&j, &res)?;
-            let du = [-step[0], -step[1], -step[2]];
-            u = [u[0] + du[0], u[1] + du[1], u[2] + du[2]];
-            last = Some((du, res));
-        }
-        None
+        let sys = AtBase {
+            branch: self,
+            phase,
+            x0,
+        };
+        let policy = NewtonPolicy {
+            max_iter: 7,
+            halvings: 0,
+            update: JacobianUpdate::Broyden {
+                min_contraction: 0.5,
+            },
+            ..NewtonPolicy::new(self.tol)
+        };
+        let ans = newton(&sys, u, Some(*jac), &policy).ok()?;
+        (ans.termination == Termination::Converged).then(|| {
+            let mut node = ans.point;
+            node.jac = ans.jac;
+            node.state.iterations = ans.iterations as u64;
+            node
+        })
     }
 }
 
@@ -426,34 +444,4 @@ pub(crate) fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
 
 pub(crate) fn norm(a: &[f64; 3]) -> f64 {
     dot(a, a).sqrt()
-}
-
-/// Solves the 3x3 system `m x = b` by Gaussian elimination with partial pivoting; `None` if
-/// it is singular.
-pub(crate) fn solve3(m: &[[f64; 3]; 3], b: &[f64; 3]) -> Option<[f64; 3]> {
-    let mut a = [
-        [m[0][0], m[0][1], m[0][2], b[0]],
-        [m[1][0], m[1][1], m[1][2], b[1]],
-        [m[2][0], m[2][1], m[2][2], b[2]],
-    ];
-    for k in 0..3 {
-        let p = (k..3).max_by(|&i, &j| a[i][k].abs().total_cmp(&a[j][k].abs()))?;
-        a.swap(k, p);
-        if !(a[k][k].abs() > 0.0 && a[k][k].is_finite()) {
-            return None;
-        }
-        for i in k + 1..3 {
-            let l = a[i][k] / a[k][k];
-            let pivot = a[k];
-            for (aij, pkj) in a[i][k..].iter_mut().zip(&pivot[k..]) {
-                *aij -= l * pkj;
-            }
-        }
-    }
-    let mut x = [0.0; 3];
-    for k in (0..3).rev() {
-        let s: f64 = (k + 1..3).map(|j| a[k][j] * x[j]).sum();
-        x[k] = (a[k][3] - s) / a[k][k];
-    }
-    x.iter().all(|v| v.is_finite()).then_some(x)
 }

@@ -1,0 +1,486 @@
+//! Newton's method for small square systems `R(u) = 0`, `u` in `R^N`, with one convergence
+//! policy: a damped step (halved until the residual norm falls), the Jacobian kept while it
+//! contracts the residual fast enough (simplified Newton) or updated by Broyden's rank-one
+//! formula, a noise floor under which a stalled iteration is accepted, and an answer that
+//! always says why it stopped ([`Termination`]) with the best point reached.
+//!
+//! The system ([`NewtonSystem`]) evaluates its residual, with the Jacobian on request, and
+//! carries a point of its own along (whatever the domain computes with the residual: a
+//! shot, a contact state), so that the converged answer needs no extra evaluation.
+//!
+//! ```
+//! use bvp_solvers::newton::{newton, Evaluation, NewtonPolicy, NewtonSystem, Termination};
+//!
+//! /// The circle `x^2 + y^2 = 4` meets the line `y = x`.
+//! struct Meet;
+//! impl NewtonSystem<2> for Meet {
+//!     type Point = ();
+//!     type Error = ();
+//!     fn eval(&self, u: &[f64; 2], jacobian: bool) -> Result<Evaluation<2, ()>, ()> {
+//!         let r = [u[0] * u[0] + u[1] * u[1] - 4.0, u[1] - u[0]];
+//!         let jac = jacobian.then_some([[2.0 * u[0], 2.0 * u[1]], [-1.0, 1.0]]);
+//!         Ok(Evaluation { r, jac, point: () })
+//!     }
+//! }
+//! let out = newton(&Meet, [1.0, 2.0], None, &NewtonPolicy::new(1e-14)).unwrap();
+//! assert_eq!(out.termination, Termination::Converged);
+//! assert!((out.u[0] - 2f64.sqrt()).abs() < 1e-14 && (out.u[1] - 2f64.sqrt()).abs() < 1e-14);
+//! ```
+
+/// One evaluation of the system at a point.
+#[derive(Clone, Debug)]
+pub struct Evaluation<const N: usize, P> {
+    /// The residual `R(u)`.
+    pub r: [f64; N],
+    /// The Jacobian `dR/du` (rows by equation) when it was asked for.
+    pub jac: Option<[[f64; N]; N]>,
+    /// What the domain computed along with the residual.
+    pub point: P,
+}
+
+/// A square system for [`newton`].
+pub trait NewtonSystem<const N: usize> {
+    /// What an evaluation carries besides the residual.
+    type Point;
+    /// The error of an evaluation.
+    type Error;
+
+    /// `R(u)`, with `dR/du` if `jacobian` is set (a system may return it anyway).
+    ///
+    /// # Errors
+    /// Whatever keeps the system from being evaluated at `u`; at a trial point such an
+    /// error only rejects the step.
+    fn eval(&self, u: &[f64; N], jacobian: bool)
+        -> Result<Evaluation<N, Self::Point>, Self::Error>;
+
+    /// Whether a trial point may be evaluated at all (e.g. within a radius); a trial outside
+    /// is halved towards the current point without an evaluation.
+    fn admissible(&self, _u: &[f64; N]) -> bool {
+        true
+    }
+}
+
+/// How the Jacobian is obtained after a step.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum JacobianUpdate {
+    /// Evaluated again where the step contracted the residual by less than `keep_below`
+    /// (`|R_new| / |R_old| > keep_below`), kept otherwise (simplified Newton); 0 evaluates it
+    /// at every step.
+    Reevaluate {
+        /// Largest contraction ratio at which the old Jacobian is kept.
+        keep_below: f64,
+    },
+    /// Never evaluated: Broyden's rank-one update `J += (dR - J du) du^T / (du . du)` of the
+    /// given start Jacobian; the iteration stops as [`Termination::NoDescent`] when a full step
+    /// contracts the residual by less than `min_contraction`.
+    Broyden {
+        /// The contraction every step must reach.
+        min_contraction: f64,
+    },
+}
+
+/// The convergence policy of [`newton`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NewtonPolicy {
+    /// Converged when the residual's Euclidean norm is at most `tol`.
+    pub tol: f64,
+    /// Newton steps at most.
+    pub max_iter: usize,
+    /// Step halvings per step at most (0: full steps only, accepted whatever the residual).
+    pub halvings: usize,
+    /// How the Jacobian follows the iterate.
+    pub update: JacobianUpdate,
+    /// Whether the answer carries a Jacobian evaluated at the solution (else the last one).
+    pub jacobian_at_solution: bool,
+    /// A failed iteration whose best residual norm is at most this is accepted as
+    /// [`Termination::NoiseFloor`] (the evaluations' own noise stops it above `tol`).
+    pub noise_floor: f64,
+}
+
+impl NewtonPolicy {
+    /// Residual norm `tol`, 20 steps with up to 5 halvings, the Jacobian evaluated again
+    /// unless a step contracted the residual by 20x, a Jacobian at the solution, no noise
+    /// floor.
+    pub fn new(tol: f64) -> Self {
+        NewtonPolicy {
+            tol,
+            max_iter: 20,
+            halvings: 5,
+            update: JacobianUpdate::Reevaluate { keep_below: 0.05 },
+            jacobian_at_solution: true,
+            noise_floor: 0.0,
+        }
+    }
+}
+
+/// Why [`newton`] stopped.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Termination {
+    /// The residual norm reached the tolerance.
+    Converged,
+    /// The iteration failed above the tolerance but within the noise floor.
+    NoiseFloor,
+    /// The Jacobian is singular (or not finite) at the iterate.
+    Singular,
+    /// No step (halved as allowed) reduced the residual, or a Broyden step contracted it too
+    /// little.
+    NoDescent,
+    /// The step budget ran out.
+    MaxIterations,
+}
+
+impl Termination {
+    /// Whether the answer is a solution (converged, or within the noise floor).
+    pub fn is_solution(&self) -> bool {
+        matches!(self, Termination::Converged | Termination::NoiseFloor)
+    }
+}
+
+/// The answer of [`newton`]: the last iterate (the best: every accepted step lowers the
+/// residual) with its evaluation.
+#[derive(Clone, Debug)]
+pub struct NewtonAnswer<const N: usize, P> {
+    /// The iterate.
+    pub u: [f64; N],
+    /// Its residual.
+    pub r: [f64; N],
+    /// The residual's Euclidean norm.
+    pub norm: f64,
+    /// The Jacobian: at `u` if evaluated there, else the last one used.
+    pub jac: [[f64; N]; N],
+    /// The system's point at `u`.
+    pub point: P,
+    /// Steps taken.
+    pub iterations: usize,
+    /// Why the iteration stopped.
+    pub termination: Termination,
+}
+
+/// Euclidean norm.
+fn norm<const N: usize>(v: &[f64; N]) -> f64 {
+    v.iter().map(|x| x * x).sum::<f64>().sqrt()
+}
+
+/// Newton's method on `sys` from `u0` under `policy` (module docs); `jac0` is a start
+/// Jacobian (required for [`JacobianUpdate::Broyden`]; otherwise the first evaluation
+/// computes one when it is `None`).
+///
+/// # Errors
+/// An evaluation error at `u0`, or where a Jacobian is evaluated; errors at trial points
+/// only reject the step. A `Broyden` policy without `jac0` ends as
+/// [`Termination::Singular`].
+pub fn newton<const N: usize, S: NewtonSystem<N>>(
+    sys: &S,
+    u0: [f64; N],
+    jac0: Option<[[f64; N]; N]>,
+    policy: &NewtonPolicy,
+) -> Result<NewtonAnswer<N, S::Point>, S::Error> {
+    let broyden = matches!(policy.update, JacobianUpdate::Broyden { .. });
+    let first = sys.eval(&u0, jac0.is_none() && !broyden)?;
+    let mut jac_fresh = first.jac.is_some() && jac0.is_none();
+    let mut ans = NewtonAnswer {
+        u: u0,
+        r: first.r,
+        norm: norm(&first.r),
+        jac: jac0.or(first.jac).unwrap_or([[f64::NAN; N]; N]),
+        point: first.point,
+        iterations: 0,
+        termination: Termination::Converged,
+    };
+    if ans.norm <= policy.tol {
+        return Ok(ans);
+    }
+    if ans.norm.is_nan() {
+        ans.termination = Termination::NoDescent;
+        return Ok(ans);
+    }
+    for it in 0..policy.max_iter {
+        let Some(du) = solve(&ans.jac, &ans.r) else {
+            ans.termination = Termination::Singular;
+            return finish(sys, ans, policy, jac_fresh);
+        };
+        let Some((trial, eval, rn)) = damped_step(sys, &ans, &du, policy) else {
+            ans.termination = Termination::NoDescent;
+            return finish(sys, ans, policy, jac_fresh);
+        };
+        let contraction = rn / ans.norm;
+        if let JacobianUpdate::Broyden { min_contraction } = policy.update {
+            broyden_update(&mut ans.jac, &du, &ans.r, &eval.r);
+            if rn > policy.tol && (contraction >= min_contraction || contraction.is_nan()) {
+                ans = NewtonAnswer {
+                    u: trial,
+                    r: eval.r,
+                    norm: rn,
+                    point: eval.point,
+                    iterations: it + 1,
+                    termination: Termination::NoDescent,
+                    ..ans
+                };
+                return Ok(ans);
+            }
+        }
+        ans.u = trial;
+        ans.r = eval.r;
+        ans.norm = rn;
+        ans.point = eval.point;
+        ans.iterations = it + 1;
+        jac_fresh = false;
+        if let Some(j) = eval.jac {
+            ans.jac = j;
+            jac_fresh = true;
+        }
+        let converged = rn <= policy.tol;
+        if converged && (!policy.jacobian_at_solution || broyden || jac_fresh) {
+            return Ok(ans);
+        }
+        if let JacobianUpdate::Reevaluate { keep_below } = policy.update {
+            if converged || contraction > keep_below {
+                // a fresh Jacobian at the solution, or where the old one converges slowly
+                let e = sys.eval(&ans.u, true)?;
+                ans.r = e.r;
+                ans.norm = norm(&e.r);
+                ans.point = e.point;
+                if let Some(j) = e.jac {
+                    ans.jac = j;
+                    jac_fresh = true;
+                }
+            }
+        }
+        if converged {
+            return Ok(ans);
+        }
+    }
+    ans.termination = Termination::MaxIterations;
+    finish(sys, ans, policy, jac_fresh)
+}
+
+/// The trial `u - lambda du` with the largest `lambda = 1, 1/2, ...` (at most
+/// `policy.halvings` halvings) that is admissible, evaluates, and lowers the residual norm
+/// (or reaches the tolerance); a full step only, accepted as it comes, without halvings.
+#[allow(clippy::type_complexity)]
+fn damped_step<const N: usize, S: NewtonSystem<N>>(
+    sys: &S,
+    ans: &NewtonAnswer<N, S::Point>,
+    du: &[f64; N],
+    policy: &NewtonPolicy,
+) -> Option<([f64; N], Evaluation<N, S::Point>, f64)> {
+    let mut lambda = 1.0;
+    let tries = policy.halvings.max(1);
+    for _ in 0..tries {
+        let mut trial = ans.u;
+        for (t, d) in trial.iter_mut().zip(du) {
+            *t -= lambda * d;
+        }
+        if !sys.admissible(&trial) {
+            lambda *= 0.5;
+            continue;
+        }
+        if let Ok(e) = sys.eval(&trial, false) {
+            let rn = norm(&e.r);
+            let accept = if policy.halvings == 0 {
+                !rn.is_nan()
+            } else {
+                rn.is_finite() && (rn < ans.norm || rn <= policy.tol)
+            };
+            if accept {
+                return Some((trial, e, rn));
+            }
+        }
+        lambda *= 0.5;
+    }
+    None
+}
+
+/// Broyden's rank-one update of `jac` after the step `-du` that took the residual from `r`
+/// to `r_new`: `J += (dR - J s) s^T / (s . s)`, `s = -du`.
+fn broyden_update<const N: usize>(
+    jac: &mut [[f64; N]; N],
+    du: &[f64; N],
+    r: &[f64; N],
+    r_new: &[f64; N],
+) {
+    let s: [f64; N] = std::array::from_fn(|i| -du[i]);
+    let ss: f64 = s.iter().map(|v| v * v).sum();
+    if ss <= 0.0 || ss.is_nan() {
+        return;
+    }
+    for (i, row) in jac.iter_mut().enumerate() {
+        let js: f64 = row.iter().zip(&s).map(|(a, b)| a * b).sum();
+        let d = r_new[i] - r[i] - js;
+        for (jk, sk) in row.iter_mut().zip(&s) {
+            *jk += d * sk / ss;
+        }
+    }
+}
+
+/// A failed iteration: within the noise floor it is accepted, re-evaluated at its iterate
+/// (with a Jacobian if the policy wants one at the solution and the last is stale).
+fn finish<const N: usize, S: NewtonSystem<N>>(
+    sys: &S,
+    mut ans: NewtonAnswer<N, S::Point>,
+    policy: &NewtonPolicy,
+    jac_fresh: bool,
+) -> Result<NewtonAnswer<N, S::Point>, S::Error> {
+    if ans.norm <= policy.noise_floor {
+        ans.termination = Termination::NoiseFloor;
+        if policy.jacobian_at_solution && !jac_fresh {
+            let e = sys.eval(&ans.u, true)?;
+            ans.point = e.point;
+            if let Some(j) = e.jac {
+                ans.jac = j;
+            }
+        }
+    }
+    Ok(ans)
+}
+
+/// Solves `m x = b` by Gaussian elimination with partial pivoting; `None` if `m` is singular
+/// (a zero or non-finite pivot) or the solution is not finite.
+pub fn solve<const N: usize>(m: &[[f64; N]; N], b: &[f64; N]) -> Option<[f64; N]> {
+    let mut a = *m;
+    let mut x = *b;
+    for k in 0..N {
+        let p = (k..N).max_by(|&i, &j| a[i][k].abs().total_cmp(&a[j][k].abs()))?;
+        a.swap(k, p);
+        x.swap(k, p);
+        if !(a[k][k].abs() > 0.0 && a[k][k].is_finite()) {
+            return None;
+        }
+        for i in k + 1..N {
+            let l = a[i][k] / a[k][k];
+            let pivot = a[k];
+            for (aij, pkj) in a[i][k..].iter_mut().zip(&pivot[k..]) {
+                *aij -= l * pkj;
+            }
+            x[i] -= l * x[k];
+        }
+    }
+    for k in (0..N).rev() {
+        let s: f64 = (k + 1..N).map(|j| a[k][j] * x[j]).sum();
+        x[k] = (x[k] - s) / a[k][k];
+    }
+    x.iter().all(|v| v.is_finite()).then_some(x)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::cell::Cell;
+
+    /// `R(u) = (u0^2 - 2, u1 - u0^3)`: the root `(sqrt 2, 2 sqrt 2)`; counts evaluations.
+    struct Cubic {
+        evals: Cell<usize>,
+        jacs: Cell<usize>,
+        /// Added to the residual: a noise floor.
+        noise: f64,
+    }
+
+    impl NewtonSystem<2> for Cubic {
+        type Point = usize;
+        type Error = &'static str;
+        fn eval(&self, u: &[f64; 2], jacobian: bool) -> Result<Evaluation<2, usize>, &'static str> {
+            if !u[0].is_finite() {
+                return Err("not finite");
+            }
+            self.evals.set(self.evals.get() + 1);
+            let n = self.evals.get();
+            let wiggle = if n.is_multiple_of(2) {
+                self.noise
+            } else {
+                -self.noise
+            };
+            let r = [u[0] * u[0] - 2.0 + wiggle, u[1] - u[0].powi(3)];
+            let jac = jacobian.then(|| {
+                self.jacs.set(self.jacs.get() + 1);
+                [[2.0 * u[0], 0.0], [-3.0 * u[0] * u[0], 1.0]]
+            });
+            Ok(Evaluation { r, jac, point: n })
+        }
+    }
+
+    fn cubic(noise: f64) -> Cubic {
+        Cubic {
+            evals: Cell::new(0),
+            jacs: Cell::new(0),
+            noise,
+        }
+    }
+
+    #[test]
+    fn converges_quadratically_to_the_root() {
+        let sys = cubic(0.0);
+        let out = newton(&sys, [1.0, 1.0], None, &NewtonPolicy::new(1e-13)).unwrap();
+        assert_eq!(out.termination, Termination::Converged);
+        let s2 = 2f64.sqrt();
+        assert!((out.u[0] - s2).abs() < 1e-14 && (out.u[1] - 2.0 * s2).abs() < 1e-13);
+        assert!(out.iterations <= 7, "{}", out.iterations);
+        // the Jacobian at the solution
+        assert!((out.jac[0][0] - 2.0 * s2).abs() < 1e-12);
+        // the point is the last evaluation's
+        assert_eq!(out.point, sys.evals.get());
+    }
+
+    #[test]
+    fn simplified_newton_keeps_the_jacobian_and_broyden_never_evaluates_one() {
+        let sys = cubic(0.0);
+        let policy = NewtonPolicy {
+            update: JacobianUpdate::Reevaluate { keep_below: 0.5 },
+            jacobian_at_solution: false,
+            ..NewtonPolicy::new(1e-12)
+        };
+        let out = newton(&sys, [1.4, 2.8], None, &policy).unwrap();
+        assert_eq!(out.termination, Termination::Converged);
+        assert!(
+            sys.jacs.get() < out.iterations + 1,
+            "{} jacobians",
+            sys.jacs.get()
+        );
+        let sys = cubic(0.0);
+        let s2 = 2f64.sqrt();
+        let jac0 = [[2.0 * 1.4, 0.0], [-3.0 * 1.96, 1.0]];
+        let policy = NewtonPolicy {
+            update: JacobianUpdate::Broyden {
+                min_contraction: 0.5,
+            },
+            halvings: 0,
+            ..NewtonPolicy::new(1e-12)
+        };
+        let out = newton(&sys, [1.4, 2.8], Some(jac0), &policy).unwrap();
+        assert_eq!(out.termination, Termination::Converged);
+        assert_eq!(sys.jacs.get(), 0);
+        assert!((out.u[0] - s2).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_noisy_system_stops_at_its_floor_and_says_so() {
+        let sys = cubic(1e-9);
+        let policy = NewtonPolicy {
+            noise_floor: 1e-7,
+            ..NewtonPolicy::new(1e-13)
+        };
+        let out = newton(&sys, [1.0, 1.0], None, &policy).unwrap();
+        assert_eq!(out.termination, Termination::NoiseFloor);
+        assert!(out.norm <= 1e-7 && out.norm > 1e-13);
+        assert!(out.termination.is_solution());
+        let strict = NewtonPolicy::new(1e-13);
+        let out = newton(&cubic(1e-9), [1.0, 1.0], None, &strict).unwrap();
+        assert!(!out.termination.is_solution(), "{:?}", out.termination);
+    }
+
+    #[test]
+    fn a_singular_jacobian_is_reported() {
+        // at u0 = 0 the first row of the Jacobian vanishes
+        let out = newton(&cubic(0.0), [0.0, 1.0], None, &NewtonPolicy::new(1e-12)).unwrap();
+        assert_eq!(out.termination, Termination::Singular);
+    }
+
+    #[test]
+    fn solve_matches_a_known_solution_and_refuses_singular_matrices() {
+        let m = [[0.0, 2.0, 1.0], [1.0, 1.0, 0.0], [3.0, 0.0, 1.0]];
+        let x = [1.0, -2.0, 0.5];
+        let b: [f64; 3] = std::array::from_fn(|i| (0..3).map(|j| m[i][j] * x[j]).sum());
+        let got = solve(&m, &b).unwrap();
+        assert!(got.iter().zip(&x).all(|(a, b)| (a - b).abs() < 1e-15));
+        assert!(solve(&[[1.0, 2.0], [2.0, 4.0]], &[1.0, 1.0]).is_none());
+    }
+}

@@ -54,15 +54,10 @@ pub struct Stepper<'a, S: OdeSystem + ?Sized> {
     h: f64,
     /// The controller's proposal for the step after the current one.
     h_next: f64,
-    /// Stages `k1..k16` (16 blocks of `n`).
-    k: Vec<f64>,
-    /// State at `x`.
-    y: Vec<f64>,
-    /// State at the end of the current step.
-    ynew: Vec<f64>,
-    tmp: Vec<f64>,
-    /// Interpolation coefficients of the current step (8 blocks of `n`).
-    rc: Vec<f64>,
+    /// All work space in one allocation ([`Parts`]): the stages `k1..k16` (16 blocks of
+    /// `n`), the state at `x`, the state at the end of the current step, a scratch vector
+    /// and the interpolation coefficients of the current step (8 blocks of `n`).
+    buf: Vec<f64>,
     control: StepControl,
     stats: IntegrationStats,
     attempts: usize,
@@ -103,11 +98,7 @@ impl Dop853 {
             x: s0,
             h: 0.0,
             h_next: 0.0,
-            k: vec![0.0; super::coef::NSTAGE * n],
-            y: u0.to_vec(),
-            ynew: vec![0.0; n],
-            tmp: vec![0.0; n],
-            rc: vec![0.0; 8 * n],
+            buf: vec![0.0; (super::coef::NSTAGE + 11) * n],
             control: StepControl::new(hmax, posneg),
             stats: IntegrationStats::default(),
             attempts: 0,
@@ -116,12 +107,14 @@ impl Dop853 {
             done: s0 == s1,
             interp: Interpolant::None,
         };
+        st.parts().y.copy_from_slice(u0);
         if st.done {
             return Ok(st);
         }
-        sys.rhs(s0, &st.y, &mut st.k[..n]);
+        let p = st.parts();
+        sys.rhs(s0, p.y, &mut p.k[..n]);
         st.stats.rhs_evals += 1;
-        if !all_finite(&st.k[..n]) {
+        if !all_finite(&st.parts().k[..n]) {
             return Err(BvpError::NonFinite {
                 what: "ODE right-hand side",
                 s: s0,
@@ -139,15 +132,48 @@ impl Dop853 {
     }
 }
 
+/// The work space of a [`Stepper`], split.
+struct Parts<'b> {
+    k: &'b mut [f64],
+    y: &'b mut [f64],
+    ynew: &'b mut [f64],
+    tmp: &'b mut [f64],
+    rc: &'b mut [f64],
+}
+
 impl<S: OdeSystem + ?Sized> Stepper<'_, S> {
+    /// The work space split into its parts.
+    fn parts(&mut self) -> Parts<'_> {
+        let n = self.n;
+        let (k, rest) = self.buf.split_at_mut(super::coef::NSTAGE * n);
+        let (y, rest) = rest.split_at_mut(n);
+        let (ynew, rest) = rest.split_at_mut(n);
+        let (tmp, rc) = rest.split_at_mut(n);
+        Parts {
+            k,
+            y,
+            ynew,
+            tmp,
+            rc,
+        }
+    }
+
+    /// The work space's offsets: stages, state, end state, scratch, coefficients.
+    fn offsets(&self) -> [usize; 5] {
+        let k = super::coef::NSTAGE * self.n;
+        [0, k, k + self.n, k + 2 * self.n, k + 3 * self.n]
+    }
+
     /// Hairer's `HINIT`: initial step guess for order `iord = 8` (uses `k1` and two stage
     /// slots as scratch).
     fn hinit(&mut self, hmax: f64) -> f64 {
         let (n, x, posneg) = (self.n, self.x, self.posneg);
         let (atol, rtol) = (self.opts.atol, self.opts.rtol);
-        let (f0, rest) = self.k.split_at_mut(n);
+        let sys = self.sys;
+        let p = self.parts();
+        let (f0, rest) = p.k.split_at_mut(n);
         let f1 = &mut rest[..n];
-        let (y, y1) = (&self.y, &mut self.tmp);
+        let (y, y1) = (&*p.y, p.tmp);
         let mut dnf = 0.0;
         let mut dny = 0.0;
         for i in 0..n {
@@ -164,7 +190,7 @@ impl<S: OdeSystem + ?Sized> Stepper<'_, S> {
         for i in 0..n {
             y1[i] = y[i] + h * f0[i];
         }
-        self.sys.rhs(x + h, y1, f1);
+        sys.rhs(x + h, y1, f1);
         let mut der2: f64 = 0.0;
         for i in 0..n {
             let sk = atol + rtol * y[i].abs();
@@ -188,8 +214,9 @@ impl<S: OdeSystem + ?Sized> Stepper<'_, S> {
     /// Moves past the held step (FSAL: `k1 <- k13`).
     fn commit(&mut self) {
         let n = self.n;
-        self.k.copy_within(12 * n..13 * n, 0);
-        std::mem::swap(&mut self.y, &mut self.ynew);
+        let p = self.parts();
+        p.k.copy_within(12 * n..13 * n, 0);
+        p.y.copy_from_slice(p.ynew);
         self.x += self.h;
         self.held = false;
         self.interp = Interpolant::None;
@@ -240,16 +267,11 @@ impl<S: OdeSystem + ?Sized> Stepper<'_, S> {
                 self.last = true;
             }
             self.attempts += 1;
-            step::stages(self.sys, x, h, &self.y, &mut self.k, &mut self.tmp);
+            let (sys, rtol, atol) = (self.sys, self.opts.rtol, self.opts.atol);
+            let p = self.parts();
+            step::stages(sys, x, h, p.y, p.k, p.tmp);
+            let err = step::update_and_error(p.y, h, p.k, p.ynew, rtol, atol);
             self.stats.rhs_evals += 11;
-            let err = step::update_and_error(
-                &self.y,
-                h,
-                &self.k,
-                &mut self.ynew,
-                self.opts.rtol,
-                self.opts.atol,
-            );
             if !err.is_finite() {
                 // a trial stage left the domain of G (or overflowed): retreat
                 last_err_nonfinite = true;
@@ -274,9 +296,12 @@ impl<S: OdeSystem + ?Sized> Stepper<'_, S> {
         self.stats.steps += 1;
         // k13 = G(x + h, u_new): FSAL derivative
         let xph = self.x + self.h;
-        self.sys.rhs(xph, &self.ynew, &mut self.k[12 * n..13 * n]);
+        let sys = self.sys;
+        let p = self.parts();
+        sys.rhs(xph, p.ynew, &mut p.k[12 * n..13 * n]);
+        let finite = all_finite(&p.k[12 * n..13 * n]) && all_finite(p.ynew);
         self.stats.rhs_evals += 1;
-        if !all_finite(&self.k[12 * n..13 * n]) || !all_finite(&self.ynew) {
+        if !finite {
             return Err(BvpError::NonFinite {
                 what: "ODE right-hand side",
                 s: xph,
@@ -292,13 +317,15 @@ impl<S: OdeSystem + ?Sized> Stepper<'_, S> {
         if !self.held || level == Interpolant::None {
             return;
         }
-        if self.interp == Interpolant::None {
-            hermite(self.h, &self.y, &self.ynew, &self.k, &mut self.rc);
+        let (sys, x, h, interp) = (self.sys, self.x, self.h, self.interp);
+        let p = self.parts();
+        if interp == Interpolant::None {
+            hermite(h, p.y, p.ynew, p.k, p.rc);
             self.interp = Interpolant::Cubic;
         }
         if level == Interpolant::Full && self.interp != Interpolant::Full {
-            let (sys, x, h) = (self.sys, self.x, self.h);
-            extend(sys, x, h, &self.y, &mut self.k, &mut self.tmp, &mut self.rc);
+            let p = self.parts();
+            extend(sys, x, h, p.y, p.k, p.tmp, p.rc);
             self.stats.rhs_evals += 3;
             self.interp = Interpolant::Full;
         }
@@ -308,7 +335,8 @@ impl<S: OdeSystem + ?Sized> Stepper<'_, S> {
     /// (computed first if need be).
     pub fn interpolate(&mut self, theta: f64, out: &mut [f64]) {
         self.prepare(Interpolant::Full);
-        dense_eval(&self.rc, self.n, theta, out);
+        let [_, _, _, _, rc] = self.offsets();
+        dense_eval(&self.buf[rc..], self.n, theta, out);
     }
 
     /// Start of the held step (the current point otherwise).
@@ -338,23 +366,27 @@ impl<S: OdeSystem + ?Sized> Stepper<'_, S> {
 
     /// State at the start of the held step (the current state otherwise).
     pub fn state(&self) -> &[f64] {
-        &self.y
+        let [_, y, ..] = self.offsets();
+        &self.buf[y..y + self.n]
     }
 
     /// State at the end of the held step.
     pub fn end_state(&self) -> &[f64] {
-        &self.ynew
+        let [_, _, ynew, ..] = self.offsets();
+        &self.buf[ynew..ynew + self.n]
     }
 
     /// The held step's interpolation coefficients (8 blocks of `dim`; the last four valid
     /// once [`Interpolant::Full`] is prepared) and how far they are computed.
     pub(super) fn coefficients(&self) -> (&[f64], Interpolant) {
-        (&self.rc, self.interp)
+        let [_, _, _, _, rc] = self.offsets();
+        (&self.buf[rc..rc + 8 * self.n], self.interp)
     }
 
     /// The stage slots of the held step (for a lazy dense output).
     pub(super) fn stages(&self) -> &[f64] {
-        &self.k
+        let [_, y, ..] = self.offsets();
+        &self.buf[..y]
     }
 
     /// Work counters so far.

@@ -40,31 +40,57 @@ pub(crate) fn newton_tip_angle(
     guess: f64,
     method: &'static str,
 ) -> Result<TipSolve> {
-    newton_to(
+    let problem = TipProblem {
         whisker,
         loads,
         integration,
-        guess,
         method,
-        1e-13,
-        false,
-        1.0,
-    )
+    };
+    newton_to(&problem, guess, &TipTarget::FINAL)
 }
 
-/// Newton on the tip angle to the residual tolerance `tol` (relative to `1 + |m0|/k`);
-/// `load_scale` is reported with a failure.
-#[allow(clippy::too_many_arguments)]
-fn newton_to(
-    whisker: &Whisker,
-    loads: &Loads,
-    integration: &Integration,
-    guess: f64,
+/// The tip-angle equation of a scene: the whisker, its loads and the shots' integrator
+/// (`method` names it in errors).
+struct TipProblem<'a> {
+    whisker: &'a Whisker,
+    loads: &'a Loads,
+    integration: &'a Integration,
     method: &'static str,
+}
+
+/// How far [`newton_to`] iterates.
+struct TipTarget {
+    /// Residual tolerance, relative to `1 + |m0|/k`.
     tol: f64,
+    /// Return after the step that follows a residual of 1e-7 (quadratic convergence puts the
+    /// next residual far below `tol`; the caller's final shot verifies it).
     verify_last: bool,
+    /// The load scale reported with a failure.
     load_scale: f64,
-) -> Result<TipSolve> {
+}
+
+impl TipTarget {
+    /// The final solve at full load.
+    const FINAL: TipTarget = TipTarget {
+        tol: 1e-13,
+        verify_last: false,
+        load_scale: 1.0,
+    };
+}
+
+/// Newton on the tip angle of `problem` from `guess` to `target`.
+fn newton_to(problem: &TipProblem<'_>, guess: f64, target: &TipTarget) -> Result<TipSolve> {
+    let TipProblem {
+        whisker,
+        loads,
+        integration,
+        method,
+    } = *problem;
+    let TipTarget {
+        tol,
+        verify_last,
+        load_scale,
+    } = *target;
     let c = whisker.support.compliance();
     let mut p = guess;
     let mut evaluations = 0;
@@ -202,16 +228,19 @@ pub(crate) fn solve_tip_angle_within(
                 }
                 // intermediate load steps only guide the branch: a looser integrator and
                 // residual, the full accuracy is restored by the final Newton at lambda = 1
-                let t = newton_to(
+                let scaled = loads.scaled(lambda);
+                let problem = TipProblem {
                     whisker,
-                    &loads.scaled(lambda),
-                    &loose,
-                    pred[0],
+                    loads: &scaled,
+                    integration: &loose,
                     method,
-                    1e-8,
-                    false,
-                    lambda,
-                )?;
+                };
+                let target = TipTarget {
+                    tol: 1e-8,
+                    verify_last: false,
+                    load_scale: lambda,
+                };
+                let t = newton_to(&problem, pred[0], &target)?;
                 evaluations += t.evaluations;
                 Ok(vec![t.phi1])
             },
@@ -220,16 +249,17 @@ pub(crate) fn solve_tip_angle_within(
             // the budget stops the run at once, whatever the step size
             ModelError::from_continuation(method, e)
         })?;
-    let mut t = newton_to(
+    let problem = TipProblem {
         whisker,
         loads,
         integration,
-        phi1[0],
         method,
-        1e-13,
-        true,
-        1.0,
-    )?;
+    };
+    let target = TipTarget {
+        verify_last: true,
+        ..TipTarget::FINAL
+    };
+    let mut t = newton_to(&problem, phi1[0], &target)?;
     t.evaluations += evaluations;
     t.branch_jumps = stats.jumps;
     Ok((t, stats.steps))

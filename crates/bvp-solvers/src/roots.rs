@@ -1,5 +1,5 @@
 //! Scalar roots of `f(x) = 0` on a bracketing interval: bisection and Brent's method (the
-//! `fzero` equivalents).
+//! `fzero` equivalents), and bisection on a predicate ([`bisect`]).
 //!
 //! Both take *fallible* closures `FnMut(f64) -> Result<f64, E>` so that callers can propagate
 //! their own error types; the only requirement is `E: From<BvpError>`.
@@ -85,6 +85,70 @@ fn finite(fx: f64, x: f64) -> Result<f64, BvpError> {
     }
 }
 
+/// The values at the ends of a bracket, or a root already found at one of them.
+enum Ends {
+    Root(Root),
+    Values(f64, f64),
+}
+
+/// Checks the inputs and evaluates `f` at `a`, then `b`: an end where `f` vanishes (or is
+/// within `ftol`) is the root.
+fn ends<F, E>(f: &mut F, a: f64, b: f64, opts: &RootOptions) -> Result<Ends, E>
+where
+    F: FnMut(f64) -> Result<f64, E>,
+    E: From<BvpError>,
+{
+    check_inputs(a, b, opts)?;
+    let at = |x: f64, fx: f64| {
+        Ends::Root(Root {
+            x,
+            fx,
+            iterations: 0,
+        })
+    };
+    let fa = finite(f(a)?, a)?;
+    if fa == 0.0 || fa.abs() <= opts.ftol {
+        return Ok(at(a, fa));
+    }
+    let fb = finite(f(b)?, b)?;
+    if fb == 0.0 || fb.abs() <= opts.ftol {
+        return Ok(at(b, fb));
+    }
+    Ok(Ends::Values(fa, fb))
+}
+
+/// Bisection on a predicate: `below(x)` is `Some(true)` left of the point sought and
+/// `Some(false)` right of it (on `[lo, hi]` it changes once). Halves `[lo, hi]` until its
+/// ends are adjacent floats, at most `max_iter` times, or until `below` returns `None` (the
+/// function is not defined there); returns the midpoint of the last bracket. No end is
+/// evaluated: the caller knows the bracket.
+///
+/// ```
+/// use bvp_solvers::roots::bisect;
+/// let x = bisect(|x| Some(x * x < 2.0), 1.0, 2.0, 200);
+/// assert!((x - 2f64.sqrt()).abs() <= 2.0 * f64::EPSILON);
+/// ```
+pub fn bisect<P: FnMut(f64) -> Option<bool>>(
+    mut below: P,
+    lo: f64,
+    hi: f64,
+    max_iter: usize,
+) -> f64 {
+    let (mut lo, mut hi) = (lo, hi);
+    for _ in 0..max_iter {
+        let m = 0.5 * (lo + hi);
+        if m <= lo || m >= hi {
+            break;
+        }
+        match below(m) {
+            Some(true) => lo = m,
+            Some(false) => hi = m,
+            None => break,
+        }
+    }
+    0.5 * (lo + hi)
+}
+
 /// Bisection on `[a, b]` (either order) with `f(a) f(b) <= 0`: the bracket is halved at its
 /// midpoint, keeping the half with a sign change, until its half-width is `<= xtol` (or the
 /// midpoint is not representable between the ends) or `|f(mid)| <= ftol`. Gains one bit per
@@ -99,24 +163,12 @@ where
     F: FnMut(f64) -> Result<f64, E>,
     E: From<BvpError>,
 {
-    check_inputs(a, b, opts)?;
-    let (mut a, mut b) = if a <= b { (a, b) } else { (b, a) };
-    let mut fa = finite(f(a)?, a)?;
-    if fa == 0.0 || fa.abs() <= opts.ftol {
-        return Ok(Root {
-            x: a,
-            fx: fa,
-            iterations: 0,
-        });
-    }
-    let mut fb = finite(f(b)?, b)?;
-    if fb == 0.0 || fb.abs() <= opts.ftol {
-        return Ok(Root {
-            x: b,
-            fx: fb,
-            iterations: 0,
-        });
-    }
+    let (a, b) = if a <= b { (a, b) } else { (b, a) };
+    let (mut fa, mut fb) = match ends(&mut f, a, b, opts)? {
+        Ends::Root(r) => return Ok(r),
+        Ends::Values(fa, fb) => (fa, fb),
+    };
+    let (mut a, mut b) = (a, b);
     if (fa < 0.0) == (fb < 0.0) {
         return Err(BvpError::NotBracketed { a, b, fa, fb }.into());
     }
@@ -184,25 +236,11 @@ where
     F: FnMut(f64) -> Result<f64, E>,
     E: From<BvpError>,
 {
-    check_inputs(a, b, opts)?;
-    let mut a = a;
-    let mut b = b;
-    let mut fa = finite(f(a)?, a)?;
-    if fa == 0.0 || fa.abs() <= opts.ftol {
-        return Ok(Root {
-            x: a,
-            fx: fa,
-            iterations: 0,
-        });
-    }
-    let mut fb = finite(f(b)?, b)?;
-    if fb == 0.0 || fb.abs() <= opts.ftol {
-        return Ok(Root {
-            x: b,
-            fx: fb,
-            iterations: 0,
-        });
-    }
+    let (mut fa, mut fb) = match ends(&mut f, a, b, opts)? {
+        Ends::Root(r) => return Ok(r),
+        Ends::Values(fa, fb) => (fa, fb),
+    };
+    let (mut a, mut b) = (a, b);
     if (fa < 0.0) == (fb < 0.0) {
         let (lo, hi, flo, fhi) = if a <= b {
             (a, b, fa, fb)

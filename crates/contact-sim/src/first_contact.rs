@@ -16,6 +16,7 @@ use beam_model::equations::{Sensitivities, WhiskerOde};
 use beam_model::shot::{shoot, Integration};
 use beam_model::{FluidLoad, Loads, Whisker};
 use bvp_solvers::integrator::{Dop853, OdeSolution};
+use bvp_solvers::roots::bisect;
 use serde::{Deserialize, Serialize};
 
 /// How the contact began.
@@ -138,19 +139,8 @@ pub(crate) fn first_touch(
         if let Some((sp, hp)) = prev {
             if hp > 0.0 && h <= 0.0 {
                 // bisection on the sign of phi - psi to machine precision
-                let (mut a, mut b) = (sp, s);
-                for _ in 0..100 {
-                    let m = 0.5 * (a + b);
-                    if m <= a || m >= b {
-                        break;
-                    }
-                    match probe(m) {
-                        Some((_, hm, _)) if hm > 0.0 => a = m,
-                        Some(_) => b = m,
-                        None => break,
-                    }
-                }
-                candidates.push(0.5 * (a + b));
+                let below = |m| probe(m).map(|(_, hm, _)| hm > 0.0);
+                candidates.push(bisect(below, sp, s, 100));
             }
         }
         prev = Some((s, h));

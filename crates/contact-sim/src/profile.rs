@@ -4,6 +4,7 @@
 //! curvature `g'' / (1 + g'^2)^(3/2)` (thesis ch. 5.1; contours [5.2, 5.3, 5.11]).
 
 use crate::error::{ContactError, Result};
+use bvp_solvers::roots::bisect;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::FRAC_PI_2;
 
@@ -336,22 +337,13 @@ impl Profile {
             Profile::Points(ref s) => {
                 let (a, b) = s.range();
                 // g' is increasing on a convex spline: bisection for g' = 0, clamped.
-                let (mut lo, mut hi) = (a, b);
-                if s.eval(lo).1 >= 0.0 {
-                    return lo;
+                if s.eval(a).1 >= 0.0 {
+                    return a;
                 }
-                if s.eval(hi).1 <= 0.0 {
-                    return hi;
+                if s.eval(b).1 <= 0.0 {
+                    return b;
                 }
-                for _ in 0..200 {
-                    let m = 0.5 * (lo + hi);
-                    if s.eval(m).1 < 0.0 {
-                        lo = m;
-                    } else {
-                        hi = m;
-                    }
-                }
-                0.5 * (lo + hi)
+                bisect(|m| Some(s.eval(m).1 < 0.0), a, b, 200)
             }
         }
     }
@@ -459,7 +451,7 @@ impl Profile {
         if y.is_nan() || y < self.at(tv).y {
             return None;
         }
-        let mut hi = if t_hi.is_finite() {
+        let hi = if t_hi.is_finite() {
             if self.at(t_hi).y < y {
                 return None;
             }
@@ -474,19 +466,7 @@ impl Profile {
             }
             tv + w
         };
-        let mut lo = tv.max(t_lo);
-        for _ in 0..200 {
-            let m = 0.5 * (lo + hi);
-            if m <= lo || m >= hi {
-                break;
-            }
-            if self.at(m).y < y {
-                lo = m;
-            } else {
-                hi = m;
-            }
-        }
-        Some(0.5 * (lo + hi))
+        Some(bisect(|m| Some(self.at(m).y < y), tv.max(t_lo), hi, 200))
     }
 
     /// Checks strict convexity where a whisker of unit length with its base on `y = 0` can
@@ -532,18 +512,6 @@ impl Profile {
                 return None;
             }
         }
-        let (mut lo, mut hi) = (xv, hi);
-        for _ in 0..200 {
-            let m = 0.5 * (lo + hi);
-            if self.y(m) < y {
-                lo = m;
-            } else {
-                hi = m;
-            }
-            if hi - lo <= 1e-15 * hi.abs().max(1.0) {
-                break;
-            }
-        }
-        Some(0.5 * (lo + hi))
+        Some(bisect(|m| Some(self.y(m) < y), xv, hi, 200))
     }
 }

@@ -281,6 +281,115 @@ pub(super) const LAZY_SLOTS: [usize; 9] = [0, 5, 6, 7, 8, 9, 10, 11, 12];
 
 /// The last 4 blocks of the dense-output coefficients of the step `[x, x + h]` from `y`
 /// and the stages `k1, k6..k13` in `k`: evaluates the extra stages `k14..k16`.
+/// A stage: the combination of earlier stages (slot, coefficient), its node `C`, its slot.
+type Stage = (&'static [(usize, f64)], f64, usize);
+
+/// The extra stages `k14..k16` of the dense output.
+const EXTRA_STAGES: [Stage; 3] = [
+    (
+        &[
+            (0, A141),
+            (6, A147),
+            (7, A148),
+            (8, A149),
+            (9, A1410),
+            (10, A1411),
+            (11, A1412),
+            (12, A1413),
+        ],
+        C14,
+        13,
+    ),
+    (
+        &[
+            (0, A151),
+            (5, A156),
+            (6, A157),
+            (7, A158),
+            (10, A1511),
+            (11, A1512),
+            (12, A1513),
+            (13, A1514),
+        ],
+        C15,
+        14,
+    ),
+    (
+        &[
+            (0, A161),
+            (5, A166),
+            (6, A167),
+            (7, A168),
+            (8, A169),
+            (12, A1613),
+            (13, A1614),
+            (14, A1615),
+        ],
+        C16,
+        15,
+    ),
+];
+
+/// The coefficient blocks 5..8 of the dense output: combinations of the stages `k1, k6..k16`.
+const DENSE_ROWS: [[(usize, f64); 12]; 4] = [
+    [
+        (0, D41),
+        (5, D46),
+        (6, D47),
+        (7, D48),
+        (8, D49),
+        (9, D410),
+        (10, D411),
+        (11, D412),
+        (12, D413),
+        (13, D414),
+        (14, D415),
+        (15, D416),
+    ],
+    [
+        (0, D51),
+        (5, D56),
+        (6, D57),
+        (7, D58),
+        (8, D59),
+        (9, D510),
+        (10, D511),
+        (11, D512),
+        (12, D513),
+        (13, D514),
+        (14, D515),
+        (15, D516),
+    ],
+    [
+        (0, D61),
+        (5, D66),
+        (6, D67),
+        (7, D68),
+        (8, D69),
+        (9, D610),
+        (10, D611),
+        (11, D612),
+        (12, D613),
+        (13, D614),
+        (14, D615),
+        (15, D616),
+    ],
+    [
+        (0, D71),
+        (5, D76),
+        (6, D77),
+        (7, D78),
+        (8, D79),
+        (9, D710),
+        (10, D711),
+        (11, D712),
+        (12, D713),
+        (13, D714),
+        (14, D715),
+        (15, D716),
+    ],
+];
+
 pub(super) fn extend<S: OdeSystem + ?Sized>(
     sys: &S,
     x: f64,
@@ -291,133 +400,19 @@ pub(super) fn extend<S: OdeSystem + ?Sized>(
     rc: &mut [f64],
 ) {
     let n = y.len();
-    combo(
-        y,
-        h,
-        k,
-        [
-            (0, A141),
-            (6, A147),
-            (7, A148),
-            (8, A149),
-            (9, A1410),
-            (10, A1411),
-            (11, A1412),
-            (12, A1413),
-        ],
-        tmp,
-    );
-    sys.rhs(x + C14 * h, tmp, &mut k[13 * n..14 * n]);
-    combo(
-        y,
-        h,
-        k,
-        [
-            (0, A151),
-            (5, A156),
-            (6, A157),
-            (7, A158),
-            (10, A1511),
-            (11, A1512),
-            (12, A1513),
-            (13, A1514),
-        ],
-        tmp,
-    );
-    sys.rhs(x + C15 * h, tmp, &mut k[14 * n..15 * n]);
-    combo(
-        y,
-        h,
-        k,
-        [
-            (0, A161),
-            (5, A166),
-            (6, A167),
-            (7, A168),
-            (8, A169),
-            (12, A1613),
-            (13, A1614),
-            (14, A1615),
-        ],
-        tmp,
-    );
-    sys.rhs(x + C16 * h, tmp, &mut k[15 * n..16 * n]);
+    for &(terms, c, slot) in &EXTRA_STAGES {
+        for (i, o) in tmp.iter_mut().enumerate().take(n) {
+            let mut acc = 0.0;
+            for &(j, a) in terms {
+                acc += a * k[j * n + i];
+            }
+            *o = y[i] + h * acc;
+        }
+        sys.rhs(x + c * h, tmp, &mut k[slot * n..(slot + 1) * n]);
+    }
     for i in 0..n {
-        rc[4 * n + i] = h * lin(
-            k,
-            n,
-            i,
-            [
-                (0, D41),
-                (5, D46),
-                (6, D47),
-                (7, D48),
-                (8, D49),
-                (9, D410),
-                (10, D411),
-                (11, D412),
-                (12, D413),
-                (13, D414),
-                (14, D415),
-                (15, D416),
-            ],
-        );
-        rc[5 * n + i] = h * lin(
-            k,
-            n,
-            i,
-            [
-                (0, D51),
-                (5, D56),
-                (6, D57),
-                (7, D58),
-                (8, D59),
-                (9, D510),
-                (10, D511),
-                (11, D512),
-                (12, D513),
-                (13, D514),
-                (14, D515),
-                (15, D516),
-            ],
-        );
-        rc[6 * n + i] = h * lin(
-            k,
-            n,
-            i,
-            [
-                (0, D61),
-                (5, D66),
-                (6, D67),
-                (7, D68),
-                (8, D69),
-                (9, D610),
-                (10, D611),
-                (11, D612),
-                (12, D613),
-                (13, D614),
-                (14, D615),
-                (15, D616),
-            ],
-        );
-        rc[7 * n + i] = h * lin(
-            k,
-            n,
-            i,
-            [
-                (0, D71),
-                (5, D76),
-                (6, D77),
-                (7, D78),
-                (8, D79),
-                (9, D710),
-                (10, D711),
-                (11, D712),
-                (12, D713),
-                (13, D714),
-                (14, D715),
-                (15, D716),
-            ],
-        );
+        for (b, terms) in DENSE_ROWS.iter().enumerate() {
+            rc[(4 + b) * n + i] = h * lin(k, n, i, *terms);
+        }
     }
 }

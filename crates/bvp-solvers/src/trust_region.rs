@@ -18,8 +18,8 @@
 use std::cell::{Cell, RefCell};
 
 use argmin::core::{
-    CostFunction, Error as ArgminError, Executor, Gradient, Hessian, IterState, Problem, Solver,
-    State, TerminationReason, TerminationStatus, TrustRegionRadius, KV,
+    CostFunction, Error as ArgminError, Executor, Gradient, Hessian, IterState, OptimizationResult,
+    Problem, Solver, State, TerminationReason, TerminationStatus, TrustRegionRadius, KV,
 };
 use argmin::solver::trustregion::TrustRegion;
 use faer::Mat;
@@ -235,6 +235,10 @@ impl TrustRegionRadius<f64> for GaussNewtonDogleg {
 }
 
 type TrState = IterState<Mat<f64>, Mat<f64>, (), Mat<f64>, (), f64>;
+
+/// What argmin's executor returns for the trust region on a [`Wrapper`].
+type TrResult<'a, 'b, S> =
+    OptimizationResult<Wrapper<'a, 'b, S>, TrustRegion<GaussNewtonDogleg, f64>, TrState>;
 
 impl<O> Solver<O, TrState> for GaussNewtonDogleg
 where
@@ -458,6 +462,52 @@ fn invalid(name: &'static str, value: f64, reason: &'static str) -> BvpError {
     }
 }
 
+/// Checks the dimensions, `x0` and the options.
+fn check<S: NonlinearSystem>(
+    sys: &S,
+    x0: &[f64],
+    opts: &TrustRegionOptions,
+) -> Result<(), BvpError> {
+    let n = sys.n_unknowns();
+    let m = sys.n_residuals();
+    if x0.len() != n {
+        return Err(BvpError::DimensionMismatch {
+            name: "x0",
+            expected: n,
+            found: x0.len(),
+        });
+    }
+    if n == 0 || m < n {
+        return Err(invalid(
+            "n_residuals",
+            m as f64,
+            "need n_unknowns >= 1 and n_residuals >= n_unknowns",
+        ));
+    }
+    if let Some(&v) = x0.iter().find(|v| !v.is_finite()) {
+        return Err(invalid("x0", v, "initial guess must be finite"));
+    }
+    if !(opts.tol > 0.0 && opts.tol.is_finite()) {
+        return Err(invalid("tol", opts.tol, "must be finite and > 0"));
+    }
+    if !(opts.initial_radius > 0.0 && opts.initial_radius.is_finite()) {
+        return Err(invalid(
+            "initial_radius",
+            opts.initial_radius,
+            "must be finite and > 0",
+        ));
+    }
+    if !(opts.max_radius >= opts.initial_radius && opts.max_radius.is_finite()) {
+        return Err(invalid(
+            "max_radius",
+            opts.max_radius,
+            "must be finite and >= initial_radius",
+        ));
+    }
+
+    Ok(())
+}
+
 /// Solves `r(x) = 0` from `x0` by the Gauss-Newton dogleg trust-region method (see the module
 /// documentation): argmin's `TrustRegion<GaussNewtonDogleg>` on `1/2 ||r||^2` with target cost
 /// `tol^2/2`.
@@ -473,47 +523,8 @@ pub fn solve<S: NonlinearSystem>(
     x0: &[f64],
     opts: &TrustRegionOptions,
 ) -> Result<SystemSolution, S::Error> {
-    let n = sys.n_unknowns();
-    let m = sys.n_residuals();
-    if x0.len() != n {
-        return Err(BvpError::DimensionMismatch {
-            name: "x0",
-            expected: n,
-            found: x0.len(),
-        }
-        .into());
-    }
-    if n == 0 || m < n {
-        return Err(invalid(
-            "n_residuals",
-            m as f64,
-            "need n_unknowns >= 1 and n_residuals >= n_unknowns",
-        )
-        .into());
-    }
-    if let Some(&v) = x0.iter().find(|v| !v.is_finite()) {
-        return Err(invalid("x0", v, "initial guess must be finite").into());
-    }
-    if !(opts.tol > 0.0 && opts.tol.is_finite()) {
-        return Err(invalid("tol", opts.tol, "must be finite and > 0").into());
-    }
-    if !(opts.initial_radius > 0.0 && opts.initial_radius.is_finite()) {
-        return Err(invalid(
-            "initial_radius",
-            opts.initial_radius,
-            "must be finite and > 0",
-        )
-        .into());
-    }
-    if !(opts.max_radius >= opts.initial_radius && opts.max_radius.is_finite()) {
-        return Err(invalid(
-            "max_radius",
-            opts.max_radius,
-            "must be finite and >= initial_radius",
-        )
-        .into());
-    }
-
+    check(sys, x0, opts)?;
+    let (n, m) = (sys.n_unknowns(), sys.n_residuals());
     let wrapper = Shared {
         sys,
         n,
@@ -569,10 +580,20 @@ pub fn solve<S: NonlinearSystem>(
         .ctrlc(false)
         .run();
 
+    outcome(&wrapper, result, opts, target)
+}
+
+/// The solution from argmin's result, or the failure with the best residual.
+fn outcome<S: NonlinearSystem>(
+    wrapper: &Shared<'_, S>,
+    result: Result<TrResult<'_, '_, S>, ArgminError>,
+    opts: &TrustRegionOptions,
+    target: f64,
+) -> Result<SystemSolution, S::Error> {
     match result {
         Err(e) => {
             if wrapper.user_error.borrow().is_some() {
-                return Err(take_user_error(&wrapper, e));
+                return Err(take_user_error(wrapper, e));
             }
             // argmin broke down (e.g. non-finite Jacobian)
             Err(BvpError::NoConvergence {
@@ -587,7 +608,7 @@ pub fn solve<S: NonlinearSystem>(
             let state = res.state;
             let iterations = state.get_iter();
             let cost = state.get_best_cost();
-            let residual = (2.0 * cost).sqrt();
+            let residual = (2.0f64 * cost).sqrt();
             // argmin checks the iteration budget before the target cost, so a solve that
             // reaches the target in its last allowed iteration reports `MaxItersReached`:
             // that case is a success too. Every other status is a failure.

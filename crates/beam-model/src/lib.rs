@@ -9,6 +9,7 @@
 //! | [`support`] | rigid clamp or torsional spring k |
 //! | [`loads`] | tip force f at beta (DP or AP), fluid load q at alpha, loaded length s1 |
 //! | [`scene`] | a whisker with its loads |
+//! | [`balance`] | the force balance: loads to base reactions and back [5.1, 6.1, 6.8, 6.9] |
 //! | [`units`] | physical units <-> dimensionless form [3.16-3.19], rat whisker presets (Table 2.2) |
 //! | [`equations`] | the system [3.25] and its Jacobian [3.27] plugged into `bvp-solvers` |
 //! | [`shot`] | shooting from the loaded end (observables as initial values) |
@@ -23,6 +24,7 @@
 //! assert!((sol.tip.x - 0.30172).abs() < 1e-5 && (sol.tip.y - 0.94357).abs() < 1e-5);
 //! ```
 
+pub mod balance;
 pub mod equations;
 pub mod error;
 pub mod loads;
@@ -35,6 +37,7 @@ pub mod support;
 pub mod units;
 pub mod whisker;
 
+pub use balance::Reactions;
 pub use error::{ModelError, Result};
 pub use loads::{FluidLoad, LoadKind, Loads, TipForce};
 pub use methods::{shape_from_tip_angle, shape_with, solve, Method};

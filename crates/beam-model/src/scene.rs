@@ -1,5 +1,6 @@
 //! A scene: one whisker under one set of loads.
 
+use crate::balance::Reactions;
 use crate::error::Result;
 use crate::loads::Loads;
 use crate::whisker::Whisker;
@@ -44,12 +45,12 @@ impl Scene {
     }
 
     /// Base reactions (support on whisker) for a known tip angle `phi1`:
-    /// `Ax = -(f cos beta + q s1 cos alpha)`, `Ay = f sin beta + q s1 sin alpha` [5.1, 6.8, 6.9].
+    /// `Ax = -(f cos beta + q s1 cos alpha)`, `Ay = f sin beta + q s1 sin alpha` [5.1, 6.8, 6.9]
+    /// ([`Reactions::balancing`]).
     pub fn base_reactions(&self, phi1: f64) -> (f64, f64) {
         let l = &self.loads;
-        let beta = l.tip.effective_beta(phi1);
-        let ax = -(l.tip.f * beta.cos() + l.fluid.q * l.s1 * l.fluid.alpha.cos());
-        let ay = l.tip.f * beta.sin() + l.fluid.q * l.s1 * l.fluid.alpha.sin();
-        (ax, ay)
+        let (sb, cb) = l.tip.effective_beta(phi1).sin_cos();
+        let r = Reactions::balancing((l.tip.f * cb, l.tip.f * sb), l.fluid, l.s1);
+        (r.ax, r.ay)
     }
 }

@@ -12,7 +12,7 @@
 //! `x0 = xc - (x(s1) - x(0))`.
 
 use crate::profile::Profile;
-use beam_model::{FluidLoad, LoadKind, Loads, TipForce};
+use beam_model::{FluidLoad, LoadKind, Loads, Reactions, TipForce};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::FRAC_PI_2;
 
@@ -105,13 +105,8 @@ impl ContactState {
     /// `Ax = -(f sin psi + q s1 cos alpha)`, `Ay = f cos psi + q s1 sin alpha`, `MA = -m(0)`.
     pub fn observables(&self, flow: FluidLoad) -> (f64, f64, f64, f64) {
         let (s, c) = self.point.psi.sin_cos();
-        let (sa, ca) = flow.alpha.sin_cos();
-        (
-            -(self.f * s + flow.q * self.s1 * ca),
-            self.f * c + flow.q * self.s1 * sa,
-            -self.m0,
-            self.phi0,
-        )
+        let r = Reactions::balancing((self.f * s, self.f * c), flow, self.s1);
+        (r.ax, r.ay, -self.m0, self.phi0)
     }
 }
 

@@ -280,13 +280,13 @@ pub fn sweep_with_progress(
         Sensitivities::None,
         &integration,
     )?;
-    let (sa, ca) = flow.alpha.sin_cos();
+    let free_reactions = beam_model::Reactions::balancing((0.0, 0.0), flow, 1.0);
     let mut points = Vec::with_capacity(settings.pre_contact_rows + states.len());
     for k in (1..=settings.pre_contact_rows).rev() {
         points.push(SweepPoint {
             x0: first.x0() + k as f64 * settings.pre_contact_spacing,
-            ax: -flow.q * ca,
-            ay: flow.q * sa,
+            ax: free_reactions.ax,
+            ay: free_reactions.ay,
             ma: -free.m0,
             phi0: free.phi0,
             f: 0.0,

@@ -46,7 +46,11 @@ impl Reactions {
     /// `alpha = atan2(Ay, -Ax)` (`alpha = 0` for `q = 0`).
     pub fn free_flow(&self) -> FluidLoad {
         let q = self.ax.hypot(self.ay);
-        let alpha = if q > 0.0 { self.ay.atan2(-self.ax) } else { 0.0 };
+        let alpha = if q > 0.0 {
+            self.ay.atan2(-self.ax)
+        } else {
+            0.0
+        };
         FluidLoad { q, alpha }
     }
 }

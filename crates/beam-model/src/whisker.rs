@@ -114,9 +114,17 @@ impl Whisker {
         self.a * s + self.b
     }
 
-    /// Unloaded tangent angle `pi/2 + A s^2/2 + B s` (rigid base).
+    /// Tangent angle of a load-free segment that starts at `s1` with angle `phi1`:
+    /// `phi1 + A (s^2 - s1^2)/2 + B (s - s1)` (the curvature is the pre-curvature, [3.5]).
+    #[inline]
+    pub fn phi_free(&self, s1: f64, phi1: f64, s: f64) -> f64 {
+        phi1 + 0.5 * self.a * (s * s - s1 * s1) + self.b * (s - s1)
+    }
+
+    /// Unloaded tangent angle `pi/2 + A s^2/2 + B s` (rigid base): the load-free segment
+    /// from the base ([`Whisker::phi_free`]).
     #[inline]
     pub fn phi_unloaded(&self, s: f64) -> f64 {
-        std::f64::consts::FRAC_PI_2 + 0.5 * self.a * s * s + self.b * s
+        self.phi_free(0.0, std::f64::consts::FRAC_PI_2, s)
     }
 }

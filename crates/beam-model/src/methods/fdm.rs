@@ -180,7 +180,7 @@ fn assemble(
     if s1 < 1.0 {
         let steps = ((n as f64) * (1.0 - s1)).ceil().max(1.0) as usize;
         let hs = (1.0 - s1) / steps as f64;
-        let phi_free = |s: f64| phi1 + 0.5 * w.a * (s * s - s1 * s1) + w.b * (s - s1);
+        let phi_free = |s: f64| w.phi_free(s1, phi1, s);
         for i in 1..=steps {
             let (sa, sb) = (s1 + (i - 1) as f64 * hs, s1 + i as f64 * hs);
             let (pa, pb) = (phi_free(sa), phi_free(sb));

@@ -275,9 +275,7 @@ struct FreeSegment {
 
 impl FreeSegment {
     fn phi(&self, s: f64) -> f64 {
-        self.phi1
-            + 0.5 * self.whisker.a * (s * s - self.s1 * self.s1)
-            + self.whisker.b * (s - self.s1)
+        self.whisker.phi_free(self.s1, self.phi1, s)
     }
 }
 
@@ -302,18 +300,44 @@ pub(crate) fn solve(
     method: &'static str,
     budget: usize,
 ) -> Result<Solution> {
+    let run = Run {
+        integration,
+        samples,
+        method,
+        budget,
+    };
+    verified(scene, &run, SolveStats::default()).map(|(sol, _)| sol)
+}
+
+/// How a shooting solve runs: its integrator, the elastica's samples, the method's name
+/// (in errors) and the evaluation budget of the load continuation.
+struct Run<'a> {
+    integration: &'a Integration,
+    samples: usize,
+    method: &'static str,
+    budget: usize,
+}
+
+/// The tip angle by Newton (with load continuation as needed), the elastica from a shot at
+/// it, and that final shot's verification of the base condition [3.21, 3.22] (one more
+/// Newton solve from it if its residual exceeds 1e-12); `stats` seeds the solution's
+/// statistics. Returns the solution and the derivatives `d(phi0, m0, dx, dy)/dphi1` of the
+/// last Newton shot.
+fn verified(scene: &Scene, run: &Run<'_>, stats: SolveStats) -> Result<(Solution, [f64; 4])> {
     let w = &scene.whisker;
     let loads = &scene.loads;
+    let (integration, samples, method) = (run.integration, run.samples, run.method);
     let (tip, continuation_steps) =
-        solve_tip_angle_within(w, loads, integration, None, method, budget)?;
+        solve_tip_angle_within(w, loads, integration, None, method, run.budget)?;
     let mut stats = SolveStats {
         iterations: tip.iterations,
         residual: tip.residual,
         continuation_steps,
         evaluations: tip.evaluations,
         branch_jumps: tip.branch_jumps,
-        ..SolveStats::default()
+        ..stats
     };
+    let mut sens = tip.sens;
     let mut sol = shape(scene, tip.phi1, integration, samples, stats, method)?;
     // The final shot verifies the base condition [3.21, 3.22] of the last Newton step.
     let scale = |sol: &Solution| 1.0 + sol.base.ma.abs() * w.support.compliance();
@@ -322,10 +346,11 @@ pub(crate) fn solve(
         let t = newton_tip_angle(w, loads, integration, tip.phi1, method)?;
         stats.iterations += t.iterations;
         stats.evaluations += t.evaluations;
+        sens = t.sens;
         sol = shape(scene, t.phi1, integration, samples, stats, method)?;
     }
     sol.stats.residual = residual(&sol);
-    Ok(sol)
+    Ok((sol, sens))
 }
 
 /// `accurate`: Newton on the tip angle with DOP853 at `tol` and the elastica from a dense
@@ -345,33 +370,19 @@ pub(crate) fn solve_accurate(
 ) -> Result<Solution> {
     let w = &scene.whisker;
     let loads = &scene.loads;
-    let method = "accurate";
     let integration = Integration::adaptive(tol);
-    let (tip, continuation_steps) =
-        solve_tip_angle_within(w, loads, &integration, None, method, budget)?;
-    let mut stats = SolveStats {
-        iterations: tip.iterations,
-        residual: tip.residual,
-        continuation_steps,
-        evaluations: tip.evaluations,
-        branch_jumps: tip.branch_jumps,
+    let run = Run {
+        integration: &integration,
+        samples,
+        method: "accurate",
+        budget,
+    };
+    let stats = SolveStats {
         method_used: crate::solution::MethodKind::Accurate,
         ..SolveStats::default()
     };
-    let mut sens = tip.sens;
-    let mut sol = shape(scene, tip.phi1, &integration, samples, stats, method)?;
-    // The final shot verifies the base condition [3.21, 3.22] of the last Newton step.
+    let (mut sol, sens) = verified(scene, &run, stats)?;
     let c = w.support.compliance();
-    let scale = |sol: &Solution| 1.0 + sol.base.ma.abs() * c;
-    let residual = |sol: &Solution| w.support.residual(sol.base.phi0, -sol.base.ma).abs();
-    if residual(&sol) > 1e-12 * scale(&sol) {
-        let t = newton_tip_angle(w, loads, &integration, tip.phi1, method)?;
-        stats.iterations += t.iterations;
-        stats.evaluations += t.evaluations;
-        sens = t.sens;
-        sol = shape(scene, t.phi1, &integration, samples, stats, method)?;
-    }
-    sol.stats.residual = residual(&sol);
     // the embedded second solution
     let shot = shoot(
         w,

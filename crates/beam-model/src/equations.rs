@@ -30,6 +30,86 @@ impl Sensitivities {
     }
 }
 
+/// The moment law of the loaded part `[0, s1]` [3.25] (spec/model.md): the internal moment's
+/// rate
+///
+/// ```text
+/// m' = f sin(phi + c) + q (s1 - s) sin(phi + alpha),
+/// c = beta (DP)  or  beta - phi1 + pi/2 (AP: m' = f cos(phi + beta - phi1) + ...),
+/// ```
+///
+/// the one place every method evaluates it: the shots' first-order system, the FDM's
+/// second-order form and its base moment. The load angles enter through addition theorems:
+/// one `sin_cos` of `phi` per evaluation.
+#[derive(Clone, Copy, Debug)]
+pub struct MomentLaw {
+    f: f64,
+    q: f64,
+    s1: f64,
+    /// `(sin, cos)` of the force angle `c`.
+    force: (f64, f64),
+    /// `(sin, cos)` of alpha.
+    flow: (f64, f64),
+}
+
+/// [`MomentLaw::at`]: the rate and the trigonometric values it was made of.
+#[derive(Clone, Copy, Debug)]
+pub struct MomentRate {
+    /// `m'`.
+    pub dm: f64,
+    /// `d m' / d phi = f cos(phi + c) + q (s1 - s) cos(phi + alpha)`.
+    pub dm_dphi: f64,
+    /// `sin(phi + c)`, `cos(phi + c)`.
+    pub force: (f64, f64),
+    /// `sin(phi + alpha)`.
+    pub flow_sin: f64,
+}
+
+impl MomentLaw {
+    /// The law of `loads`, with the tip angle `phi1` for AP forces (ignored for DP).
+    pub fn new(loads: &Loads, phi1: f64) -> Self {
+        let c = match loads.tip.kind {
+            LoadKind::Dp => loads.tip.beta,
+            LoadKind::Ap => loads.tip.beta - phi1 + FRAC_PI_2,
+        };
+        MomentLaw {
+            f: loads.tip.f,
+            q: loads.fluid.q,
+            s1: loads.s1,
+            force: c.sin_cos(),
+            flow: loads.fluid.alpha.sin_cos(),
+        }
+    }
+
+    /// The law with the tip angle `phi1` (for AP forces; `self` for DP).
+    #[inline]
+    pub fn at_tip_angle(&self, loads: &Loads, phi1: f64) -> Self {
+        match loads.tip.kind {
+            LoadKind::Dp => *self,
+            LoadKind::Ap => MomentLaw {
+                force: (loads.tip.beta - phi1 + FRAC_PI_2).sin_cos(),
+                ..*self
+            },
+        }
+    }
+
+    /// The rate at arc length `s` where `(sin phi, cos phi) = (sp, cp)`.
+    #[inline]
+    pub fn at(&self, s: f64, sp: f64, cp: f64) -> MomentRate {
+        let (sb, cb) = self.force;
+        let (sc, cc) = (sp * cb + cp * sb, cp * cb - sp * sb);
+        let arm = self.s1 - s;
+        let (sal, cal) = self.flow;
+        let (sa, ca) = (sp * cal + cp * sal, cp * cal - sp * sal);
+        MomentRate {
+            dm: self.f * sc + self.q * arm * sa,
+            dm_dphi: self.f * cc + self.q * arm * ca,
+            force: (sc, cc),
+            flow_sin: sa,
+        }
+    }
+}
+
 /// The first-order system of the elastica, written for integration from the loaded end
 /// `s1` towards the base (any direction works):
 ///
@@ -48,27 +128,18 @@ pub struct WhiskerOde {
     /// Tip angle used by AP loads (ignored for DP).
     phi1: f64,
     sens: Sensitivities,
-    /// `(sin, cos)` of the constant part of the force angle: `beta` (DP) or
-    /// `beta - phi1 + pi/2` (AP), so that `sin(c) = sin(phi + shift)` costs no extra `sin_cos`.
-    force_shift: (f64, f64),
-    /// `(sin, cos)` of alpha.
-    alpha_sc: (f64, f64),
+    law: MomentLaw,
 }
 
 impl WhiskerOde {
     /// The system for a whisker, its loads and (for AP loads) the tip angle `phi1`.
     pub fn new(whisker: Whisker, loads: Loads, phi1: f64, sens: Sensitivities) -> Self {
-        let shift = match loads.tip.kind {
-            LoadKind::Dp => loads.tip.beta,
-            LoadKind::Ap => loads.tip.beta - phi1 + FRAC_PI_2,
-        };
         WhiskerOde {
             whisker,
             loads,
             phi1,
             sens,
-            force_shift: shift.sin_cos(),
-            alpha_sc: loads.fluid.alpha.sin_cos(),
+            law: MomentLaw::new(&loads, phi1),
         }
     }
 }
@@ -86,22 +157,18 @@ impl OdeSystem for WhiskerOde {
         let e = w.diameter(s);
         let e2 = e * e;
         let inv_e4 = 1.0 / (e2 * e2);
-        // one sin_cos per evaluation: the load angles enter through addition theorems
         let (sp, cp) = phi.sin_cos();
-        let (sb, cb) = self.force_shift;
-        let (sc, cc) = (sp * cb + cp * sb, cp * cb - sp * sb);
-        let arm = l.s1 - s;
-        let (sal, cal) = self.alpha_sc;
-        let (sa, ca) = (sp * cal + cp * sal, cp * cal - sp * sal);
+        let rate = self.law.at(s, sp, cp);
         du[0] = m * inv_e4 + w.a * s + w.b;
-        du[1] = l.tip.f * sc + l.fluid.q * arm * sa;
+        du[1] = rate.dm;
         du[2] = cp;
         du[3] = sp;
         if self.sens == Sensitivities::None {
             return;
         }
-        // d m'/d phi
-        let jm = l.tip.f * cc + l.fluid.q * arm * ca;
+        let jm = rate.dm_dphi;
+        let (sc, cc) = rate.force;
+        let sa = rate.flow_sin;
         let n = self.sens.count();
         for j in 0..n {
             let o = 4 * (j + 1);
@@ -163,20 +230,14 @@ impl WhiskerFdmProblem {
         let e = w.diameter(s);
         let e2 = e * e;
         let inv_e4 = 1.0 / (e2 * e2);
-        // m' = f sin(c) + ...: c = phi + beta (DP), phi + beta - phi1 + pi/2 (AP)
-        let c = match l.tip.kind {
-            LoadKind::Dp => phi + l.tip.beta,
-            LoadKind::Ap => phi + l.tip.beta - phi1 + FRAC_PI_2,
-        };
-        let (sc, cc) = c.sin_cos();
-        let arm = l.fluid.q * (l.s1 - s);
-        let (sa, ca) = (phi + l.fluid.alpha).sin_cos();
+        let (sp, cp) = phi.sin_cos();
+        let rate = self.ode.law.at_tip_angle(l, phi1).at(s, sp, cp);
         let damp = -4.0 * (w.theta - 1.0) / e;
-        let f = (l.tip.f * sc + arm * sa) * inv_e4 + damp * (dphi - w.kappa0(s)) + w.a;
-        let f_y = (l.tip.f * cc + arm * ca) * inv_e4;
+        let f = rate.dm * inv_e4 + damp * (dphi - w.kappa0(s)) + w.a;
+        let f_y = rate.dm_dphi * inv_e4;
         let f_phi1 = match l.tip.kind {
             LoadKind::Dp => 0.0,
-            LoadKind::Ap => -l.tip.f * cc * inv_e4,
+            LoadKind::Ap => -l.tip.f * rate.force.1 * inv_e4,
         };
         (f, f_y, damp, f_phi1)
     }

@@ -4,7 +4,7 @@
 //! right-hand side (`m' = f cos(phi + beta - phi1)`), which the FDM handles as a right-end
 //! (bordered) dependence solved together with the nodal angles.
 
-use crate::equations::WhiskerFdmProblem;
+use crate::equations::{MomentLaw, WhiskerFdmProblem};
 use crate::error::{ModelError, Result};
 use crate::loads::Loads;
 use crate::scene::Scene;
@@ -199,12 +199,10 @@ fn assemble(
     // m' = f sin(phi + beta_eff) + q (s1 - s) sin(phi + alpha), by the trapezoidal rule: second
     // order with an even error expansion (unlike a one-sided difference of phi' at the base),
     // so that Richardson extrapolation applies to MA as well.
-    let l = &scene.loads;
-    let beta = l.tip.effective_beta(phi1);
+    let law = MomentLaw::new(&scene.loads, phi1);
     let dm = |i: usize| {
-        let s = sol.grid.x(i);
-        let phi = sol.y[i];
-        l.tip.f * (phi + beta).sin() + l.fluid.q * (s1 - s) * (phi + l.fluid.alpha).sin()
+        let (sp, cp) = sol.y[i].sin_cos();
+        law.at(sol.grid.x(i), sp, cp).dm
     };
     let n = sol.grid.len();
     let mut m0 = 0.0;

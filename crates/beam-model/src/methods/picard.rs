@@ -26,7 +26,7 @@
 use std::f64::consts::FRAC_PI_2;
 use std::sync::OnceLock;
 
-use crate::loads::LoadKind;
+use crate::equations::MomentLaw;
 use crate::scene::Scene;
 use crate::solution::{BaseObservables, Elastica, EndState, MethodKind, Solution, SolveStats};
 
@@ -261,22 +261,11 @@ fn step(scene: &Scene, g: &Cheb, phi: &[f64], out: &mut Iterate, work: &mut [f64
     let l = &scene.loads;
     let s1 = l.s1;
     let n = g.n;
-    let (fx, fy) = match l.tip.kind {
-        LoadKind::Dp => (l.tip.f * l.tip.beta.cos(), -l.tip.f * l.tip.beta.sin()),
-        LoadKind::Ap => {
-            let a = phi[n] - FRAC_PI_2 - l.tip.beta;
-            (l.tip.f * a.cos(), l.tip.f * a.sin())
-        }
-    };
-    let (qx, qy) = (
-        l.fluid.q * l.fluid.alpha.cos(),
-        -l.fluid.q * l.fluid.alpha.sin(),
-    );
-    // m' = G_x sin φ − G_y cos φ, G(s) = F + q (s1 − s) (cos α, −sin α); m(s1) = 0.
+    // m' [3.25] on the nodes, from the tip angle phi(s1) = phi[n] of the iterate; m(s1) = 0.
+    let law = MomentLaw::new(l, phi[n]);
     for (j, v) in work.iter_mut().enumerate() {
-        let r = s1 * (1.0 - g.t[j]);
         let (sn, cs) = phi[j].sin_cos();
-        *v = (fx + qx * r) * sn - (fy + qy * r) * cs;
+        *v = law.at(s1 * g.t[j], sn, cs).dm;
     }
     g.integrate(work, s1, &mut out.m);
     let top = out.m[n];
@@ -298,9 +287,10 @@ fn step(scene: &Scene, g: &Cheb, phi: &[f64], out: &mut Iterate, work: &mut [f64
     for v in out.phi.iter_mut() {
         *v += phi0;
     }
+    let (ax, ay) = scene.base_reactions(phi[n]);
     out.base = BaseObservables {
-        ax: -(fx + qx * s1),
-        ay: -(fy + qy * s1),
+        ax,
+        ay,
         ma: -out.m[0],
         phi0,
     };

@@ -171,6 +171,35 @@ impl SweepPoint {
             psi: st.point.psi,
         }
     }
+
+    /// The loads of this row under `flow`: the flow alone before contact; the flow on
+    /// `[0, s1]` and the contact force at `s1` in contact [6.8, 6.9]
+    /// ([`contact_loads`](crate::phase::contact_loads)).
+    pub fn loads(&self, flow: FluidLoad) -> Loads {
+        match self.phase {
+            Phase::None => crate::phase::contact_loads(flow, 0.0, 0.0, 1.0),
+            _ => crate::phase::contact_loads(flow, self.psi, self.f, self.s1),
+        }
+    }
+
+    /// The whole whisker at this row (positions relative to the base; the free whisker under
+    /// the flow before contact): one DOP853 integration at tolerance `tol` from the loaded
+    /// end at the row's tip angle, `samples` intervals, then the load-free segment beyond a
+    /// tangential contact ([`beam_model::shape_from_tip_angle`]). What the figures draw and
+    /// the second-contact check looks at.
+    ///
+    /// # Errors
+    /// The integration's error.
+    pub fn shape(
+        &self,
+        whisker: &Whisker,
+        flow: FluidLoad,
+        tol: f64,
+        samples: usize,
+    ) -> std::result::Result<beam_model::Solution, beam_model::ModelError> {
+        let scene = beam_model::Scene::new(*whisker, self.loads(flow));
+        beam_model::shape_from_tip_angle(&scene, self.phi1, tol, samples)
+    }
 }
 
 /// Progress of a running sweep, reported to [`sweep_with_progress`]'s callback.
@@ -634,7 +663,7 @@ fn hermite(a: (f64, &[f64; 3], &[f64; 3]), b: (f64, &[f64; 3], &[f64; 3]), x: f6
 
 #[cfg(test)]
 mod tests {
-    use super::hermite;
+    use super::*;
 
     /// The Hermite interpolant reproduces cubics exactly, also between nodes listed from
     /// high to low x (the sweep's direction).
@@ -649,5 +678,34 @@ mod tests {
                 assert!((g - e).abs() < 1e-12, "x = {x}: {g} vs {e}");
             }
         }
+    }
+
+    /// Every row's shape passes through its contact point, and before contact its base
+    /// moment is the row's (the shape is the row's equilibrium).
+    #[test]
+    fn a_row_gives_its_whole_shape() {
+        let whisker = Whisker::new(0.6, 0.3, 0.2, 20.0);
+        let flow = FluidLoad { q: 2.0, alpha: 0.3 };
+        let settings = SweepSettings {
+            points: 12,
+            ..SweepSettings::default()
+        };
+        let res = sweep(&whisker, flow, &Profile::g2(), &settings).unwrap();
+        let mut contacts = 0;
+        for p in &res.points {
+            let sol = p.shape(&whisker, flow, 1e-12, 50).unwrap();
+            assert!(
+                (sol.base.ma - p.ma).abs() < 1e-9,
+                "{} vs {}",
+                sol.base.ma,
+                p.ma
+            );
+            if p.phase != Phase::None {
+                contacts += 1;
+                let miss = (sol.loaded_end.x + p.x0 - p.xc).hypot(sol.loaded_end.y - p.yc);
+                assert!(miss < 1e-9, "row at x0 = {}: {miss:e}", p.x0);
+            }
+        }
+        assert!(contacts >= 8, "{contacts}");
     }
 }

@@ -11,7 +11,8 @@
 //! | `events` | phase switches, release, snap (x0 turning point), second contact: location |
 //! | [`first_contact`] | the exact first touch of the free whisker (tip or tangential) |
 //! | [`cases`] | the chapter-5 cases as reference problems |
-//! | [`mod@sweep`] | settings, the log's rows evenly spaced in x0, separation kinds |
+//! | `rows` | the log's contact rows at evenly spaced base positions: predicted, corrected |
+//! | [`mod@sweep`] | settings, the sweep's course (free whisker, first touch, trace, rows), separation kinds |
 //!
 //! The sweep follows the base position x0, the quantity the experimenter moves: the contact
 //! point may move either way along the contour and reverse; the whisker separates where x0
@@ -39,6 +40,7 @@ mod events;
 pub mod first_contact;
 pub mod phase;
 pub mod profile;
+mod rows;
 pub mod sweep;
 
 pub use error::{ContactError, Result};

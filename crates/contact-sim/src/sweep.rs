@@ -293,13 +293,13 @@ pub fn sweep_with_progress(
         End::AtBase(n) => (n, Separation::ContactAtBase),
         End::NotReached(n, steps) => (n, Separation::NotReached { steps }),
     };
-    let states = rows(
+    let states = crate::rows::rows(
         &branch,
         &tr.nodes,
         &tr.switches,
         &last,
         settings.points,
-        progress,
+        &mut |done, total| progress(SweepProgress::Fine { done, total }),
     )?;
     // The free whisker's observables before contact.
     let free = shoot(
@@ -491,194 +491,9 @@ fn tangential_first_node(branch: &Branch, u: [f64; 3], x0: f64) -> Result<Node> 
     })
 }
 
-/// The log's contact rows: `points` rows evenly spaced in x0 from the first node to `last`
-/// (both included), each solved at its base position from the bracketing nodes of the traced
-/// branch, plus the switch nodes; in the order of the motion.
-fn rows(
-    branch: &Branch,
-    nodes: &[Node],
-    switches: &[Node],
-    last: &Node,
-    points: usize,
-    progress: &mut dyn FnMut(SweepProgress),
-) -> Result<Vec<ContactState>> {
-    let first = nodes[0];
-    let (x_start, x_end) = (first.x0(), last.x0());
-    let mut out: Vec<ContactState> = Vec::with_capacity(points + switches.len());
-    out.push(first.state);
-    let mut seg = 0;
-    let span = x_start - x_end;
-    let mut recent: Vec<Node> = vec![first];
-    for k in 1..points.saturating_sub(1) {
-        progress(SweepProgress::Fine {
-            done: k,
-            total: points,
-        });
-        let target = x_start - span * k as f64 / (points - 1) as f64;
-        while seg + 1 < nodes.len() && nodes[seg + 1].x0() > target {
-            seg += 1;
-        }
-        if seg + 1 >= nodes.len() {
-            break;
-        }
-        let (a, b) = (&nodes[seg], &nodes[seg + 1]);
-        let pred = predict(a, b, &recent, target);
-        let node = solve_row(branch, &pred, target, a.state.point.xc)?;
-        recent.push(node);
-        out.push(node.state);
-    }
-    if span > 0.0 {
-        out.push(last.state);
-    }
-    out.extend(switches.iter().map(|n| n.state));
-    out.sort_by(|a, b| b.x0.total_cmp(&a.x0));
-    out.dedup_by(|a, b| a.x0 == b.x0);
-    progress(SweepProgress::Fine {
-        done: points,
-        total: points,
-    });
-    Ok(out)
-}
-
-/// The prediction of a row at base position `target` between the traced nodes `a`, `b`.
-struct RowPrediction {
-    phase: Phase,
-    /// The best prediction.
-    guess: [f64; 3],
-    /// Linear interpolation between the bracketing nodes.
-    lin: [f64; 3],
-    /// The nearer bracketing node.
-    near: [f64; 3],
-    /// The Jacobian for Broyden's method.
-    jac: [[f64; 3]; 3],
-}
-
-/// Predicts the row at `target` between `a` and `b` (`recent`: the rows solved so far).
-///
-/// Between two nodes of the traced branch in one phase (their Jacobians exact): the cubic
-/// Hermite interpolant in x0 through their states and slopes du/dx0, and their Jacobians
-/// interpolated linearly (Broyden's first step then contracts the residual ~1000x). Across a
-/// phase switch: Lagrange extrapolation in x0 through the last rows of this phase (cubic
-/// from four, quadratic from three) when they exist, else interpolation between the
-/// bracketing nodes.
-fn predict(a: &Node, b: &Node, recent: &[Node], target: f64) -> RowPrediction {
-    let (phase, ua, ub) = if a.phase == b.phase {
-        (a.phase, a.u, b.u)
-    } else {
-        (b.phase, b.u, b.u)
-    };
-    let w = (a.x0() - target) / (a.x0() - b.x0());
-    let lin = crate::branch::lerp(&ua, &ub, w);
-    let mut guess = lin;
-    let mut jac = if w < 0.5 { a.jac } else { b.jac };
-    let same: Vec<&Node> = recent
-        .iter()
-        .rev()
-        .take(4)
-        .take_while(|r| r.phase == phase)
-        .collect();
-    if a.phase == b.phase {
-        guess = hermite(
-            (a.x0(), &a.u, &a.slope()),
-            (b.x0(), &b.u, &b.slope()),
-            target,
-        );
-        for (r, (ra, rb)) in jac.iter_mut().zip(a.jac.iter().zip(&b.jac)) {
-            *r = crate::branch::lerp(ra, rb, w);
-        }
-    } else if same.len() >= 3 {
-        let xs: Vec<f64> = same.iter().map(|r| r.x0()).collect();
-        for (i, g) in guess.iter_mut().enumerate() {
-            *g = same
-                .iter()
-                .enumerate()
-                .map(|(k, r)| {
-                    let l: f64 = (0..xs.len())
-                        .filter(|&m| m != k)
-                        .map(|m| (target - xs[m]) / (xs[k] - xs[m]))
-                        .product();
-                    l * r.u[i]
-                })
-                .sum();
-        }
-        jac = same[0].jac;
-    }
-    if !guess.iter().all(|g| g.is_finite()) {
-        guess = lin;
-    }
-    RowPrediction {
-        phase,
-        guess,
-        lin,
-        near: if w < 0.5 { ua } else { ub },
-        jac,
-    }
-}
-
-/// Solves the row at `target` from its prediction: Broyden's method from the prediction;
-/// Newton from it, from the interpolation between the bracketing nodes, and from the nearer
-/// node as fallbacks (`xc` the contact point reported if all fail).
-fn solve_row(branch: &Branch, pred: &RowPrediction, target: f64, xc: f64) -> Result<Node> {
-    let phase = pred.phase;
-    if let Some(n) = branch.broyden_at_base(phase, pred.guess, target, &pred.jac) {
-        return Ok(n);
-    }
-    let mut last_err = None;
-    for start in [pred.guess, pred.lin, pred.near] {
-        match branch.correct(phase, start, Constraint::BasePosition(target), true) {
-            Ok(n) if (n.x0() - target).abs() <= 1e-9 => return Ok(n),
-            Ok(_) => {}
-            Err(e) => last_err = Some(e),
-        }
-    }
-    Err(last_err.unwrap_or_else(|| ContactError::BranchStalled {
-        phase: phase.letter(),
-        x0: target,
-        xc,
-        step: 0.0,
-        reason: "no row solution at this base position".into(),
-    }))
-}
-
-/// The cubic Hermite interpolant at `x` through `(xa, ua)` and `(xb, ub)` with slopes `da`,
-/// `db` (`du/dx`), componentwise.
-fn hermite(a: (f64, &[f64; 3], &[f64; 3]), b: (f64, &[f64; 3], &[f64; 3]), x: f64) -> [f64; 3] {
-    let (xa, ua, da) = a;
-    let (xb, ub, db) = b;
-    let h = xb - xa;
-    let s = (x - xa) / h;
-    let (s2, s3) = (s * s, s * s * s);
-    let (h00, h10, h01, h11) = (
-        2.0 * s3 - 3.0 * s2 + 1.0,
-        s3 - 2.0 * s2 + s,
-        -2.0 * s3 + 3.0 * s2,
-        s3 - s2,
-    );
-    let mut out = [0.0; 3];
-    for i in 0..3 {
-        out[i] = h00 * ua[i] + h10 * h * da[i] + h01 * ub[i] + h11 * h * db[i];
-    }
-    out
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// The Hermite interpolant reproduces cubics exactly, also between nodes listed from
-    /// high to low x (the sweep's direction).
-    #[test]
-    fn hermite_is_exact_for_cubics() {
-        let p = |x: f64| [x * x * x - 2.0 * x, 0.5 * x * x + 1.0, -3.0 * x * x * x];
-        let dp = |x: f64| [3.0 * x * x - 2.0, x, -9.0 * x * x];
-        let (xa, xb) = (1.3, -0.4);
-        for x in [1.3, 1.0, 0.2, -0.4, -0.7] {
-            let got = hermite((xa, &p(xa), &dp(xa)), (xb, &p(xb), &dp(xb)), x);
-            for (g, e) in got.iter().zip(p(x)) {
-                assert!((g - e).abs() < 1e-12, "x = {x}: {g} vs {e}");
-            }
-        }
-    }
 
     /// Every row's shape passes through its contact point, and before contact its base
     /// moment is the row's (the shape is the row's equilibrium).

@@ -30,6 +30,38 @@ impl Integration {
     }
 }
 
+/// The base values of a shot, `(phi(0), m(0), x(s1) - x(0), y(s1) - y(0))`, or their
+/// derivatives with respect to one parameter.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BaseValues {
+    /// phi(0) (or its derivative).
+    pub phi0: f64,
+    /// m(0).
+    pub m0: f64,
+    /// x(s1) - x(0): horizontal offset of the loaded end from the base.
+    pub dx: f64,
+    /// y(s1) - y(0).
+    pub dy: f64,
+}
+
+impl BaseValues {
+    /// `[phi0, m0, dx, dy]`.
+    pub fn to_array(&self) -> [f64; 4] {
+        [self.phi0, self.m0, self.dx, self.dy]
+    }
+
+    /// From the end state `u` of an integration from `s1` to 0 whose block starts at `o`:
+    /// `(phi, m, x, y)` there, the offsets counted from the base.
+    fn from_end(u: &[f64], o: usize) -> Self {
+        BaseValues {
+            phi0: u[o],
+            m0: u[o + 1],
+            dx: -u[o + 2],
+            dy: -u[o + 3],
+        }
+    }
+}
+
 /// Base values of one shot from `s1` to `0`, and their sensitivities.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Shot {
@@ -41,11 +73,27 @@ pub struct Shot {
     pub dx: f64,
     /// y(s1) - y(0).
     pub dy: f64,
-    /// Derivatives of `(phi0, m0, dx, dy)` with respect to `(phi1, f, s1)` (rows by parameter;
-    /// only the rows of the requested [`Sensitivities`] are filled).
-    pub sens: [[f64; 4]; 3],
+    /// Derivatives with respect to the tip angle `phi1` (filled with
+    /// [`Sensitivities::TipAngle`] and [`Sensitivities::All`]).
+    pub d_phi1: BaseValues,
+    /// Derivatives with respect to the tip force `f` ([`Sensitivities::All`]).
+    pub d_f: BaseValues,
+    /// Derivatives with respect to the loaded length `s1` ([`Sensitivities::All`]).
+    pub d_s1: BaseValues,
     /// Right-hand-side evaluations spent.
     pub evaluations: usize,
+}
+
+impl Shot {
+    /// The base values themselves.
+    pub fn values(&self) -> BaseValues {
+        BaseValues {
+            phi0: self.phi0,
+            m0: self.m0,
+            dx: self.dx,
+            dy: self.dy,
+        }
+    }
 }
 
 /// The result of a shot with its full trajectory (for sampling the elastica).
@@ -118,22 +166,24 @@ pub(crate) fn shoot_path(
             (end, ev, keep_path.then_some(ShotPath::Dense(sol)))
         }
     };
+    let base = BaseValues::from_end(&end, 0);
     let mut shot = Shot {
-        phi0: end[0],
-        m0: end[1],
-        dx: -end[2],
-        dy: -end[3],
-        sens: [[0.0; 4]; 3],
+        phi0: base.phi0,
+        m0: base.m0,
+        dx: base.dx,
+        dy: base.dy,
         evaluations,
+        ..Shot::default()
     };
-    let rows: &[usize] = match sens {
-        Sensitivities::None => &[],
-        Sensitivities::TipAngle => &[0],
-        Sensitivities::All => &[0, 1, 2],
-    };
-    for (j, &row) in rows.iter().enumerate() {
-        let o = 4 * (j + 1);
-        shot.sens[row] = [end[o], end[o + 1], -end[o + 2], -end[o + 3]];
+    // the variational blocks follow the state in the order of `Sensitivities`
+    match sens {
+        Sensitivities::None => {}
+        Sensitivities::TipAngle => shot.d_phi1 = BaseValues::from_end(&end, 4),
+        Sensitivities::All => {
+            shot.d_phi1 = BaseValues::from_end(&end, 4);
+            shot.d_f = BaseValues::from_end(&end, 8);
+            shot.d_s1 = BaseValues::from_end(&end, 12);
+        }
     }
     if !(shot.phi0.is_finite() && shot.m0.is_finite() && shot.dx.is_finite()) {
         return Err(ModelError::Solver {

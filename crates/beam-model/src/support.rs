@@ -65,6 +65,12 @@ impl Support {
         phi0 - std::f64::consts::FRAC_PI_2 - m0 * self.compliance()
     }
 
+    /// The rate of the [`Support::residual`] when `(phi0, m0)` change at rates
+    /// `(dphi0, dm0)`: `dphi0 - dm0/k`.
+    pub fn residual_rate(&self, dphi0: f64, dm0: f64) -> f64 {
+        dphi0 - self.compliance() * dm0
+    }
+
     pub(crate) fn validate(&self) -> Result<()> {
         if let Support::Spring { k } = *self {
             Support::from_stiffness(k)?;

@@ -196,12 +196,12 @@ impl Branch<'_> {
         for i in 0..4 {
             dt[i] = -dbeta[i] * dpsi;
             if phase == Phase::B {
-                dt[i] += shot.sens[0][i] * dpsi;
+                dt[i] += shot.d_phi1.to_array()[i] * dpsi;
             }
         }
         let (c0, c1) = match phase {
-            Phase::B => (col(shot.sens[2]), col(shot.sens[1])),
-            _ => (col(shot.sens[0]), col(shot.sens[1])),
+            Phase::B => (col(shot.d_s1.to_array()), col(shot.d_f.to_array())),
+            _ => (col(shot.d_phi1.to_array()), col(shot.d_f.to_array())),
         };
         let mut c2 = col(dt);
         c2[1] -= g.dy;

@@ -78,14 +78,15 @@ pub(crate) fn free_tip_angle(
     integration: &Integration,
 ) -> Result<f64> {
     let loads = Loads::fluid(flow.q, flow.alpha);
-    let c = whisker.support.compliance();
     let mut phi1 = guess;
     let mut last = f64::NAN;
     for _ in 0..40 {
         let shot = shoot(whisker, &loads, phi1, Sensitivities::TipAngle, integration)?;
         let r = whisker.support.residual(shot.phi0, shot.m0);
         last = r.abs();
-        let d = shot.sens[0][0] - c * shot.sens[0][1];
+        let d = whisker
+            .support
+            .residual_rate(shot.d_phi1.phi0, shot.d_phi1.m0);
         let step = r / d;
         if !step.is_finite() {
             break;

@@ -6,7 +6,7 @@ use crate::equations::Sensitivities;
 use crate::error::{ModelError, Result};
 use crate::loads::Loads;
 use crate::scene::Scene;
-use crate::shot::{shoot, shoot_path, Integration, ShotPath};
+use crate::shot::{shoot, shoot_path, BaseValues, Integration, ShotPath};
 use crate::solution::{BaseObservables, Elastica, EndState, Solution, SolveStats};
 use crate::whisker::Whisker;
 use bvp_solvers::continuation::{BranchGuard, Continuation};
@@ -22,9 +22,9 @@ pub(crate) struct TipSolve {
     pub evaluations: usize,
     /// `(phi0, m0, dx, dy)` at `phi1` from the Newton shots (linearly extrapolated from the
     /// last shot when Newton's last step was not shot).
-    pub values: [f64; 4],
+    pub values: BaseValues,
     /// Their derivatives with respect to `phi1` (from the last shot with sensitivities).
-    pub sens: [f64; 4],
+    pub sens: BaseValues,
     /// Continuation steps rejected as branch jumps.
     pub branch_jumps: usize,
 }
@@ -99,11 +99,13 @@ fn newton_to(problem: &TipProblem<'_>, guess: f64, target: &TipTarget) -> Result
         let shot = shoot(whisker, loads, p, Sensitivities::TipAngle, integration)?;
         evaluations += shot.evaluations;
         let r = whisker.support.residual(shot.phi0, shot.m0);
-        let dr = shot.sens[0][0] - c * shot.sens[0][1];
+        let dr = whisker
+            .support
+            .residual_rate(shot.d_phi1.phi0, shot.d_phi1.m0);
         last_r = r.abs();
         let scale = 1.0 + shot.m0.abs() * c;
-        let sens = shot.sens[0];
-        let values = [shot.phi0, shot.m0, shot.dx, shot.dy];
+        let sens = shot.d_phi1;
+        let values = shot.values();
         if r.abs() <= tol * scale {
             return Ok(TipSolve {
                 phi1: p,
@@ -123,10 +125,12 @@ fn newton_to(problem: &TipProblem<'_>, guess: f64, target: &TipTarget) -> Result
         if verify_last && r.abs() <= 1e-7 * scale {
             // Quadratic convergence: this step brings the residual to ~r^2, far below the
             // tolerance; the caller's final shot verifies it instead of one more shot here.
-            let mut values = values;
-            for (v, d) in values.iter_mut().zip(sens) {
-                *v += d * step;
-            }
+            let values = BaseValues {
+                phi0: values.phi0 + sens.phi0 * step,
+                m0: values.m0 + sens.m0 * step,
+                dx: values.dx + sens.dx * step,
+                dy: values.dy + sens.dy * step,
+            };
             return Ok(TipSolve {
                 phi1: p,
                 iterations: it + 1,
@@ -147,7 +151,7 @@ fn newton_to(problem: &TipProblem<'_>, guess: f64, target: &TipTarget) -> Result
                     iterations: it + 1,
                     residual: r.abs(),
                     evaluations: evaluations + shot.evaluations,
-                    values: [shot.phi0, shot.m0, shot.dx, shot.dy],
+                    values: shot.values(),
                     sens,
                     branch_jumps: 0,
                 });
@@ -196,7 +200,7 @@ pub(crate) fn solve_tip_angle_within(
         // A direct solve is kept only near the unloaded shape (at most 0.5 rad of rotation at
         // either end); otherwise it may have landed on another branch and continuation decides.
         if let Ok(t) = newton_tip_angle(whisker, loads, integration, unloaded, method) {
-            if (t.phi1 - unloaded).abs() <= 0.5 && (t.values[0] - FRAC_PI_2).abs() <= 0.5 {
+            if (t.phi1 - unloaded).abs() <= 0.5 && (t.values.phi0 - FRAC_PI_2).abs() <= 0.5 {
                 return Ok((t, 0));
             }
         }
@@ -323,7 +327,7 @@ struct Run<'a> {
 /// Newton solve from it if its residual exceeds 1e-12); `stats` seeds the solution's
 /// statistics. Returns the solution and the derivatives `d(phi0, m0, dx, dy)/dphi1` of the
 /// last Newton shot.
-fn verified(scene: &Scene, run: &Run<'_>, stats: SolveStats) -> Result<(Solution, [f64; 4])> {
+fn verified(scene: &Scene, run: &Run<'_>, stats: SolveStats) -> Result<(Solution, BaseValues)> {
     let w = &scene.whisker;
     let loads = &scene.loads;
     let (integration, samples, method) = (run.integration, run.samples, run.method);
@@ -382,7 +386,6 @@ pub(crate) fn solve_accurate(
         ..SolveStats::default()
     };
     let (mut sol, sens) = verified(scene, &run, stats)?;
-    let c = w.support.compliance();
     // the embedded second solution
     let shot = shoot(
         w,
@@ -393,7 +396,7 @@ pub(crate) fn solve_accurate(
     )?;
     sol.stats.evaluations += shot.evaluations;
     let r = w.support.residual(shot.phi0, shot.m0);
-    let dr = sens[0] - c * sens[1];
+    let dr = w.support.residual_rate(sens.phi0, sens.m0);
     let d = if dr.is_finite() && dr != 0.0 {
         -r / dr
     } else {
@@ -408,16 +411,16 @@ pub(crate) fn solve_accurate(
 /// tip's move beyond `s1`, `(1 - s1) |d|`; an AP force's reactions move by `f |d|`.
 fn corrected_difference(
     shot: &crate::shot::Shot,
-    sens: [f64; 4],
+    sens: BaseValues,
     d: f64,
     sol: &Solution,
     loads: &Loads,
 ) -> f64 {
     let diffs = [
-        shot.phi0 + sens[0] * d - sol.base.phi0,
-        shot.m0 + sens[1] * d + sol.base.ma,
-        shot.dx + sens[2] * d - sol.loaded_end.x,
-        shot.dy + sens[3] * d - sol.loaded_end.y,
+        shot.phi0 + sens.phi0 * d - sol.base.phi0,
+        shot.m0 + sens.m0 * d + sol.base.ma,
+        shot.dx + sens.dx * d - sol.loaded_end.x,
+        shot.dy + sens.dy * d - sol.loaded_end.y,
         d,
     ];
     let mut est = diffs.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
@@ -447,14 +450,13 @@ pub(crate) fn error_estimate(
     let loads = &scene.loads;
     let phi1 = sol.loaded_end.phi;
     let shot = shoot(w, loads, phi1, Sensitivities::TipAngle, check)?;
-    let c = w.support.compliance();
     let r = w.support.residual(shot.phi0, shot.m0);
-    let dr = shot.sens[0][0] - c * shot.sens[0][1];
+    let dr = w.support.residual_rate(shot.d_phi1.phi0, shot.d_phi1.m0);
     if !(dr.is_finite() && dr != 0.0) {
         return Ok((f64::INFINITY, shot.evaluations));
     }
     let d = -r / dr;
-    let est = corrected_difference(&shot, shot.sens[0], d, sol, loads);
+    let est = corrected_difference(&shot, shot.d_phi1, d, sol, loads);
     Ok((est, shot.evaluations))
 }
 
@@ -476,8 +478,8 @@ pub(crate) fn shape(
         iterations: stats.iterations,
         residual: stats.residual,
         evaluations: stats.evaluations,
-        values: [f64::NAN; 4],
-        sens: [f64::NAN; 4],
+        values: BaseValues::default(),
+        sens: BaseValues::default(),
         branch_jumps: 0,
     };
     let (shot, path) = shoot_path(w, loads, phi1, Sensitivities::None, integration, true)?;

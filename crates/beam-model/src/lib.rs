@@ -12,6 +12,7 @@
 //! | [`balance`] | the force balance: loads to base reactions and back [5.1, 6.1, 6.8, 6.9] |
 //! | [`units`] | physical units <-> dimensionless form [3.16-3.19], rat whisker presets (Table 2.2) |
 //! | [`equations`] | the system [3.25] and its Jacobian [3.27] plugged into `bvp-solvers` |
+//! | [`linear`] | linear small-deflection theory about the unloaded shape (the continuation's first predictor) |
 //! | [`shot`] | shooting from the loaded end (observables as initial values) |
 //! | [`methods`] | `fdm`, `rk4`, `accurate` and [`solve`] |
 //! | [`scenarios`] | the thesis's load scenarios 1-18 as reference problems |
@@ -27,6 +28,7 @@
 pub mod balance;
 pub mod equations;
 pub mod error;
+pub mod linear;
 pub mod loads;
 pub mod methods;
 pub mod scenarios;

@@ -155,6 +155,28 @@ impl Continuation {
         to: f64,
         start: Vec<f64>,
         guard: &BranchGuard,
+        correct: F,
+    ) -> Result<(Vec<f64>, ContinuationStats), ContinuationFailure<E>>
+    where
+        F: FnMut(f64, &[f64]) -> Result<Vec<f64>, E>,
+    {
+        let slope = vec![0.0; start.len()];
+        self.follow_from(from, to, start, slope, guard, correct)
+    }
+
+    /// [`Continuation::follow`] with the branch's slope `dy/dlambda` at `from` known (e.g. from
+    /// linear theory): the first step predicts along it instead of keeping `start`.
+    ///
+    /// # Errors
+    /// As [`Continuation::follow`]; a `slope` of another length than `start` gives
+    /// `StallCause::Invalid`.
+    pub fn follow_from<E, F>(
+        &self,
+        from: f64,
+        to: f64,
+        start: Vec<f64>,
+        slope: Vec<f64>,
+        guard: &BranchGuard,
         mut correct: F,
     ) -> Result<(Vec<f64>, ContinuationStats), ContinuationFailure<E>>
     where
@@ -170,10 +192,18 @@ impl Continuation {
         if let Err(e) = self.check(from, to) {
             return Err(fail(from, 0.0, 0, StallCause::Invalid(e)));
         }
+        if slope.len() != start.len() {
+            let e = BvpError::DimensionMismatch {
+                name: "continuation slope",
+                expected: start.len(),
+                found: slope.len(),
+            };
+            return Err(fail(from, 0.0, 0, StallCause::Invalid(e)));
+        }
         let dir = if to >= from { 1.0 } else { -1.0 };
         let mut stats = ContinuationStats::default();
         let (mut lambda, mut y) = (from, start);
-        let mut slope = vec![0.0; y.len()];
+        let mut slope = slope;
         let mut h = self.initial_step;
         let mut attempts = 0usize;
         let mut pred = vec![0.0; y.len()];

@@ -178,9 +178,10 @@ pub(crate) fn severity(whisker: &Whisker, loads: &Loads) -> f64 {
 }
 
 /// Newton on the tip angle, on the branch connected to the unloaded whisker: a direct solve
-/// for mild loads, otherwise load continuation in a scale factor lambda in [0, 1] on f and q
-/// ([`Continuation::follow`]: secant predictor, each corrector warm-started from the
-/// prediction, a corrector that lands far from its prediction has jumped branches and counts
+/// from the linear-theory tip angle ([`crate::linear`]) for mild loads, otherwise load
+/// continuation in a scale factor lambda in [0, 1] on f and q
+/// ([`Continuation::follow_from`]: the linear-theory slope on the first step, then the secant
+/// predictor, each corrector warm-started from the prediction, a corrector that lands far from its prediction has jumped branches and counts
 /// as a failure), stopped after `budget` right-hand-side evaluations.
 pub(crate) fn solve_tip_angle_within(
     whisker: &Whisker,
@@ -197,9 +198,11 @@ pub(crate) fn solve_tip_angle_within(
             return Ok((t, 0));
         }
     } else if sev <= 1.0 {
-        // A direct solve is kept only near the unloaded shape (at most 0.5 rad of rotation at
-        // either end); otherwise it may have landed on another branch and continuation decides.
-        if let Ok(t) = newton_tip_angle(whisker, loads, integration, unloaded, method) {
+        // From the linear-theory tip angle. A direct solve is kept only near the unloaded
+        // shape (at most 0.5 rad of rotation at either end); otherwise it may have landed on
+        // another branch and continuation decides.
+        let linear = unloaded + crate::linear::tip_rotation(whisker, loads);
+        if let Ok(t) = newton_tip_angle(whisker, loads, integration, linear, method) {
             if (t.phi1 - unloaded).abs() <= 0.5 && (t.values.phi0 - FRAC_PI_2).abs() <= 0.5 {
                 return Ok((t, 0));
             }
@@ -216,11 +219,14 @@ pub(crate) fn solve_tip_angle_within(
         Integration::Dop853(d) => Integration::adaptive(d.rtol.max(1e-8)),
         other => other.clone(),
     };
+    // the first step predicts along the linear-theory slope d phi1 / d lambda
+    let slope = crate::linear::tip_rotation(whisker, loads);
     let (phi1, stats) = cont
-        .follow(
+        .follow_from(
             0.0,
             1.0,
             vec![unloaded],
+            vec![slope],
             &BranchGuard::default(),
             |lambda, pred: &[f64]| {
                 if evaluations > budget {

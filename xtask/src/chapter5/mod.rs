@@ -1,8 +1,8 @@
 //! Chapter 5: the sweeps of every case past its contour (Figs. 5.8-5.44), as observables
 //! against the base position x0, scene sketches and one observables CSV per sweep.
 //!
-//! [`observables`] draws the observables of each group of sweeps (Figs. 5.9-5.43, 5.46)
-//! and writes the sweeps' CSVs; [`sketch`] draws the scene sketches (Figs. 5.8, 5.21,
+//! [`mod@observables`] draws the observables of each group of sweeps (Figs. 5.9-5.43, 5.46)
+//! and writes the sweeps' CSVs; [`mod@sketch`] draws the scene sketches (Figs. 5.8, 5.21,
 //! 5.34, 5.44). This module holds the house style both share: case labels, contact-phase
 //! lines and the figure with one key above its panels.
 

@@ -112,8 +112,9 @@ fn tip_figure(
         l => format!("{l} [–]"),
     };
     for (r, row) in rows.iter().enumerate() {
-        charts.extend(row_charts(row, &data.row(r), &load_axis));
-        write_row_tips(&mut w, row, &data.row(r))?;
+        let tips = data.row(r);
+        charts.extend(row_charts(row, &tips, &load_axis));
+        write_row_tips(&mut w, row, &tips)?;
     }
     // One legend above all panels; four rows of panels flatter, to fit the page.
     let aspect = if rows.len() > 2 { 0.5 } else { 0.75 };

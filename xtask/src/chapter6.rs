@@ -9,7 +9,7 @@ use profile_recon::{
 };
 use vibrissa_cli::atomic::OutputDir;
 use vibrissa_cli::csvio::{Cell, CsvWriter};
-use vibrissa_cli::plot::{size_for_this_thread, Chart, FigureSize, Marker, Series, Style};
+use vibrissa_cli::plot::{Chart, Marker, Series, Style};
 
 use crate::captions::caption;
 use crate::common::{self, md_table, note_err, par_map, pretty, sci, svg_keyed, Ctx, SweepRun};
@@ -215,6 +215,9 @@ fn table_6_1(out: &OutputDir, report: &mut Report, runs: &[SweepRun]) {
     note_err(entry, "table6_1.csv", r);
 }
 
+/// Figs. 6.2-6.13: the contour error of both methods along the reconstructed contour, one
+/// panel per sweep `idx` of `runs`, with the CSV of every point and a table of the largest
+/// errors.
 fn error_figure(
     out: &OutputDir,
     report: &mut Report,
@@ -250,48 +253,9 @@ fn error_figure(
             let rec = &recons[i][m];
             match &rec.points {
                 Ok(points) => {
-                    let e = contour_error(points, &r.case.profile);
-                    let pts: Vec<(f64, f64)> = points
-                        .iter()
-                        .zip(&e)
-                        .map(|(p, &e)| (p.x, e.max(1e-17)))
-                        .collect();
-                    for (p, &ev) in points.iter().zip(&e) {
-                        let _ = w.push_row(&[
-                            Cell::Text(&r.case.label),
-                            Cell::Text(method.name()),
-                            Cell::Num(p.row as f64),
-                            Cell::Num(p.x0),
-                            Cell::Num(p.x),
-                            Cell::Num(p.y),
-                            Cell::Num(r.case.profile.y(p.x)),
-                            Cell::Num(ev),
-                            Cell::Text(p.phase.label()),
-                            Cell::Num(p.residual),
-                        ]);
-                    }
-                    let max_e = e.iter().copied().fold(0.0, f64::max);
-                    let nan = e.iter().filter(|v| !v.is_finite()).count();
-                    row.push(format!(
-                        "{}{} ({} pts, {:.2} s)",
-                        sci(max_e),
-                        if nan > 0 {
-                            format!(", {nan} non-finite")
-                        } else {
-                            String::new()
-                        },
-                        points.len(),
-                        rec.seconds
-                    ));
-                    // The accurate errors are round-off, independent from point to
-                    // point: markers. The thesis method's are a smooth function of x: a line.
-                    let series = match method {
-                        ReconMethod::Accurate => Series::new("accurate", pts, Style::Points)
-                            .color(0)
-                            .marker(Marker::Circle),
-                        _ => Series::new("thesis method", pts, Style::Line).color(1),
-                    };
+                    let (series, cell) = method_errors(&mut w, r, *method, points, rec.seconds);
                     chart.series.push(series);
+                    row.push(cell);
                 }
                 Err(e) => {
                     entry.fail(format!(
@@ -314,7 +278,7 @@ fn error_figure(
         ],
         &rows,
     ));
-    let stem = format!("fig{}", fig.replace('.', "_"));
+    let stem = common::fig_stem(fig);
     // Two rows at most on the page (three columns for five or six panels); a lone panel
     // is drawn one column (85 mm) wide.
     let cols = match charts.len() {
@@ -323,8 +287,7 @@ fn error_figure(
         _ => 3,
     };
     let r = if charts.len() == 1 {
-        let _size = size_for_this_thread(FigureSize::Column);
-        common::svg(out, entry, &format!("{stem}.svg"), &charts, cols)
+        common::svg_column(out, entry, &format!("{stem}.svg"), &charts[0])
     } else {
         svg_keyed(out, entry, &format!("{stem}.svg"), &charts, cols, 0.75, "")
     }
@@ -335,6 +298,60 @@ fn error_figure(
         "-",
         Some("overall between 1e-4 and 1e-6 (§6.4)"),
     );
+}
+
+/// The contour errors of one reconstruction of sweep `r` by `method` (taking `seconds`):
+/// writes its points to `w` and returns its series and its table cell (largest error,
+/// points, time).
+fn method_errors(
+    w: &mut CsvWriter,
+    r: &SweepRun,
+    method: ReconMethod,
+    points: &[ReconPoint],
+    seconds: f64,
+) -> (Series, String) {
+    let e = contour_error(points, &r.case.profile);
+    let pts: Vec<(f64, f64)> = points
+        .iter()
+        .zip(&e)
+        .map(|(p, &e)| (p.x, e.max(1e-17)))
+        .collect();
+    for (p, &ev) in points.iter().zip(&e) {
+        let _ = w.push_row(&[
+            Cell::Text(&r.case.label),
+            Cell::Text(method.name()),
+            Cell::Num(p.row as f64),
+            Cell::Num(p.x0),
+            Cell::Num(p.x),
+            Cell::Num(p.y),
+            Cell::Num(r.case.profile.y(p.x)),
+            Cell::Num(ev),
+            Cell::Text(p.phase.label()),
+            Cell::Num(p.residual),
+        ]);
+    }
+    let max_e = e.iter().copied().fold(0.0, f64::max);
+    let nan = e.iter().filter(|v| !v.is_finite()).count();
+    let cell = format!(
+        "{}{} ({} pts, {:.2} s)",
+        sci(max_e),
+        if nan > 0 {
+            format!(", {nan} non-finite")
+        } else {
+            String::new()
+        },
+        points.len(),
+        seconds
+    );
+    // The accurate errors are round-off, independent from point to point: markers. The
+    // thesis method's are a smooth function of x: a line.
+    let series = match method {
+        ReconMethod::Accurate => Series::new("accurate", pts, Style::Points)
+            .color(0)
+            .marker(Marker::Circle),
+        _ => Series::new("thesis method", pts, Style::Line).color(1),
+    };
+    (series, cell)
 }
 
 /// The contour's symbol with its index as a subscript: `g1` becomes `g_1`.

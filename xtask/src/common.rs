@@ -2,6 +2,7 @@
 //! in the report entries, number formatting and the chapter-5 sweeps shared with chapter 6.
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 use std::time::Instant;
@@ -10,7 +11,10 @@ use contact_sim::cases::SweepCase;
 use contact_sim::{SweepResult, SweepSettings};
 use vibrissa_cli::atomic::{write_atomic, OutputDir};
 use vibrissa_cli::csvio::CsvWriter;
-use vibrissa_cli::plot::{write_figure, write_panels_with_heading, Chart, Heading, Panel};
+use vibrissa_cli::plot::{
+    size_for_this_thread, write_figure, write_panels_with_heading, Chart, FigureSize, Heading,
+    Panel,
+};
 
 use crate::Entry;
 
@@ -108,13 +112,31 @@ pub fn svg_panels(
     let cols = cols.clamp(1, panels.len().max(1));
     let rows = panels.len().div_ceil(cols).max(1);
     let size = (560 * cols as u32, 420 * rows as u32);
+    let path = staged_path(out, name)?;
+    write_figure(panels, cols, &path, size).map_err(|e| e.to_string())?;
+    entry.file(path);
+    Ok(())
+}
+
+/// Writes one chart as a figure one journal column (85 mm) wide instead of the page, to
+/// `name`, and records it in `entry`.
+pub fn svg_column(
+    out: &OutputDir,
+    entry: &mut Entry,
+    name: &str,
+    chart: &Chart,
+) -> Result<(), String> {
+    let _size = size_for_this_thread(FigureSize::Column);
+    svg(out, entry, name, std::slice::from_ref(chart), 1)
+}
+
+/// The staged path of the output file `name`, its directory created.
+fn staged_path(out: &OutputDir, name: &str) -> Result<PathBuf, String> {
     let path = out.path_for(name);
     if let Some(parent) = path.parent() {
         std::fs::create_dir_all(parent).map_err(|e| format!("{}: {e}", parent.display()))?;
     }
-    write_figure(panels, cols, &path, size).map_err(|e| e.to_string())?;
-    entry.file(path);
-    Ok(())
+    Ok(path)
 }
 
 /// Writes a CSV table to `name` and records it in `entry`.
@@ -124,10 +146,7 @@ pub fn csv(out: &OutputDir, entry: &mut Entry, name: &str, w: &CsvWriter) -> Res
 
 /// Writes a text file to `name` and records it in `entry`.
 pub fn text(out: &OutputDir, entry: &mut Entry, name: &str, body: &str) -> Result<(), String> {
-    let path = out.path_for(name);
-    if let Some(parent) = path.parent() {
-        std::fs::create_dir_all(parent).map_err(|e| format!("{}: {e}", parent.display()))?;
-    }
+    let path = staged_path(out, name)?;
     write_atomic(&path, body.as_bytes()).map_err(|e| e.to_string())?;
     entry.file(path);
     Ok(())
@@ -180,6 +199,11 @@ pub fn md_table(header: &[&str], rows: &[Vec<String>]) -> String {
         s.push_str(&format!("| {} |\n", cells.join(" | ")));
     }
     s
+}
+
+/// The file stem of a thesis figure: `fig4_3` for `"4.3"`.
+pub fn fig_stem(fig: &str) -> String {
+    format!("fig{}", fig.replace('.', "_"))
 }
 
 /// A file-name-safe form of a label.
@@ -319,16 +343,44 @@ pub fn svg_keyed(
 ) -> Result<(), String> {
     let cols = cols.clamp(1, charts.len().max(1));
     let rows = charts.len().div_ceil(cols).max(1);
-    let size = (560 * cols as u32, (560.0 * aspect) as u32 * rows as u32);
-    let path = out.path_for(name);
-    if let Some(parent) = path.parent() {
-        std::fs::create_dir_all(parent).map_err(|e| format!("{}: {e}", parent.display()))?;
-    }
-    let heading = Heading {
-        title: title.to_string(),
-        note: String::new(),
+    let layout = Layout {
+        cols,
+        size: (560 * cols as u32, (560.0 * aspect) as u32 * rows as u32),
+        title,
+        note: "",
     };
-    write_panels_with_heading(charts, cols, &heading, &path, size).map_err(|e| e.to_string())?;
+    svg_headed(out, entry, name, charts, &layout)
+}
+
+/// How the panels of a figure under one heading are laid out.
+#[derive(Debug, Clone, Copy)]
+pub struct Layout<'a> {
+    /// Panels per row.
+    pub cols: usize,
+    /// The figure's size in pixels (width, height).
+    pub size: (u32, u32),
+    /// The heading above the key.
+    pub title: &'a str,
+    /// A note under the key.
+    pub note: &'a str,
+}
+
+/// Writes charts as the panels of one figure laid out by `layout`, under its heading and
+/// one key for all panels (the first chart's legend), and records the file in `entry`.
+pub fn svg_headed(
+    out: &OutputDir,
+    entry: &mut Entry,
+    name: &str,
+    charts: &[Chart],
+    layout: &Layout<'_>,
+) -> Result<(), String> {
+    let path = staged_path(out, name)?;
+    let heading = Heading {
+        title: layout.title.to_string(),
+        note: layout.note.to_string(),
+    };
+    write_panels_with_heading(charts, layout.cols, &heading, &path, layout.size)
+        .map_err(|e| e.to_string())?;
     entry.file(path);
     Ok(())
 }

@@ -2,8 +2,7 @@
 //! and the deformed whisker at several base positions x0 of a sweep, one panel per sweep,
 //! each shape in the line of its contact phase, with the contact points.
 
-use beam_model::{shape_from_tip_angle, FluidLoad, Loads, Scene, Solution};
-use contact_sim::phase::contact_loads;
+use beam_model::{FluidLoad, Solution};
 use contact_sim::{Phase, SweepPoint, SweepResult};
 use vibrissa_cli::atomic::OutputDir;
 use vibrissa_cli::csvio::{Cell, CsvWriter};
@@ -188,24 +187,15 @@ fn sketch_panel(
     }
 }
 
-/// The whisker of sweep `r` at row `p`: free under its fluid load before contact, else
-/// under the fluid load and the contact force, from the row's tip angle.
+/// The whisker of sweep `r` at row `p` ([`SweepPoint::shape`]): free under its fluid load
+/// before contact, else under the fluid load and the contact force, from the row's tip angle.
 fn whisker_shape(r: &SweepRun, p: &SweepPoint) -> Result<Solution, String> {
-    let loads = if p.phase == Phase::None {
-        Loads::fluid(r.case.q, 0.0)
-    } else {
-        contact_loads(
-            FluidLoad {
-                q: r.case.q,
-                alpha: 0.0,
-            },
-            p.psi,
-            p.f.max(0.0),
-            p.s1,
-        )
+    let flow = FluidLoad {
+        q: r.case.q,
+        alpha: 0.0,
     };
-    let scene = Scene::new(r.case.whisker, loads);
-    shape_from_tip_angle(&scene, p.phi1, 1e-10, 100).map_err(|e| e.to_string())
+    p.shape(&r.case.whisker, flow, 1e-10, 100)
+        .map_err(|e| e.to_string())
 }
 
 /// The obstacle (its solid side filled) under shapes spanning `xmin..xmax` in x, up to a

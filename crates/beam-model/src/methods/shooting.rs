@@ -30,6 +30,8 @@ pub(crate) struct TipSolve {
 }
 
 const MAX_NEWTON: usize = 40;
+/// The largest tip rotation (rad) the continuation's first step predicts by linear theory.
+const LINEAR_STEP: f64 = 0.25;
 const MAX_STEP: f64 = 0.5;
 
 /// Newton on `R(phi1) = phi(0) - pi/2 - m(0)/k` [3.21, 3.22] from `guess`.
@@ -209,8 +211,16 @@ pub(crate) fn solve_tip_angle_within(
         }
     }
     let first = (1.0 / sev.ceil()).clamp(1e-3, 1.0);
+    // the first step predicts along the linear-theory slope d phi1 / d lambda, which holds
+    // while the rotation it predicts is small: that step is kept to LINEAR_STEP rad
+    let slope = crate::linear::tip_rotation(whisker, loads);
+    let initial = if slope.abs() * first > LINEAR_STEP {
+        (LINEAR_STEP / slope.abs()).max(1e-3)
+    } else {
+        first
+    };
     let cont = Continuation {
-        initial_step: first,
+        initial_step: initial,
         min_step: 1e-8,
         max_step: (2.0 * first).min(1.0),
     };
@@ -219,8 +229,6 @@ pub(crate) fn solve_tip_angle_within(
         Integration::Dop853(d) => Integration::adaptive(d.rtol.max(1e-8)),
         other => other.clone(),
     };
-    // the first step predicts along the linear-theory slope d phi1 / d lambda
-    let slope = crate::linear::tip_rotation(whisker, loads);
     let (phi1, stats) = cont
         .follow_from(
             0.0,

@@ -311,20 +311,7 @@ fn resolve_parts(
         (Some(LoadArg::Ap), _) | (None, Some(scene_file::LoadKind::Ap)) => LoadKind::Ap,
         _ => LoadKind::Dp,
     };
-    let n = match (&m.n, f_ref.and_then(|f| f.file.method.n)) {
-        (Some(raw), _) => Some(Param {
-            value: parse_count("--n", raw, 0)? as f64,
-            origin: Origin::Flag {
-                flag: "--n",
-                raw: raw.clone(),
-            },
-        }),
-        (None, Some(n)) => Some(Param {
-            value: n as f64,
-            origin: Origin::Scene("method.n"),
-        }),
-        (None, None) => None,
-    };
+    let n = given_n(m, f_ref)?;
     let given = Given {
         theta,
         a,
@@ -337,7 +324,50 @@ fn resolve_parts(
         alpha_deg,
         n,
     };
-    // The method.
+    let method = resolve_method(m, f_ref, &given)?;
+    let mut resolved = Resolved {
+        scene: Scene::default(),
+        method,
+        physical,
+        given,
+        file,
+    };
+    if method.intervals() < 4 {
+        return Err(resolved.culprit(&ModelError::InvalidParameter {
+            name: "n",
+            value: method.intervals() as f64,
+            reason: "at least 4 grid intervals are needed",
+        }));
+    }
+    resolved.scene = resolved.build_scene()?;
+    Ok(resolved)
+}
+
+/// The grid size: `--n` over the scene's `method.n`.
+fn given_n(m: &MethodFlags, f_ref: Option<&LoadedScene>) -> Result<Option<Param>, CliError> {
+    Ok(match (&m.n, f_ref.and_then(|f| f.file.method.n)) {
+        (Some(raw), _) => Some(Param {
+            value: parse_count("--n", raw, 0)? as f64,
+            origin: Origin::Flag {
+                flag: "--n",
+                raw: raw.clone(),
+            },
+        }),
+        (None, Some(n)) => Some(Param {
+            value: n as f64,
+            origin: Origin::Scene("method.n"),
+        }),
+        (None, None) => None,
+    })
+}
+
+/// The method: `--method` (or `auto` for `--tol`) over the scene's, with the grid size of
+/// `given` and the accuracy asked for.
+fn resolve_method(
+    m: &MethodFlags,
+    f_ref: Option<&LoadedScene>,
+    given: &Given,
+) -> Result<Method, CliError> {
     let (name, name_origin) = match (&m.method, f_ref, &m.tol) {
         (Some(name), _, _) => (name.clone(), Some("--method")),
         // --tol asks for the automatic choice.
@@ -383,22 +413,7 @@ fn resolve_parts(
             }
         }
     }
-    let mut resolved = Resolved {
-        scene: Scene::default(),
-        method,
-        physical,
-        given,
-        file,
-    };
-    if method.intervals() < 4 {
-        return Err(resolved.culprit(&ModelError::InvalidParameter {
-            name: "n",
-            value: method.intervals() as f64,
-            reason: "at least 4 grid intervals are needed",
-        }));
-    }
-    resolved.scene = resolved.build_scene()?;
-    Ok(resolved)
+    Ok(method)
 }
 
 impl Resolved {

@@ -11,22 +11,7 @@ use common::*;
 fn reconstruct_dir_round_trip_dimensionless() {
     let dir = tempfile::tempdir().unwrap();
     let cwd = dir.path();
-    let v = round_trip(
-        cwd,
-        &[
-            "--profile",
-            "g1",
-            "--q",
-            "5",
-            "--theta",
-            "0.75",
-            "--k",
-            "20",
-            "--points",
-            "24",
-        ],
-        5.0,
-    );
+    let v = round_trip(cwd, &sweep_flags("g1", "24"), 5.0);
     assert_eq!(v["units"], "dimensionless");
     let units = fs::read_to_string(cwd.join("out/observables.units.csv")).unwrap();
     assert_eq!(
@@ -104,19 +89,8 @@ fn reconstruct_dir_round_trip_physical() {
 fn rows_are_counted_the_same_way_in_text_json_and_csv() {
     let dir = tempfile::tempdir().unwrap();
     let cwd = dir.path();
-    let args = [
-        "sweep",
-        "--profile",
-        "g1",
-        "--q",
-        "5",
-        "--theta",
-        "0.75",
-        "--k",
-        "20",
-        "--points",
-        "12",
-    ];
+    let mut args = vec!["sweep"];
+    args.extend(sweep_flags("g1", "12"));
     let mut a = args.to_vec();
     a.extend(["--json", "--out", "j"]);
     let v = json(&run(&a, cwd));

@@ -2,6 +2,7 @@
 //! every preset sweeps and reconstructs as the scaled dimensionless scene.
 
 use std::fs;
+use std::path::Path;
 
 mod common;
 use common::*;
@@ -79,6 +80,22 @@ fn named_contours_are_in_whisker_lengths_in_a_physical_scene() {
     }
 }
 
+/// `sweep ARGS --points 15 --json --figures none --out OUT`: its JSON.
+fn sweep_15(cwd: &Path, args: &[&str], out: &str) -> serde_json::Value {
+    let mut a = vec!["sweep"];
+    a.extend(args);
+    a.extend([
+        "--points",
+        "15",
+        "--json",
+        "--figures",
+        "none",
+        "--out",
+        out,
+    ]);
+    json(&run(&a, cwd))
+}
+
 /// Every physical preset of Table 2.2 (values typed here, not taken from the library): a
 /// sweep past g1 and its reconstruction in physical units equal the dimensionless ones
 /// scaled by hand (q = 4 and k = 20 in E I / L^3 and E I / L).
@@ -86,9 +103,9 @@ fn named_contours_are_in_whisker_lengths_in_a_physical_scene() {
 fn every_preset_sweeps_and_reconstructs_as_the_scaled_dimensionless_scene() {
     let dir = tempfile::tempdir().unwrap();
     let cwd = dir.path();
-    let dim = json(&run(
+    let dim = sweep_15(
+        cwd,
         &[
-            "sweep",
             "--profile",
             "g1",
             "--theta",
@@ -97,16 +114,9 @@ fn every_preset_sweeps_and_reconstructs_as_the_scaled_dimensionless_scene() {
             "4",
             "--k",
             "20",
-            "--points",
-            "15",
-            "--json",
-            "--figures",
-            "none",
-            "--out",
-            "dim",
         ],
-        cwd,
-    ));
+        "dim",
+    );
     stdout(&run(
         &[
             "reconstruct",
@@ -137,20 +147,7 @@ fn every_preset_sweeps_and_reconstructs_as_the_scaled_dimensionless_scene() {
         )
         .unwrap();
         let out = format!("{name}-sw");
-        let phys = json(&run(
-            &[
-                "sweep",
-                &format!("{name}.ron"),
-                "--points",
-                "15",
-                "--json",
-                "--figures",
-                "none",
-                "--out",
-                &out,
-            ],
-            cwd,
-        ));
+        let phys = sweep_15(cwd, &[&format!("{name}.ron")], &out);
         assert_eq!(phys["phases"], dim["phases"], "{name}");
         let (xp, xd) = (
             phys["first_contact_x0"].as_f64().unwrap(),

@@ -112,28 +112,8 @@ fn points_file_errors_name_file_line_and_what_is_wrong() {
 fn a_table_over_pm_2_5_sweeps_and_reconstructs() {
     let dir = tempfile::tempdir().unwrap();
     let cwd = dir.path();
-    let mut text = String::from("x;y\n");
-    for i in 0..=50 {
-        let x = -2.5 + 0.1 * i as f64;
-        text += &format!("{x};{}\n", g1(x));
-    }
-    fs::write(cwd.join("g1.csv"), text).unwrap();
-    round_trip(
-        cwd,
-        &[
-            "--profile",
-            "points:g1.csv",
-            "--q",
-            "5",
-            "--theta",
-            "0.75",
-            "--k",
-            "20",
-            "--points",
-            "30",
-        ],
-        5.0,
-    );
+    fs::write(cwd.join("g1.csv"), g1_table("x;y", 1.0)).unwrap();
+    round_trip(cwd, &sweep_flags("points:g1.csv", "30"), 5.0);
     // The table is copied into the folder and its scene points at the copy.
     assert!(cwd.join("out/profile.csv").is_file());
     let scene = fs::read_to_string(cwd.join("out/scene.ron")).unwrap();
@@ -167,12 +147,7 @@ fn a_circle_post_of_radius_0_6_sweeps_and_reconstructs() {
 fn a_physical_table_in_mm_with_semicolons_sweeps() {
     let dir = tempfile::tempdir().unwrap();
     let cwd = dir.path();
-    let mut text = String::from("x_mm;y_mm\n");
-    for i in 0..=50 {
-        let x = -2.5 + 0.1 * i as f64;
-        text += &format!("{};{}\n", x * L_BETA_MM, g1(x) * L_BETA_MM);
-    }
-    fs::write(cwd.join("g1mm.csv"), text).unwrap();
+    fs::write(cwd.join("g1mm.csv"), g1_table("x_mm;y_mm", L_BETA_MM)).unwrap();
     let scene = fs::read_to_string(scenes_dir().join("physical-beta-g1.ron"))
         .unwrap()
         .replace("Some(\"g1\")", "Some(\"points:g1mm.csv\")");

@@ -133,3 +133,25 @@ pub fn svg_text(svg: &str) -> String {
     out.push_str(rest);
     out.replace("</tspan>", "")
 }
+
+/// The whisker and flow of most tests: theta = 0.75 on a spring k = 20 under q = 5.
+pub const WHISKER_Q5: [&str; 6] = ["--q", "5", "--theta", "0.75", "--k", "20"];
+
+/// `--profile PROFILE`, the whisker and flow of [`WHISKER_Q5`] and `--points POINTS`.
+pub fn sweep_flags<'a>(profile: &'a str, points: &'a str) -> Vec<&'a str> {
+    let mut v = vec!["--profile", profile];
+    v.extend(WHISKER_Q5);
+    v.extend(["--points", points]);
+    v
+}
+
+/// g1 over [-2.5, 2.5] (51 rows) as a semicolon table under `header`, x and y multiplied by
+/// `scale`.
+pub fn g1_table(header: &str, scale: f64) -> String {
+    let mut text = format!("{header}\n");
+    for i in 0..=50 {
+        let x = -2.5 + 0.1 * i as f64;
+        text += &format!("{};{}\n", x * scale, g1(x) * scale);
+    }
+    text
+}

@@ -9,7 +9,7 @@
 //! - [`outputs`]: units sidecars, `scene.ron` and the list of written files;
 //! - [`elastica`]: `elastica.csv` and the elastica figure of `solve`;
 //! - [`observables`]: `observables.csv`, the log of a sweep;
-//! - [`sweep_events`]: a sweep's events, row counts and summary line;
+//! - [`sweep_events`](mod@sweep_events): a sweep's events, row counts and summary line;
 //! - [`sweep_figures`], [`shapes`]: the figures of a sweep (observables, contact, shapes);
 //! - [`recon_io`]: a reconstruction's inputs (sweep folders, units) and `reconstruction.csv`;
 //! - [`phases`]: a phase's symbol, label, colour, dash and legend text;

@@ -37,7 +37,7 @@ pub enum HeaderProblemKind {
 }
 
 /// A CSV text read one line at a time (standard input as it comes), in the dialect of
-/// [`read_table`]: the delimiter detected from the header, fields trimmed and unquoted by
+/// [`read_table`](super::read_table): the delimiter detected from the header, fields trimmed and unquoted by
 /// the `csv` crate, decimal commas in semicolon files, the required columns numeric and
 /// finite. Lines that are blank or `#` comments are for the caller to skip
 /// ([`LineReader::skips`]).

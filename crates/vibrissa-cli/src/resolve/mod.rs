@@ -24,7 +24,7 @@ use crate::error::CliError;
 use crate::scene_file::{self, locate_field, SceneFile, Units};
 use crate::units::UnitSystem;
 
-mod profile;
+pub mod profile;
 
 pub use profile::{profile_arg, read_points_file, ProfileArg};
 

@@ -11,7 +11,7 @@ use crate::error::CliError;
 use crate::resolve::Resolved;
 
 /// Identifies the flow (unless given) and reconstructs every contact row of the log
-/// `table` (columns [`REQUIRED_COLUMNS`], already in the model's dimensionless variables)
+/// `table` (columns [`REQUIRED_COLUMNS`](super::REQUIRED_COLUMNS), already in the model's dimensionless variables)
 /// with the whisker of `r`; a failure names its culprit (a line of the log, a flag, the
 /// solver).
 pub fn reconstruct_log(
@@ -29,7 +29,7 @@ pub fn reconstruct_log(
     )
     .map_err(|e| recon_culprit(e, table, r, args, opts.tol))
 }
-/// The observable rows of a table read with [`REQUIRED_COLUMNS`].
+/// The observable rows of a table read with [`REQUIRED_COLUMNS`](super::REQUIRED_COLUMNS).
 pub fn rows_of(table: &Table) -> Result<Vec<ObservableRow>, CliError> {
     let col = |name: &str| {
         table.column(name).ok_or_else(|| CliError::Csv {

@@ -3,7 +3,7 @@
 //!
 //! The command reads as parse -> resolve -> compute -> write -> summary:
 //! [`options`] (flags, whisker), [`compute`] (the library and its culprits),
-//! [`recon_io`](crate::commands::recon_io) (inputs, units, `reconstruction.csv`, `scene.ron`),
+//! [`recon_io`] (inputs, units, `reconstruction.csv`, `scene.ron`),
 //! [`figures`], [`summary`] (text and JSON); [`stream`] is `--stream`.
 
 pub mod compute;

@@ -1,6 +1,7 @@
 //! Helpers shared by the workflow tests (`points_files`, `folders`, `figures`,
-//! `physical`): running the binary, reading its CSV and JSON outputs, and the sweep ->
-//! `reconstruct DIR` round trip. Each test file uses a part of them.
+//! `physical`; `reconstruct` takes its CSV parser): running the binary, reading its CSV
+//! and JSON outputs, and the sweep -> `reconstruct DIR` round trip. Each test file uses a
+//! part of them.
 #![allow(dead_code)]
 
 use std::fs;
@@ -37,7 +38,12 @@ pub fn scenes_dir() -> PathBuf {
 /// A CSV table as header and rows of strings (comma separated, as the CLI writes).
 pub fn table(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
     let text = fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let mut lines = text.lines();
+    parse(&text)
+}
+
+/// Data rows of a CSV text as (header, rows of fields).
+pub fn parse(text: &str) -> (Vec<String>, Vec<Vec<String>>) {
+    let mut lines = text.lines().map(|l| l.trim_end_matches('\r'));
     let header = lines
         .next()
         .unwrap()
@@ -45,6 +51,7 @@ pub fn table(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
         .map(str::to_string)
         .collect();
     let rows = lines
+        .filter(|l| !l.is_empty())
         .map(|l| l.split(',').map(str::to_string).collect())
         .collect();
     (header, rows)

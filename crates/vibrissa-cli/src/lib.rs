@@ -8,7 +8,8 @@
 //! - [`scene_file`]: the RON scene format;
 //! - [`cli`]: the command-line grammar;
 //! - [`resolve`]: scene file + flags -> model values (physical units included);
-//! - [`commands`]: `solve`, `sweep`, `reconstruct`, `demo`.
+//! - [`commands`]: `solve`, `sweep`, `reconstruct`, `calibrate`, `demo`, one module per
+//!   concept of their outputs.
 
 pub mod atomic;
 pub mod cli;

@@ -138,7 +138,12 @@ fn sweep_then_calibrate_gives_the_truth_and_a_reusable_scene() {
     assert!((fixed["parameters"]["theta"]["value"].as_f64().unwrap() - 0.6).abs() < 1e-7);
     let res = fs::read_to_string(cwd.join("cal/residuals.csv")).unwrap();
     assert!(res.starts_with("log,row,x0,kind,s1,x,y,distance,sigma,chi\n"));
-    // the calibrated scene reconstructs an unknown object swept with the true whisker
+    calibrated_scene_is_reusable(cwd);
+}
+
+/// The calibrated scene `cal/scene.ron` reconstructs an unknown object swept with the true
+/// whisker, and is a scene `sweep` runs.
+fn calibrated_scene_is_reusable(cwd: &Path) {
     let o = run(
         &[
             "sweep",

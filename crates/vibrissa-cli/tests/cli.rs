@@ -253,7 +253,7 @@ fn fails_cleanly(args: &[&str], needles: &[&str], setup: impl Fn(&Path)) {
 }
 
 #[test]
-fn bad_inputs_fail_with_one_line_naming_the_culprit() {
+fn crashes_and_hangs_end_at_once_naming_the_culprit() {
     let none = |_: &Path| {};
     // issue 12: crashes and hangs that now end at once with the culprit named
     for (args, needles) in [
@@ -304,6 +304,11 @@ fn bad_inputs_fail_with_one_line_naming_the_culprit() {
     ] {
         fails_cleanly(args, needles, none);
     }
+}
+
+#[test]
+fn bad_inputs_fail_with_one_line_naming_the_culprit() {
+    let none = |_: &Path| {};
     fails_cleanly(
         &["solve", "--theta", "-0.5", "--out", "out"],
         &["--theta", "-0.5"],
@@ -341,6 +346,13 @@ fn bad_inputs_fail_with_one_line_naming_the_culprit() {
         &["--points"],
         none,
     );
+}
+
+/// Files that are missing or wrong (a concave contour, unknown or negative scene fields)
+/// are named with their line.
+#[test]
+fn bad_files_fail_with_one_line_naming_the_file() {
+    let none = |_: &Path| {};
     fails_cleanly(
         &[
             "sweep",

@@ -5,6 +5,9 @@ use std::fs;
 use std::path::Path;
 use std::process::{Command, Output};
 
+mod common;
+use common::parse;
+
 fn run(args: &[&str], cwd: &Path) -> Output {
     Command::new(env!("CARGO_BIN_EXE_vibrissa"))
         .args(args)
@@ -57,22 +60,6 @@ fn reconstruct(cwd: &Path, log: &str, extra: &[&str]) -> Output {
     args.extend(WHISKER);
     args.extend(extra);
     run(&args, cwd)
-}
-
-/// Data rows of a CSV text as (header, rows of fields).
-fn parse(text: &str) -> (Vec<String>, Vec<Vec<String>>) {
-    let mut lines = text.lines().map(|l| l.trim_end_matches('\r'));
-    let header = lines
-        .next()
-        .unwrap()
-        .split(',')
-        .map(str::to_string)
-        .collect();
-    let rows = lines
-        .filter(|l| !l.is_empty())
-        .map(|l| l.split(',').map(str::to_string).collect())
-        .collect();
-    (header, rows)
 }
 
 fn col(header: &[String], name: &str) -> usize {

@@ -4,10 +4,12 @@
 
 use profile_recon::calibrate::{design, DesignSettings};
 
-use crate::cli::{CalibrateArgs, ModelFlags};
-use crate::commands::calibrate::{in_units, num, parse_fit, unit_of};
+use crate::cli::CalibrateArgs;
+use crate::commands::calibrate_inputs::{calib_model, parse_fit};
+use crate::commands::calibrate_summary::{in_units, param_json};
+use crate::commands::json::json_number as num;
 use crate::error::CliError;
-use crate::resolve::{parse_count, parse_number, resolve_model, LoadedScene, ProfileArg};
+use crate::resolve::{parse_count, parse_number, ProfileArg};
 
 /// Runs the advice.
 pub fn run(args: &CalibrateArgs) -> Result<(), CliError> {
@@ -16,13 +18,7 @@ pub fn run(args: &CalibrateArgs) -> Result<(), CliError> {
             reason: "--advise plans an experiment: give no LOG with it".to_string(),
         });
     }
-    let file = LoadedScene::load_opt(args.scene.as_deref())?;
-    let flags = ModelFlags {
-        whisker: args.whisker.clone(),
-        fluid: args.fluid.clone(),
-        ..ModelFlags::default()
-    };
-    let r = resolve_model(&flags, file)?;
+    let r = calib_model(args, args.scene.as_deref())?;
     let units = r.units();
     let noise = match &args.noise {
         Some(raw) => {
@@ -69,15 +65,9 @@ pub fn run(args: &CalibrateArgs) -> Result<(), CliError> {
                 Ok(p) => {
                     let mut params = serde_json::Map::new();
                     for e in &p.parameters {
-                        let (v, sd) = in_units(e, 1.0, phys.as_ref());
                         params.insert(
                             e.param.name().to_string(),
-                            serde_json::json!({
-                                "value": v.map_or(serde_json::Value::Null, num),
-                                "stderr": sd.map_or(serde_json::Value::Null, num),
-                                "identifiable": e.identifiable,
-                                "unit": unit_of(e.param, phys.is_some()),
-                            }),
+                            param_json(e, 1.0, phys.as_ref()),
                         );
                     }
                     serde_json::json!({"profile": spec, "rows": p.rows, "contact": p.contact,

@@ -7,8 +7,9 @@ use beam_model::Whisker;
 use profile_recon::calibrate::{CalibLog, Calibration};
 use profile_recon::{KnownFlow, ReconSettings};
 
-use crate::commands::calibrate::LogInput;
-use crate::commands::{scene_unit_notes, write_scene_ron, write_units_of};
+use crate::commands::calibrate_inputs::LogInput;
+use crate::commands::outputs::{scene_unit_notes, write_scene_ron, write_units_of};
+use crate::commands::phases::{is_contact_symbol, symbol_label};
 use crate::csvio::{Cell, CsvWriter};
 use crate::error::CliError;
 use crate::plot::{write_svg, Chart, Series, Style};
@@ -136,12 +137,7 @@ pub fn write_residuals(
             .get(r.row)
             .copied()
             .unwrap_or(f64::NAN);
-        let kind = match r.kind {
-            '-' => "none",
-            'A' => "A",
-            'B' => "B",
-            _ => "left-out",
-        };
+        let kind = symbol_label(r.kind);
         w.push_row(&[
             Cell::Num((r.log + 1) as f64),
             Cell::Num((r.row + 1) as f64),
@@ -183,7 +179,7 @@ pub fn write_figures(
         let after: Vec<(f64, f64)> = cal
             .rows
             .iter()
-            .filter(|r| r.log == i && matches!(r.kind, 'A' | 'B'))
+            .filter(|r| r.log == i && is_contact_symbol(r.kind))
             .map(|r| (r.x * l, r.y * l))
             .collect();
         // the start whisker under the fitted flow (a wrong whisker may find no free row)
@@ -244,7 +240,7 @@ pub fn write_figures(
         let res: Vec<(f64, f64)> = cal
             .rows
             .iter()
-            .filter(|r| r.log == i && matches!(r.kind, 'A' | 'B'))
+            .filter(|r| r.log == i && is_contact_symbol(r.kind))
             .map(|r| {
                 (
                     input.x0_given.get(r.row).copied().unwrap_or(f64::NAN),

@@ -13,12 +13,14 @@ use profile_recon::{contour_error, from_sweep, reconstruct, ReconSettings};
 
 use crate::atomic::OutputDir;
 use crate::cli::{DemoArgs, ModelFlags};
-use crate::commands::reconstruct::{
-    max_of, phase_counts, write_reconstruction_csv, write_reconstruction_figures, RECON_CSV,
+use crate::commands::recon_io::{write_reconstruction_csv, RECON_CSV};
+use crate::commands::reconstruct::summary::{
+    max_of, phase_counts, row_ranges, rows_without_points,
 };
+use crate::commands::reconstruct::write_reconstruction_figures;
 use crate::commands::solve::write_solution_files;
 use crate::commands::sweep::{run_sweep, write_sweep_outputs};
-use crate::commands::sweep_summary_in;
+use crate::commands::sweep_events::sweep_summary;
 use crate::error::CliError;
 use crate::resolve::{profile_arg, resolve_model, LoadedScene, Resolved};
 use crate::scene_file::SceneFile;
@@ -84,7 +86,7 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
     );
     println!(
         "  sweep: {}",
-        sweep_summary_in(&res, args.points, &UnitSystem::DIMENSIONLESS)
+        sweep_summary(&res, args.points, &UnitSystem::DIMENSIONLESS)
     );
     for line in &summary {
         println!("  {line}");
@@ -112,17 +114,25 @@ pub fn reconstruct_step(
         }
     })?;
     let errors = contour_error(&rec.points, contour);
-    write_reconstruction_csv(&rec.points, Some(&errors), &out.path_for(RECON_CSV))?;
+    let units = UnitSystem::DIMENSIONLESS;
+    write_reconstruction_csv(
+        &rec.points,
+        Some(&errors),
+        &units,
+        &[],
+        &out.path_for(RECON_CSV),
+    )?;
     write_reconstruction_figures(
         &rec.points,
         Some(contour),
         Some(&errors),
         "demo: contour g1, q = 5",
+        &units,
         |n| out.path_for(n),
     )?;
     let q_true = resolved.q();
     let id = &rec.identification;
-    let free = super::reconstruct::rows_without_points(&rec.points, rows.len());
+    let free = rows_without_points(&rec.points, rows.len());
     let with: Vec<usize> = rec.points.iter().map(|p| p.row).collect();
     summary.push(format!(
         "identification: q = {:.12} (true {q_true}, error {:.2e}) from the {} rows without \
@@ -131,9 +141,9 @@ pub fn reconstruct_step(
         id.q,
         (id.q - q_true).abs(),
         free.len(),
-        super::reconstruct::row_ranges(&free),
+        row_ranges(&free),
         with.len(),
-        super::reconstruct::row_ranges(&with),
+        row_ranges(&with),
     ));
     let (na, nb) = phase_counts(&rec.points);
     summary.push(format!(

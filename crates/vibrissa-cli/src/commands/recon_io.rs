@@ -1,14 +1,15 @@
 //! The inputs and outputs of `vibrissa reconstruct` that concern folders and units: a sweep
 //! folder as input (`reconstruct DIR`), a log's units (its `NAME.units.csv` sidecar, else
 //! the scene's units) and the reconstruction written in the scene's units with its own
-//! sidecar and `scene.ron`.
+//! sidecar and `scene.ron`. The one definition of a row of `reconstruction.csv`
+//! ([`recon_cells`]) lives here: the file writer and the stream both use it.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use profile_recon::ReconPoint;
 
-use crate::commands::{output_scene, scene_unit_notes, write_scene_ron, write_units_of};
+use crate::commands::outputs::{output_scene, scene_unit_notes, write_scene_ron, write_units_of};
 use crate::csvio::{read_units_sidecar, units_sidecar_path, Cell, CsvWriter, Table};
 use crate::error::CliError;
 use crate::resolve::Resolved;
@@ -60,6 +61,12 @@ pub fn resolve_input(
     Ok((log, scene))
 }
 
+/// The file name of the reconstruction table.
+pub const RECON_CSV: &str = "reconstruction.csv";
+
+/// The header of `reconstruction.csv` (spec/cli.md); `error` is appended with a profile.
+pub const RECONSTRUCTION_HEADER: [&str; 7] = ["x0", "x", "y", "s1", "f", "psi", "phase"];
+
 /// The quantities of the columns `reconstruct` reads.
 const INPUT_QUANTITIES: [(&str, Quantity); 5] = [
     ("x0", Quantity::Length),
@@ -98,6 +105,16 @@ pub fn to_model_units_with(
     Ok(x0)
 }
 
+/// The scales of the input columns x0, Ax, Ay, MA, phi0 in the scene's `units` (a model
+/// value times its scale is the value in the scene's units), by the same quantities as a
+/// file's columns. The stream divides its values by them; a file's columns are multiplied
+/// by the factors of their sidecar's units, `1 / scale` without one (the two roundings
+/// differ in the last bit, and each path keeps its own so that its outputs stay as they
+/// were).
+pub fn input_scales(units: &UnitSystem) -> [f64; 5] {
+    INPUT_QUANTITIES.map(|(_, q)| units.scale(q))
+}
+
 /// The quantities of the `reconstruction.csv` columns (`error` last, if present): x0, x, y,
 /// s1, f, psi, phase, sigma, residual, hypotheses, error.
 const RECON_QUANTITIES: [Quantity; 11] = [
@@ -120,7 +137,7 @@ const RECON_QUANTITIES: [Quantity; 11] = [
 pub const RECON_EXTRA_COLUMNS: [&str; 3] = ["sigma", "residual", "hypotheses"];
 
 /// The numbers of a reconstructed point in `units`, in the order of
-/// [`RECONSTRUCTION_HEADER`](super::reconstruct::RECONSTRUCTION_HEADER) (x0, x, y, s1, f,
+/// [`RECONSTRUCTION_HEADER`] (x0, x, y, s1, f,
 /// psi), x0 copied exactly from `x0_given` (the log's x0 column as given): the one place
 /// where a point is scaled for output (CSV, Python).
 pub fn recon_values(p: &ReconPoint, units: &UnitSystem, x0_given: &[f64]) -> [f64; 6] {
@@ -129,33 +146,55 @@ pub fn recon_values(p: &ReconPoint, units: &UnitSystem, x0_given: &[f64]) -> [f6
     [x0, p.x * l, p.y * l, p.s1 * l, p.f * fs, p.psi]
 }
 
+/// The header of `reconstruction.csv`: the contract's columns, [`RECON_EXTRA_COLUMNS`] and
+/// `error` if the true contour is known.
+pub fn reconstruction_header(with_error: bool) -> Vec<&'static str> {
+    let mut header: Vec<&str> = RECONSTRUCTION_HEADER.to_vec();
+    header.extend(RECON_EXTRA_COLUMNS);
+    if with_error {
+        header.push("error");
+    }
+    header
+}
+
+/// One row of `reconstruction.csv` in `units` (header [`reconstruction_header`]): the
+/// numbers of [`recon_values`], the phase, sigma, residual, hypotheses and, if given, the
+/// error (a length). The one definition of a row, for the file and the stream.
+pub fn recon_cells(
+    p: &ReconPoint,
+    units: &UnitSystem,
+    x0_given: &[f64],
+    error: Option<f64>,
+) -> Vec<Cell<'static>> {
+    let l = units.scale(Quantity::Length);
+    let mut row: Vec<Cell<'static>> = recon_values(p, units, x0_given)
+        .iter()
+        .map(|&x| Cell::Num(x))
+        .collect();
+    row.push(Cell::Text(p.phase.label()));
+    row.push(Cell::Num(p.sigma * l));
+    row.push(Cell::Num(p.residual));
+    row.push(Cell::Num(p.alternatives as f64));
+    if let Some(e) = error {
+        row.push(Cell::Num(e * l));
+    }
+    row
+}
+
 /// Writes `reconstruction.csv` in `units` (x0 copied exactly from `x0_given`, the log's x0
-/// column as given) and its units sidecar.
-pub fn write_reconstruction_csv_in(
+/// column as given; `&[]` for none) and its units sidecar: the one writer of the file.
+pub fn write_reconstruction_csv(
     points: &[ReconPoint],
     errors: Option<&[f64]>,
     units: &UnitSystem,
     x0_given: &[f64],
     path: &Path,
 ) -> Result<(), CliError> {
-    let mut header: Vec<&str> = super::reconstruct::RECONSTRUCTION_HEADER.to_vec();
-    header.extend(RECON_EXTRA_COLUMNS);
-    if errors.is_some() {
-        header.push("error");
-    }
-    let l = units.scale(Quantity::Length);
+    let header = reconstruction_header(errors.is_some());
     let mut w = CsvWriter::new(&header);
     for (i, p) in points.iter().enumerate() {
-        let v = recon_values(p, units, x0_given);
-        let mut row: Vec<Cell<'_>> = v.iter().map(|&x| Cell::Num(x)).collect();
-        row.push(Cell::Text(p.phase.label()));
-        row.push(Cell::Num(p.sigma * l));
-        row.push(Cell::Num(p.residual));
-        row.push(Cell::Num(p.alternatives as f64));
-        if let Some(e) = errors {
-            row.push(Cell::Num(e.get(i).copied().unwrap_or(f64::NAN) * l));
-        }
-        w.push_row(&row)?;
+        let error = errors.map(|e| e.get(i).copied().unwrap_or(f64::NAN));
+        w.push_row(&recon_cells(p, units, x0_given, error))?;
     }
     w.write(path)?;
     write_units_of(path, &header, &RECON_QUANTITIES[..header.len()], units)
@@ -190,4 +229,48 @@ pub fn write_recon_scene(
         units.unit(Quantity::Force)
     ));
     write_scene_ron(path, &scene, &notes)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use contact_sim::Phase;
+
+    fn point() -> ReconPoint {
+        ReconPoint {
+            row: 1,
+            x0: 0.5,
+            x: 0.25,
+            y: 1.0,
+            s1: 1.0,
+            f: 0.125,
+            psi: 0.5,
+            phase: Phase::B,
+            residual: 1e-12,
+            sigma: 2e-10,
+            alternatives: 1,
+            evaluations: 3,
+        }
+    }
+
+    #[test]
+    fn a_row_has_the_columns_of_its_header_and_copies_x0_as_given() {
+        let p = point();
+        let units = UnitSystem::DIMENSIONLESS;
+        for (error, n) in [(None, 10), (Some(0.5), 11)] {
+            let cells = recon_cells(&p, &units, &[], error);
+            assert_eq!(cells.len(), n);
+            assert_eq!(reconstruction_header(error.is_some()).len(), n);
+        }
+        let cells = recon_cells(&p, &units, &[7.0, 0.1 + 0.2], Some(0.5));
+        assert_eq!(cells[0], Cell::Num(0.1 + 0.2), "x0 of row 1 as given");
+        assert_eq!(cells[6], Cell::Text("B"));
+        assert_eq!(cells[9], Cell::Num(1.0));
+        assert_eq!(cells[10], Cell::Num(0.5));
+        assert_eq!(input_scales(&units), [1.0; 5]);
+        assert_eq!(
+            reconstruction_header(true).join(","),
+            "x0,x,y,s1,f,psi,phase,sigma,residual,hypotheses,error"
+        );
+    }
 }

@@ -6,10 +6,9 @@ use serde_json::{json, Value};
 
 use crate::atomic::OutputDir;
 use crate::cli::SolveArgs;
-use crate::commands::{
-    list_files, output_scene, scene_unit_notes, write_elastica_csv_in, write_elastica_figure,
-    write_scene_ron,
-};
+use crate::commands::elastica::{write_elastica_csv, write_elastica_figure};
+use crate::commands::json::json_number as num;
+use crate::commands::outputs::{list_files, output_scene, scene_unit_notes, write_scene_ron};
 use crate::error::CliError;
 use crate::resolve::{resolve_model, LoadedScene, Resolved};
 
@@ -45,7 +44,7 @@ pub fn run(args: &SolveArgs) -> Result<(), CliError> {
 /// Writes `elastica.csv` and `elastica.svg` of a solution into the staged directory.
 pub fn write_solution_files(r: &Resolved, sol: &Solution, out: &OutputDir) -> Result<(), CliError> {
     let units = r.units();
-    write_elastica_csv_in(sol, &units, &out.path_for("elastica.csv"))?;
+    write_elastica_csv(sol, &units, &out.path_for("elastica.csv"))?;
     write_scene_ron(
         &out.path_for("scene.ron"),
         &output_scene(r, None, None),
@@ -76,11 +75,6 @@ pub fn write_solution_files(r: &Resolved, sol: &Solution, out: &OutputDir) -> Re
         &units,
         &out.path_for("elastica.svg"),
     )
-}
-
-fn num(v: f64) -> Value {
-    // JSON has no inf/NaN: such values become null.
-    serde_json::Number::from_f64(v).map_or(Value::Null, Value::Number)
 }
 
 /// The JSON object of `solve --json`.

@@ -5,19 +5,19 @@ use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::time::Duration;
 
-use beam_model::{shape_from_tip_angle, FluidLoad, Scene};
-use contact_sim::phase::contact_loads;
-use contact_sim::{sweep_with_progress, Phase, Profile, SweepProgress, SweepResult, SweepSettings};
+use contact_sim::{sweep_with_progress, Profile, SweepProgress, SweepResult, SweepSettings};
 
 use crate::atomic::{write_atomic, OutputDir};
 use crate::cli::SweepArgs;
-use crate::commands::{
-    first_contact_name, output_scene, scene_unit_notes, separation_name, sweep_events,
-    sweep_summary_in, write_observables_csv_in, write_scene_ron, write_sweep_figures,
-    FigureContext, RowCounts,
+use crate::commands::json::{json_number, json_opt};
+use crate::commands::observables::write_observables_csv;
+use crate::commands::outputs::{output_scene, scene_unit_notes, write_scene_ron};
+use crate::commands::shapes::{write_shapes_csv, write_shapes_svg};
+use crate::commands::sweep_events::{
+    first_contact_name, separation_name, sweep_events, sweep_summary, RowCounts,
 };
+use crate::commands::sweep_figures::{write_sweep_figures, FigureContext};
 use crate::error::CliError;
-use crate::plot::{write_svg, Chart, Dash, Mark, MarkStyle, Marker, Series, Style};
 use crate::resolve::{parse_count, profile_arg, resolve_model, LoadedScene, ProfileArg, Resolved};
 use crate::units::{Quantity, UnitSystem};
 
@@ -68,7 +68,7 @@ pub fn run(args: &SweepArgs) -> Result<(), CliError> {
         println!(
             "sweep {}: {}",
             profile.spec,
-            sweep_summary_in(&res, points, &units)
+            sweep_summary(&res, points, &units)
         );
     }
     Ok(())
@@ -121,25 +121,20 @@ pub fn sweep_points(raw: Option<&str>, file: Option<&LoadedScene>) -> Result<usi
     Ok(points)
 }
 
-fn num(v: f64) -> serde_json::Value {
-    serde_json::Number::from_f64(v).map_or(serde_json::Value::Null, serde_json::Value::Number)
-}
-
 /// The JSON summary of a sweep (`sweep --json`): `first_contact`, `separation`, `phases`,
 /// `rows` and the row counts and positions of the events, rows numbered from 1 as in
 /// [`RowCounts`], positions and loads in `units`.
 pub fn sweep_json(res: &SweepResult, requested: usize, units: &UnitSystem) -> serde_json::Value {
     let n = RowCounts::of(res, requested);
     let l = units.scale(Quantity::Length);
-    let x0_of =
-        |row: Option<usize>| row.map_or(serde_json::Value::Null, |r| num(res.points[r - 1].x0 * l));
+    let x0_of = |row: Option<usize>| json_opt(row.map(|r| res.points[r - 1].x0 * l));
     let events: Vec<serde_json::Value> = sweep_events(res)
         .into_iter()
         .map(|e| {
             serde_json::json!({
                 "event": e.label,
                 "row": e.index + 1,
-                "x0": num(res.points[e.index].x0 * l),
+                "x0": json_number(res.points[e.index].x0 * l),
             })
         })
         .collect();
@@ -157,8 +152,8 @@ pub fn sweep_json(res: &SweepResult, requested: usize, units: &UnitSystem) -> se
         "points_requested": n.requested,
         "event_rows": n.event_rows,
         "events": events,
-        "q": num(res.q * units.scale(Quantity::LineLoad)),
-        "alpha_deg": num(res.alpha.to_degrees()),
+        "q": json_number(res.q * units.scale(Quantity::LineLoad)),
+        "alpha_deg": json_number(res.alpha.to_degrees()),
         "units": if units.is_physical() { "physical" } else { "dimensionless" },
         "length_unit": units.unit(Quantity::Length),
         "force_unit": units.unit(Quantity::Force),
@@ -292,7 +287,7 @@ pub fn write_sweep_outputs(
     out: &OutputDir,
 ) -> Result<(), CliError> {
     let units = r.units();
-    write_observables_csv_in(res, &units, &out.path_for("observables.csv"))?;
+    write_observables_csv(res, &units, &out.path_for("observables.csv"))?;
     let spec = match profile.points_path() {
         Some(path) => {
             let bytes = std::fs::read(&path).map_err(|e| CliError::io(&path, e))?;
@@ -334,75 +329,6 @@ pub fn write_sweep_outputs(
     )
 }
 
-/// The header of `shapes.csv`.
-pub const SHAPES_HEADER: [&str; 5] = ["row", "s", "x", "y", "phi"];
-
-/// The whisker's shape at a sweep row (the free whisker under the flow before contact; with
-/// the contact force at its point otherwise): one DOP853 integration from the loaded end at
-/// the row's tip angle, 100 intervals up to the contact point, then the load-free segment
-/// beyond a tangential contact to the tip; positions relative to the base.
-pub fn row_shape(
-    whisker: &beam_model::Whisker,
-    flow: FluidLoad,
-    p: &contact_sim::SweepPoint,
-) -> Result<beam_model::Solution, beam_model::ModelError> {
-    let (psi, f, s1) = match p.phase {
-        Phase::None => (0.0, 0.0, 1.0),
-        _ => (p.psi, p.f, p.s1),
-    };
-    let scene = Scene::new(*whisker, contact_loads(flow, psi, f, s1));
-    shape_from_tip_angle(&scene, p.phi1, 1e-10, 100)
-}
-
-/// Writes `shapes.csv` (header [`SHAPES_HEADER`], rows numbered from 1 as in
-/// `observables.csv`) in the scene's units, with its units sidecar.
-pub fn write_shapes_csv(
-    r: &Resolved,
-    res: &SweepResult,
-    path: &std::path::Path,
-) -> Result<(), CliError> {
-    let units = r.units();
-    let l = units.scale(Quantity::Length);
-    let flow = FluidLoad {
-        q: res.q,
-        alpha: res.alpha,
-    };
-    let mut w = crate::csvio::CsvWriter::new(&SHAPES_HEADER);
-    for (i, p) in res.points.iter().enumerate() {
-        let sol = row_shape(&r.scene.whisker, flow, p).map_err(|e| CliError::Solver {
-            reason: format!(
-                "shapes.csv: the shape of row {} (x0 = {}): {e}",
-                i + 1,
-                p.x0
-            ),
-            source: Some(Box::new(e)),
-        })?;
-        let e = &sol.elastica;
-        for k in 0..e.len() {
-            w.push_numbers(&[
-                (i + 1) as f64,
-                e.s[k] * l,
-                (p.x0 + e.x[k]) * l,
-                e.y[k] * l,
-                e.phi[k],
-            ])?;
-        }
-    }
-    w.write(path)?;
-    crate::commands::write_units_of(
-        path,
-        &SHAPES_HEADER,
-        &[
-            Quantity::Number,
-            Quantity::Length,
-            Quantity::Length,
-            Quantity::Length,
-            Quantity::Angle,
-        ],
-        &units,
-    )
-}
-
 /// Names a sweep's scene in figure notes: `contour g1, q = 5, theta = 0.75, k = 20`.
 pub fn scene_title(r: &Resolved, profile: &str) -> String {
     let g = &r.given;
@@ -423,169 +349,4 @@ pub fn scene_title(r: &Resolved, profile: &str) -> String {
         s += ", rigid support";
     }
     s
-}
-
-/// The whisker at the events and a few positions between them, with the obstacle, the
-/// contact points and the sweep direction (thesis Fig. 5.7 style).
-fn write_shapes_svg(
-    r: &Resolved,
-    contour: &Profile,
-    res: &SweepResult,
-    ctx: &FigureContext,
-    path: &std::path::Path,
-) -> Result<(), CliError> {
-    let l = ctx.units.scale(Quantity::Length);
-    let contact: Vec<usize> = (0..res.points.len())
-        .filter(|&i| res.points[i].phase != Phase::None)
-        .collect();
-    let events = sweep_events(res);
-    // Rows to draw: every event and evenly spaced rows between, 8 in all at most.
-    let mut picks: Vec<usize> = events.iter().map(|e| e.index).collect();
-    let extra = 8usize.saturating_sub(picks.len()).min(contact.len());
-    for k in 0..extra {
-        let i = contact[(k + 1) * contact.len() / (extra + 1)];
-        picks.push(i);
-    }
-    picks.sort_unstable();
-    picks.dedup();
-    let mut chart = Chart::new(
-        "whisker shapes along the sweep",
-        ctx.units.label("x", Quantity::Length),
-        ctx.units.label("y", Quantity::Length),
-    )
-    .equal_aspect()
-    .note(format!("{}; {}", ctx.scene, ctx.units.describe()));
-    let mut xs = vec![];
-    let mut named = [false; 3];
-    let mut contact_pts = Vec::new();
-    let mut bases = Vec::new();
-    for &i in &picks {
-        let p = &res.points[i];
-        let scene = Scene::new(
-            r.scene.whisker,
-            contact_loads(
-                FluidLoad {
-                    q: res.q,
-                    alpha: res.alpha,
-                },
-                p.psi,
-                p.f,
-                p.s1,
-            ),
-        );
-        let Ok(sol) = shape_from_tip_angle(&scene, p.phi1, 1e-10, 200) else {
-            continue;
-        };
-        // Draw only shapes that pass through their contact point.
-        let miss = (sol.loaded_end.x + p.x0 - p.xc).hypot(sol.loaded_end.y - p.yc);
-        if miss.is_nan() || miss >= 1e-4 {
-            continue;
-        }
-        let pts: Vec<(f64, f64)> = sol
-            .elastica
-            .x
-            .iter()
-            .zip(&sol.elastica.y)
-            .map(|(x, y)| ((x + p.x0) * l, *y * l))
-            .collect();
-        xs.extend(pts.iter().map(|q| q.0 / l));
-        let idx = if p.phase == Phase::B { 2 } else { 1 };
-        let name = if named[idx] {
-            String::new()
-        } else {
-            named[idx] = true;
-            match p.phase {
-                Phase::B => "whisker, phase B (tangential)",
-                _ => "whisker, phase A (tip)",
-            }
-            .to_string()
-        };
-        let (color, dash) = if idx == 2 {
-            (1, Dash::Dashed)
-        } else {
-            (0, Dash::Solid)
-        };
-        chart = chart.with(Series::new(name, pts, Style::Line).color(color).dash(dash));
-        contact_pts.push((p.xc * l, p.yc * l));
-        bases.push((p.x0 * l, 0.0));
-    }
-    if xs.is_empty() {
-        return Ok(());
-    }
-    let (lo, hi) = xs
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
-            (a.min(x), b.max(x))
-        });
-    let (dlo, dhi) = contour.domain();
-    let (a, b) = ((lo - 0.2).max(dlo), (hi + 0.2).min(dhi));
-    let ymax = 1.25;
-    let line: Vec<(f64, f64)> = (0..=400)
-        .map(|i| {
-            let x = a + (b - a) * i as f64 / 400.0;
-            (x, contour.y(x))
-        })
-        .filter(|p| p.1.is_finite() && p.1 < ymax)
-        .map(|(x, y)| (x * l, y * l))
-        .collect();
-    // The obstacle first (its solid side filled under everything else).
-    chart.series.insert(
-        0,
-        Series::new("obstacle (solid above)", line, Style::Obstacle).color(6),
-    );
-    chart = chart.with(
-        Series::new("contact points", contact_pts, Style::Points)
-            .color(5)
-            .marker(Marker::Circle),
-    );
-    chart = chart.with(
-        Series::new("base positions", bases, Style::Points)
-            .color(7)
-            .marker(Marker::Square),
-    );
-    let last = events.len().saturating_sub(1);
-    for (k, e) in events.iter().enumerate() {
-        let p = &res.points[e.index];
-        let (color, marker) = match k {
-            0 => (2, Marker::Triangle),
-            k if k == last => (3, Marker::Diamond),
-            k => [
-                (4, Marker::TriangleDown),
-                (8, Marker::Square),
-                (9, Marker::Circle),
-            ][(k - 1) % 3],
-        };
-        chart = chart.mark(
-            Mark::point(p.xc * l, p.yc * l, e.label.clone(), color)
-                .styled(MarkStyle::Marker(marker)),
-        );
-    }
-    let first_x0 = contact.first().map_or(hi, |&i| res.points[i].x0);
-    let span = (hi - lo).max(0.2);
-    chart = chart.mark(Mark::arrow(
-        (first_x0 + 0.05 * span) * l,
-        -0.08 * l,
-        -0.3 * span * l,
-        0.0,
-        "sweep (base → −x)",
-        7,
-    ));
-    if res.q > 0.0 {
-        // The flow's direction, (cos α, −sin α), in the free space below the base line.
-        let len = 0.15 * span;
-        chart = chart.mark(Mark::arrow(
-            (a + 0.02 * span) * l,
-            -0.12 * l,
-            len * res.alpha.cos() * l,
-            -len * res.alpha.sin() * l,
-            "flow direction",
-            0,
-        ));
-    }
-    // The figure's height follows the data (equal scales): whisker lengths above the base
-    // line, the arrow below it.
-    let (xspan, yspan) = ((b - a).max(0.5), 1.4);
-    let plot_w = 1000.0 - 380.0;
-    let height = (plot_w * yspan / xspan + 170.0).clamp(420.0, 900.0) as u32;
-    write_svg(&chart, path, (1000, height))
 }

@@ -48,7 +48,7 @@ pub(super) fn draw_heading(svg: &mut Svg, area: Rect, title: &str, note: &str) -
     if !title.is_empty() {
         for line in wrap(title, TITLE_SIZE, area.w - 2.0 * PAD) {
             y += TITLE_SIZE;
-            svg.text(cx, y, &line, TITLE_SIZE, "middle", "#000000", false);
+            svg.text((cx, y), &line, TITLE_SIZE, "middle", "#000000", false);
             y += 2.0;
         }
         y += 1.0;
@@ -56,7 +56,7 @@ pub(super) fn draw_heading(svg: &mut Svg, area: Rect, title: &str, note: &str) -
     if !note.is_empty() {
         for line in wrap(note, NOTE_SIZE, area.w - 2.0 * PAD) {
             y += NOTE_SIZE;
-            svg.text(cx, y, &line, NOTE_SIZE, "middle", "#404040", false);
+            svg.text((cx, y), &line, NOTE_SIZE, "middle", "#404040", false);
             y += 1.5;
         }
         y += 1.5;
@@ -103,8 +103,7 @@ pub(super) fn draw_axes(
             None,
         );
         svg.text(
-            px,
-            r.y + r.h + 3.5 + TICK_SIZE,
+            (px, r.y + r.h + 3.5 + TICK_SIZE),
             label,
             TICK_SIZE,
             "middle",
@@ -120,8 +119,7 @@ pub(super) fn draw_axes(
         }
         svg.line((r.x - 2.5, py), (r.x, py), "#303030", AXIS_W, None);
         svg.text(
-            r.x - 3.5,
-            py + TICK_SIZE * 0.36,
+            (r.x - 3.5, py + TICK_SIZE * 0.36),
             label,
             TICK_SIZE,
             "end",
@@ -132,8 +130,10 @@ pub(super) fn draw_axes(
     }
     svg.rect(r, "none", Some("#303030"));
     svg.text(
-        r.x + r.w / 2.0,
-        r.y + r.h + 3.5 + TICK_SIZE + 3.0 + LABEL_SIZE,
+        (
+            r.x + r.w / 2.0,
+            r.y + r.h + 3.5 + TICK_SIZE + 3.0 + LABEL_SIZE,
+        ),
         labels.0,
         LABEL_SIZE,
         "middle",
@@ -142,8 +142,7 @@ pub(super) fn draw_axes(
     );
     let lx = r.x - 3.5 - ytick_w - 3.0 - 2.0;
     svg.text(
-        lx,
-        r.y + r.h / 2.0,
+        (lx, r.y + r.h / 2.0),
         labels.1,
         LABEL_SIZE,
         "middle",

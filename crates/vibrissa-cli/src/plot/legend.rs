@@ -153,8 +153,7 @@ pub(super) fn draw_legend_entry(svg: &mut Svg, x: f64, cy: f64, e: &Entry<'_>) {
         }
     }
     svg.text(
-        sx1 + 3.0,
-        cy + LEGEND_SIZE * 0.35,
+        (sx1 + 3.0, cy + LEGEND_SIZE * 0.35),
         e.label(),
         LEGEND_SIZE,
         "start",

@@ -406,6 +406,17 @@ fn rgb(c: (u8, u8, u8)) -> String {
 mod tests {
     use super::*;
 
+    /// A linear axis over `lo..hi` drawn on 100 pixels.
+    fn linear(lo: f64, hi: f64) -> Axis {
+        Axis {
+            lo,
+            hi,
+            log: false,
+            p0: 0.0,
+            p1: 100.0,
+        }
+    }
+
     #[test]
     fn runs_split_at_nan_and_nonpositive_on_log() {
         let p = [
@@ -432,13 +443,7 @@ mod tests {
             .into_iter(),
             false,
         );
-        let a = Axis {
-            lo,
-            hi,
-            log: false,
-            p0: 0.0,
-            p1: 100.0,
-        };
+        let a = linear(lo, hi);
         let t = a.ticks(5);
         let labels: std::collections::BTreeSet<&String> = t.iter().map(|(_, l)| l).collect();
         assert_eq!(labels.len(), t.len(), "{t:?}");
@@ -497,13 +502,7 @@ mod tests {
         // Linear: the range widens to ticks on both sides (the old padding left x_c's
         // -0.94..0.75 with the one tick 0).
         let (lo, hi) = to_ticks((-0.97, 0.78), (-0.94, 0.75), false, 100.0);
-        let a = Axis {
-            lo,
-            hi,
-            log: false,
-            p0: 0.0,
-            p1: 100.0,
-        };
+        let a = linear(lo, hi);
         let t = a.ticks(tick_target(100.0));
         assert!(t.len() >= 3, "{t:?}");
         assert!(

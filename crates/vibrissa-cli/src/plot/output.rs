@@ -145,15 +145,7 @@ pub fn write_panels_with_heading(
     path: &Path,
     size: (u32, u32),
 ) -> Result<(), CliError> {
-    let fail = |reason: String| CliError::Plot {
-        path: path.to_path_buf(),
-        reason,
-    };
-    if figure_formats() == FigureFormats::None {
-        return Ok(());
-    }
-    let svg = render_figure_with(charts, cols, size, heading).map_err(fail)?;
-    write_rendered(&svg, path)
+    render_and_write(path, || render_figure_with(charts, cols, size, heading))
 }
 
 /// Writes a figure made of charts and maps, `cols` panels per row: the SVG at `path` and
@@ -165,14 +157,22 @@ pub fn write_figure(
     path: &Path,
     size: (u32, u32),
 ) -> Result<(), CliError> {
-    let fail = |reason: String| CliError::Plot {
-        path: path.to_path_buf(),
-        reason,
-    };
+    render_and_write(path, || render_figure(panels, cols, size))
+}
+
+/// Renders a figure's SVG (unless no figures are wanted) and writes it with its PNG twin
+/// at `path`; a rendering failure names the path.
+fn render_and_write(
+    path: &Path,
+    render: impl FnOnce() -> Result<String, String>,
+) -> Result<(), CliError> {
     if figure_formats() == FigureFormats::None {
         return Ok(());
     }
-    let svg = render_figure(panels, cols, size).map_err(fail)?;
+    let svg = render().map_err(|reason| CliError::Plot {
+        path: path.to_path_buf(),
+        reason,
+    })?;
     write_rendered(&svg, path)
 }
 

@@ -164,12 +164,10 @@ impl Svg {
         self.out
     }
 
-    /// Text with its baseline at `y`; `anchor` is start, middle or end.
-    #[allow(clippy::too_many_arguments)]
+    /// Text with its baseline at `(x, y)`; `anchor` is start, middle or end.
     pub(super) fn text(
         &mut self,
-        x: f64,
-        y: f64,
+        (x, y): (f64, f64),
         s: &str,
         size: f64,
         anchor: &str,

@@ -1,0 +1,195 @@
+//! The parse and resolve steps of `vibrissa calibrate`: the start whisker and flow (scene
+//! file under the flags), the parameters to fit (`--fit`), and each log argument
+//! (`LOG` or `LOG=PROFILE`, a file or a sweep folder) read into a [`LogInput`].
+
+use std::path::{Path, PathBuf};
+
+use contact_sim::Profile;
+use profile_recon::calibrate::{CalibParam, CalibSettings};
+use profile_recon::ReconError;
+
+use crate::cli::{CalibrateArgs, ModelFlags};
+use crate::commands::recon_io;
+use crate::commands::reconstruct::{rows_of, REQUIRED_COLUMNS};
+use crate::csvio::{read_table, Table};
+use crate::error::CliError;
+use crate::resolve::{physical_whisker, resolve_model, LoadedScene, ProfileArg, Resolved};
+use crate::units::UnitSystem;
+
+/// One log as read: its origin, table (model units), x0 as given and contour. The Python
+/// package builds these from columns in memory (`path` then names the log in messages).
+#[derive(Debug, Clone)]
+pub struct LogInput {
+    /// The argument as given (names the log in the outputs).
+    pub arg: String,
+    /// The observables file (or the origin named in messages).
+    pub path: PathBuf,
+    /// The table (model units).
+    pub table: Table,
+    /// The x0 column as given.
+    pub x0_given: Vec<f64>,
+    /// The known contour: its spec and the parsed, dimensionless profile.
+    pub profile: (String, Profile),
+}
+
+/// `LOG` or `LOG=PROFILE`: the argument, the path and the profile spec. An argument that
+/// names an existing file or folder as a whole is a path (even with `=` in it).
+pub(crate) fn split_log_arg(arg: &str) -> Result<(String, PathBuf, Option<String>), CliError> {
+    let whole = PathBuf::from(arg);
+    if whole.exists() {
+        return Ok((arg.to_string(), whole, None));
+    }
+    if let Some((p, prof)) = arg.rsplit_once('=') {
+        let path = PathBuf::from(p);
+        if path.exists() {
+            return Ok((arg.to_string(), path, Some(prof.to_string())));
+        }
+    }
+    Err(CliError::io(
+        arg,
+        std::io::Error::new(
+            std::io::ErrorKind::NotFound,
+            "no such log (an observables CSV or a sweep folder, optionally LOG=PROFILE)",
+        ),
+    ))
+}
+
+/// Parses `--fit` (default `theta,a,b,k`; `ei` only in physical units).
+pub(crate) fn parse_fit(
+    raw: Option<&str>,
+    units: &UnitSystem,
+) -> Result<Vec<CalibParam>, CliError> {
+    let Some(raw) = raw else {
+        return Ok(CalibSettings::default().fit);
+    };
+    let mut out = Vec::new();
+    for name in raw.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+        let p = CalibParam::parse(name).ok_or_else(|| {
+            CliError::invalid_argument(
+                "--fit",
+                raw,
+                format!("unknown parameter `{name}`: expected a list of theta, a, b, k, ei"),
+            )
+        })?;
+        if p == CalibParam::Ei && !units.is_physical() {
+            return Err(CliError::invalid_argument(
+                "--fit",
+                raw,
+                "ei cannot be fitted to a dimensionless log: its forces are in units of E·Ib/L² \
+                 (ei = 1 by definition); give a physical scene (units: Physical(...))",
+            ));
+        }
+        if out.contains(&p) {
+            return Err(CliError::invalid_argument(
+                "--fit",
+                raw,
+                format!("`{name}` is given twice"),
+            ));
+        }
+        out.push(p);
+    }
+    if out.is_empty() {
+        return Err(CliError::invalid_argument(
+            "--fit",
+            raw,
+            "no parameter to fit",
+        ));
+    }
+    Ok(out)
+}
+
+/// Reads one log: its observables (a sweep folder's `observables.csv`), converted to model
+/// units, and its known contour (`LOG=PROFILE`, else `--profile`, else the folder's
+/// `scene.ron`).
+pub(crate) fn read_log(
+    arg: &str,
+    path: &Path,
+    profile: Option<&str>,
+    args: &CalibrateArgs,
+    r: &Resolved,
+) -> Result<LogInput, CliError> {
+    let units = r.units();
+    let (log_path, folder_scene) = if path.is_dir() {
+        let (log, scene) = recon_io::resolve_input(path, None)?;
+        (log, scene)
+    } else {
+        (path.to_path_buf(), None)
+    };
+    let folder = LoadedScene::load_opt(folder_scene.as_deref())?;
+    if let Some(f) = &folder {
+        if physical_whisker(f)? != r.physical {
+            return Err(CliError::Usage {
+                reason: format!(
+                    "log `{arg}`: its scene.ron has other units than the calibration's ({}); \
+                     calibrate logs of one unit system together",
+                    units.describe()
+                ),
+            });
+        }
+    }
+    let prof = match (profile, &args.profile) {
+        (Some(p), _) => ProfileArg {
+            spec: p.to_string(),
+            file: None,
+        },
+        (None, Some(p)) => ProfileArg {
+            spec: p.clone(),
+            file: None,
+        },
+        (None, None) => match folder
+            .as_ref()
+            .or(r.file.as_ref())
+            .and_then(|f| f.file.profile.clone().map(|p| (p, f.clone())))
+        {
+            Some((spec, f)) => ProfileArg {
+                spec,
+                file: Some(f),
+            },
+            None => {
+                return Err(CliError::Usage {
+                    reason: format!(
+                        "log `{arg}`: no known contour: give --profile P, `{arg}=PROFILE`, a \
+                         sweep folder or a --scene whose scene.ron names its profile"
+                    ),
+                })
+            }
+        },
+    };
+    let parsed = prof.parse(&units)?;
+    let mut table = read_table(&log_path, &REQUIRED_COLUMNS, 2)?;
+    let x0_given = recon_io::to_model_units(&mut table, &units)?;
+    let rows = rows_of(&table)?;
+    for (i, row) in rows.iter().enumerate() {
+        row.validate(i).map_err(|e| match e {
+            ReconError::NonFinite { row, column, value } => CliError::Csv {
+                path: log_path.clone(),
+                line: table.line_of(row).unwrap_or(1),
+                column: Some(column.to_string()),
+                reason: format!("value `{value}` is not finite"),
+            },
+            other => CliError::solver(other),
+        })?;
+    }
+    Ok(LogInput {
+        arg: arg.to_string(),
+        path: log_path,
+        table,
+        x0_given,
+        profile: (prof.spec.clone(), parsed),
+    })
+}
+
+/// The start whisker and flow of a calibration: the scene file at `scene` (if any) under
+/// the whisker and flow flags.
+pub(crate) fn calib_model(
+    args: &CalibrateArgs,
+    scene: Option<&Path>,
+) -> Result<Resolved, CliError> {
+    let file = LoadedScene::load_opt(scene)?;
+    let flags = ModelFlags {
+        whisker: args.whisker.clone(),
+        fluid: args.fluid.clone(),
+        ..ModelFlags::default()
+    };
+    resolve_model(&flags, file)
+}

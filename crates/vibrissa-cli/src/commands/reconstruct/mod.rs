@@ -1,0 +1,182 @@
+//! `vibrissa reconstruct`: identification of the fluid load and contour reconstruction from
+//! an observables log (thesis ch. 6), written as `reconstruction.csv` and its figures.
+//!
+//! The command reads as parse -> resolve -> compute -> write -> summary:
+//! [`options`] (flags, whisker), [`compute`] (the library and its culprits),
+//! [`recon_io`] (inputs, units, `reconstruction.csv`, `scene.ron`),
+//! [`figures`], [`summary`] (text and JSON); [`stream`] is `--stream`.
+
+pub mod compute;
+pub mod figures;
+pub mod options;
+pub mod stream;
+pub mod summary;
+
+use std::path::{Path, PathBuf};
+
+use contact_sim::Profile;
+use profile_recon::{contour_error, Reconstruction};
+
+pub use super::recon_io::{RECONSTRUCTION_HEADER, RECON_CSV};
+pub use compute::{reconstruct_log, rows_of};
+pub use figures::write_reconstruction_figures;
+pub use options::{
+    recon_model, ReconOptions, DEFAULT_TOLERANCE_ACCURATE, DEFAULT_TOLERANCE_THESIS,
+};
+pub use summary::{
+    max_of, phase_counts, recon_json, row_ranges, rows_without_points, summary_line,
+};
+
+use crate::atomic::OutputDir;
+use crate::cli::ReconstructArgs;
+use crate::commands::recon_io;
+use crate::csvio::{read_table, Table};
+use crate::error::CliError;
+use crate::resolve::{LoadedScene, ProfileArg, Resolved};
+use crate::units::{Quantity, UnitSystem};
+use summary::unit_suffix;
+
+/// The columns an observables log must have.
+pub const REQUIRED_COLUMNS: [&str; 5] = ["x0", "Ax", "Ay", "MA", "phi0"];
+
+/// What `reconstruct LOG` works on once its inputs are resolved.
+struct Inputs<'a> {
+    /// The log as given (a file, or a sweep folder).
+    observables: &'a Path,
+    out_dir: &'a Path,
+    log_path: PathBuf,
+    opts: ReconOptions,
+    r: Resolved,
+    units: UnitSystem,
+    /// `--profile`: the true contour, for the error column.
+    truth: Option<Profile>,
+}
+
+/// Runs `vibrissa reconstruct`.
+pub fn run(args: &ReconstructArgs) -> Result<(), CliError> {
+    if args.stream {
+        return stream::run_stream(args);
+    }
+    let inputs = resolve(args)?;
+    let mut table = read_table(&inputs.log_path, &REQUIRED_COLUMNS, 2)?;
+    let x0_given = recon_io::to_model_units(&mut table, &inputs.units)?;
+    let rec = reconstruct_log(args, &inputs.opts, &inputs.r, &table)?;
+    let errors = inputs.truth.as_ref().map(|p| contour_error(&rec.points, p));
+    let files = write(args, &inputs, &rec, errors.as_deref(), &x0_given)?;
+    print_summary(args, &inputs, &rec, &table, errors.as_deref(), files.len());
+    Ok(())
+}
+
+/// Parse and resolve: the flags, the log and scene to read (a sweep folder gives both),
+/// the whisker and the true contour.
+fn resolve(args: &ReconstructArgs) -> Result<Inputs<'_>, CliError> {
+    let (Some(observables), Some(out_dir)) = (&args.observables, &args.out) else {
+        return Err(CliError::invalid_argument(
+            "OBSERVABLES.csv",
+            "",
+            "the observables log and --out are needed (or --stream)",
+        ));
+    };
+    let opts = ReconOptions::parse(args)?;
+    let (log_path, scene_path) = recon_io::resolve_input(observables, args.scene.as_deref())?;
+    crate::atomic::refuse_over_inputs(out_dir, &[("log", &log_path)])?;
+    let file = LoadedScene::load_opt(scene_path.as_deref())?;
+    let r = recon_model(args, file)?;
+    let units = r.units();
+    let truth = match &args.profile {
+        Some(spec) => Some(
+            ProfileArg {
+                spec: spec.clone(),
+                file: None,
+            }
+            .parse(&units)?,
+        ),
+        None => None,
+    };
+    Ok(Inputs {
+        observables,
+        out_dir,
+        log_path,
+        opts,
+        r,
+        units,
+        truth,
+    })
+}
+
+/// Write: `reconstruction.csv`, `scene.ron` and the figures into the output folder, all or
+/// nothing; returns the files written.
+fn write(
+    args: &ReconstructArgs,
+    inputs: &Inputs<'_>,
+    rec: &Reconstruction,
+    errors: Option<&[f64]>,
+    x0_given: &[f64],
+) -> Result<Vec<PathBuf>, CliError> {
+    let units = &inputs.units;
+    let out = OutputDir::create(inputs.out_dir)?;
+    recon_io::write_reconstruction_csv(
+        &rec.points,
+        errors,
+        units,
+        x0_given,
+        &out.path_for(RECON_CSV),
+    )?;
+    recon_io::write_recon_scene(
+        &inputs.r,
+        rec.identification.q,
+        args.profile.clone(),
+        &inputs.log_path,
+        &out.path_for(recon_io::SCENE_RON),
+    )?;
+    write_reconstruction_figures(
+        &rec.points,
+        inputs.truth.as_ref(),
+        errors,
+        &format!(
+            "q = {:.6}{} {}",
+            rec.identification.q * units.scale(Quantity::LineLoad),
+            unit_suffix(units, Quantity::LineLoad),
+            if rec.q_given { "given" } else { "identified" }
+        ),
+        units,
+        |n| out.path_for(n),
+    )?;
+    out.commit()
+}
+
+/// Summary: the JSON object (`--json`) or the summary lines.
+fn print_summary(
+    args: &ReconstructArgs,
+    inputs: &Inputs<'_>,
+    rec: &Reconstruction,
+    table: &Table,
+    errors: Option<&[f64]>,
+    files: usize,
+) {
+    let (units, method, out_dir) = (&inputs.units, inputs.opts.method, inputs.out_dir);
+    let max_error = errors.map(max_of);
+    if args.json {
+        let v = recon_json(rec, method, table.rows(), units, max_error, out_dir);
+        println!("{v}");
+        return;
+    }
+    let title = inputs
+        .observables
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "observables".to_string());
+    println!(
+        "reconstruct {}: {}",
+        title,
+        summary_line(rec, method, table.rows(), units)
+    );
+    if let Some(e) = max_error {
+        println!(
+            "max contour error e = {:.3e}{} (eq. 6.11)",
+            e * units.scale(Quantity::Length),
+            unit_suffix(units, Quantity::Length)
+        );
+    }
+    println!("wrote {} files to {}", files, out_dir.display());
+}

@@ -1,0 +1,218 @@
+//! `vibrissa reconstruct --stream`: a sensor's log on standard input, one row per line,
+//! each contact point on standard output as soon as it is known. The rows are read by the
+//! CSV reader of the files ([`LineReader`]) and converted from the scene's units by the
+//! quantities of a file's columns ([`recon_io::input_scales`]); each point is a row of
+//! `reconstruction.csv` ([`recon_io::recon_cells`]).
+
+use std::io::{BufRead, Write};
+use std::path::{Path, PathBuf};
+
+use profile_recon::{ObservableRow, ReconError, ReconPoint, Streamer};
+
+use super::options::{recon_model, ReconOptions};
+use super::REQUIRED_COLUMNS;
+use crate::cli::ReconstructArgs;
+use crate::commands::recon_io;
+use crate::csvio::{Cell, HeaderProblemKind, LineProblem, LineReader};
+use crate::error::CliError;
+use crate::resolve::LoadedScene;
+use crate::units::UnitSystem;
+
+/// The name of standard input in messages.
+const STDIN: &str = "<stdin>";
+
+/// Runs the stream: rows from standard input (a header line naming the columns first),
+/// each contact point to standard output as soon as it is known, in the scene's units (a
+/// physical scene's log in mm, N, N mm); rows are checked as in a file.
+pub fn run_stream(args: &ReconstructArgs) -> Result<(), CliError> {
+    // parse and resolve: the one positional argument is the scene (a sweep folder gives
+    // its scene.ron)
+    let opts = ReconOptions::parse_stream(args)?;
+    let scene = stream_scene(args.scene.as_deref().or(args.observables.as_deref()))?;
+    let file = LoadedScene::load_opt(scene.as_deref())?;
+    let r = recon_model(args, file)?;
+    let units = r.units();
+    let scale = recon_io::input_scales(&units);
+    let (flow, settings) = (opts.known_flow(args, &r), opts.settings());
+    let mut stream = Streamer::new(&r.scene.whisker, flow, &settings)
+        .map_err(|e| stdin_err(1, e.to_string()))?;
+    // compute and write, row by row
+    let mut out = StreamOut::new(&units)?;
+    let mut reader: Option<LineReader> = None;
+    // line numbers of the data rows (the library's 0-based row index -> input line)
+    let mut lines: Vec<usize> = Vec::new();
+    for (k, line) in std::io::stdin().lock().lines().enumerate() {
+        let n = k + 1;
+        let line = line.map_err(|e| stdin_err(n, format!("cannot read: {e}")))?;
+        let line = line.trim_end_matches('\r').trim_start_matches('\u{feff}');
+        if LineReader::skips(line) {
+            continue;
+        }
+        let Some(rows) = &reader else {
+            reader = Some(
+                LineReader::header(line, &REQUIRED_COLUMNS).map_err(|p| line_err(n, line, p))?,
+            );
+            continue;
+        };
+        let v = rows.values(line).map_err(|p| line_err(n, line, p))?;
+        lines.push(n);
+        let row = ObservableRow {
+            x0: v[0] / scale[0],
+            ax: v[1] / scale[1],
+            ay: v[2] / scale[2],
+            ma: v[3] / scale[3],
+            phi0: v[4] / scale[4],
+        };
+        let points = stream.push(row).map_err(|e| at_row(&lines, e))?;
+        out.write(&points)?;
+    }
+    if reader.is_none() {
+        return Err(stdin_err(
+            1,
+            format!(
+                "standard input is empty: --stream reads an observables log, a header line \
+                 naming {} and then one row per line",
+                REQUIRED_COLUMNS.join(", ")
+            ),
+        ));
+    }
+    let points = stream.finish().map_err(|e| at_row(&lines, e))?;
+    out.write(&points)
+}
+
+/// An error at line `line` of standard input.
+fn stdin_err(line: usize, reason: String) -> CliError {
+    CliError::Csv {
+        path: PathBuf::from(STDIN),
+        line,
+        column: None,
+        reason,
+    }
+}
+
+/// The message of a problem of the reader at line `n` (`line`: its text).
+fn line_err(n: usize, line: &str, p: LineProblem) -> CliError {
+    let columns = REQUIRED_COLUMNS.join(", ");
+    let reason = match p {
+        LineProblem::Header(want, HeaderProblemKind::Missing) => format!(
+            "missing required column {want} in the header (found `{line}`; a log starts with \
+             a header naming {columns})"
+        ),
+        LineProblem::Header(i, HeaderProblemKind::Empty) => format!("header field {i} is empty"),
+        LineProblem::Header(h, HeaderProblemKind::Twice) => {
+            format!("column `{h}`: the column appears twice in the header")
+        }
+        LineProblem::Fields { found, expected } => {
+            format!("{found} fields where the header has {expected} (the columns {columns})")
+        }
+        LineProblem::Cell(j, value, problem) => {
+            format!(
+                "column `{}`: {}",
+                REQUIRED_COLUMNS[j],
+                problem.reason(&value)
+            )
+        }
+        LineProblem::Csv(reason) => reason,
+    };
+    stdin_err(n, reason)
+}
+
+/// A library error at the input line of its row.
+fn at_row(lines: &[usize], e: ReconError) -> CliError {
+    let row = match &e {
+        ReconError::NonFinite { row, .. } | ReconError::InconsistentRow { row, .. } => Some(*row),
+        _ => None,
+    };
+    let line = row.and_then(|r| lines.get(r).copied()).unwrap_or(1);
+    stdin_err(line, e.to_string())
+}
+
+/// The scene of a stream: the file given, or the `scene.ron` of a sweep folder.
+fn stream_scene(given: Option<&Path>) -> Result<Option<PathBuf>, CliError> {
+    let Some(path) = given else { return Ok(None) };
+    if !path.is_dir() {
+        return Ok(Some(path.to_path_buf()));
+    }
+    let scene = path.join(recon_io::SCENE_RON);
+    if !scene.is_file() {
+        return Err(CliError::io(
+            &scene,
+            std::io::Error::new(
+                std::io::ErrorKind::NotFound,
+                "--stream reads the log from standard input and takes the whisker from a \
+                 scene file; this folder has no scene.ron",
+            ),
+        ));
+    }
+    Ok(Some(scene))
+}
+
+/// A row of cells as the stream prints it: numbers in Rust's plain notation (`{}`, as the
+/// stream always printed them; the file writes the shortest round-trip form), texts as
+/// they are (phase labels, never quoted).
+fn plain_line(cells: &[Cell<'_>]) -> String {
+    cells
+        .iter()
+        .map(|c| match c {
+            Cell::Num(v) => v.to_string(),
+            Cell::Text(s) => (*s).to_string(),
+        })
+        .collect::<Vec<_>>()
+        .join(",")
+}
+
+/// The stream's standard output: the header of `reconstruction.csv` (without `error`), then
+/// each point as soon as it is known, flushed, in the scene's units.
+struct StreamOut<'u> {
+    out: std::io::StdoutLock<'static>,
+    units: &'u UnitSystem,
+}
+
+impl<'u> StreamOut<'u> {
+    fn new(units: &'u UnitSystem) -> Result<Self, CliError> {
+        let mut s = StreamOut {
+            out: std::io::stdout().lock(),
+            units,
+        };
+        s.line(&recon_io::reconstruction_header(false).join(","))?;
+        Ok(s)
+    }
+
+    fn line(&mut self, text: &str) -> Result<(), CliError> {
+        writeln!(self.out, "{text}")
+            .and_then(|_| self.out.flush())
+            .map_err(|e| stdin_err(1, format!("cannot write to standard output: {e}")))
+    }
+
+    fn write(&mut self, points: &[ReconPoint]) -> Result<(), CliError> {
+        for p in points {
+            let text = plain_line(&recon_io::recon_cells(p, self.units, &[], None));
+            self.line(&text)?;
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn stream_lines_are_plain_and_problems_name_the_line() {
+        let cells = [Cell::Num(1e-12), Cell::Text("A"), Cell::Num(3.0)];
+        assert_eq!(plain_line(&cells), "0.000000000001,A,3");
+        let e = line_err(
+            2,
+            "1,2,3",
+            LineProblem::Fields {
+                found: 3,
+                expected: 5,
+            },
+        );
+        assert!(e.to_string().contains("<stdin>:2:"), "{e}");
+        assert!(
+            e.to_string().contains("3 fields where the header has 5"),
+            "{e}"
+        );
+    }
+}

@@ -1,0 +1,265 @@
+//! Reading and writing the CSV files of the command line (observables, elastica,
+//! reconstructions, tabulated contours), on top of the `csv` crate.
+//!
+//! Numbers are written in the shortest form that parses back to the identical `f64`, so a
+//! value copied through a CSV file survives bit for bit. The reader is lenient about what
+//! other programs produce (comma, tab or semicolon as the delimiter, detected from the
+//! header; free column order, extra columns, whitespace, CRLF, quoted fields, a byte order
+//! mark, `#` comment lines, decimal commas in semicolon files) and strict about what the
+//! command needs, naming the file, line and column of every problem.
+//!
+//! Units: a table may have a sidecar `NAME.units.csv` (same header, one row of units, see
+//! [`units_sidecar_path`]); [`write_units_sidecar`] writes one and [`read_units_sidecar`]
+//! reads it back.
+//!
+//! - this module: [`CsvWriter`] and [`format_f64`], and the units sidecars;
+//! - [`read`]: [`read_table`], the one reader of CSV files ([`Table`]);
+//! - [`lines`]: [`LineReader`], the same reader one line at a time (standard input).
+
+pub mod lines;
+pub mod read;
+
+pub use lines::{HeaderProblemKind, LineProblem, LineReader};
+pub use read::{
+    check_header, detect_delimiter, parse_f64, parse_table, read_table, required_number,
+    CellProblem, HeaderProblem, Table,
+};
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use crate::atomic::write_atomic;
+use crate::error::CliError;
+
+/// One cell of a row to write.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Cell<'a> {
+    /// A number, written round-trip exact (`NaN`, `inf`, `-inf` for non-finite values).
+    Num(f64),
+    /// A text value (written quoted if it contains a delimiter, quote or line break).
+    Text(&'a str),
+}
+
+impl From<f64> for Cell<'_> {
+    fn from(v: f64) -> Self {
+        Cell::Num(v)
+    }
+}
+
+impl<'a> From<&'a str> for Cell<'a> {
+    fn from(v: &'a str) -> Self {
+        Cell::Text(v)
+    }
+}
+
+/// Formats `v` in the shortest decimal form that parses back to exactly `v`.
+///
+/// Plain notation is used for moderate magnitudes, scientific notation otherwise.
+pub fn format_f64(v: f64) -> String {
+    if v.is_nan() {
+        return "NaN".to_string();
+    }
+    if v.is_infinite() {
+        return if v > 0.0 { "inf" } else { "-inf" }.to_string();
+    }
+    let a = v.abs();
+    if a == 0.0 || (1e-4..1e15).contains(&a) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
+}
+
+/// Builds a CSV table in memory (comma separated, RFC 4180 quoting by the `csv` crate):
+/// a header and rows of numbers and strings, or serde records.
+#[derive(Debug, Clone)]
+pub struct CsvWriter {
+    columns: usize,
+    text: String,
+}
+
+/// One record encoded by the `csv` crate (quoting as needed, `\n` terminated).
+fn encode_record<I, T>(fields: I) -> Result<String, String>
+where
+    I: IntoIterator<Item = T>,
+    T: AsRef<[u8]>,
+{
+    let mut w = csv::WriterBuilder::new()
+        .has_headers(false)
+        .from_writer(Vec::new());
+    w.write_record(fields).map_err(|e| e.to_string())?;
+    let bytes = w.into_inner().map_err(|e| e.to_string())?;
+    String::from_utf8(bytes).map_err(|e| e.to_string())
+}
+
+impl CsvWriter {
+    /// Starts a table with the given header.
+    pub fn new(header: &[&str]) -> Self {
+        // Encoding plain strings cannot fail; keep a readable fallback all the same.
+        let text = encode_record(header).unwrap_or_else(|_| header.join(",") + "\n");
+        CsvWriter {
+            columns: header.len(),
+            text,
+        }
+    }
+
+    /// Appends one row.
+    ///
+    /// # Errors
+    /// [`CliError::InvalidArgument`] if the row does not have as many cells as the header
+    /// (a programming error of the caller, reported instead of panicking).
+    pub fn push_row(&mut self, row: &[Cell<'_>]) -> Result<(), CliError> {
+        if row.len() != self.columns {
+            return Err(CliError::invalid_argument(
+                "csv row",
+                format!("{} cells", row.len()),
+                format!("the header has {} columns", self.columns),
+            ));
+        }
+        let fields: Vec<String> = row
+            .iter()
+            .map(|c| match c {
+                Cell::Num(v) => format_f64(*v),
+                Cell::Text(s) => (*s).to_string(),
+            })
+            .collect();
+        let line = encode_record(&fields)
+            .map_err(|e| CliError::invalid_argument("csv row", fields.join(","), e))?;
+        self.text.push_str(&line);
+        Ok(())
+    }
+
+    /// Appends a row made only of numbers.
+    pub fn push_numbers(&mut self, row: &[f64]) -> Result<(), CliError> {
+        let cells: Vec<Cell<'_>> = row.iter().map(|&v| Cell::Num(v)).collect();
+        self.push_row(&cells)
+    }
+
+    /// Appends one serde record (a struct whose fields are the columns, in header order;
+    /// numbers are written shortest round-trip exact by the `csv` crate).
+    ///
+    /// # Errors
+    /// [`CliError::InvalidArgument`] if the record cannot be serialised as one row of as
+    /// many fields as the header.
+    pub fn push_record<T: serde::Serialize>(&mut self, record: &T) -> Result<(), CliError> {
+        let bad = |reason: String| CliError::invalid_argument("csv record", "", reason);
+        let mut w = csv::WriterBuilder::new()
+            .has_headers(false)
+            .from_writer(Vec::new());
+        w.serialize(record).map_err(|e| bad(e.to_string()))?;
+        let bytes = w.into_inner().map_err(|e| bad(e.to_string()))?;
+        let fields = csv::ReaderBuilder::new()
+            .has_headers(false)
+            .from_reader(bytes.as_slice())
+            .records()
+            .next()
+            .transpose()
+            .map_err(|e| bad(e.to_string()))?
+            .map_or(0, |r| r.len());
+        if fields != self.columns {
+            return Err(bad(format!(
+                "{fields} fields, the header has {} columns",
+                self.columns
+            )));
+        }
+        self.text
+            .push_str(&String::from_utf8(bytes).map_err(|e| bad(e.to_string()))?);
+        Ok(())
+    }
+
+    /// The CSV text built so far.
+    pub fn as_str(&self) -> &str {
+        &self.text
+    }
+
+    /// Writes the table to `path` atomically.
+    pub fn write(&self, path: &Path) -> Result<(), CliError> {
+        write_atomic(path, self.text.as_bytes())
+    }
+}
+
+/// The sidecar holding the units of the CSV file `csv`: `NAME.units.csv` beside `NAME.csv`.
+pub fn units_sidecar_path(csv: &Path) -> PathBuf {
+    let stem = csv
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    csv.with_file_name(format!("{stem}.units.csv"))
+}
+
+/// Writes a units sidecar: the header of the table and one row with each column's unit
+/// (`mm`, `N`, `N mm`, `rad`, `1` for dimensionless, empty for text columns).
+pub fn write_units_sidecar(path: &Path, header: &[&str], units: &[&str]) -> Result<(), CliError> {
+    let mut w = CsvWriter::new(header);
+    let cells: Vec<Cell<'_>> = units.iter().map(|u| Cell::Text(u)).collect();
+    w.push_row(&cells)?;
+    w.write(path)
+}
+
+/// Reads a units sidecar written by [`write_units_sidecar`] (or by hand): column name ->
+/// unit. `Ok(None)` if the file does not exist.
+pub fn read_units_sidecar(path: &Path) -> Result<Option<BTreeMap<String, String>>, CliError> {
+    let text = match std::fs::read_to_string(path) {
+        Ok(t) => t,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+        Err(e) => return Err(CliError::io(path, e)),
+    };
+    let table = parse_table(&text, path, &[], 1)?;
+    if table.rows() != 1 {
+        return Err(CliError::Csv {
+            path: path.to_path_buf(),
+            line: table.line_of(1).unwrap_or(table.header_line),
+            column: None,
+            reason: format!(
+                "a units file has one row of units under its header, found {}",
+                table.rows()
+            ),
+        });
+    }
+    let mut out = BTreeMap::new();
+    for h in &table.header {
+        let unit = match (table.text_column(h), table.column(h)) {
+            (Some(t), _) => t[0].clone(),
+            (None, Some(n)) => format_f64(n[0]),
+            (None, None) => String::new(),
+        };
+        out.insert(h.clone(), unit);
+    }
+    Ok(Some(out))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn format_round_trips() {
+        for v in [
+            0.0,
+            -0.0,
+            1.0,
+            0.1,
+            1.0 / 3.0,
+            -2.5e-7,
+            6.02214076e23,
+            f64::MIN_POSITIVE,
+            f64::MAX,
+            5e-324,
+            123456.789,
+        ] {
+            let s = format_f64(v);
+            assert_eq!(s.parse::<f64>().unwrap().to_bits(), v.to_bits(), "{s}");
+        }
+        assert_eq!(format_f64(0.25), "0.25");
+        assert_eq!(format_f64(1e-20), "1e-20");
+    }
+
+    #[test]
+    fn writer_quotes_as_needed() {
+        let mut w = CsvWriter::new(&["name", "v"]);
+        w.push_row(&[Cell::Text("a,\"b\""), Cell::Num(0.5)])
+            .unwrap();
+        assert_eq!(w.as_str(), "name,v\n\"a,\"\"b\"\"\",0.5\n");
+        assert!(w.push_numbers(&[1.0]).is_err());
+    }
+}

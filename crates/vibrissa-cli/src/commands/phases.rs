@@ -9,11 +9,7 @@ use crate::plot::Dash;
 /// The symbol of a phase: `-` before contact (the flow alone), `A` tip contact, `B`
 /// tangential contact (the row kinds of a calibration use the same symbols).
 pub fn phase_symbol(p: Phase) -> char {
-    match p {
-        Phase::None => '-',
-        Phase::A => 'A',
-        Phase::B => 'B',
-    }
+    p.letter()
 }
 
 /// The phase of a symbol of [`phase_symbol`] (`None` for any other symbol, e.g. a row left

@@ -4,8 +4,7 @@
 
 use std::path::Path;
 
-use beam_model::{shape_from_tip_angle, FluidLoad, Scene};
-use contact_sim::phase::contact_loads;
+use beam_model::FluidLoad;
 use contact_sim::{Phase, Profile, SweepPoint, SweepResult};
 
 use crate::commands::outputs::write_units_of;
@@ -31,12 +30,7 @@ pub fn row_shape(
     p: &contact_sim::SweepPoint,
     intervals: usize,
 ) -> Result<beam_model::Solution, beam_model::ModelError> {
-    let (psi, f, s1) = match p.phase {
-        Phase::None => (0.0, 0.0, 1.0),
-        _ => (p.psi, p.f, p.s1),
-    };
-    let scene = Scene::new(*whisker, contact_loads(flow, psi, f, s1));
-    shape_from_tip_angle(&scene, p.phi1, 1e-10, intervals)
+    p.shape(whisker, flow, 1e-10, intervals)
 }
 
 /// Writes `shapes.csv` (header [`SHAPES_HEADER`], rows numbered from 1 as in

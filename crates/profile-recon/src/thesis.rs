@@ -54,7 +54,7 @@ use crate::common::{contact_force, ReconPoint, ReconSettings};
 use crate::error::{ReconError, Result};
 use crate::observables::ObservableRow;
 use beam_model::equations::WhiskerFdmProblem;
-use beam_model::{solve as solve_model, FluidLoad, Loads, Method, Scene, Whisker};
+use beam_model::{solve as solve_model, FluidLoad, Loads, Method, Scene, Solution, Whisker};
 use bvp_solvers::fdm::{BoundaryCondition, FdmOptions, FdmSolver};
 use bvp_solvers::grid::UniformGrid;
 use bvp_solvers::trust_region::{self, NonlinearSystem, TrustRegionOptions};
@@ -387,6 +387,222 @@ fn slope(a: &ObservableRow, b: &ObservableRow) -> f64 {
     (b.ay - a.ay) / (b.x0 - a.x0)
 }
 
+/// The phase switches of [6.10] along the contact rows: a jump of the slope of `Ay` ahead of
+/// the step, not tested again on the row right after a switch.
+#[derive(Clone, Copy, Debug, Default)]
+struct SlopeRule {
+    just_switched: bool,
+}
+
+impl SlopeRule {
+    /// The phase of row `order[k]` from the current `phase`.
+    fn phase_at(
+        &mut self,
+        rows: &[ObservableRow],
+        order: &[usize],
+        k: usize,
+        phase: Phase,
+    ) -> Phase {
+        if k < 2 {
+            return phase;
+        }
+        let (a, b, c) = (&rows[order[k - 2]], &rows[order[k - 1]], &rows[order[k]]);
+        let delta = (slope(b, c) - slope(a, b)).abs();
+        if !self.just_switched && delta > A_DIFF {
+            self.just_switched = true;
+            other(phase)
+        } else {
+            self.just_switched = false;
+            phase
+        }
+    }
+}
+
+/// Where a row starts: the previous row's solution, its phase and its FDM solution.
+struct Warm {
+    u: Vec<f64>,
+    phase: Phase,
+    shape: Vec<f64>,
+}
+
+impl Warm {
+    /// The start of a solve in phase `ph`.
+    fn start_for(&self, ph: Phase) -> Vec<f64> {
+        if ph == self.phase {
+            self.u.clone()
+        } else {
+            convert(&self.u, ph)
+        }
+    }
+}
+
+/// One contact row of the thesis's method.
+struct RowSolve<'a> {
+    whisker: &'a Whisker,
+    /// Flow and trust-region tolerance.
+    system: (FluidLoad, f64),
+    /// 0-based index of the row.
+    i: usize,
+    row: &'a ObservableRow,
+}
+
+impl RowSolve<'_> {
+    /// The row solved in phase `ph` from `u`.
+    fn attempt(&self, warm: &Warm, ph: Phase, u: &[f64]) -> Result<Solved> {
+        RowSystem::new(self.whisker, self.system, self.row, ph, warm.shape.clone()).run(u)
+    }
+
+    /// The row solved in `phase`, and in the other phase too when that solution is not
+    /// good: one that is good, else the smaller residual; an error naming the row if neither
+    /// can be solved.
+    fn solve(&self, warm: &Warm, phase: Phase) -> Result<Solved> {
+        let first_try = self.attempt(warm, phase, &warm.start_for(phase));
+        if let Ok(s) = &first_try {
+            if s.good() {
+                return first_try;
+            }
+        }
+        let second = self.attempt(warm, other(phase), &warm.start_for(other(phase)));
+        match (first_try, second) {
+            (_, Ok(b)) if b.good() => Ok(b),
+            (Ok(a), Ok(b)) => Ok(if b.residual < a.residual { b } else { a }),
+            (Ok(a), Err(_)) => Ok(a),
+            (Err(_), Ok(b)) => Ok(b),
+            (Err(e), Err(_)) => {
+                let residual = match e {
+                    ReconError::InconsistentRow { residual, .. } => residual,
+                    ReconError::Bvp(BvpError::NoConvergence { residual, .. }) => residual,
+                    _ => f64::NAN,
+                };
+                Err(ReconError::InconsistentRow {
+                    row: self.i,
+                    x0: self.row.x0,
+                    residual,
+                    phase: if phase == Phase::B { 'B' } else { 'A' },
+                })
+            }
+        }
+    }
+
+    /// First row without a consistent hypothesis: a tangential first contact far from the
+    /// tip (s1 well below 1) is out of reach of the start s1 = 1; restart phase B from a few
+    /// s1 on the free whisker (contact point r(s1), force balance [6.8, 6.9]).
+    fn restart(&self, warm: &Warm, free: &Solution, mut chosen: Solved) -> Solved {
+        let row = self.row;
+        for s1 in FIRST_ROW_S1 {
+            let j = free
+                .elastica
+                .s
+                .iter()
+                .position(|&s| s >= s1)
+                .unwrap_or(free.elastica.s.len().saturating_sub(1));
+            let (f, psi) = contact_force(row, self.system.0, s1);
+            let (Some(&x), Some(&y)) = (free.elastica.x.get(j), free.elastica.y.get(j)) else {
+                continue;
+            };
+            if let Ok(b) = self.attempt(warm, Phase::B, &[row.x0 + x, y, psi, f, s1]) {
+                if b.good() || b.residual < chosen.residual {
+                    let done = b.good();
+                    chosen = b;
+                    if done {
+                        break;
+                    }
+                }
+            }
+        }
+        chosen
+    }
+
+    /// The point of the solution `s`, checked against `consistency_tol`.
+    fn point(&self, s: &Solved, consistency_tol: Option<f64>) -> Result<ReconPoint> {
+        if let Some(tol) = consistency_tol {
+            if s.residual.is_nan() || s.residual > tol {
+                return Err(ReconError::InconsistentRow {
+                    row: self.i,
+                    x0: self.row.x0,
+                    residual: s.residual,
+                    phase: if s.phase == Phase::B { 'B' } else { 'A' },
+                });
+            }
+        }
+        Ok(ReconPoint {
+            row: self.i,
+            x0: self.row.x0,
+            x: s.u[0],
+            y: s.u[1],
+            s1: s.s1(),
+            f: s.u[3],
+            psi: s.u[2],
+            phase: s.phase,
+            residual: s.residual,
+            sigma: f64::NAN,
+            alternatives: 0,
+            evaluations: s.iterations,
+        })
+    }
+}
+
+/// Checks that `order` is not empty, that its rows exist and are finite; its first row.
+fn first_row(rows: &[ObservableRow], order: &[usize]) -> Result<usize> {
+    let Some(&first) = order.first() else {
+        return Err(ReconError::TooFewRows {
+            found: 0,
+            needed: 1,
+            what: "the thesis method needs at least one contact row",
+        });
+    };
+    for &i in order {
+        rows.get(i)
+            .ok_or(ReconError::TooFewRows {
+                found: rows.len(),
+                needed: i + 1,
+                what: "a contact row index is beyond the log",
+            })?
+            .validate(i)?;
+    }
+    Ok(first)
+}
+
+/// The first phase (6.2.1, Remark 6.3) and the warm start of the first row `row0`: force
+/// balance with `s1 = 1` [6.8, 6.9] and the free tip of the whisker under the flow (thesis
+/// 6.1), with the free whisker.
+fn first_start(
+    whisker: &Whisker,
+    flow: FluidLoad,
+    row0: &ObservableRow,
+    settings: &ReconSettings,
+) -> Result<(Warm, Solution)> {
+    let q = flow.q;
+    // The flow acts on [0, s1] only in phase B, so the contact force of [6.8] at s1 = 1
+    // points away from the contour (f sin psi < 0) at a tangential first contact.
+    let level = settings.noise.unwrap_or(crate::common::NOISE_FLOOR);
+    let noticeable = (100.0 * level).max(1e-7) * (1.0 + q);
+    let (fs, _) = crate::common::force_components(row0, flow, 1.0);
+    let phase = if -fs > noticeable { Phase::B } else { Phase::A };
+    let free = solve_model(
+        &Scene::new(*whisker, Loads::fluid(q, flow.alpha)),
+        &Method::accurate(),
+    )?;
+    let (f0, psi0) = contact_force(row0, flow, 1.0);
+    let u = vec![
+        row0.x0 + free.tip.x,
+        free.tip.y,
+        psi0,
+        f0,
+        if phase == Phase::B {
+            1.0 - 1e-3
+        } else {
+            free.tip.phi
+        },
+    ];
+    let warm = Warm {
+        u,
+        phase,
+        shape: Vec::new(),
+    };
+    Ok((warm, free))
+}
+
 /// Reconstructs the contact rows `rows[order[k]]` (`order`: 0-based indices sorted by `x0`,
 /// the order of a sweep) by the thesis's method (module docs): five unknowns per row
 /// [6.3, 6.4] from the six residuals of [6.5-6.9] by the trust region (tolerance
@@ -412,162 +628,81 @@ pub fn reconstruct_rows(
     order: &[usize],
     settings: &ReconSettings,
 ) -> Result<Vec<ReconPoint>> {
-    let Some(&first) = order.first() else {
-        return Err(ReconError::TooFewRows {
-            found: 0,
-            needed: 1,
-            what: "the thesis method needs at least one contact row",
-        });
-    };
-    for &i in order {
-        rows.get(i)
-            .ok_or(ReconError::TooFewRows {
-                found: rows.len(),
-                needed: i + 1,
-                what: "a contact row index is beyond the log",
-            })?
-            .validate(i)?;
-    }
-    let q = flow.q;
-    let row0 = &rows[first];
-    // First phase (6.2.1, Remark 6.3): the flow acts on [0, s1] only in phase B, so the
-    // contact force of [6.8] at s1 = 1 points away from the contour (f sin psi < 0) at a
-    // tangential first contact.
-    let level = settings.noise.unwrap_or(crate::identify::NOISE_FLOOR);
-    let noticeable = (100.0 * level).max(1e-7) * (1.0 + q);
-    let (fs, _) = crate::common::force_components(row0, flow, 1.0);
-    let mut phase = if -fs > noticeable { Phase::B } else { Phase::A };
-    // Warm start of the first row: force balance with s1 = 1, free tip under the flow.
-    let free = solve_model(
-        &Scene::new(*whisker, Loads::fluid(q, flow.alpha)),
-        &Method::accurate(),
-    )?;
-    let (f0, psi0) = contact_force(row0, flow, 1.0);
-    let mut prev = vec![
-        row0.x0 + free.tip.x,
-        free.tip.y,
-        psi0,
-        f0,
-        if phase == Phase::B {
-            1.0 - 1e-3
-        } else {
-            free.tip.phi
-        },
-    ];
-    let mut prev_phase = phase;
-    let mut prev_shape: Vec<f64> = Vec::new();
+    let first = first_row(rows, order)?;
+    let (mut warm, free) = first_start(whisker, flow, &rows[first], settings)?;
+    let mut phase = warm.phase;
+    let mut rule = SlopeRule::default();
     let mut points = Vec::with_capacity(order.len());
-    let mut just_switched = false;
-    let system = (flow, settings.tol);
     for (k, &i) in order.iter().enumerate() {
-        let row = &rows[i];
         // [6.10]: slope jump of Ay ahead of the step (contact rows only).
-        if k >= 2 {
-            let (a, b, c) = (&rows[order[k - 2]], &rows[order[k - 1]], row);
-            let delta = (slope(b, c) - slope(a, b)).abs();
-            if !just_switched && delta > A_DIFF {
-                phase = other(phase);
-                just_switched = true;
-            } else {
-                just_switched = false;
-            }
-        }
-        let attempt = |ph: Phase, u: &[f64]| -> Result<Solved> {
-            RowSystem::new(whisker, system, row, ph, prev_shape.clone()).run(u)
+        phase = rule.phase_at(rows, order, k, phase);
+        let solve = RowSolve {
+            whisker,
+            system: (flow, settings.tol),
+            i,
+            row: &rows[i],
         };
-        let start_for = |ph: Phase| -> Vec<f64> {
-            if ph == prev_phase {
-                prev.clone()
-            } else {
-                convert(&prev, ph)
-            }
-        };
-        let first_try = attempt(phase, &start_for(phase));
-        let mut chosen = match first_try {
-            Ok(s) if s.good() => s,
-            first_try => {
-                let second = attempt(other(phase), &start_for(other(phase)));
-                match (first_try, second) {
-                    (_, Ok(b)) if b.good() => b,
-                    (Ok(a), Ok(b)) => {
-                        if b.residual < a.residual {
-                            b
-                        } else {
-                            a
-                        }
-                    }
-                    (Ok(a), Err(_)) => a,
-                    (Err(_), Ok(b)) => b,
-                    (Err(e), Err(_)) => {
-                        let residual = match e {
-                            ReconError::InconsistentRow { residual, .. } => residual,
-                            ReconError::Bvp(BvpError::NoConvergence { residual, .. }) => residual,
-                            _ => f64::NAN,
-                        };
-                        return Err(ReconError::InconsistentRow {
-                            row: i,
-                            x0: row.x0,
-                            residual,
-                            phase: if phase == Phase::B { 'B' } else { 'A' },
-                        });
-                    }
-                }
-            }
-        };
-        // First row without a consistent hypothesis: a tangential first contact far from the
-        // tip (s1 well below 1) is out of reach of the start s1 = 1; restart phase B from a few
-        // s1 on the free whisker (contact point r(s1), force balance [6.8, 6.9]).
+        let mut chosen = solve.solve(&warm, phase)?;
         if k == 0 && !chosen.good() {
-            for s1 in FIRST_ROW_S1 {
-                let j = free
-                    .elastica
-                    .s
-                    .iter()
-                    .position(|&s| s >= s1)
-                    .unwrap_or(free.elastica.s.len().saturating_sub(1));
-                let (f, psi) = contact_force(row, flow, s1);
-                let (Some(&x), Some(&y)) = (free.elastica.x.get(j), free.elastica.y.get(j)) else {
-                    continue;
-                };
-                if let Ok(b) = attempt(Phase::B, &[row.x0 + x, y, psi, f, s1]) {
-                    if b.good() || b.residual < chosen.residual {
-                        let done = b.good();
-                        chosen = b;
-                        if done {
-                            break;
-                        }
-                    }
-                }
-            }
+            chosen = solve.restart(&warm, &free, chosen);
         }
-        if let Some(tol) = settings.consistency_tol {
-            if chosen.residual.is_nan() || chosen.residual > tol {
-                return Err(ReconError::InconsistentRow {
-                    row: i,
-                    x0: row.x0,
-                    residual: chosen.residual,
-                    phase: if chosen.phase == Phase::B { 'B' } else { 'A' },
-                });
-            }
-        }
+        points.push(solve.point(&chosen, settings.consistency_tol)?);
         phase = chosen.phase;
-        points.push(ReconPoint {
-            row: i,
-            x0: row.x0,
-            x: chosen.u[0],
-            y: chosen.u[1],
-            s1: chosen.s1(),
-            f: chosen.u[3],
-            psi: chosen.u[2],
+        warm = Warm {
+            u: chosen.u,
             phase: chosen.phase,
-            residual: chosen.residual,
-            sigma: f64::NAN,
-            alternatives: 0,
-            evaluations: chosen.iterations,
-        });
-        prev_phase = chosen.phase;
-        prev = chosen.u;
-        prev_shape = chosen.shape;
+            shape: chosen.shape,
+        };
     }
     Ok(points)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(x0: f64, ay: f64) -> ObservableRow {
+        ObservableRow {
+            x0,
+            ax: 0.0,
+            ay,
+            ma: 0.0,
+            phi0: 0.0,
+        }
+    }
+
+    #[test]
+    fn the_slope_rule_switches_on_a_kink_once() {
+        // Ay = x0 up to 0.3, then Ay = 0.3 + 5 (x0 - 0.3): one kink, slope jump 4 > A_DIFF
+        let rows: Vec<ObservableRow> = [0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6]
+            .iter()
+            .map(|&x: &f64| row(x, if x <= 0.3 { x } else { 0.3 + 5.0 * (x - 0.3) }))
+            .collect();
+        let order: Vec<usize> = (0..rows.len()).collect();
+        let mut rule = SlopeRule::default();
+        let phases: Vec<Phase> = (0..rows.len())
+            .map(|k| rule.phase_at(&rows, &order, k, Phase::A))
+            .collect();
+        // the jump shows at row 4 (slopes 1 then 5); row 5 is not tested again
+        let want = [
+            Phase::A,
+            Phase::A,
+            Phase::A,
+            Phase::A,
+            Phase::B,
+            Phase::A,
+            Phase::A,
+        ];
+        assert_eq!(phases, want);
+    }
+
+    #[test]
+    fn phases_convert_into_each_other() {
+        let u = [1.0, 2.0, 0.3, 4.0, 0.7];
+        // B from A: s1 just below the tip; A from B: phi1 = psi
+        assert_eq!(convert(&u, Phase::B), vec![1.0, 2.0, 0.3, 4.0, 1.0 - 1e-3]);
+        assert_eq!(convert(&u, Phase::A), vec![1.0, 2.0, 0.3, 4.0, 0.3]);
+        assert_eq!(other(Phase::A), Phase::B);
+        assert_eq!(other(Phase::B), Phase::A);
+    }
 }

@@ -35,25 +35,28 @@ const SEED_CANDIDATES: usize = 64;
 /// Largest relative noise level the identification raises an estimate to.
 pub const MAX_NOISE: f64 = 1e-2;
 
+/// [`ReconError::InvalidParameter`] naming `name = value` unless `ok`.
+fn require(ok: bool, name: &'static str, value: f64, reason: &'static str) -> Result<()> {
+    if ok {
+        Ok(())
+    } else {
+        Err(ReconError::InvalidParameter {
+            name,
+            value,
+            reason,
+        })
+    }
+}
+
 /// Checks the given flow values.
 pub(crate) fn check_known(known: &KnownFlow) -> Result<()> {
     if let Some(q) = known.q {
-        if !(q.is_finite() && q >= 0.0) {
-            return Err(ReconError::InvalidParameter {
-                name: "q",
-                value: q,
-                reason: "the fluid load must be finite and >= 0",
-            });
-        }
+        let ok = q.is_finite() && q >= 0.0;
+        require(ok, "q", q, "the fluid load must be finite and >= 0")?;
     }
     if let Some(a) = known.alpha {
-        if !(a.is_finite() && a.abs() < std::f64::consts::FRAC_PI_2) {
-            return Err(ReconError::InvalidParameter {
-                name: "alpha",
-                value: a,
-                reason: "the flow angle must lie in (-pi/2, pi/2)",
-            });
-        }
+        let ok = a.is_finite() && a.abs() < std::f64::consts::FRAC_PI_2;
+        require(ok, "alpha", a, "the flow angle must lie in (-pi/2, pi/2)")?;
     }
     Ok(())
 }
@@ -68,21 +71,17 @@ fn check_inputs(
     whisker.validate()?;
     check_known(known)?;
     if let Some(l) = settings.noise {
-        if !(l.is_finite() && l >= 0.0) {
-            return Err(ReconError::InvalidParameter {
-                name: "noise",
-                value: l,
-                reason: "the relative noise level must be finite and >= 0",
-            });
-        }
+        let ok = l.is_finite() && l >= 0.0;
+        require(
+            ok,
+            "noise",
+            l,
+            "the relative noise level must be finite and >= 0",
+        )?;
     }
-    if !(settings.tol.is_finite() && settings.tol > 0.0) {
-        return Err(ReconError::InvalidParameter {
-            name: "tol",
-            value: settings.tol,
-            reason: "the tolerance must be finite and > 0",
-        });
-    }
+    let tol = settings.tol;
+    let ok = tol.is_finite() && tol > 0.0;
+    require(ok, "tol", tol, "the tolerance must be finite and > 0")?;
     if rows.is_empty() {
         return Err(ReconError::TooFewRows {
             found: 0,
@@ -471,6 +470,22 @@ pub(crate) fn identify_rows(
     })
 }
 
+/// Identifies the flow `(q, alpha)`, the noise level and the pre-contact rows of a log from the
+/// model (module docs) [6.1].
+///
+/// # Errors
+/// [`ReconError::NoPreContactRows`] when no row is the free whisker and q is not given;
+/// [`ReconError::NonFinite`], [`ReconError::TooFewRows`], [`ReconError::InvalidParameter`]
+/// for bad input; [`ReconError::Model`] / [`ReconError::Bvp`] for solver failures.
+pub fn identify(
+    whisker: &Whisker,
+    rows: &[ObservableRow],
+    known: KnownFlow,
+    settings: &ReconSettings,
+) -> Result<Identification> {
+    Ok(identify_rows(whisker, rows, known, settings)?.id)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -530,20 +545,4 @@ mod tests {
         };
         assert_eq!(mean_flow(&rows, &[0, 1], &given).q, 7.0);
     }
-}
-
-/// Identifies the flow `(q, alpha)`, the noise level and the pre-contact rows of a log from the
-/// model (module docs) [6.1].
-///
-/// # Errors
-/// [`ReconError::NoPreContactRows`] when no row is the free whisker and q is not given;
-/// [`ReconError::NonFinite`], [`ReconError::TooFewRows`], [`ReconError::InvalidParameter`]
-/// for bad input; [`ReconError::Model`] / [`ReconError::Bvp`] for solver failures.
-pub fn identify(
-    whisker: &Whisker,
-    rows: &[ObservableRow],
-    known: KnownFlow,
-    settings: &ReconSettings,
-) -> Result<Identification> {
-    Ok(identify_rows(whisker, rows, known, settings)?.id)
 }

@@ -103,9 +103,8 @@ fn check(p: &ReconPoint, row: &ObservableRow, z: f64, settings: &ReconSettings) 
 mod tests {
     use super::*;
     use crate::accurate::evaluate;
-    use beam_model::{FluidLoad, Whisker};
+    use crate::accurate::tests::g2_sweep;
     use bvp_solvers::integrator::Dop853;
-    use contact_sim::{sweep, Profile, SweepSettings};
 
     #[test]
     fn flow_sd_is_the_mean_of_the_pre_contact_rows() {
@@ -129,13 +128,7 @@ mod tests {
         consistency_tol: Option<f64>,
         tamper: f64,
     ) -> Vec<Result<Option<ReconPoint>>> {
-        let w = Whisker::uniform();
-        let flow = FluidLoad { q: 5.0, alpha: 0.0 };
-        let settings = SweepSettings {
-            points: 10,
-            ..Default::default()
-        };
-        let truth = sweep(&w, flow, &Profile::g2(), &settings).unwrap();
+        let (w, flow, truth) = g2_sweep(10);
         let mut rows = crate::observables::from_sweep(&truth);
         for r in &mut rows {
             r.ma += tamper;
@@ -172,18 +165,7 @@ mod tests {
 
     #[test]
     fn a_sweep_is_judged_row_by_row() {
-        let w = Whisker::uniform();
-        let flow = FluidLoad { q: 5.0, alpha: 0.0 };
-        let truth = sweep(
-            &w,
-            flow,
-            &Profile::g2(),
-            &SweepSettings {
-                points: 10,
-                ..Default::default()
-            },
-        )
-        .unwrap();
+        let (_, _, truth) = g2_sweep(10);
         let out = judged(None, Some(1e-6), 0.0);
         for (res, p) in out.into_iter().zip(&truth.points) {
             match res.unwrap() {

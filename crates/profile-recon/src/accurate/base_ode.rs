@@ -133,18 +133,17 @@ mod tests {
         }
     }
 
+    /// The cylinder without force from the base moment `ma` and angle `phi0`.
+    fn unloaded(ma: f64, phi0: f64) -> OdeSolution {
+        let flow = FluidLoad { q: 0.0, alpha: 0.0 };
+        let r = row(0.0, 0.0, ma, phi0);
+        base_ivp(&Whisker::uniform(), flow, &r, &Dop853::new(1e-12, 1e-12)).unwrap()
+    }
+
     #[test]
     fn unloaded_cylinder_bends_into_a_circular_arc() {
         // no force, constant moment m = -MA: phi = phi0 - MA s, a circle of radius 1/MA
-        let w = Whisker::uniform();
-        let r = row(0.0, 0.0, -0.7, 1.2);
-        let sol = base_ivp(
-            &w,
-            FluidLoad { q: 0.0, alpha: 0.0 },
-            &r,
-            &Dop853::new(1e-12, 1e-12),
-        )
-        .unwrap();
+        let sol = unloaded(-0.7, 1.2);
         assert_eq!(sol.s_end, 1.0);
         let (c, p0) = (0.7, 1.2);
         let u = &sol.u_end;
@@ -157,15 +156,7 @@ mod tests {
     #[test]
     fn winding_stops_the_integration_early() {
         // a moment of 20 winds phi by 20 rad over the whisker: stopped at 12 rad, s = 0.6
-        let w = Whisker::uniform();
-        let r = row(0.0, 0.0, -20.0, 0.0);
-        let sol = base_ivp(
-            &w,
-            FluidLoad { q: 0.0, alpha: 0.0 },
-            &r,
-            &Dop853::new(1e-12, 1e-12),
-        )
-        .unwrap();
+        let sol = unloaded(-20.0, 0.0);
         assert!(
             (sol.s_end - MAX_WINDING / 20.0).abs() < 1e-9,
             "{}",

@@ -413,10 +413,10 @@ fn linear_projection(
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use beam_model::Whisker;
-    use contact_sim::{sweep, Profile, SweepSettings};
+    use contact_sim::{sweep, Profile, SweepResult, SweepSettings};
     use std::f64::consts::PI;
 
     #[test]
@@ -472,16 +472,21 @@ mod tests {
         assert_eq!((x, y, shift), (1.0, 2.0, 0.0));
     }
 
-    #[test]
-    fn a_simulated_row_is_its_own_contact() {
-        // round trip: the observables of a simulated sweep give back its hidden contact point
+    /// A sweep of the uniform whisker past contour g2 in the flow `q = 5`, `alpha = 0`.
+    pub(crate) fn g2_sweep(points: usize) -> (Whisker, FluidLoad, SweepResult) {
         let w = Whisker::uniform();
         let flow = FluidLoad { q: 5.0, alpha: 0.0 };
         let settings = SweepSettings {
-            points: 12,
+            points,
             ..Default::default()
         };
-        let truth = sweep(&w, flow, &Profile::g2(), &settings).unwrap();
+        (w, flow, sweep(&w, flow, &Profile::g2(), &settings).unwrap())
+    }
+
+    #[test]
+    fn a_simulated_row_is_its_own_contact() {
+        // round trip: the observables of a simulated sweep give back its hidden contact point
+        let (w, flow, truth) = g2_sweep(12);
         let rows = crate::observables::from_sweep(&truth);
         let scales = NoiseScales::of(&rows);
         let integrator = Dop853::new(1e-12, 1e-12).with_dense(true);

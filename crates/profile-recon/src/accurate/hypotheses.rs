@@ -185,14 +185,20 @@ pub(crate) mod tests {
         assert!((h.sigma(1e-4) - 0.0302).abs() < 1e-15);
     }
 
+    /// Phase A at `x = 0.5` (`z = 1e-3`, unit deviation) and phase B at `(s1, x)` (`z = 4e-3`,
+    /// deviation 0.5).
+    pub(crate) fn a_and_b(s1: f64, x: f64) -> RowEval {
+        eval_of(vec![
+            hyp(Phase::A, 1.0, 0.5, 1e-3, 1.0),
+            hyp(Phase::B, s1, x, 4e-3, 0.5),
+        ])
+    }
+
     #[test]
     fn agreeing_consistent_hypotheses_give_the_best_determined_one() {
         // both consistent at level 1e-3 (z <= 6e-3), points 1e-4 apart, well within
         // 6 (sigma_a + sigma_b) = 6 (1e-3 + 5e-4)
-        let e = eval_of(vec![
-            hyp(Phase::A, 1.0, 0.5, 1e-3, 1.0),
-            hyp(Phase::B, 0.9, 0.5001, 4e-3, 0.5),
-        ]);
+        let e = a_and_b(0.9, 0.5001);
         let c = e.chosen(1e-3).unwrap();
         assert_eq!(c.phase, Phase::B);
         assert_eq!(e.alternatives(c, 1e-3), 1);
@@ -203,10 +209,7 @@ pub(crate) mod tests {
     fn disagreeing_consistent_hypotheses_give_the_most_likely_one() {
         // 0.3 apart, far beyond the error estimates: the smaller z wins and the other
         // one's distance is the ambiguity
-        let e = eval_of(vec![
-            hyp(Phase::A, 1.0, 0.5, 1e-3, 1.0),
-            hyp(Phase::B, 0.7, 0.8, 4e-3, 0.5),
-        ]);
+        let e = a_and_b(0.7, 0.8);
         let c = e.chosen(1e-3).unwrap();
         assert_eq!(c.phase, Phase::A);
         assert!((e.ambiguity(c, 1e-3) - 0.3).abs() < 1e-12);

@@ -55,6 +55,8 @@ mod tip;
 
 pub(crate) use base_ode::base_ivp;
 pub(crate) use evaluate::evaluate;
+#[cfg(test)]
+pub(crate) use evaluate::tests;
 pub(crate) use hypotheses::RowEval;
 pub(crate) use point::RowAt;
 

@@ -130,7 +130,7 @@ impl RowEval {
 
 #[cfg(test)]
 mod tests {
-    use super::super::hypotheses::tests::{eval_of, hyp};
+    use super::super::hypotheses::tests::a_and_b;
     use super::*;
 
     #[test]
@@ -143,10 +143,7 @@ mod tests {
             phi0: 1.5,
         };
         // A and B agree to 1e-4; B is the better determined; level 1e-3
-        let e = eval_of(vec![
-            hyp(Phase::A, 1.0, 0.5, 1e-3, 1.0),
-            hyp(Phase::B, 0.9, 0.5001, 4e-3, 0.5),
-        ]);
+        let e = a_and_b(0.9, 0.5001);
         let p = e.point(7, &row, 1e-3).unwrap();
         assert_eq!(
             (p.row, p.x0, p.phase, p.alternatives),

@@ -71,6 +71,7 @@ pub mod residual;
 mod result;
 mod run;
 mod screen;
+pub mod whiten;
 
 pub use design::{design, DesignPrediction, DesignSettings};
 pub use run::calibrate;

@@ -2,7 +2,7 @@
 //! values [3.25, 6.8, 6.9], with its optional variational equations, and the one integration
 //! from the base that every hypothesis of a row reads.
 
-use super::MAX_WINDING;
+use super::context::MAX_WINDING;
 use crate::error::Result;
 use crate::observables::ObservableRow;
 use beam_model::{FluidLoad, Whisker};

@@ -4,10 +4,10 @@
 //! onto the consistent observables.
 
 use super::base_ode::{base_ivp, BaseOde};
+use super::context::{RowCtx, JACOBIAN_TOL};
 use super::hypotheses::{Hypothesis, RowEval};
 use super::scan::{candidates, close_steps, Candidates};
 use super::tip::tip_levels;
-use super::{RowCtx, JACOBIAN_TOL};
 use crate::common::{contact_force, force_components, NoiseScales};
 use crate::error::Result;
 use crate::observables::ObservableRow;

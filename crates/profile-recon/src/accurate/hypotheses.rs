@@ -2,7 +2,7 @@
 //! contact (phase A at the tip, each phase-B root), the [`RowEval`] that holds them all, and
 //! the rules that pick one at a noise level and measure how ambiguous the row is.
 
-use super::K_SIGMA;
+use super::context::K_SIGMA;
 use contact_sim::Phase;
 
 /// One phase hypothesis of a row.

@@ -2,10 +2,10 @@
 //! consistent observables where the noise moves it, with its error estimate (the noise
 //! level, the identified flow's uncertainty and the row's ambiguity).
 
+use super::context::{RowCtx, PROJECT_MIN};
 use super::evaluate::evaluate;
 use super::hypotheses::{Hypothesis, RowEval};
 use super::project::project;
-use super::{RowCtx, PROJECT_MIN};
 use crate::common::{free_flow, ReconPoint};
 use crate::error::Result;
 use crate::observables::ObservableRow;

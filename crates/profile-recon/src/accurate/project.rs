@@ -2,9 +2,9 @@
 //! hypotheses: the most likely true observables, by Gauss-Newton steps of a constrained
 //! least-squares problem in the noise metric ([`project`]).
 
+use super::context::{RowCtx, PROJECT_MIN};
 use super::evaluate::evaluate;
 use super::hypotheses::Hypothesis;
-use super::{RowCtx, PROJECT_MIN};
 use crate::error::Result;
 use crate::observables::ObservableRow;
 

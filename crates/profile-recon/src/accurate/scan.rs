@@ -4,7 +4,7 @@
 //! which one may lie from the cheap cubic part of the interpolant; [`candidates`] scans them.
 
 use super::base_ode::BaseOde;
-use super::SAMPLES;
+use super::context::SAMPLES;
 use crate::error::Result;
 use crate::observables::ObservableRow;
 use bvp_solvers::integrator::{OdeSolution, OdeSystem};

@@ -3,7 +3,7 @@
 //! [`RowEval::tip_ambiguity`](super::RowEval::tip_ambiguity)).
 
 use super::base_ode::BaseOde;
-use super::{K_SIGMA, TIP_GRID};
+use super::context::{K_SIGMA, TIP_GRID};
 use bvp_solvers::integrator::OdeSolution;
 
 /// The first arc back from the tip checked for a look-alike.

@@ -74,7 +74,6 @@ mod screen;
 pub mod whiten;
 
 pub use design::{design, DesignPrediction, DesignSettings};
-pub use run::calibrate;
 
 use crate::common::KnownFlow;
 use crate::observables::ObservableRow;
@@ -325,4 +324,22 @@ impl Calibration {
     pub fn parameter(&self, param: CalibParam) -> Option<&ParamEstimate> {
         self.parameters.iter().find(|p| p.param == param)
     }
+}
+
+/// Fits the whisker's parameters `settings.fit` to `logs`, starting from `start` (module
+/// docs of [`calibrate`](super)).
+///
+/// # Errors
+/// [`ReconError::TooFewRows`](crate::ReconError::TooFewRows) without logs or rows, [`ReconError::NonFinite`](crate::ReconError::NonFinite) for a bad
+/// value, [`ReconError::CalibrationRequest`](crate::ReconError::CalibrationRequest) for an empty or repeated parameter list,
+/// [`ReconError::Model`](crate::ReconError::Model) for a start whisker out of range, [`ReconError::CalibrationStart`](crate::ReconError::CalibrationStart)
+/// when the start whisker cannot evaluate a pre-contact row,
+/// [`ReconError::CalibrationUnderdetermined`](crate::ReconError::CalibrationUnderdetermined) with fewer residuals than parameters.
+pub fn calibrate(
+    start: &Whisker,
+    logs: &[CalibLog],
+    settings: &CalibSettings,
+) -> crate::error::Result<Calibration> {
+    let (mut prob, fit, costs) = run::fit(start, logs, settings)?;
+    result::summarize(&mut prob, &fit, &costs, start)
 }

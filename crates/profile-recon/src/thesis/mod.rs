@@ -59,24 +59,8 @@ use crate::observables::ObservableRow;
 use beam_model::{FluidLoad, Whisker};
 use rows::{first_row, first_start, RowSolve, SlopeRule, Warm};
 
-/// FDM intervals on `[0, s1]` (the thesis's `h = 0.01` for `s1 = 1`).
-pub const INTERVALS: usize = 100;
-/// Slope-jump threshold `a_diff` of [6.10].
-pub const A_DIFF: f64 = 1.0;
-/// Trust-region iteration budget per row and phase.
-const MAX_ITERS: u64 = 100;
-/// Residual above the FDM level (`<= 1e-3` on the chapter-5 cases) that makes a hypothesis
-/// suspect: the other phase is tried too and the smaller residual kept.
-pub const SUSPECT: f64 = 1e-3;
-/// Trial points without a relative improvement of [`IMPROVEMENT`] after which a least-squares
-/// solve that cannot reach `ReconSettings::tol` ends at its best point.
-pub const STALL_TRIALS: usize = 12;
-/// Relative improvement of the residual norm that counts as progress.
-pub const IMPROVEMENT: f64 = 1e-10;
-/// Restarts of phase B at the first contact row when neither hypothesis is consistent.
-const FIRST_ROW_S1: [f64; 6] = [0.9, 0.8, 0.7, 0.6, 0.5, 0.4];
-/// Admissible range of the contact arc length during the iteration (phase B).
-const S1_MIN: f64 = 0.02;
+pub use rows::A_DIFF;
+pub use system::{IMPROVEMENT, INTERVALS, STALL_TRIALS, SUSPECT};
 
 /// Reconstructs the contact rows `rows[order[k]]` (`order`: 0-based indices sorted by `x0`,
 /// the order of a sweep) by the thesis's method (module docs): five unknowns per row

@@ -3,13 +3,17 @@
 //! the other ([`RowSolve`]), and the start of the first row.
 
 use super::system::{convert, other, RowSystem, Solved};
-use super::{A_DIFF, FIRST_ROW_S1};
 use crate::common::{contact_force, ReconPoint, ReconSettings};
 use crate::error::{ReconError, Result};
 use crate::observables::ObservableRow;
 use beam_model::{solve as solve_model, FluidLoad, Loads, Method, Scene, Solution, Whisker};
 use bvp_solvers::BvpError;
 use contact_sim::Phase;
+
+/// Slope-jump threshold `a_diff` of [6.10].
+pub const A_DIFF: f64 = 1.0;
+/// Restarts of phase B at the first contact row when neither hypothesis is consistent.
+const FIRST_ROW_S1: [f64; 6] = [0.9, 0.8, 0.7, 0.6, 0.5, 0.4];
 
 /// Slope `dAy/dx0` between rows `a` and `b`.
 fn slope(a: &ObservableRow, b: &ObservableRow) -> f64 {

@@ -1,9 +1,8 @@
 //! The thesis's system of one row and one phase hypothesis: the five unknowns [6.3, 6.4],
 //! the FDM solve of [3.25] on `[0, s1]` and the six residuals [6.5-6.9], solved by the trust
-//! region with the stall rule ([`STALL_TRIALS`](super::STALL_TRIALS)); a solved hypothesis and
+//! region with the stall rule ([`STALL_TRIALS`]); a solved hypothesis and
 //! the conversion of a solution of one phase into a start of the other.
 
-use super::{IMPROVEMENT, INTERVALS, MAX_ITERS, S1_MIN, STALL_TRIALS, SUSPECT};
 use crate::error::{ReconError, Result};
 use crate::observables::ObservableRow;
 use beam_model::equations::WhiskerFdmProblem;
@@ -15,6 +14,21 @@ use bvp_solvers::BvpError;
 use contact_sim::phase::contact_loads;
 use contact_sim::Phase;
 use std::cell::{Cell, RefCell};
+
+/// FDM intervals on `[0, s1]` (the thesis's `h = 0.01` for `s1 = 1`).
+pub const INTERVALS: usize = 100;
+/// Trust-region iteration budget per row and phase.
+const MAX_ITERS: u64 = 100;
+/// Residual above the FDM level (`<= 1e-3` on the chapter-5 cases) that makes a hypothesis
+/// suspect: the other phase is tried too and the smaller residual kept.
+pub const SUSPECT: f64 = 1e-3;
+/// Trial points without a relative improvement of [`IMPROVEMENT`] after which a least-squares
+/// solve that cannot reach `ReconSettings::tol` ends at its best point.
+pub const STALL_TRIALS: usize = 12;
+/// Relative improvement of the residual norm that counts as progress.
+pub const IMPROVEMENT: f64 = 1e-10;
+/// Admissible range of the contact arc length during the iteration (phase B).
+const S1_MIN: f64 = 0.02;
 
 /// The model quantities of one FDM solve.
 #[derive(Clone, Copy, Debug)]

@@ -5,8 +5,8 @@
 //!
 //! With `consistency_tol` set, a contact row whose best residual exceeds both it and the
 //! noise (`K_SIGMA` standard deviations at the GIVEN noise level, `ReconSettings::noise`, or
-//! at [`NOISE_FLOOR`](crate::identify::NOISE_FLOOR) without one: an estimated level cannot excuse a wrong model) is an
-//! error naming the row; otherwise every row gives a point with its residual and error
+//! at [`NOISE_FLOOR`](crate::identify::NOISE_FLOOR) without one: an estimated level cannot
+//! excuse a wrong model) is an error naming the row; otherwise every row gives a point with its residual and error
 //! estimate (at the given or estimated level).
 
 use crate::accurate::{evaluate, RowCtx};

@@ -19,6 +19,8 @@
 
 use crate::accurate::{evaluate, RowCtx};
 use crate::common::{free_flow, KnownFlow, NoiseScales, ReconPoint, ReconSettings, NOISE_FLOOR};
+#[cfg(doc)]
+use crate::error::ReconError;
 use crate::error::Result;
 use crate::identify::check_known;
 use crate::judge::{flow_sd, Judge};
@@ -51,7 +53,7 @@ impl Streamer {
     /// level (else [`STREAM_NOISE`]).
     ///
     /// # Errors
-    /// [`ReconError::InvalidParameter`](crate::ReconError::InvalidParameter) / [`ReconError::Model`](crate::ReconError::Model) for bad parameters.
+    /// [`ReconError::InvalidParameter`] / [`ReconError::Model`] for bad parameters.
     pub fn new(whisker: &Whisker, known: KnownFlow, settings: &ReconSettings) -> Result<Self> {
         whisker.validate()?;
         check_known(&known)?;
@@ -106,7 +108,7 @@ impl Streamer {
     /// held rows' once the flow is fixed), in the order of the rows.
     ///
     /// # Errors
-    /// [`ReconError::NonFinite`](crate::ReconError::NonFinite) for a non-finite value; [`ReconError::InconsistentRow`](crate::ReconError::InconsistentRow) with
+    /// [`ReconError::NonFinite`] for a non-finite value; [`ReconError::InconsistentRow`] with
     /// `consistency_tol`; solver errors.
     pub fn push(&mut self, row: ObservableRow) -> Result<Vec<ReconPoint>> {
         let i = self.count;

@@ -76,6 +76,8 @@ pub mod whiten;
 pub use design::{design, DesignPrediction, DesignSettings};
 
 use crate::common::KnownFlow;
+#[cfg(doc)]
+use crate::error::ReconError;
 use crate::observables::ObservableRow;
 use beam_model::Whisker;
 use contact_sim::Profile;
@@ -327,14 +329,14 @@ impl Calibration {
 }
 
 /// Fits the whisker's parameters `settings.fit` to `logs`, starting from `start` (module
-/// docs of [`calibrate`](super)).
+/// docs of [`calibrate`](self)).
 ///
 /// # Errors
-/// [`ReconError::TooFewRows`](crate::ReconError::TooFewRows) without logs or rows, [`ReconError::NonFinite`](crate::ReconError::NonFinite) for a bad
-/// value, [`ReconError::CalibrationRequest`](crate::ReconError::CalibrationRequest) for an empty or repeated parameter list,
-/// [`ReconError::Model`](crate::ReconError::Model) for a start whisker out of range, [`ReconError::CalibrationStart`](crate::ReconError::CalibrationStart)
+/// [`ReconError::TooFewRows`] without logs or rows, [`ReconError::NonFinite`] for a bad
+/// value, [`ReconError::CalibrationRequest`] for an empty or repeated parameter list,
+/// [`ReconError::Model`] for a start whisker out of range, [`ReconError::CalibrationStart`]
 /// when the start whisker cannot evaluate a pre-contact row,
-/// [`ReconError::CalibrationUnderdetermined`](crate::ReconError::CalibrationUnderdetermined) with fewer residuals than parameters.
+/// [`ReconError::CalibrationUnderdetermined`] with fewer residuals than parameters.
 pub fn calibrate(
     start: &Whisker,
     logs: &[CalibLog],

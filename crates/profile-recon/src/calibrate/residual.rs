@@ -19,11 +19,12 @@
 //!
 //! Four residuals of four observables: the row's map from observables to residuals is locally
 //! invertible, so the residuals whitened by their covariance under the sensor noise
-//! ([`Whitener`](super::whiten::Whitener), the noise of [`add_noise`](crate::add_noise): independent per column, standard
-//! deviation proportional to the column's full scale) have, to first order, the squared norm
-//! of the Mahalanobis distance between the measured observables and those the trial whisker
-//! predicts at that base position: least squares on them is the maximum-likelihood fit of
-//! the output error, without one forward contact solve per row.
+//! ([`Whitener`](super::whiten::Whitener), the noise of [`add_noise`](crate::add_noise):
+//! independent per column, standard deviation proportional to the column's full scale) have,
+//! to first order, the squared norm of the Mahalanobis distance between the measured
+//! observables and those the trial whisker predicts at that base position: least squares on
+//! them is the maximum-likelihood fit of the output error, without one forward contact solve
+//! per row.
 
 use crate::accurate::base_ivp;
 use crate::observables::ObservableRow;
@@ -105,8 +106,8 @@ pub enum RowKind {
 /// left out of the fit ([`RowKind::Skipped`]).
 pub const F_MIN_REL: f64 = 1e-3;
 
-/// Rows whose whitener's [`Whitener::degeneracy`](super::whiten::Whitener::degeneracy) falls below this are left out of the fit
-/// (a fold of the contact branch: the snap row).
+/// Rows whose whitener's [`Whitener::degeneracy`](super::whiten::Whitener::degeneracy) falls
+/// below this are left out of the fit (a fold of the contact branch: the snap row).
 pub const DEGENERATE: f64 = 1e-6;
 
 /// Largest distance in arc length over which a phase-B root is followed from one evaluation

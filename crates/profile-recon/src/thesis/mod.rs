@@ -54,6 +54,8 @@ mod rows;
 mod system;
 
 use crate::common::{ReconPoint, ReconSettings};
+#[cfg(doc)]
+use crate::error::ReconError;
 use crate::error::Result;
 use crate::observables::ObservableRow;
 use beam_model::{FluidLoad, Whisker};
@@ -74,12 +76,12 @@ pub use system::{IMPROVEMENT, INTERVALS, STALL_TRIALS, SUSPECT};
 /// contact far from the tip).
 ///
 /// # Errors
-/// - [`ReconError::TooFewRows`](crate::ReconError::TooFewRows) without contact rows (`order` empty);
-/// - [`ReconError::NonFinite`](crate::ReconError::NonFinite) for a non-finite observable;
-/// - [`ReconError::Model`](crate::ReconError::Model) if the free whisker cannot be solved;
-/// - [`ReconError::InconsistentRow`](crate::ReconError::InconsistentRow) if neither phase can be solved at a row, or (with
+/// - [`ReconError::TooFewRows`] without contact rows (`order` empty);
+/// - [`ReconError::NonFinite`] for a non-finite observable;
+/// - [`ReconError::Model`] if the free whisker cannot be solved;
+/// - [`ReconError::InconsistentRow`] if neither phase can be solved at a row, or (with
 ///   `settings.consistency_tol`) the best residual of a row exceeds it;
-/// - [`ReconError::Bvp`](crate::ReconError::Bvp) for other solver failures.
+/// - [`ReconError::Bvp`] for other solver failures.
 pub fn reconstruct_rows(
     whisker: &Whisker,
     flow: FluidLoad,

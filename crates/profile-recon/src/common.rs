@@ -1,5 +1,7 @@
-//! Types shared by both reconstruction methods: settings, reconstructed points, the force
-//! balance of a contact row [6.8, 6.9] and the noise scales of a log.
+//! Types shared by both reconstruction methods and the identification: settings, the
+//! identification's result, reconstructed points, the force balance of a contact row
+//! [6.8, 6.9] and the noise scales of a log. This module imports none of the crate's
+//! methods: they all import it.
 //!
 //! **Row numbers.** Everywhere in this crate (`ReconPoint::row`, the `row` of every
 //! [`ReconError`](crate::ReconError), `Identification::pre_contact`) a row number is the
@@ -10,6 +12,10 @@ use crate::observables::ObservableRow;
 use beam_model::FluidLoad;
 use contact_sim::Phase;
 use serde::{Deserialize, Serialize};
+
+/// Smallest relative noise level assumed for a log: an exact (simulated) log carries its
+/// solver's tolerance (the sweep solves to 1e-11; the free rows of one sweep differ by ~1e-12).
+pub const NOISE_FLOOR: f64 = 1e-11;
 
 /// Reconstruction method.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -72,6 +78,40 @@ pub struct KnownFlow {
     pub alpha: Option<f64>,
 }
 
+/// The identified flow and the pre-contact part of the log.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Identification {
+    /// Fluid load q [6.1] (given or identified).
+    pub q: f64,
+    /// Flow angle alpha (rad) [6.1] (given or identified).
+    pub alpha: f64,
+    /// Relative noise level used (given, or estimated from the log).
+    pub noise: f64,
+    /// Whether [`Identification::noise`] was estimated from the log.
+    pub noise_estimated: bool,
+    /// 0-based indices of the pre-contact rows (the free whisker under the flow).
+    pub pre_contact: Vec<usize>,
+    /// 0-based index of the first contact row in the input order (`rows.len()` if none).
+    pub first_contact_row: usize,
+    /// Model check: the largest `|m(1)|` of the free-whisker integration over the
+    /// pre-contact rows (`MA`, `phi0` against the free solution; small when the whisker
+    /// parameters are right), NaN without pre-contact rows.
+    pub model_mismatch: f64,
+    /// Free tip `(x1 - x0, y1, phi1)` under the flow: where the first tip contact will happen
+    /// (thesis 6.1), NaN without pre-contact rows.
+    pub free_tip: (f64, f64, f64),
+}
+
+impl Identification {
+    /// The identified flow as a load.
+    pub fn flow(&self) -> FluidLoad {
+        FluidLoad {
+            q: self.q,
+            alpha: self.alpha,
+        }
+    }
+}
+
 /// One reconstructed contour point.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ReconPoint {
@@ -109,7 +149,7 @@ pub struct ReconPoint {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Reconstruction {
     /// The identification (flow given or identified, pre-contact rows, noise level).
-    pub identification: crate::identify::Identification,
+    pub identification: Identification,
     /// Whether q was given rather than identified.
     pub q_given: bool,
     /// Whether alpha was given rather than identified.

@@ -6,9 +6,10 @@
 //! | module | concept |
 //! |---|---|
 //! | [`observables`] | the measured rows `(x0, Ax, Ay, MA, phi0)` |
-//! | [`common`] | settings, points, the force balance [6.8, 6.9], quality measure [6.11], row numbering |
+//! | [`common`] | settings, identification result, points, the force balance [6.8, 6.9], quality measure [6.11], row numbering |
 //! | [`identify`](mod@identify) | flow `(q, alpha)`, noise level and pre-contact rows from the model [6.1] (Table 6.1) |
 //! | [`accurate`] | method `accurate`: each row on its own, all phase-B roots bracketed, error estimate |
+//! | `judge` | the one per-row decision (pre-contact or contact point, with its statistics) of identification, reconstruction and stream |
 //! | [`thesis`] | method `thesis`: the thesis's five equations [6.5-6.10] |
 //! | [`reconstruct`](mod@reconstruct) | identification then one point per contact row with either method |
 //! | [`stream`] | rows one at a time, each point as soon as it is known |
@@ -34,6 +35,7 @@ pub mod calibrate;
 pub mod common;
 pub mod error;
 pub mod identify;
+mod judge;
 pub mod noise;
 pub mod observables;
 pub mod reconstruct;
@@ -41,11 +43,11 @@ pub mod stream;
 pub mod thesis;
 
 pub use common::{
-    contact_force, contour_error, free_flow, KnownFlow, NoiseScales, ReconMethod, ReconPoint,
-    ReconSettings, Reconstruction,
+    contact_force, contour_error, free_flow, Identification, KnownFlow, NoiseScales, ReconMethod,
+    ReconPoint, ReconSettings, Reconstruction,
 };
 pub use error::{ReconError, Result};
-pub use identify::{identify, Identification};
+pub use identify::identify;
 pub use noise::{add_noise, noise_study, NoiseResult};
 pub use observables::{from_sweep, ObservableRow};
 pub use reconstruct::{reconstruct, reconstruct_with};

@@ -5,18 +5,18 @@
 //!
 //! With `consistency_tol` set, a contact row whose best residual exceeds both it and the
 //! noise (`K_SIGMA` standard deviations at the GIVEN noise level, `ReconSettings::noise`, or
-//! at [`NOISE_FLOOR`] without one: an estimated level cannot excuse a wrong model) is an
-//! error naming the row; otherwise every row gives a point with its residual and error
+//! at [`NOISE_FLOOR`](crate::identify::NOISE_FLOOR) without one: an estimated level cannot
+//! excuse a wrong model) is an error naming the row; otherwise every row gives a point with its residual and error
 //! estimate (at the given or estimated level).
 
-use crate::accurate::{evaluate, K_SIGMA};
+use crate::accurate::{evaluate, RowCtx};
 use crate::common::{KnownFlow, ReconMethod, ReconPoint, ReconSettings, Reconstruction};
 use crate::error::{ReconError, Result};
-use crate::identify::{identify_rows, NOISE_FLOOR};
+use crate::identify::{identify_rows, Identified};
+use crate::judge::{flow_sd, Judge};
 use crate::observables::ObservableRow;
 use beam_model::Whisker;
 use bvp_solvers::integrator::Dop853;
-use contact_sim::Phase;
 
 /// Reconstructs the contour from an observables log with the flow angle identified (or 0
 /// when q is given and the log has no pre-contact row); see [`reconstruct_with`].
@@ -27,22 +27,6 @@ pub fn reconstruct(
     settings: &ReconSettings,
 ) -> Result<Reconstruction> {
     reconstruct_with(whisker, rows, KnownFlow { q, alpha: None }, settings)
-}
-
-/// Checks a point against `consistency_tol` (module docs).
-fn check(p: &ReconPoint, row: &ObservableRow, z: f64, level: f64, tol: Option<f64>) -> Result<()> {
-    let Some(tol) = tol else { return Ok(()) };
-    // NaN z (no hypothesis) is not consistent
-    let consistent = z <= K_SIGMA * level;
-    if p.residual > tol && !consistent {
-        return Err(ReconError::InconsistentRow {
-            row: p.row,
-            x0: row.x0,
-            residual: p.residual,
-            phase: if p.phase == Phase::A { 'A' } else { 'B' },
-        });
-    }
-    Ok(())
 }
 
 /// Reconstructs the contour from an observables log: identifies the flow `(q, alpha)`
@@ -63,74 +47,87 @@ pub fn reconstruct_with(
     settings: &ReconSettings,
 ) -> Result<Reconstruction> {
     let ided = identify_rows(whisker, rows, known, settings)?;
-    let id = ided.id;
+    let id = &ided.id;
     let contact: Vec<usize> = (0..rows.len())
         .filter(|i| id.pre_contact.binary_search(i).is_err())
         .collect();
     if contact.is_empty() {
         return Err(ReconError::NoContactRows { rows: rows.len() });
     }
-    let level = id.noise;
-    let integrator = Dop853::new(settings.tol, settings.tol);
-    // an identified flow is the mean of the pre-contact rows' forces: its components carry
-    // the noise of one row over the square root of their number
-    let flow_sd = if known.q.is_some() && known.alpha.is_some() {
-        [0.0; 2]
-    } else {
-        let n = (id.pre_contact.len().max(1) as f64).sqrt();
-        [level * ided.scales.0[0] / n, level * ided.scales.0[1] / n]
+    let points = match settings.method {
+        ReconMethod::Accurate => accurate_points(whisker, rows, &known, settings, &ided)?,
+        ReconMethod::Thesis => thesis_points(whisker, rows, contact, settings, &ided)?,
     };
-    let mut points = Vec::with_capacity(contact.len());
-    match settings.method {
-        ReconMethod::Accurate => {
-            for &i in &contact {
-                let e = &ided.evals[i];
-                let Some(p) = e.projected_point(
-                    i,
-                    &rows[i],
-                    level,
-                    whisker,
-                    id.flow(),
-                    flow_sd,
-                    &ided.scales,
-                    &integrator,
-                )?
-                else {
-                    return Err(ReconError::InconsistentRow {
-                        row: i,
-                        x0: rows[i].x0,
-                        residual: f64::NAN,
-                        phase: 'A',
-                    });
-                };
-                let told = settings.noise.unwrap_or(NOISE_FLOOR);
-                check(&p, &rows[i], e.best_z(), told, settings.consistency_tol)?;
-                points.push(p);
-            }
-        }
-        ReconMethod::Thesis => {
-            // the thesis's rule [6.10] reads the rows in the order of the sweep
-            let mut order = contact.clone();
-            order.sort_by(|&a, &b| rows[a].x0.total_cmp(&rows[b].x0).then(a.cmp(&b)));
-            let mut pts =
-                crate::thesis::reconstruct_rows(whisker, id.flow(), rows, &order, settings)?;
-            // error estimate: distance to the accurate point of the same row plus its own
-            // (the accurate method at its own tolerance, whatever the trust region's)
-            let integrator = Dop853::new(1e-12, 1e-12);
-            for p in &mut pts {
-                let e = evaluate(whisker, id.flow(), &rows[p.row], &ided.scales, &integrator)?;
-                if let Some(a) = e.point(p.row, &rows[p.row], level) {
-                    p.sigma = (p.x - a.x).hypot(p.y - a.y) + a.sigma;
-                }
-            }
-            pts.sort_by_key(|p| p.row);
-            points = pts;
-        }
-    }
     Ok(Reconstruction {
-        identification: id,
+        identification: ided.id,
         q_given: known.q.is_some(),
         alpha_given: known.alpha.is_some(),
         points,
     })
+}
+
+/// Method `accurate`: every row judged on its own ([`Judge::judge`]; the pre-contact rows
+/// give no point).
+fn accurate_points(
+    whisker: &Whisker,
+    rows: &[ObservableRow],
+    known: &KnownFlow,
+    settings: &ReconSettings,
+    ided: &Identified,
+) -> Result<Vec<ReconPoint>> {
+    let id = &ided.id;
+    let level = id.noise;
+    let integrator = Dop853::new(settings.tol, settings.tol);
+    let judge = Judge {
+        ctx: RowCtx {
+            whisker,
+            flow: id.flow(),
+            scales: &ided.scales,
+            integrator: &integrator,
+        },
+        level,
+        // an identified flow is the mean of the pre-contact rows' forces: its components
+        // carry the noise of one row over the square root of their number
+        flow_sd: flow_sd(known, level, &ided.scales, id.pre_contact.len()),
+        settings,
+    };
+    let mut points = Vec::new();
+    for (i, row) in rows.iter().enumerate() {
+        if let Some(p) = judge.judge(i, row, &ided.evals[i])? {
+            points.push(p);
+        }
+    }
+    Ok(points)
+}
+
+/// Method `thesis` on the contact rows (in the order of `x0`, as its rule [6.10] reads them),
+/// each point's error estimate its distance to the accurate point of the same row plus that
+/// point's own.
+fn thesis_points(
+    whisker: &Whisker,
+    rows: &[ObservableRow],
+    mut order: Vec<usize>,
+    settings: &ReconSettings,
+    ided: &Identified,
+) -> Result<Vec<ReconPoint>> {
+    let flow = ided.id.flow();
+    // the thesis's rule [6.10] reads the rows in the order of the sweep
+    order.sort_by(|&a, &b| rows[a].x0.total_cmp(&rows[b].x0).then(a.cmp(&b)));
+    let mut pts = crate::thesis::reconstruct_rows(whisker, flow, rows, &order, settings)?;
+    // (the accurate method at its own tolerance, whatever the trust region's)
+    let integrator = Dop853::new(1e-12, 1e-12);
+    let ctx = RowCtx {
+        whisker,
+        flow,
+        scales: &ided.scales,
+        integrator: &integrator,
+    };
+    for p in &mut pts {
+        let e = evaluate(&ctx, &rows[p.row])?;
+        if let Some(a) = e.point(p.row, &rows[p.row], ided.id.noise) {
+            p.sigma = (p.x - a.x).hypot(p.y - a.y) + a.sigma;
+        }
+    }
+    pts.sort_by_key(|p| p.row);
+    Ok(pts)
 }

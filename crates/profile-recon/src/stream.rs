@@ -17,19 +17,21 @@
 //! be estimated ahead); the noise scales of the columns are the largest magnitudes seen so
 //! far.
 
-use crate::accurate::{evaluate, K_SIGMA};
-use crate::common::{free_flow, KnownFlow, NoiseScales, ReconPoint, ReconSettings};
-use crate::error::{ReconError, Result};
+use crate::accurate::{evaluate, RowCtx};
+use crate::common::{free_flow, KnownFlow, NoiseScales, ReconPoint, ReconSettings, NOISE_FLOOR};
+#[cfg(doc)]
+use crate::error::ReconError;
+use crate::error::Result;
 use crate::identify::check_known;
+use crate::judge::{flow_sd, Judge};
 use crate::observables::ObservableRow;
 use crate::reconstruct::reconstruct_with;
 use beam_model::{FluidLoad, Whisker};
 use bvp_solvers::integrator::Dop853;
-use contact_sim::Phase;
 
 /// Relative noise level of a stream when none is given: the exact-log floor of the batch
 /// identification (a noisy sensor must say its level, `ReconSettings::noise`).
-pub const STREAM_NOISE: f64 = crate::identify::NOISE_FLOOR;
+pub const STREAM_NOISE: f64 = NOISE_FLOOR;
 
 /// An incremental reconstruction (module docs).
 pub struct Streamer {
@@ -82,50 +84,24 @@ impl Streamer {
         self.count
     }
 
-    /// Decides row `i` under `flow`: `None` if pre-contact, else its point.
+    /// Decides row `i` under `flow` with the batch's judge ([`Judge::judge`]): `None` if
+    /// pre-contact, else its point. A flow not given is one row's own (the first free row of
+    /// the stream): its uncertainty is that row's noise.
     fn decide(&self, flow: FluidLoad, i: usize, row: &ObservableRow) -> Result<Option<ReconPoint>> {
         let scales = NoiseScales(self.scales);
-        let e = evaluate(&self.whisker, flow, row, &scales, &self.integrator)?;
-        let level = self.level;
-        let za = e.hyps.iter().find(|h| h.phase == Phase::A);
-        if e.f_z <= K_SIGMA * level && za.is_some_and(|h| h.z <= K_SIGMA * level) {
-            return Ok(None);
-        }
-        let p = e
-            .projected_point(
-                i,
-                row,
-                level,
-                &self.whisker,
+        let judge = Judge {
+            ctx: RowCtx {
+                whisker: &self.whisker,
                 flow,
-                // a flow not given is one row's own (the first free row of the stream)
-                if self.known.q.is_some() && self.known.alpha.is_some() {
-                    [0.0; 2]
-                } else {
-                    [level * scales.0[0], level * scales.0[1]]
-                },
-                &scales,
-                &self.integrator,
-            )?
-            .ok_or(ReconError::InconsistentRow {
-                row: i,
-                x0: row.x0,
-                residual: f64::NAN,
-                phase: 'A',
-            })?;
-        if let Some(tol) = self.settings.consistency_tol {
-            let told = self.settings.noise.unwrap_or(crate::identify::NOISE_FLOOR);
-            let consistent = e.best_z() <= K_SIGMA * told;
-            if p.residual > tol && !consistent {
-                return Err(ReconError::InconsistentRow {
-                    row: i,
-                    x0: row.x0,
-                    residual: p.residual,
-                    phase: if p.phase == Phase::A { 'A' } else { 'B' },
-                });
-            }
-        }
-        Ok(Some(p))
+                scales: &scales,
+                integrator: &self.integrator,
+            },
+            level: self.level,
+            flow_sd: flow_sd(&self.known, self.level, &scales, 1),
+            settings: &self.settings,
+        };
+        let e = evaluate(&judge.ctx, row)?;
+        judge.judge(i, row, &e)
     }
 
     /// Takes the next row; returns the points that became known (none, this row's, or the

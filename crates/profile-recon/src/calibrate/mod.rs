@@ -71,11 +71,13 @@ pub mod residual;
 mod result;
 mod run;
 mod screen;
+pub mod whiten;
 
 pub use design::{design, DesignPrediction, DesignSettings};
-pub use run::calibrate;
 
 use crate::common::KnownFlow;
+#[cfg(doc)]
+use crate::error::ReconError;
 use crate::observables::ObservableRow;
 use beam_model::Whisker;
 use contact_sim::Profile;
@@ -324,4 +326,22 @@ impl Calibration {
     pub fn parameter(&self, param: CalibParam) -> Option<&ParamEstimate> {
         self.parameters.iter().find(|p| p.param == param)
     }
+}
+
+/// Fits the whisker's parameters `settings.fit` to `logs`, starting from `start` (module
+/// docs of [`calibrate`](self)).
+///
+/// # Errors
+/// [`ReconError::TooFewRows`] without logs or rows, [`ReconError::NonFinite`] for a bad
+/// value, [`ReconError::CalibrationRequest`] for an empty or repeated parameter list,
+/// [`ReconError::Model`] for a start whisker out of range, [`ReconError::CalibrationStart`]
+/// when the start whisker cannot evaluate a pre-contact row,
+/// [`ReconError::CalibrationUnderdetermined`] with fewer residuals than parameters.
+pub fn calibrate(
+    start: &Whisker,
+    logs: &[CalibLog],
+    settings: &CalibSettings,
+) -> crate::error::Result<Calibration> {
+    let (mut prob, fit, costs) = run::fit(start, logs, settings)?;
+    result::summarize(&mut prob, &fit, &costs, start)
 }

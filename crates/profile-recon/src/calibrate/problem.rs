@@ -4,9 +4,9 @@
 
 use super::fit::{Bounds, Problem};
 use super::residual::{
-    judge, projected, row_residuals, tip_force, whitener, Model, RowCtx, RowKind, RowResult,
-    Whitener, DEGENERATE, F_MIN_REL,
+    row_residuals, tip_force, Model, RowCtx, RowKind, RowResult, DEGENERATE, F_MIN_REL,
 };
+use super::whiten::{judge, projected, whitener, Whitener};
 use super::{CalibLog, CalibParam};
 use crate::common::NoiseScales;
 use beam_model::support::K_MIN;

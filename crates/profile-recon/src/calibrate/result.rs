@@ -4,8 +4,9 @@
 use super::fit::jacobian_central;
 use super::ident::analyse;
 use super::problem::{CalibProblem, Kinds};
-use super::residual::{flow_of, Model, RowKind, Whitener};
+use super::residual::{flow_of, Model, RowKind};
 use super::run::{logs_noise, start_failure, Rounds, NOISE_CHECK};
+use super::whiten::Whitener;
 use super::{CalibParam, Calibration, Combination, LogFit, ParamEstimate, RowFit};
 use crate::error::{ReconError, Result};
 use beam_model::Whisker;

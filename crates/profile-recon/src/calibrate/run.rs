@@ -4,7 +4,7 @@
 use super::fit::{cost, levenberg_marquardt, LmSettings, Problem};
 use super::problem::{CalibProblem, Kinds};
 use super::residual::{Model, RowKind};
-use super::{CalibLog, CalibParam, CalibSettings, Calibration};
+use super::{CalibLog, CalibParam, CalibSettings};
 use crate::common::{KnownFlow, NoiseScales};
 use crate::error::{ReconError, Result};
 use crate::identify::smoothness_noise;
@@ -16,20 +16,13 @@ use std::f64::consts::FRAC_PI_2;
 /// The fit's noise level beyond this multiple of the logs' model-free level is reported.
 pub(crate) const NOISE_CHECK: f64 = 3.0;
 
-/// Fits the whisker's parameters `settings.fit` to `logs`, starting from `start` (module
-/// docs of [`calibrate`](super)).
-///
-/// # Errors
-/// [`ReconError::TooFewRows`] without logs or rows, [`ReconError::NonFinite`] for a bad
-/// value, [`ReconError::CalibrationRequest`] for an empty or repeated parameter list,
-/// [`ReconError::Model`] for a start whisker out of range, [`ReconError::CalibrationStart`]
-/// when the start whisker cannot evaluate a pre-contact row,
-/// [`ReconError::CalibrationUnderdetermined`] with fewer residuals than parameters.
-pub fn calibrate(
+/// The fit of [`calibrate`](super::calibrate()): the problem, the winning rounds and the cost
+/// of every fit made (for the result, [`summarize`](super::result::summarize)).
+pub(crate) fn fit<'a>(
     start: &Whisker,
-    logs: &[CalibLog],
+    logs: &'a [CalibLog],
     settings: &CalibSettings,
-) -> Result<Calibration> {
+) -> Result<(CalibProblem<'a>, Rounds, Vec<f64>)> {
     check(start, logs, settings)?;
     let pre: Vec<Vec<bool>> = logs.iter().map(|l| pre_contact(&l.rows)).collect();
     let mut base = Model::of(start);
@@ -61,7 +54,7 @@ pub fn calibrate(
     prob.log_noise = logs_noise(&prob);
     let p0 = prob.pack(&base, &flows);
     let (fit, costs) = search(&mut prob, &p0, &pre, settings)?;
-    super::result::summarize(&mut prob, &fit, &costs, start)
+    Ok((prob, fit, costs))
 }
 
 /// Input checks.

@@ -1,0 +1,200 @@
+//! The first-order system integrated from the base with a row's observables as initial
+//! values [3.25, 6.8, 6.9], with its optional variational equations, and the one integration
+//! from the base that every hypothesis of a row reads.
+
+use super::context::MAX_WINDING;
+use crate::error::Result;
+use crate::observables::ObservableRow;
+use beam_model::{FluidLoad, Whisker};
+use bvp_solvers::integrator::{Dop853, OdeSolution, OdeSystem};
+
+/// The first-order system [3.25] integrated from the base with the base reaction of a row:
+/// the internal force at `s` is `(P, Q)(s) = (-Ax - q s cos alpha, Ay - q s sin alpha)` in the
+/// form of [6.8, 6.9] (the force balance of `[0, s]`, valid up to any contact `s1 >= s`), so
+///
+/// ```text
+/// phi' = m / e^4 + A s + B,  m' = P sin phi + Q cos phi,  x' = cos phi,  y' = sin phi,
+/// ```
+///
+/// with `(phi, m, x, y)(0) = (phi0, -MA, x0, 0)`; optionally followed by the variational
+/// equations with respect to `(Ax, Ay, MA, phi0)` (4 components each).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct BaseOde {
+    whisker: Whisker,
+    ax: f64,
+    ay: f64,
+    q_cos: f64,
+    q_sin: f64,
+    sens: bool,
+}
+
+impl BaseOde {
+    pub(crate) fn new(whisker: &Whisker, flow: FluidLoad, row: &ObservableRow, sens: bool) -> Self {
+        let (sa, ca) = flow.alpha.sin_cos();
+        BaseOde {
+            whisker: *whisker,
+            ax: row.ax,
+            ay: row.ay,
+            q_cos: flow.q * ca,
+            q_sin: flow.q * sa,
+            sens,
+        }
+    }
+
+    /// `(P, Q)(s)`.
+    #[inline]
+    pub(super) fn force(&self, s: f64) -> (f64, f64) {
+        (-self.ax - self.q_cos * s, self.ay - self.q_sin * s)
+    }
+
+    /// Initial state for `row`.
+    pub(super) fn initial(&self, row: &ObservableRow) -> Vec<f64> {
+        let mut u = vec![0.0; self.dim()];
+        u[..4].copy_from_slice(&[row.phi0, -row.ma, row.x0, 0.0]);
+        if self.sens {
+            u[4 * 3 + 1] = -1.0; // d m(0) / d MA
+            u[4 * 4] = 1.0; // d phi(0) / d phi0
+        }
+        u
+    }
+}
+
+impl OdeSystem for BaseOde {
+    fn dim(&self) -> usize {
+        if self.sens {
+            20
+        } else {
+            4
+        }
+    }
+
+    #[inline]
+    fn rhs(&self, s: f64, u: &[f64], du: &mut [f64]) {
+        let w = &self.whisker;
+        let (phi, m) = (u[0], u[1]);
+        let e = w.diameter(s);
+        let e2 = e * e;
+        let inv_e4 = 1.0 / (e2 * e2);
+        let (sp, cp) = phi.sin_cos();
+        let (p, q) = self.force(s);
+        du[0] = m * inv_e4 + w.a * s + w.b;
+        du[1] = p * sp + q * cp;
+        du[2] = cp;
+        du[3] = sp;
+        if !self.sens {
+            return;
+        }
+        let jm = p * cp - q * sp;
+        for j in 0..4 {
+            let o = 4 * (j + 1);
+            let (dphi, dm) = (u[o], u[o + 1]);
+            // dP/dAx = -1, dQ/dAy = 1
+            let explicit = match j {
+                0 => -sp,
+                1 => cp,
+                _ => 0.0,
+            };
+            du[o] = dm * inv_e4;
+            du[o + 1] = jm * dphi + explicit;
+            du[o + 2] = -sp * dphi;
+            du[o + 3] = cp * dphi;
+        }
+    }
+}
+
+/// Integrates [`BaseOde`] from the base to `s_end` (at most 1; the state part stops early
+/// if `phi` winds by [`MAX_WINDING`]) with dense output.
+pub(crate) fn base_ivp(
+    whisker: &Whisker,
+    flow: FluidLoad,
+    row: &ObservableRow,
+    integrator: &Dop853,
+) -> Result<OdeSolution> {
+    let ode = BaseOde::new(whisker, flow, row, false);
+    let u0 = ode.initial(row);
+    let phi0 = row.phi0;
+    let (sol, _) = integrator.integrate_until(&ode, 0.0, 1.0, &u0, |_, u| {
+        MAX_WINDING - (u[0] - phi0).abs()
+    })?;
+    Ok(sol)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(ax: f64, ay: f64, ma: f64, phi0: f64) -> ObservableRow {
+        ObservableRow {
+            x0: 0.3,
+            ax,
+            ay,
+            ma,
+            phi0,
+        }
+    }
+
+    /// The cylinder without force from the base moment `ma` and angle `phi0`.
+    fn unloaded(ma: f64, phi0: f64) -> OdeSolution {
+        let flow = FluidLoad { q: 0.0, alpha: 0.0 };
+        let r = row(0.0, 0.0, ma, phi0);
+        base_ivp(&Whisker::uniform(), flow, &r, &Dop853::new(1e-12, 1e-12)).unwrap()
+    }
+
+    #[test]
+    fn unloaded_cylinder_bends_into_a_circular_arc() {
+        // no force, constant moment m = -MA: phi = phi0 - MA s, a circle of radius 1/MA
+        let sol = unloaded(-0.7, 1.2);
+        assert_eq!(sol.s_end, 1.0);
+        let (c, p0) = (0.7, 1.2);
+        let u = &sol.u_end;
+        assert!((u[0] - (p0 + c)).abs() < 1e-11);
+        assert!((u[1] - 0.7).abs() < 1e-12);
+        assert!((u[2] - (0.3 + ((p0 + c).sin() - p0.sin()) / c)).abs() < 1e-11);
+        assert!((u[3] - (p0.cos() - (p0 + c).cos()) / c).abs() < 1e-11);
+    }
+
+    #[test]
+    fn winding_stops_the_integration_early() {
+        // a moment of 20 winds phi by 20 rad over the whisker: stopped at 12 rad, s = 0.6
+        let sol = unloaded(-20.0, 0.0);
+        assert!(
+            (sol.s_end - MAX_WINDING / 20.0).abs() < 1e-9,
+            "{}",
+            sol.s_end
+        );
+    }
+
+    #[test]
+    fn variational_equations_match_finite_differences() {
+        let w = Whisker::new(0.4, 0.3, 0.2, f64::INFINITY);
+        let flow = FluidLoad { q: 0.8, alpha: 0.3 };
+        let r0 = row(-0.5, 0.9, 0.2, 1.4);
+        let tight = Dop853::new(1e-12, 1e-12);
+        let sode = BaseOde::new(&w, flow, &r0, true);
+        let jac = tight
+            .integrate(&sode, 0.0, 1.0, &sode.initial(&r0))
+            .unwrap();
+        let h = 1e-6;
+        for j in 0..4 {
+            let at = |d: f64| {
+                let mut r = r0;
+                match j {
+                    0 => r.ax += d,
+                    1 => r.ay += d,
+                    2 => r.ma += d,
+                    _ => r.phi0 += d,
+                }
+                base_ivp(&w, flow, &r, &tight).unwrap().u_end
+            };
+            let (up, um) = (at(h), at(-h));
+            for c in 0..4 {
+                let fd = (up[c] - um[c]) / (2.0 * h);
+                let v = jac.u_end[4 * (j + 1) + c];
+                assert!(
+                    (fd - v).abs() < 1e-6 * (1.0 + v.abs()),
+                    "d{c}/d{j}: {fd} vs {v}"
+                );
+            }
+        }
+    }
+}

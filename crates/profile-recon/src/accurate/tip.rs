@@ -1,0 +1,103 @@
+//! The tip look-alikes of a phase-A row: how far back from the tip a tangential (phase-B)
+//! contact gives the same observables within the noise (read by
+//! [`RowEval::tip_ambiguity`](super::RowEval::tip_ambiguity)).
+
+use super::base_ode::BaseOde;
+use super::context::{K_SIGMA, TIP_GRID};
+use bvp_solvers::integrator::OdeSolution;
+
+/// The first arc back from the tip checked for a look-alike.
+const TIP_FIRST: f64 = 1e-5;
+/// `(0.5 / 1e-5)^(1 / 15)`.
+const TIP_RATIO: f64 = 2.057_143_874_950_285;
+
+/// For the phase-A hypothesis: at `s = 1 - delta` on a grid of `delta`, the relative noise
+/// level `max(|m(s)| / sd_m, |g(s)| / sd_g) / K_SIGMA` at which the phase-B conditions hold
+/// there (`g = Q sin phi - P cos phi`; `sd_m`, `sd_g` the standard deviations of `m(1)`,
+/// `g(1)` at unit noise; the cubic part of the interpolant is accurate enough for a level).
+pub(super) fn tip_levels(
+    sol: &OdeSolution,
+    ode: &BaseOde,
+    sd_m: f64,
+    sd_g: f64,
+) -> Vec<(f64, f64)> {
+    let mut out = vec![(0.0, f64::INFINITY); TIP_GRID];
+    let (mut u, mut du) = ([0.0; 4], [0.0; 4]);
+    let tiny = f64::MIN_POSITIVE;
+    // (m, g) at 1 - d
+    let mut at = |d: f64| -> Option<(f64, f64)> {
+        let s = 1.0 - d;
+        if !sol.eval_cubic_into(s, &mut u, &mut du) {
+            return None;
+        }
+        let (p, q) = ode.force(s);
+        let (sp, cp) = u[0].sin_cos();
+        Some((u[1], q * sp - p * cp))
+    };
+    let need = |m: f64, g: f64| (m.abs() / sd_m.max(tiny)).max(g.abs() / sd_g.max(tiny)) / K_SIGMA;
+    let mut prev: Option<(f64, f64, f64)> = None;
+    for (k, o) in out.iter_mut().enumerate() {
+        let d = TIP_FIRST * TIP_RATIO.powi(k as i32);
+        let Some((m, g)) = at(d) else {
+            continue;
+        };
+        *o = (d, need(m, g));
+        // g changes sign between grid points: the phase-B look-alike is where g = 0
+        if let Some((d0, _, g0)) = prev {
+            if g0 != 0.0 && g0.signum() != g.signum() {
+                let c = bisect_sign(&mut |t| at(t).map(|v| v.1), (d0, g0), d, 12);
+                if let Some((mc, gc)) = at(c) {
+                    let nc = need(mc, gc);
+                    if nc < o.1 {
+                        *o = (c.max(d), nc);
+                    }
+                }
+            }
+        }
+        prev = Some((d, m, g));
+    }
+    out
+}
+
+/// `steps` bisections of `[a, b]` on the sign of `g` (`ga = g(a)`, `g(b)` of the other
+/// sign), ended early where `g` cannot be evaluated; the midpoint of the last bracket.
+fn bisect_sign(
+    g: &mut impl FnMut(f64) -> Option<f64>,
+    (a, ga): (f64, f64),
+    b: f64,
+    steps: usize,
+) -> f64 {
+    let (mut a, mut b, mut ga) = (a, b, ga);
+    for _ in 0..steps {
+        let c = 0.5 * (a + b);
+        let Some(gc) = g(c) else { break };
+        if gc.signum() == ga.signum() {
+            (a, ga) = (c, gc);
+        } else {
+            b = c;
+        }
+    }
+    0.5 * (a + b)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_grid_spans_1e_5_to_one_half() {
+        let last = TIP_FIRST * TIP_RATIO.powi(TIP_GRID as i32 - 1);
+        assert!((last - 0.5).abs() < 1e-13, "{last}");
+    }
+
+    #[test]
+    fn bisection_brackets_the_sign_change() {
+        // g = t - 0.3 on [0, 1]: after 12 halvings the midpoint is within 2^-13 of 0.3
+        let c = bisect_sign(&mut |t| Some(t - 0.3), (0.0, -0.3), 1.0, 12);
+        assert!((c - 0.3).abs() <= 0.5f64.powi(13), "{c}");
+        // the bracket stops shrinking where g is not known: [0, 1] -> [0, 0.5], then g(0.25)
+        // is missing
+        let c = bisect_sign(&mut |t| (t > 0.4).then_some(t - 0.3), (0.0, -0.3), 1.0, 12);
+        assert_eq!(c, 0.25);
+    }
+}

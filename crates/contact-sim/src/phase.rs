@@ -1,6 +1,6 @@
 //! The two contact phases at one contour point and the state of a contact row; the
-//! branch of each phase is solved and traced in [`crate::branch`] and
-//! [`crate::continuation`].
+//! branch of each phase is solved and traced in `branch` and
+//! `continuation`.
 //!
 //! - Phase A (tip contact, Fig. 5.3): s1 = 1, unknowns `(phi1, f)`, conditions: base
 //!   condition [3.21, 3.22] and tip height `y(1) = g(xc)`; valid while `phi1 > psi`.

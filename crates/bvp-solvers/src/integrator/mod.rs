@@ -10,10 +10,11 @@
 //!
 //! Layout (as in the `russell_ode` and `ode_solvers` crates): `rk4.rs` for the fixed-step
 //! method; `dop853/` split into the tableau (`coef`), one step with its error norm
-//! (`step`), the step-size controller (`control`), the dense output (`dense`) and event
-//! location (`events`), with the driver loop in `dop853/mod.rs`.
+//! (`step`), the step-size controller (`control`), the stepper that takes one accepted step
+//! at a time ([`Stepper`], `stepper`), the dense output (`dense`) and event location
+//! (`events`), with the driver of `integrate`/`integrate_until` in `dop853/mod.rs`.
 //!
-//! Both methods allocate their stage buffers once per call; no allocation happens per step
+//! Both methods allocate their work space once per call; no allocation happens per step
 //! (except for the stored dense output when it is requested).
 
 // `!(x > 0.0)` is used on purpose: it is true for NaN.
@@ -24,7 +25,7 @@ use crate::{BvpError, Result};
 mod dop853;
 mod rk4;
 
-pub use dop853::{Dop853, Event, IntegrationStats, OdeSolution};
+pub use dop853::{Dop853, Event, IntegrationStats, Interpolant, OdeSolution, Stepper};
 pub use rk4::{Rk4, Trajectory};
 
 /// A first-order system `u' = G(s, u)` of dimension [`OdeSystem::dim`].

@@ -9,7 +9,7 @@
 //! numbering (the CLI names the line of the file).
 
 use crate::observables::ObservableRow;
-use beam_model::FluidLoad;
+use beam_model::{FluidLoad, Reactions};
 use contact_sim::Phase;
 use serde::{Deserialize, Serialize};
 
@@ -167,18 +167,20 @@ pub fn contact_force(row: &ObservableRow, flow: FluidLoad, s1: f64) -> (f64, f64
     (a.hypot(b), a.atan2(b))
 }
 
-/// `(f sin psi, f cos psi)` of [6.8, 6.9].
+/// `(f sin psi, f cos psi)` of [6.8, 6.9]: the point force the row's reactions balance with
+/// the flow on `[0, s1]` ([`Reactions::point_force`]).
 pub(crate) fn force_components(row: &ObservableRow, flow: FluidLoad, s1: f64) -> (f64, f64) {
-    let (sa, ca) = flow.alpha.sin_cos();
-    (-row.ax - flow.q * s1 * ca, row.ay - flow.q * s1 * sa)
+    Reactions {
+        ax: row.ax,
+        ay: row.ay,
+    }
+    .point_force(flow, s1)
 }
 
 /// The flow of a free whisker with these base forces [6.1]: `q = hypot(Ax, Ay)`,
-/// `alpha = atan2(Ay, -Ax)` (alpha = 0 for q = 0).
+/// `alpha = atan2(Ay, -Ax)` (alpha = 0 for q = 0; [`Reactions::free_flow`]).
 pub fn free_flow(ax: f64, ay: f64) -> FluidLoad {
-    let q = ax.hypot(ay);
-    let alpha = if q > 0.0 { ay.atan2(-ax) } else { 0.0 };
-    FluidLoad { q, alpha }
+    Reactions { ax, ay }.free_flow()
 }
 
 /// The quality measure [6.11]: `e = |y_rec - g(x_rec)|` per reconstructed point.

@@ -291,18 +291,25 @@ fn check_noisy(
     }
 }
 
-/// Runs every variant of one log.
-#[allow(clippy::too_many_arguments)]
-fn run_log(
-    stats: &mut Stats,
-    name: &str,
-    setup: &Setup,
-    rows: &[ObservableRow],
-    truth: &[Option<(f64, f64, f64)>],
+/// One log of the battery: its name, scene, rows, the true contact point of each row and
+/// the number of pre-contact rows.
+struct Log<'a> {
+    name: &'a str,
+    setup: &'a Setup,
+    rows: &'a [ObservableRow],
+    truth: &'a [Option<(f64, f64, f64)>],
     pre: usize,
-    rng: &mut StdRng,
-    seed: u64,
-) {
+}
+
+/// Runs every variant of one log.
+fn run_log(stats: &mut Stats, log: &Log<'_>, rng: &mut StdRng, seed: u64) {
+    let Log {
+        name,
+        setup,
+        rows,
+        truth,
+        pre,
+    } = *log;
     for (vname, idx) in variants(rows, pre, rng) {
         let r: Vec<ObservableRow> = idx.iter().map(|&i| rows[i]).collect();
         let t: Vec<Option<(f64, f64, f64)>> = idx.iter().map(|&i| truth[i]).collect();
@@ -463,7 +470,14 @@ fn forward_logs() {
             setup.flow.q,
             setup.flow.alpha.to_degrees()
         );
-        run_log(&mut stats, &name, &setup, &rows, &truth, 3, &mut rng, seed);
+        let log = Log {
+            name: &name,
+            setup: &setup,
+            rows: &rows,
+            truth: &truth,
+            pre: 3,
+        };
+        run_log(&mut stats, &log, &mut rng, seed);
     }
     eprintln!("forward logs: {scenes} scenes, {skipped} skipped (forward solve failed)");
     report("forward", &stats);
@@ -599,9 +613,14 @@ fn sweep_logs() {
             .iter()
             .take_while(|p| p.phase == Phase::None)
             .count();
-        run_log(
-            &mut stats, &name, &setup, &rows, &truth, pre, &mut rng, seed,
-        );
+        let log = Log {
+            name: &name,
+            setup: &setup,
+            rows: &rows,
+            truth: &truth,
+            pre,
+        };
+        run_log(&mut stats, &log, &mut rng, seed);
     }
     eprintln!(
         "sweep logs: {scenes} scenes, {} sweeps failed (contact-sim):",

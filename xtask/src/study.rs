@@ -13,21 +13,10 @@
 //! }
 //! ```
 
+use beam_model::error::finite;
 use beam_model::methods::{solve, Method, DEFAULT_INTERVALS};
 use beam_model::{Loads, ModelError, Preset, Result, Scene, Solution, Support, TipForce, Whisker};
 
-/// Checks that `value` is finite, naming the parameter otherwise.
-fn finite(name: &'static str, value: f64) -> Result<f64> {
-    if value.is_finite() {
-        Ok(value)
-    } else {
-        Err(ModelError::InvalidParameter {
-            name,
-            value,
-            reason: "must be a finite number",
-        })
-    }
-}
 use std::fmt::Write as _;
 use std::time::{Duration, Instant};
 

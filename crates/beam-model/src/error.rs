@@ -166,7 +166,7 @@ impl ModelError {
 pub type Result<T> = std::result::Result<T, ModelError>;
 
 /// Checks that `value` is finite, naming the parameter otherwise.
-pub(crate) fn finite(name: &'static str, value: f64) -> Result<f64> {
+pub fn finite(name: &'static str, value: f64) -> Result<f64> {
     if value.is_finite() {
         Ok(value)
     } else {

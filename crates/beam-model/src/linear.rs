@@ -24,6 +24,12 @@ const INTERVALS: usize = 128;
 
 /// The linear-theory rotation `delta(s1)` of the loaded end under `loads` (module docs).
 pub fn tip_rotation(whisker: &Whisker, loads: &Loads) -> f64 {
+    rotations(whisker, loads).1
+}
+
+/// The linear-theory rotations `(delta(0), delta(s1))` of the base (in its spring) and of the
+/// loaded end under `loads` (module docs).
+pub fn rotations(whisker: &Whisker, loads: &Loads) -> (f64, f64) {
     let s1 = loads.s1;
     let law = MomentLaw::new(loads, whisker.phi_unloaded(s1));
     let h = s1 / INTERVALS as f64;
@@ -45,7 +51,8 @@ pub fn tip_rotation(whisker: &Whisker, loads: &Loads) -> f64 {
     let bend: f64 = (0..INTERVALS)
         .map(|i| 0.5 * h * (curvature(i) + curvature(i + 1)))
         .sum();
-    m[0] * whisker.support.compliance() + bend
+    let base = m[0] * whisker.support.compliance();
+    (base, base + bend)
 }
 
 #[cfg(test)]

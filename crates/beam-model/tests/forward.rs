@@ -339,3 +339,28 @@ fn fdm_richardson_converges_at_order_six() {
         assert!((p - 6.0).abs() < 0.5, "{name}: order {p:.3} errs {errs:?}");
     }
 }
+
+/// Under a strong tip force the tip aligns with it on more than one branch (the tip angle
+/// alike); each solve from scratch must stay on the branch connected to the unloaded whisker,
+/// along which the base angle falls steadily with the force (theta = 0.4 on a spring k = 5,
+/// DP force along +x: from f ~ 26 on another branch with the base turned the other way,
+/// phi0 ~ 2, is near).
+#[test]
+fn a_strong_force_stays_on_the_branch_from_the_unloaded_whisker() {
+    let w = Whisker::new(0.4, 0.0, 0.0, 5.0);
+    let mut prev = FRAC_PI_2;
+    for i in 1..=20 {
+        let f = 2.0 * i as f64;
+        let sol = solve(
+            &Scene::new(w, Loads::tip(TipForce::dp(f, 0.0))),
+            &Method::accurate(),
+        )
+        .unwrap();
+        assert!(
+            sol.base.phi0 < prev && sol.base.phi0 > 0.5,
+            "f = {f}: phi0 {} after {prev}",
+            sol.base.phi0
+        );
+        prev = sol.base.phi0;
+    }
+}

@@ -213,7 +213,7 @@ pub(crate) fn solve_tip_angle_within(
     let first = (1.0 / sev.ceil()).clamp(1e-3, 1.0);
     // the first step predicts along the linear-theory slope d phi1 / d lambda, which holds
     // while the rotation it predicts is small: that step is kept to LINEAR_STEP rad
-    let slope = crate::linear::tip_rotation(whisker, loads);
+    let (base_slope, slope) = crate::linear::rotations(whisker, loads);
     let initial = if slope.abs() * first > LINEAR_STEP {
         (LINEAR_STEP / slope.abs()).max(1e-3)
     } else {
@@ -230,11 +230,13 @@ pub(crate) fn solve_tip_angle_within(
         other => other.clone(),
     };
     let (phi1, stats) = cont
+        // the branch is followed in (phi1, phi0): under a strong force the tip aligns with
+        // it on several branches (phi1 alike), the base angle tells them apart
         .follow_from(
             0.0,
             1.0,
-            vec![unloaded],
-            vec![slope],
+            vec![unloaded, FRAC_PI_2],
+            vec![slope, base_slope],
             &BranchGuard::default(),
             |lambda, pred: &[f64]| {
                 if evaluations > budget {
@@ -260,7 +262,7 @@ pub(crate) fn solve_tip_angle_within(
                 };
                 let t = newton_to(&problem, pred[0], &target)?;
                 evaluations += t.evaluations;
-                Ok(vec![t.phi1])
+                Ok(vec![t.phi1, t.values.phi0])
             },
         )
         .map_err(|e| {

@@ -6,24 +6,7 @@ use std::path::Path;
 use std::process::{Command, Output};
 
 mod common;
-use common::parse;
-
-fn run(args: &[&str], cwd: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_vibrissa"))
-        .args(args)
-        .current_dir(cwd)
-        .output()
-        .expect("the binary runs")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn json(o: &Output) -> serde_json::Value {
-    assert!(o.status.success(), "stderr: {}", stderr(o));
-    serde_json::from_slice(&o.stdout).expect("stdout is one JSON object")
-}
+use common::{json, parse, run, stderr};
 
 /// A failure: non-zero exit, one line on stderr mentioning every needle, no panic, and no
 /// output directory (nor a staging leftover) in `cwd`.

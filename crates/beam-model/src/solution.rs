@@ -199,3 +199,28 @@ pub struct Solution {
     /// Statistics.
     pub stats: SolveStats,
 }
+
+impl Solution {
+    /// Largest difference of the tip, the loaded end and the base observables from `other`
+    /// (NaN if any is NaN): the norm of the methods' error estimates.
+    pub fn difference(&self, other: &Solution) -> f64 {
+        let (a, b) = (self, other);
+        [
+            a.tip.x - b.tip.x,
+            a.tip.y - b.tip.y,
+            a.tip.phi - b.tip.phi,
+            a.loaded_end.x - b.loaded_end.x,
+            a.loaded_end.y - b.loaded_end.y,
+            a.loaded_end.phi - b.loaded_end.phi,
+            a.base.ma - b.base.ma,
+            a.base.phi0 - b.base.phi0,
+            a.base.ax - b.base.ax,
+            a.base.ay - b.base.ay,
+        ]
+        .iter()
+        .fold(
+            0.0,
+            |m, d| if d.is_nan() { f64::NAN } else { m.max(d.abs()) },
+        )
+    }
+}

@@ -6,29 +6,10 @@
 
 mod support;
 
-use beam_model::{solve, Loads, Method, MethodKind, Scene, Solution, TipForce, Whisker};
+use beam_model::{solve, Loads, Method, MethodKind, Scene, TipForce, Whisker};
 
 fn auto(tol: f64) -> Method {
     Method::Auto { tol, samples: 100 }
-}
-
-/// Largest difference over the tip, the loaded end and the base observables (the norm of
-/// the error estimate).
-fn difference(a: &Solution, b: &Solution) -> f64 {
-    [
-        a.tip.x - b.tip.x,
-        a.tip.y - b.tip.y,
-        a.tip.phi - b.tip.phi,
-        a.loaded_end.x - b.loaded_end.x,
-        a.loaded_end.y - b.loaded_end.y,
-        a.loaded_end.phi - b.loaded_end.phi,
-        a.base.ma - b.base.ma,
-        a.base.phi0 - b.base.phi0,
-        a.base.ax - b.base.ax,
-        a.base.ay - b.base.ay,
-    ]
-    .iter()
-    .fold(0.0, |m, d| m.max(d.abs()))
 }
 
 /// A small deterministic generator (SplitMix64) for the seeded battery.
@@ -154,7 +135,7 @@ fn battery(seed: u64, n: usize, theta_min: f64, f_max: f64, q_max: f64) -> (usiz
                     continue;
                 }
             };
-            let err = difference(&sol, &reference);
+            let err = sol.difference(&reference);
             let allowed = tol + reference.stats.error_estimate;
             assert!(
                 err <= allowed,

@@ -259,7 +259,7 @@ pub fn solve(scene: &Scene, method: &Method) -> Result<Solution> {
             let guess = prolong(&y, fdm::intervals(fine_n, scene.loads.s1));
             let (fine, _) = fdm::solve_from(scene, fine_n, Some(&guess))?;
             // Order 2: the error of the n-grid solution is 4/3 of its difference from 2n.
-            sol.stats.error_estimate = difference(&sol, &fine) * 4.0 / 3.0;
+            sol.stats.error_estimate = sol.difference(&fine) * 4.0 / 3.0;
             sol.stats.evaluations += fine.stats.evaluations;
             sol
         }
@@ -354,27 +354,6 @@ fn auto(scene: &Scene, tol: f64, samples: usize) -> Result<Solution> {
     }
     sol.stats.tolerance = tol;
     Ok(sol)
-}
-
-/// Largest difference of the tip, loaded end and base observables of two solutions.
-fn difference(a: &Solution, b: &Solution) -> f64 {
-    [
-        a.tip.x - b.tip.x,
-        a.tip.y - b.tip.y,
-        a.tip.phi - b.tip.phi,
-        a.loaded_end.x - b.loaded_end.x,
-        a.loaded_end.y - b.loaded_end.y,
-        a.loaded_end.phi - b.loaded_end.phi,
-        a.base.ma - b.base.ma,
-        a.base.phi0 - b.base.phi0,
-        a.base.ax - b.base.ax,
-        a.base.ay - b.base.ay,
-    ]
-    .iter()
-    .fold(
-        0.0,
-        |m, d| if d.is_nan() { f64::NAN } else { m.max(d.abs()) },
-    )
 }
 
 /// Linear interpolation of nodal values on a uniform grid onto a uniform grid of the same
@@ -475,7 +454,7 @@ impl<'a> GridLadder<'a> {
     fn new(scene: &'a Scene, n0: usize, method: &'static str) -> Result<Self> {
         let first = fdm::solve_from(scene, n0, None)?;
         let second = fdm::solve_from(scene, n0.saturating_mul(2), None)?;
-        let distance = difference(&first.0, &second.0);
+        let distance = first.0.difference(&second.0);
         // NaN counts as a disagreement
         if distance.is_nan() || distance > BRANCH_AGREEMENT {
             return Err(ModelError::BranchAmbiguous {

@@ -15,7 +15,7 @@ pub enum Sensitivities {
     None,
     /// State and its derivative with respect to the tip angle `phi1`.
     TipAngle,
-    /// State and its derivatives with respect to `(phi1, f, s1)`, in that order.
+    /// State and its derivatives with respect to `(phi1, f, s1, beta)`, in that order.
     All,
 }
 
@@ -25,7 +25,7 @@ impl Sensitivities {
         match self {
             Sensitivities::None => 0,
             Sensitivities::TipAngle => 1,
-            Sensitivities::All => 3,
+            Sensitivities::All => 4,
         }
     }
 }
@@ -180,7 +180,9 @@ impl OdeSystem for WhiskerOde {
                     LoadKind::Ap => -l.tip.f * cc,
                 },
                 1 => sc,
-                _ => l.fluid.q * sa,
+                2 => l.fluid.q * sa,
+                // the force angle c moves with beta for DP and AP alike
+                _ => l.tip.f * cc,
             };
             du[o] = dm * inv_e4;
             du[o + 1] = jm * dphi + explicit;

@@ -80,6 +80,9 @@ pub struct Shot {
     pub d_f: BaseValues,
     /// Derivatives with respect to the loaded length `s1` ([`Sensitivities::All`]).
     pub d_s1: BaseValues,
+    /// Derivatives with respect to the force angle `beta` at fixed `f`
+    /// ([`Sensitivities::All`]).
+    pub d_beta: BaseValues,
     /// Right-hand-side evaluations spent.
     pub evaluations: usize,
 }
@@ -124,18 +127,18 @@ pub(crate) fn shoot_path(
     let ode = WhiskerOde::new(*whisker, *loads, phi1, sens);
     let dim = ode.dim();
     let s1 = loads.s1;
-    let mut u0 = [0.0; 16];
+    let mut u0 = [0.0; 20];
     u0[0] = phi1;
     let np = sens.count();
     if np >= 1 {
         u0[4] = 1.0; // d phi(s1) / d phi1
     }
-    if np == 3 {
+    if np == 4 {
         // d u(s; s1)/d s1 at s = s1 is -G(s1, u(s1)) for the state part; the variational
         // parts of G are not needed (they start at zero).
-        let mut g = [0.0; 16];
+        let mut g = [0.0; 4];
         let plain = WhiskerOde::new(*whisker, *loads, phi1, Sensitivities::None);
-        plain.rhs(s1, &u0[..4], &mut g[..4]);
+        plain.rhs(s1, &u0[..4], &mut g);
         for i in 0..4 {
             u0[12 + i] = -g[i];
         }
@@ -183,6 +186,7 @@ pub(crate) fn shoot_path(
             shot.d_phi1 = BaseValues::from_end(&end, 4);
             shot.d_f = BaseValues::from_end(&end, 8);
             shot.d_s1 = BaseValues::from_end(&end, 12);
+            shot.d_beta = BaseValues::from_end(&end, 16);
         }
     }
     if !(shot.phi0.is_finite() && shot.m0.is_finite() && shot.dx.is_finite()) {

@@ -70,9 +70,10 @@ pub enum JacobianUpdate {
         /// Largest contraction ratio at which the old Jacobian is kept.
         keep_below: f64,
     },
-    /// Never evaluated: Broyden's rank-one update `J += (dR - J du) du^T / (du . du)` of the
-    /// given start Jacobian; the iteration stops as [`Termination::NoDescent`] when a full step
-    /// contracts the residual by less than `min_contraction`.
+    /// Never evaluated (but at the solution if the policy wants it there): Broyden's
+    /// rank-one update `J += (dR - J du) du^T / (du . du)` of the given start Jacobian; the
+    /// iteration stops as [`Termination::NoDescent`] when a full step contracts the residual
+    /// by less than `min_contraction`.
     Broyden {
         /// The contraction every step must reach.
         min_contraction: f64,
@@ -91,6 +92,9 @@ pub struct NewtonPolicy {
     /// How the Jacobian follows the iterate.
     pub update: JacobianUpdate,
     /// Whether the answer carries a Jacobian evaluated at the solution (else the last one).
+    /// The Jacobian is then asked for already with the trial that the last contraction
+    /// predicts to converge (`|R| rho <= tol`), so that a converged answer costs no extra
+    /// evaluation.
     pub jacobian_at_solution: bool,
     /// A failed iteration whose best residual norm is at most this is accepted as
     /// [`Termination::NoiseFloor`] (the evaluations' own noise stops it above `tol`).
@@ -194,16 +198,20 @@ pub fn newton<const N: usize, S: NewtonSystem<N>>(
         ans.termination = Termination::NoDescent;
         return Ok(ans);
     }
+    // the last step's contraction |R_new| / |R_old| (none before the first step)
+    let mut contraction = f64::NAN;
     for it in 0..policy.max_iter {
         let Some(du) = solve(&ans.jac, &ans.r) else {
             ans.termination = Termination::Singular;
             return finish(sys, ans, policy, jac_fresh);
         };
-        let Some((trial, eval, rn)) = damped_step(sys, &ans, &du, policy) else {
+        // a trial predicted to converge brings the Jacobian at the solution along
+        let want_jac = policy.jacobian_at_solution && ans.norm * contraction <= policy.tol;
+        let Some((trial, eval, rn)) = damped_step(sys, &ans, &du, policy, want_jac) else {
             ans.termination = Termination::NoDescent;
             return finish(sys, ans, policy, jac_fresh);
         };
-        let contraction = rn / ans.norm;
+        contraction = rn / ans.norm;
         if let JacobianUpdate::Broyden { min_contraction } = policy.update {
             broyden_update(&mut ans.jac, &du, &ans.r, &eval.r);
             if rn > policy.tol && (contraction >= min_contraction || contraction.is_nan()) {
@@ -230,20 +238,21 @@ pub fn newton<const N: usize, S: NewtonSystem<N>>(
             jac_fresh = true;
         }
         let converged = rn <= policy.tol;
-        if converged && (!policy.jacobian_at_solution || broyden || jac_fresh) {
+        if converged && (!policy.jacobian_at_solution || jac_fresh) {
             return Ok(ans);
         }
-        if let JacobianUpdate::Reevaluate { keep_below } = policy.update {
-            if converged || contraction > keep_below {
-                // a fresh Jacobian at the solution, or where the old one converges slowly
-                let e = sys.eval(&ans.u, true)?;
-                ans.r = e.r;
-                ans.norm = norm(&e.r);
-                ans.point = e.point;
-                if let Some(j) = e.jac {
-                    ans.jac = j;
-                    jac_fresh = true;
-                }
+        // a fresh Jacobian at the solution, or where the current one converges slowly
+        let reevaluate = converged
+            || matches!(policy.update,
+                JacobianUpdate::Reevaluate { keep_below } if contraction > keep_below);
+        if reevaluate && !jac_fresh {
+            let e = sys.eval(&ans.u, true)?;
+            ans.r = e.r;
+            ans.norm = norm(&e.r);
+            ans.point = e.point;
+            if let Some(j) = e.jac {
+                ans.jac = j;
+                jac_fresh = true;
             }
         }
         if converged {
@@ -263,6 +272,7 @@ fn damped_step<const N: usize, S: NewtonSystem<N>>(
     ans: &NewtonAnswer<N, S::Point>,
     du: &[f64; N],
     policy: &NewtonPolicy,
+    want_jac: bool,
 ) -> Option<([f64; N], Evaluation<N, S::Point>, f64)> {
     let mut lambda = 1.0;
     let tries = policy.halvings.max(1);
@@ -275,7 +285,7 @@ fn damped_step<const N: usize, S: NewtonSystem<N>>(
             lambda *= 0.5;
             continue;
         }
-        if let Ok(e) = sys.eval(&trial, false) {
+        if let Ok(e) = sys.eval(&trial, want_jac) {
             let rn = norm(&e.r);
             let accept = if policy.halvings == 0 {
                 !rn.is_nan()
@@ -443,6 +453,7 @@ mod tests {
                 min_contraction: 0.5,
             },
             halvings: 0,
+            jacobian_at_solution: false,
             ..NewtonPolicy::new(1e-12)
         };
         let out = newton(&sys, [1.4, 2.8], Some(jac0), &policy).unwrap();

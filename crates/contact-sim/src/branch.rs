@@ -15,13 +15,13 @@
 //! `x0(u) = xc(t) - (x(s1) - x(0))`. A third equation picks one point: `x0(u) = X` (a row at
 //! a prescribed base position), a hyperplane through a predicted point (pseudo-arclength), or
 //! an event condition. Each is solved by Newton's method on the 3x3 system with the exact
-//! sensitivities of the shot in `(phi1, f, s1)` and a forward difference in the force angle.
+//! sensitivities of the shot in `(phi1, f, s1, beta)`.
 
 use crate::error::{ContactError, Result};
 use crate::phase::{contact_loads, ContactState, ContourPoint, Phase};
 use crate::profile::Profile;
 use beam_model::equations::Sensitivities;
-use beam_model::shot::{shoot, Integration, Shot};
+use beam_model::shot::{shoot, Integration};
 use beam_model::{FluidLoad, Whisker};
 use bvp_solvers::newton::{
     newton, Evaluation, JacobianUpdate, NewtonPolicy, NewtonSystem, Termination,
@@ -120,9 +120,6 @@ const SLENDER: f64 = 0.1;
 /// The largest residual norm accepted from a corrector that cannot reduce it further.
 const NOISE_FLOOR: f64 = 1e-10;
 
-/// Relative step of the forward difference in the force angle.
-const ANGLE_STEP: f64 = 1e-7;
-
 /// Newton iterations per corrector solve (from a prediction Newton converges in 2-4; a
 /// corrector that needs more is failed fast and the caller shortens its step).
 const MAX_NEWTON: usize = 10;
@@ -168,25 +165,11 @@ impl Branch<'_> {
             Sensitivities::None
         };
         let shot = shoot(self.whisker, &loads, phi1, sens, self.integration)?;
-        // d(shot)/d(beta) at fixed f by a forward difference (zero without a force).
+        // d(shot)/d(beta) at fixed f (zero without a force)
         let dbeta: [f64; 4] = if f == 0.0 || !jac {
             [0.0; 4]
         } else {
-            let mut l2 = loads;
-            l2.tip.beta += ANGLE_STEP;
-            let s2: Shot = shoot(
-                self.whisker,
-                &l2,
-                phi1,
-                Sensitivities::None,
-                self.integration,
-            )?;
-            [
-                (s2.phi0 - shot.phi0) / ANGLE_STEP,
-                (s2.m0 - shot.m0) / ANGLE_STEP,
-                (s2.dx - shot.dx) / ANGLE_STEP,
-                (s2.dy - shot.dy) / ANGLE_STEP,
-            ]
+            shot.d_beta.to_array()
         };
         let c = self.whisker.support.compliance();
         let col = |d: [f64; 4]| [d[0] - c * d[1], d[3], -d[2]];
@@ -244,19 +227,13 @@ impl Branch<'_> {
 
     /// Newton's method on `R(u) = 0` with the third equation `constraint`, from `u`, until the
     /// residual norm is at most the tolerance ([`bvp_solvers::newton`]): damped by step
-    /// halving when it grows; trial points are shot without sensitivities; the Jacobian is
-    /// kept while it contracts the residual by 20x per step (simplified Newton) and
-    /// recomputed otherwise, and at the solution only if `jac` is set (otherwise the node
-    /// carries the last one). Slender tips put a noise floor on the shots (adaptive steps):
-    /// a corrector that stalls just above the tolerance but within [`NOISE_FLOOR`] is
-    /// accepted, its residual recorded in the state. Fails with the last residual.
-    pub fn correct(
-        &self,
-        phase: Phase,
-        u: [f64; 3],
-        constraint: Constraint,
-        jac: bool,
-    ) -> Result<Node> {
+    /// halving when it grows; trial points are shot without sensitivities, but the one
+    /// predicted to converge; the Jacobian is kept while it contracts the residual by 20x per
+    /// step (simplified Newton) and recomputed otherwise, and always at the solution (for the
+    /// branch's tangent). Slender tips put a noise floor on the shots (adaptive steps): a
+    /// corrector that stalls just above the tolerance but within [`NOISE_FLOOR`] is accepted,
+    /// its residual recorded in the state. Fails with the last residual.
+    pub fn correct(&self, phase: Phase, u: [f64; 3], constraint: Constraint) -> Result<Node> {
         let sys = Corrector {
             branch: self,
             phase,
@@ -268,7 +245,7 @@ impl Branch<'_> {
             max_iter: MAX_NEWTON,
             halvings: 5,
             update: JacobianUpdate::Reevaluate { keep_below: 0.05 },
-            jacobian_at_solution: jac,
+            jacobian_at_solution: true,
             noise_floor: NOISE_FLOOR,
         };
         let ans = newton(&sys, u, None, &policy)?;
@@ -413,6 +390,7 @@ impl Branch<'_> {
             update: JacobianUpdate::Broyden {
                 min_contraction: 0.5,
             },
+            jacobian_at_solution: false,
             ..NewtonPolicy::new(self.tol)
         };
         let ans = newton(&sys, u, Some(*jac), &policy).ok()?;
@@ -423,6 +401,31 @@ impl Branch<'_> {
             node
         })
     }
+}
+
+/// The cubic Hermite interpolant at `x` through `(xa, ua)` and `(xb, ub)` with slopes `da`,
+/// `db` (`du/dx`), componentwise.
+pub(crate) fn hermite(
+    a: (f64, &[f64; 3], &[f64; 3]),
+    b: (f64, &[f64; 3], &[f64; 3]),
+    x: f64,
+) -> [f64; 3] {
+    let (xa, ua, da) = a;
+    let (xb, ub, db) = b;
+    let h = xb - xa;
+    let s = (x - xa) / h;
+    let (s2, s3) = (s * s, s * s * s);
+    let (h00, h10, h01, h11) = (
+        2.0 * s3 - 3.0 * s2 + 1.0,
+        s3 - 2.0 * s2 + s,
+        -2.0 * s3 + 3.0 * s2,
+        s3 - s2,
+    );
+    let mut out = [0.0; 3];
+    for i in 0..3 {
+        out[i] = h00 * ua[i] + h10 * h * da[i] + h01 * ub[i] + h11 * h * db[i];
+    }
+    out
 }
 
 /// `a + w (b - a)`.

@@ -67,6 +67,10 @@ const PENETRATION_MARGIN: f64 = 1e-8;
 /// shots' accuracy).
 const SNAP_STEP: f64 = 1e-7;
 
+/// Corrector iterations from which the next step is shortened (a prediction that far off
+/// costs more shots than the shorter step saves).
+const HARD: u64 = 6;
+
 /// Longest step over which an event is located (longer steps are shrunk first).
 const EVENT_BRACKET: f64 = 0.02;
 
@@ -257,7 +261,7 @@ impl Tracer<'_> {
             p,
             radius: 0.5 * hs + 1e-9,
         };
-        let node = match self.branch.correct(cur.phase, p, plane, true) {
+        let node = match self.branch.correct(cur.phase, p, plane) {
             Ok(n) => n,
             Err(e) => {
                 self.h *= 0.5;
@@ -319,6 +323,8 @@ impl Tracer<'_> {
         self.nodes.push(node);
         if easy {
             self.h = (self.h * 1.6).min(self.ctl.max);
+        } else if node.state.iterations >= HARD {
+            self.h = (self.h * 0.6).max(self.ctl.min);
         }
         Ok(None)
     }
@@ -374,7 +380,7 @@ impl Tracer<'_> {
         let (ga, gb) = (g(cur), g(node));
         let w = ga / (ga - gb);
         let p = crate::branch::lerp(&cur.u, &node.u, w);
-        let mut at = self.branch.correct(cur.phase, p, c, true).ok()?;
+        let mut at = self.branch.correct(cur.phase, p, c).ok()?;
         if ev == Event::Release {
             // f = 0 to the corrector's tolerance: the release row carries f = 0
             at.state.f = at.state.f.max(0.0);
@@ -412,7 +418,7 @@ fn switch_phase(branch: &Branch, at: &Node) -> Result<(Node, [f64; 3])> {
         Phase::B => (Phase::A, [at.state.point.psi, at.u[1], at.u[2]]),
         _ => (Phase::B, [1.0, at.u[1], at.u[2]]),
     };
-    let next = branch.correct(phase, u, Constraint::BasePosition(at.x0()), true)?;
+    let next = branch.correct(phase, u, Constraint::BasePosition(at.x0()))?;
     // The valid side: s1 < 1 in B; phi1 - psi(t) > 0 in A.
     let into = match phase {
         Phase::B => [-1.0, 0.0, 0.0],

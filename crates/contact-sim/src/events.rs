@@ -15,6 +15,10 @@ use crate::profile::Profile;
 use beam_model::shot::Integration;
 use beam_model::{shape_with, FluidLoad, Scene, Whisker};
 
+/// Integration tolerance of the shape checked for penetration (its depths are then accurate
+/// to ~1e-10, well inside the margin a second contact must exceed).
+const SHAPE_TOL: f64 = 1e-10;
+
 /// Iterations of the Illinois method (each one a corrector solve).
 const MAX_ILLINOIS: usize = 80;
 
@@ -28,8 +32,10 @@ pub(crate) fn phase_margin(node: &Node) -> f64 {
 }
 
 /// How deep the whisker of `state` enters the obstacle away from its contact point (positive
-/// inside): the maximum over the elastica (RK4 on 200 steps, the maximum refined by the
-/// parabola through its neighbours) of the depth below the contour, for a circle also inside
+/// inside): the maximum over the elastica (one DOP853 shot at tolerance [`SHAPE_TOL`], its
+/// dense output sampled at 200 intervals; no validation of the loads: a
+/// trial may exceed their bounds, the maximum refined by the parabola through its
+/// neighbours) of the depth below the contour, for a circle also inside
 /// its vertical sides. Only the contact point itself is excluded (`|s - s1| < 2e-3`), so a
 /// free segment that curls into the obstacle next to a tangential contact counts.
 pub(crate) fn penetration(
@@ -39,7 +45,7 @@ pub(crate) fn penetration(
     state: &ContactState,
 ) -> Result<f64> {
     let scene = Scene::new(*whisker, state.loads(flow));
-    let sol = shape_with(&scene, state.phi1, &Integration::Rk4 { n: 200 })?;
+    let sol = shape_with(&scene, state.phi1, &Integration::adaptive(SHAPE_TOL), 200)?;
     let el = &sol.elastica;
     let depth_at = |i: usize| -> f64 {
         if (el.s[i] - state.s1).abs() < 2e-3 {
@@ -102,12 +108,7 @@ pub(crate) fn locate(
             s = 0.5 * (sa + sb);
         }
         let p = crate::branch::lerp(&a.u, &b.u, s);
-        let node = branch.correct(
-            a.phase,
-            p,
-            Constraint::Hyperplane { n, p, radius: len },
-            true,
-        )?;
+        let node = branch.correct(a.phase, p, Constraint::Hyperplane { n, p, radius: len })?;
         let gs = g(&node)?;
         if gs > 0.0 {
             (sa, ga, na) = (s, gs, node);

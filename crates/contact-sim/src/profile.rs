@@ -4,7 +4,8 @@
 //! curvature `g'' / (1 + g'^2)^(3/2)` (thesis ch. 5.1; contours [5.2, 5.3, 5.11]).
 
 use crate::error::{ContactError, Result};
-use bvp_solvers::roots::bisect;
+use bvp_solvers::roots::{bisect, brent, RootOptions};
+use bvp_solvers::BvpError;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::FRAC_PI_2;
 
@@ -466,7 +467,18 @@ impl Profile {
             }
             tv + w
         };
-        Some(bisect(|m| Some(self.at(m).y < y), tv.max(t_lo), hi, 200))
+        let lo = tv.max(t_lo);
+        // Brent to adjacent floats (y(t) rises on the right flank), bisection if it fails
+        let opts = RootOptions {
+            xtol: 0.0,
+            ftol: 0.0,
+            max_iter: 200,
+        };
+        let f = |m: f64| -> std::result::Result<f64, BvpError> { Ok(self.at(m).y - y) };
+        Some(match brent(f, lo, hi, &opts) {
+            Ok(root) => root.x,
+            Err(_) => bisect(|m| Some(self.at(m).y < y), lo, hi, 200),
+        })
     }
 
     /// Checks strict convexity where a whisker of unit length with its base on `y = 0` can

@@ -3,7 +3,7 @@
 //! (cubic Hermite in x0 within a phase, Lagrange extrapolation across a switch) and
 //! corrected at its base position (Broyden from the prediction, Newton as the fallback).
 
-use crate::branch::{Branch, Constraint, Node};
+use crate::branch::{hermite, Branch, Constraint, Node};
 use crate::error::{ContactError, Result};
 use crate::phase::{ContactState, Phase};
 
@@ -89,13 +89,27 @@ fn predict(a: &Node, b: &Node, recent: &[Node], target: f64) -> RowPrediction {
         .take_while(|r| r.phase == phase)
         .collect();
     if a.phase == b.phase {
+        for (r, (ra, rb)) in jac.iter_mut().zip(a.jac.iter().zip(&b.jac)) {
+            *r = crate::branch::lerp(ra, rb, w);
+        }
         guess = hermite(
             (a.x0(), &a.u, &a.slope()),
             (b.x0(), &b.u, &b.slope()),
             target,
         );
-        for (r, (ra, rb)) in jac.iter_mut().zip(a.jac.iter().zip(&b.jac)) {
-            *r = crate::branch::lerp(ra, rb, w);
+        if let Some(r) = recent.last().filter(|r| r.phase == phase) {
+            quartic_correction(&mut guess, (a, b), r, target);
+            // the Jacobian learnt at the last row, carried over by the interpolation's drift
+            let wr = (a.x0() - r.x0()) / (a.x0() - b.x0());
+            if (-0.5..=1.5).contains(&wr) {
+                for (i, row) in jac.iter_mut().enumerate() {
+                    let at_r = crate::branch::lerp(&a.jac[i], &b.jac[i], wr);
+                    let at_t = crate::branch::lerp(&a.jac[i], &b.jac[i], w);
+                    for k in 0..3 {
+                        row[k] = at_t[k] + (r.jac[i][k] - at_r[k]);
+                    }
+                }
+            }
         }
     } else if same.len() >= 3 {
         let xs: Vec<f64> = same.iter().map(|r| r.x0()).collect();
@@ -126,6 +140,26 @@ fn predict(a: &Node, b: &Node, recent: &[Node], target: f64) -> RowPrediction {
     }
 }
 
+/// Raises the cubic Hermite prediction `guess` at `target` between the nodes `a`, `b` to the
+/// quartic that also passes through the solved row `r`: the cubic plus
+/// `c (x - xa)^2 (x - xb)^2`, the form of the cubic's own leading error term, with `c` from
+/// the cubic's miss at `r`. Only for `r` within one segment length of the pair and away
+/// from both nodes (where the correction is determined).
+fn quartic_correction(guess: &mut [f64; 3], (a, b): (&Node, &Node), r: &Node, target: f64) {
+    let (xa, xb, xr) = (a.x0(), b.x0(), r.x0());
+    let span = (xa - xb).abs();
+    let bubble = |x: f64| ((x - xa) * (x - xb)).powi(2);
+    let at_r = bubble(xr);
+    if !(at_r > 1e-6 * span.powi(4) && (xr - 0.5 * (xa + xb)).abs() < 1.5 * span) {
+        return;
+    }
+    let cubic_r = hermite((xa, &a.u, &a.slope()), (xb, &b.u, &b.slope()), xr);
+    let w = bubble(target) / at_r;
+    for (g, (ur, cr)) in guess.iter_mut().zip(r.u.iter().zip(&cubic_r)) {
+        *g += w * (ur - cr);
+    }
+}
+
 /// Solves the row at `target` from its prediction: Broyden's method from the prediction;
 /// Newton from it, from the interpolation between the bracketing nodes, and from the nearer
 /// node as fallbacks (`xc` the contact point reported if all fail).
@@ -136,7 +170,7 @@ fn solve_row(branch: &Branch, pred: &RowPrediction, target: f64, xc: f64) -> Res
     }
     let mut last_err = None;
     for start in [pred.guess, pred.lin, pred.near] {
-        match branch.correct(phase, start, Constraint::BasePosition(target), true) {
+        match branch.correct(phase, start, Constraint::BasePosition(target)) {
             Ok(n) if (n.x0() - target).abs() <= 1e-9 => return Ok(n),
             Ok(_) => {}
             Err(e) => last_err = Some(e),
@@ -151,30 +185,9 @@ fn solve_row(branch: &Branch, pred: &RowPrediction, target: f64, xc: f64) -> Res
     }))
 }
 
-/// The cubic Hermite interpolant at `x` through `(xa, ua)` and `(xb, ub)` with slopes `da`,
-/// `db` (`du/dx`), componentwise.
-fn hermite(a: (f64, &[f64; 3], &[f64; 3]), b: (f64, &[f64; 3], &[f64; 3]), x: f64) -> [f64; 3] {
-    let (xa, ua, da) = a;
-    let (xb, ub, db) = b;
-    let h = xb - xa;
-    let s = (x - xa) / h;
-    let (s2, s3) = (s * s, s * s * s);
-    let (h00, h10, h01, h11) = (
-        2.0 * s3 - 3.0 * s2 + 1.0,
-        s3 - 2.0 * s2 + s,
-        -2.0 * s3 + 3.0 * s2,
-        s3 - s2,
-    );
-    let mut out = [0.0; 3];
-    for i in 0..3 {
-        out[i] = h00 * ua[i] + h10 * h * da[i] + h01 * ub[i] + h11 * h * db[i];
-    }
-    out
-}
-
 #[cfg(test)]
 mod tests {
-    use super::*;
+    use crate::branch::hermite;
 
     /// The Hermite interpolant reproduces cubics exactly, also between nodes listed from
     /// high to low x (the sweep's direction).

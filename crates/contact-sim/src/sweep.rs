@@ -414,7 +414,7 @@ fn first_node(branch: &Branch, touch: &FirstTouch) -> Result<Node> {
         // the free whisker itself: no correction (f = 0 exactly)
         FirstContact::Tip => branch.eval(phase, u)?.1,
         FirstContact::Tangential => {
-            match branch.correct(phase, u, Constraint::BasePosition(touch.x0), true) {
+            match branch.correct(phase, u, Constraint::BasePosition(touch.x0)) {
                 Ok(n) if n.state.f >= 0.0 => n,
                 _ => tangential_first_node(branch, u, touch.x0)?,
             }
@@ -442,7 +442,7 @@ fn first_node(branch: &Branch, touch: &FirstTouch) -> Result<Node> {
 /// with `f >= 0` (the thesis's phase-B model has no admissible state there), the sweep cannot
 /// start and says so.
 fn tangential_first_node(branch: &Branch, u: [f64; 3], x0: f64) -> Result<Node> {
-    let start = branch.correct(Phase::B, u, Constraint::NoForce, true)?;
+    let start = branch.correct(Phase::B, u, Constraint::NoForce)?;
     if start.x0() < x0 - 1e-12 {
         return Err(ContactError::NoContact {
             reason: format!(
@@ -466,7 +466,7 @@ fn tangential_first_node(branch: &Branch, u: [f64; 3], x0: f64) -> Result<Node> 
             }
             _ => cur.u,
         };
-        match branch.correct(Phase::B, guess, Constraint::BasePosition(target), true) {
+        match branch.correct(Phase::B, guess, Constraint::BasePosition(target)) {
             Ok(n) if n.state.s1 < 1.0 && n.state.f >= 0.0 => {
                 prev = Some(cur);
                 cur = n;

@@ -398,16 +398,19 @@ pub fn shape_from_tip_angle(
     )
 }
 
-/// Like [`shape_from_tip_angle`] with any integrator, e.g. a cheap fixed-step RK4 for
-/// geometric checks (`Integration::Rk4 { n }` samples the RK4 nodes).
+/// Like [`shape_from_tip_angle`] with any integrator and no validation of the scene (for
+/// geometric checks of trial states, whose loads may exceed the bounds a user may ask
+/// for): DOP853's dense output sampled at `samples` intervals, or a fixed-step RK4's
+/// nodes (`Integration::Rk4 { n }`, `samples` ignored).
 pub fn shape_with(
     scene: &Scene,
     phi1: f64,
     integration: &crate::shot::Integration,
+    samples: usize,
 ) -> Result<Solution> {
     let samples = match integration {
         crate::shot::Integration::Rk4 { n } => *n,
-        crate::shot::Integration::Dop853(_) => DEFAULT_INTERVALS,
+        crate::shot::Integration::Dop853(_) => samples,
     };
     shooting::shape(
         scene,

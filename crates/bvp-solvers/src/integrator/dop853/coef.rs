@@ -173,17 +173,63 @@ pub(super) use tableau::*;
 /// Number of stored stage derivatives `k1..k16` (0-based slots 0..=15).
 pub(super) const NSTAGE: usize = 16;
 
-/// Writes `out = y + h * sum_j a_j k_j` for the listed (0-based stage, coefficient) pairs.
+/// A state dimension: a compile-time constant for the common sizes ([`Fixed`]; the stage
+/// loops then unroll and lose their bounds checks), else a run-time one ([`Dynamic`]).
+pub(super) trait Dim: Copy {
+    /// The dimension.
+    fn n(self) -> usize;
+}
+
+/// A dimension known at compile time.
+#[derive(Clone, Copy)]
+pub(super) struct Fixed<const N: usize>;
+
+impl<const N: usize> Dim for Fixed<N> {
+    #[inline(always)]
+    fn n(self) -> usize {
+        N
+    }
+}
+
+/// A dimension known at run time.
+#[derive(Clone, Copy)]
+pub(super) struct Dynamic(pub usize);
+
+impl Dim for Dynamic {
+    #[inline(always)]
+    fn n(self) -> usize {
+        self.0
+    }
+}
+
+/// Calls `$f(dim, args...)` with the state dimension `$n` as a [`Fixed`] one where it is
+/// one of the common sizes (2, 4, 8, 20: the whisker's shots), else as [`Dynamic`].
+macro_rules! by_dim {
+    ($n:expr, $f:ident($($arg:expr),* $(,)?)) => {
+        match $n {
+            2 => $f(Fixed::<2>, $($arg),*),
+            4 => $f(Fixed::<4>, $($arg),*),
+            8 => $f(Fixed::<8>, $($arg),*),
+            20 => $f(Fixed::<20>, $($arg),*),
+            n => $f(Dynamic(n), $($arg),*),
+        }
+    };
+}
+pub(super) use by_dim;
+
+/// Writes `out = y + h * sum_j a_j k_j` for the listed (0-based stage, coefficient) pairs
+/// (`y`, `out` of length `n`; `k` holds blocks of `n`).
 #[inline(always)]
 pub(super) fn combo<const M: usize>(
+    n: usize,
     y: &[f64],
     h: f64,
     k: &[f64],
     terms: [(usize, f64); M],
     out: &mut [f64],
 ) {
-    let n = y.len();
-    for (i, o) in out.iter_mut().enumerate().take(n) {
+    let (y, out) = (&y[..n], &mut out[..n]);
+    for (i, o) in out.iter_mut().enumerate() {
         let mut acc = 0.0;
         for &(j, a) in terms.iter() {
             acc += a * k[j * n + i];

@@ -37,8 +37,16 @@ pub struct OdeSolution {
 /// Evaluates the DOP853 dense output of one step with coefficients `rc` (8 blocks of `n`).
 #[inline]
 pub(super) fn dense_eval(rc: &[f64], n: usize, theta: f64, out: &mut [f64]) {
+    by_dim!(n, dense_eval_in(rc, theta, out))
+}
+
+/// [`dense_eval`] in the dimension `d`.
+#[inline(always)]
+fn dense_eval_in<D: Dim>(d: D, rc: &[f64], theta: f64, out: &mut [f64]) {
+    let n = d.n();
+    let (rc, out) = (&rc[..8 * n], &mut out[..n]);
     let t1 = 1.0 - theta;
-    for (i, o) in out.iter_mut().enumerate().take(n) {
+    for (i, o) in out.iter_mut().enumerate() {
         let r = |j: usize| rc[j * n + i];
         *o = r(0)
             + theta

@@ -14,21 +14,37 @@ pub(super) fn stages<S: OdeSystem + ?Sized>(
     k: &mut [f64],
     tmp: &mut [f64],
 ) {
-    let n = y.len();
+    by_dim!(y.len(), stages_in(sys, x, h, y, k, tmp))
+}
+
+/// [`stages`] in the dimension `d`.
+#[inline(always)]
+fn stages_in<D: Dim, S: OdeSystem + ?Sized>(
+    d: D,
+    sys: &S,
+    x: f64,
+    h: f64,
+    y: &[f64],
+    k: &mut [f64],
+    tmp: &mut [f64],
+) {
+    let n = d.n();
+    let (y, k, tmp) = (&y[..n], &mut k[..12 * n], &mut tmp[..n]);
     // ---- the 12 stages
-    combo(y, h, k, [(0, A21)], tmp);
+    combo(n, y, h, k, [(0, A21)], tmp);
     sys.rhs(x + C[1] * h, tmp, &mut k[n..2 * n]);
-    combo(y, h, k, [(0, A31), (1, A32)], tmp);
+    combo(n, y, h, k, [(0, A31), (1, A32)], tmp);
     sys.rhs(x + C[2] * h, tmp, &mut k[2 * n..3 * n]);
-    combo(y, h, k, [(0, A41), (2, A43)], tmp);
+    combo(n, y, h, k, [(0, A41), (2, A43)], tmp);
     sys.rhs(x + C[3] * h, tmp, &mut k[3 * n..4 * n]);
-    combo(y, h, k, [(0, A51), (2, A53), (3, A54)], tmp);
+    combo(n, y, h, k, [(0, A51), (2, A53), (3, A54)], tmp);
     sys.rhs(x + C[4] * h, tmp, &mut k[4 * n..5 * n]);
-    combo(y, h, k, [(0, A61), (3, A64), (4, A65)], tmp);
+    combo(n, y, h, k, [(0, A61), (3, A64), (4, A65)], tmp);
     sys.rhs(x + C[5] * h, tmp, &mut k[5 * n..6 * n]);
-    combo(y, h, k, [(0, A71), (3, A74), (4, A75), (5, A76)], tmp);
+    combo(n, y, h, k, [(0, A71), (3, A74), (4, A75), (5, A76)], tmp);
     sys.rhs(x + C[6] * h, tmp, &mut k[6 * n..7 * n]);
     combo(
+        n,
         y,
         h,
         k,
@@ -37,6 +53,7 @@ pub(super) fn stages<S: OdeSystem + ?Sized>(
     );
     sys.rhs(x + C[7] * h, tmp, &mut k[7 * n..8 * n]);
     combo(
+        n,
         y,
         h,
         k,
@@ -45,6 +62,7 @@ pub(super) fn stages<S: OdeSystem + ?Sized>(
     );
     sys.rhs(x + C[8] * h, tmp, &mut k[8 * n..9 * n]);
     combo(
+        n,
         y,
         h,
         k,
@@ -61,6 +79,7 @@ pub(super) fn stages<S: OdeSystem + ?Sized>(
     );
     sys.rhs(x + C[9] * h, tmp, &mut k[9 * n..10 * n]);
     combo(
+        n,
         y,
         h,
         k,
@@ -79,6 +98,7 @@ pub(super) fn stages<S: OdeSystem + ?Sized>(
     sys.rhs(x + C[10] * h, tmp, &mut k[10 * n..11 * n]);
     let xph = x + h;
     combo(
+        n,
         y,
         h,
         k,
@@ -109,7 +129,22 @@ pub(super) fn update_and_error(
     rtol: f64,
     atol: f64,
 ) -> f64 {
-    let n = y.len();
+    by_dim!(y.len(), update_and_error_in(y, h, k, ynew, rtol, atol))
+}
+
+/// [`update_and_error`] in the dimension `d`.
+#[inline(always)]
+fn update_and_error_in<D: Dim>(
+    d: D,
+    y: &[f64],
+    h: f64,
+    k: &[f64],
+    ynew: &mut [f64],
+    rtol: f64,
+    atol: f64,
+) -> f64 {
+    let n = d.n();
+    let (y, k, ynew) = (&y[..n], &k[..12 * n], &mut ynew[..n]);
     // ---- 8th-order solution and error estimate
     let mut err = 0.0;
     let mut err2 = 0.0;

@@ -462,6 +462,26 @@ mod tests {
         assert!((out.u[0] - s2).abs() < 1e-12);
     }
 
+    /// With a Jacobian wanted at the solution, the trial the last contraction predicts to
+    /// converge brings it along: no evaluation after convergence, and the Jacobian is the
+    /// exact one at the root.
+    #[test]
+    fn the_jacobian_at_the_solution_comes_with_the_converging_trial() {
+        let sys = cubic(0.0);
+        let policy = NewtonPolicy {
+            update: JacobianUpdate::Reevaluate { keep_below: 0.5 },
+            ..NewtonPolicy::new(1e-12)
+        };
+        let out = newton(&sys, [1.4, 2.8], None, &policy).unwrap();
+        assert_eq!(out.termination, Termination::Converged);
+        // one evaluation per step and the start, none at the solution afterwards
+        assert_eq!(sys.evals.get(), out.iterations + 1);
+        let s2 = 2f64.sqrt();
+        let exact = [[2.0 * out.u[0], 0.0], [-3.0 * out.u[0] * out.u[0], 1.0]];
+        assert_eq!(out.jac, exact);
+        assert!((out.u[0] - s2).abs() < 1e-12);
+    }
+
     #[test]
     fn a_noisy_system_stops_at_its_floor_and_says_so() {
         let sys = cubic(1e-9);

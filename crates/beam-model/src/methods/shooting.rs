@@ -11,6 +11,7 @@ use crate::solution::{BaseObservables, Elastica, EndState, Solution, SolveStats}
 use crate::whisker::Whisker;
 use bvp_solvers::continuation::{BranchGuard, Continuation};
 use bvp_solvers::integrator::{OdeSystem, Rk4};
+use std::cell::Cell;
 use std::f64::consts::FRAC_PI_2;
 
 /// Converged tip angle with its shot.
@@ -30,25 +31,30 @@ pub(crate) struct TipSolve {
 }
 
 const MAX_NEWTON: usize = 40;
+/// Newton iterations without a new smallest residual after which the iteration fails.
+const STALL: usize = 2;
 /// The largest tip rotation (rad) the continuation's first step predicts by linear theory.
 const LINEAR_STEP: f64 = 0.25;
 const MAX_STEP: f64 = 0.5;
 
-/// Newton on `R(phi1) = phi(0) - pi/2 - m(0)/k` [3.21, 3.22] from `guess`.
+/// Newton on `R(phi1) = phi(0) - pi/2 - m(0)/k` [3.21, 3.22] from `guess`; with the
+/// right-hand-side evaluations spent, failed or not.
 pub(crate) fn newton_tip_angle(
     whisker: &Whisker,
     loads: &Loads,
     integration: &Integration,
     guess: f64,
     method: &'static str,
-) -> Result<TipSolve> {
+) -> (Result<TipSolve>, usize) {
     let problem = TipProblem {
         whisker,
         loads,
         integration,
         method,
+        spent: Cell::new(0),
     };
-    newton_to(&problem, guess, &TipTarget::FINAL)
+    let t = newton_to(&problem, guess, &TipTarget::FINAL);
+    (t, problem.spent.get())
 }
 
 /// The tip-angle equation of a scene: the whisker, its loads and the shots' integrator
@@ -58,6 +64,8 @@ struct TipProblem<'a> {
     loads: &'a Loads,
     integration: &'a Integration,
     method: &'static str,
+    /// Right-hand-side evaluations spent by every shot, also of a failed iteration.
+    spent: Cell<usize>,
 }
 
 /// How far [`newton_to`] iterates.
@@ -87,6 +95,7 @@ fn newton_to(problem: &TipProblem<'_>, guess: f64, target: &TipTarget) -> Result
         loads,
         integration,
         method,
+        ..
     } = *problem;
     let TipTarget {
         tol,
@@ -97,9 +106,14 @@ fn newton_to(problem: &TipProblem<'_>, guess: f64, target: &TipTarget) -> Result
     let mut p = guess;
     let mut evaluations = 0;
     let mut last_r = f64::INFINITY;
+    // the smallest residual so far and the iterations since it fell
+    let (mut best, mut stalled) = (f64::INFINITY, 0);
+    let mut iterations = 0;
     for it in 0..MAX_NEWTON {
+        iterations = it + 1;
         let shot = shoot(whisker, loads, p, Sensitivities::TipAngle, integration)?;
         evaluations += shot.evaluations;
+        problem.spent.set(problem.spent.get() + shot.evaluations);
         let r = whisker.support.residual(shot.phi0, shot.m0);
         let dr = whisker
             .support
@@ -121,6 +135,16 @@ fn newton_to(problem: &TipProblem<'_>, guess: f64, target: &TipTarget) -> Result
         }
         if !(dr.is_finite() && dr != 0.0) {
             break;
+        }
+        if r.abs() < best {
+            (best, stalled) = (r.abs(), 0);
+        } else {
+            // Newton that does not improve on its best residual twice running is cycling or
+            // diverging: fail now (a continuation shortens its load step)
+            stalled += 1;
+            if stalled >= STALL {
+                break;
+            }
         }
         let step = (-r / dr).clamp(-MAX_STEP, MAX_STEP);
         p += step;
@@ -146,6 +170,7 @@ fn newton_to(problem: &TipProblem<'_>, guess: f64, target: &TipTarget) -> Result
         if step.abs() <= 4.0 * f64::EPSILON * p.abs().max(1.0) {
             // Converged to rounding: the residual cannot drop further.
             let shot = shoot(whisker, loads, p, Sensitivities::None, integration)?;
+            problem.spent.set(problem.spent.get() + shot.evaluations);
             let r = whisker.support.residual(shot.phi0, shot.m0);
             if r.abs() <= 1e-9 * scale {
                 return Ok(TipSolve {
@@ -165,7 +190,7 @@ fn newton_to(problem: &TipProblem<'_>, guess: f64, target: &TipTarget) -> Result
     Err(ModelError::NoConvergence {
         method,
         load_scale,
-        iterations: MAX_NEWTON,
+        iterations,
         residual: last_r,
     })
 }
@@ -195,19 +220,27 @@ pub(crate) fn solve_tip_angle_within(
 ) -> Result<(TipSolve, usize)> {
     let unloaded = whisker.phi_unloaded(loads.s1);
     let sev = severity(whisker, loads);
+    // evaluations of attempts that did not give the answer
+    let mut evaluations = 0;
     if let Some(g) = guess {
-        if let Ok(t) = newton_tip_angle(whisker, loads, integration, g, method) {
+        let (t, spent) = newton_tip_angle(whisker, loads, integration, g, method);
+        if let Ok(t) = t {
             return Ok((t, 0));
         }
+        evaluations += spent;
     } else if sev <= 1.0 {
         // From the linear-theory tip angle. A direct solve is kept only near the unloaded
         // shape (at most 0.5 rad of rotation at either end); otherwise it may have landed on
         // another branch and continuation decides.
         let linear = unloaded + crate::linear::tip_rotation(whisker, loads);
-        if let Ok(t) = newton_tip_angle(whisker, loads, integration, linear, method) {
-            if (t.phi1 - unloaded).abs() <= 0.5 && (t.values.phi0 - FRAC_PI_2).abs() <= 0.5 {
+        let (t, spent) = newton_tip_angle(whisker, loads, integration, linear, method);
+        match t {
+            Ok(t)
+                if (t.phi1 - unloaded).abs() <= 0.5 && (t.values.phi0 - FRAC_PI_2).abs() <= 0.5 =>
+            {
                 return Ok((t, 0));
             }
+            _ => evaluations += spent,
         }
     }
     let first = (1.0 / sev.ceil()).clamp(1e-3, 1.0);
@@ -224,7 +257,6 @@ pub(crate) fn solve_tip_angle_within(
         min_step: 1e-8,
         max_step: (2.0 * first).min(1.0),
     };
-    let mut evaluations = 0;
     let loose = match integration {
         Integration::Dop853(d) => Integration::adaptive(d.rtol.max(1e-8)),
         other => other.clone(),
@@ -254,14 +286,16 @@ pub(crate) fn solve_tip_angle_within(
                     loads: &scaled,
                     integration: &loose,
                     method,
+                    spent: Cell::new(0),
                 };
                 let target = TipTarget {
                     tol: 1e-8,
                     verify_last: false,
                     load_scale: lambda,
                 };
-                let t = newton_to(&problem, pred[0], &target)?;
-                evaluations += t.evaluations;
+                let t = newton_to(&problem, pred[0], &target);
+                evaluations += problem.spent.get();
+                let t = t?;
                 Ok(vec![t.phi1, t.values.phi0])
             },
         )
@@ -274,6 +308,7 @@ pub(crate) fn solve_tip_angle_within(
         loads,
         integration,
         method,
+        spent: Cell::new(0),
     };
     let target = TipTarget {
         verify_last: true,
@@ -363,7 +398,7 @@ fn verified(scene: &Scene, run: &Run<'_>, stats: SolveStats) -> Result<(Solution
     let scale = |sol: &Solution| 1.0 + sol.base.ma.abs() * w.support.compliance();
     let residual = |sol: &Solution| w.support.residual(sol.base.phi0, -sol.base.ma).abs();
     if residual(&sol) > 1e-12 * scale(&sol) {
-        let t = newton_tip_angle(w, loads, integration, tip.phi1, method)?;
+        let t = newton_tip_angle(w, loads, integration, tip.phi1, method).0?;
         stats.iterations += t.iterations;
         stats.evaluations += t.evaluations;
         sens = t.sens;

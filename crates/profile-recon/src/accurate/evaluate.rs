@@ -323,10 +323,11 @@ fn hypothesis(
             ((m.abs() / v.var_r.sqrt().max(tiny)).max(viol), m.abs())
         }
     };
-    let (p, q) = ode.force(at.s);
+    let rate = ode.rate(at.s, at.sp, at.cp);
     let r = match kind {
         Kind::Touch => 0.0,
-        Kind::Root => q * at.sp - p * at.cp,
+        // g = f sin(phi - psi) = -dm'/dphi
+        Kind::Root => -rate.dm_dphi,
         Kind::Tip => m,
     };
     let (x, y, var_post, shift) = linear_projection(at, kind, r, spread);
@@ -348,10 +349,8 @@ fn hypothesis(
         dr: v.dr,
         shift,
         sigma_sqrt: if kind == Kind::Touch {
-            // m'' = P' sin phi + Q' cos phi + (P cos phi - Q sin phi) phi'
-            let (sa, ca) = flow.alpha.sin_cos();
-            let (sp, cp) = (at.sp, at.cp);
-            let m2 = -flow.q * ca * sp - flow.q * sa * cp + (p * cp - q * sp) * at.dphi_s;
+            // m'' = dm'/ds + dm'/dphi phi' = -q sin(phi + alpha) + dm'/dphi phi'
+            let m2 = -flow.q * rate.flow_sin + rate.dm_dphi * at.dphi_s;
             (2.0 * v.var_v.sqrt() / m2.abs().max(tiny)).sqrt()
         } else {
             0.0

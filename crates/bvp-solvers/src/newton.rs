@@ -1,12 +1,24 @@
-//! Newton's method for small square systems `R(u) = 0`, `u` in `R^N`, with one convergence
-//! policy: a damped step (halved until the residual norm falls), the Jacobian kept while it
-//! contracts the residual fast enough (simplified Newton) or updated by Broyden's rank-one
-//! formula, a noise floor under which a stalled iteration is accepted, and an answer that
-//! always says why it stopped ([`Termination`]) with the best point reached.
+//! Newton's method for small systems `R(u) = 0`, `u` in `R^N`, `R` in `R^M`, with one
+//! convergence policy: a damped step (halved until the residual norm falls), the Jacobian
+//! kept while it contracts the residual fast enough (simplified Newton) or updated by
+//! Broyden's rank-one formula, a noise floor under which a stalled iteration is accepted, and
+//! an answer that always says why it stopped ([`Termination`]) with the best point reached.
+//!
+//! One iteration, three step rules (`J = dR/du`):
+//! - [`newton`] (`M = N`): `J du = R`;
+//! - [`gauss_newton`] (`M >= N`, least squares `min |R|^2`): the normal equations
+//!   `J^T J du = J^T R`;
+//! - [`projection`] (`M <= N`, the nearest point of `R = 0` to a measured `u_m` in the metric
+//!   `W^-1`, `W = diag(w)`): the Gauss-Newton step of the constrained least-squares problem
+//!   `u' = u_m - W J^T (J W J^T)^-1 (R(u) + J (u_m - u))`.
+//!
+//! For `M = N` and a regular `J` all three are the Newton step `u' = u - J^-1 R`.
 //!
 //! The system ([`NewtonSystem`]) evaluates its residual, with the Jacobian on request, and
 //! carries a point of its own along (whatever the domain computes with the residual: a
-//! shot, a contact state), so that the converged answer needs no extra evaluation.
+//! shot, a contact state), so that the converged answer needs no extra evaluation; it may
+//! also say when consecutive points have settled ([`NewtonSystem::settled`]: converged by the
+//! domain's own measure).
 //!
 //! ```
 //! use bvp_solvers::newton::{newton, Evaluation, NewtonPolicy, NewtonSystem, Termination};
@@ -27,19 +39,20 @@
 //! assert!((out.u[0] - 2f64.sqrt()).abs() < 1e-14 && (out.u[1] - 2f64.sqrt()).abs() < 1e-14);
 //! ```
 
-/// One evaluation of the system at a point.
+/// One evaluation of the system at a point (`N` unknowns, `M` equations).
 #[derive(Clone, Debug)]
-pub struct Evaluation<const N: usize, P> {
+pub struct Evaluation<const N: usize, P, const M: usize = N> {
     /// The residual `R(u)`.
-    pub r: [f64; N],
+    pub r: [f64; M],
     /// The Jacobian `dR/du` (rows by equation) when it was asked for.
-    pub jac: Option<[[f64; N]; N]>,
+    pub jac: Option<[[f64; N]; M]>,
     /// What the domain computed along with the residual.
     pub point: P,
 }
 
-/// A square system for [`newton`].
-pub trait NewtonSystem<const N: usize> {
+/// A system of `M` equations in `N` unknowns (square by default) for [`newton`],
+/// [`gauss_newton`] and [`projection`].
+pub trait NewtonSystem<const N: usize, const M: usize = N> {
     /// What an evaluation carries besides the residual.
     type Point;
     /// The error of an evaluation.
@@ -50,13 +63,23 @@ pub trait NewtonSystem<const N: usize> {
     /// # Errors
     /// Whatever keeps the system from being evaluated at `u`; at a trial point such an
     /// error only rejects the step.
-    fn eval(&self, u: &[f64; N], jacobian: bool)
-        -> Result<Evaluation<N, Self::Point>, Self::Error>;
+    fn eval(
+        &self,
+        u: &[f64; N],
+        jacobian: bool,
+    ) -> Result<Evaluation<N, Self::Point, M>, Self::Error>;
 
     /// Whether a trial point may be evaluated at all (e.g. within a radius); a trial outside
     /// is halved towards the current point without an evaluation.
     fn admissible(&self, _u: &[f64; N]) -> bool {
         true
+    }
+
+    /// Whether the step from the point `old` to `new` moved what the domain computes by too
+    /// little to matter: the iteration ends there as [`Termination::Converged`] (default:
+    /// never; convergence by the residual's tolerance only).
+    fn settled(&self, _old: &Self::Point, _new: &Self::Point) -> bool {
+        false
     }
 }
 
@@ -116,7 +139,8 @@ impl NewtonPolicy {
 /// Why [`newton`] stopped.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Termination {
-    /// The residual norm reached the tolerance.
+    /// The residual norm reached the tolerance (or the system's points settled,
+    /// [`NewtonSystem::settled`]).
     Converged,
     /// The iteration failed above the tolerance but within the noise floor.
     NoiseFloor,
@@ -139,15 +163,15 @@ impl Termination {
 /// The answer of [`newton`]: the last iterate (the best: every accepted step lowers the
 /// residual) with its evaluation.
 #[derive(Clone, Debug)]
-pub struct NewtonAnswer<const N: usize, P> {
+pub struct NewtonAnswer<const N: usize, P, const M: usize = N> {
     /// The iterate.
     pub u: [f64; N],
     /// Its residual.
-    pub r: [f64; N],
+    pub r: [f64; M],
     /// The residual's Euclidean norm.
     pub norm: f64,
     /// The Jacobian: at `u` if evaluated there, else the last one used.
-    pub jac: [[f64; N]; N],
+    pub jac: [[f64; N]; M],
     /// The system's point at `u`.
     pub point: P,
     /// Steps taken.
@@ -161,9 +185,9 @@ fn norm<const N: usize>(v: &[f64; N]) -> f64 {
     v.iter().map(|x| x * x).sum::<f64>().sqrt()
 }
 
-/// Newton's method on `sys` from `u0` under `policy` (module docs); `jac0` is a start
-/// Jacobian (required for [`JacobianUpdate::Broyden`]; otherwise the first evaluation
-/// computes one when it is `None`).
+/// Newton's method on `sys` from `u0` under `policy` (module docs): steps `J du = R`;
+/// `jac0` is a start Jacobian (required for [`JacobianUpdate::Broyden`]; otherwise the first
+/// evaluation computes one when it is `None`).
 ///
 /// # Errors
 /// An evaluation error at `u0`, or where a Jacobian is evaluated; errors at trial points
@@ -175,6 +199,73 @@ pub fn newton<const N: usize, S: NewtonSystem<N>>(
     jac0: Option<[[f64; N]; N]>,
     policy: &NewtonPolicy,
 ) -> Result<NewtonAnswer<N, S::Point>, S::Error> {
+    iterate(sys, u0, jac0, policy, |jac, r, _| solve(jac, r))
+}
+
+/// Gauss-Newton on an overdetermined system (`M >= N`): steps through the normal equations
+/// `J^T J du = J^T R` of `min |R(u)|^2`, under `policy` as [`newton`] (which it is for
+/// `M = N`). It converges to a solution only where the system is consistent (`|R| <= tol`);
+/// at a least-squares minimum above the tolerance it ends without descent.
+///
+/// # Errors
+/// As [`newton`].
+pub fn gauss_newton<const N: usize, const M: usize, S: NewtonSystem<N, M>>(
+    sys: &S,
+    u0: [f64; N],
+    jac0: Option<[[f64; N]; M]>,
+    policy: &NewtonPolicy,
+) -> Result<NewtonAnswer<N, S::Point, M>, S::Error> {
+    iterate(sys, u0, jac0, policy, |jac, r, _| {
+        let jtj: [[f64; N]; N] = std::array::from_fn(|a| {
+            std::array::from_fn(|b| (0..M).map(|i| jac[i][a] * jac[i][b]).sum())
+        });
+        let jtr: [f64; N] = std::array::from_fn(|a| (0..M).map(|i| jac[i][a] * r[i]).sum());
+        solve(&jtj, &jtr)
+    })
+}
+
+/// The nearest point to the measured `meas` on which an underdetermined system (`M <= N`)
+/// holds, `min (u - meas)^T W^-1 (u - meas)` subject to `R(u) = 0` with `W = diag(weights)`,
+/// by Gauss-Newton steps of the constrained least-squares problem from `meas` (module docs):
+/// the linearised condition `R(u) + J (u' - u) = 0` met at least cost,
+///
+/// `u' = meas - W J^T lambda`,  `(J W J^T) lambda = R(u) + J (meas - u)`,
+///
+/// under `policy` as [`newton`] ([`Termination::Singular`] where `J W J^T` is singular, e.g.
+/// a condition blind to every weighted unknown).
+///
+/// # Errors
+/// As [`newton`].
+pub fn projection<const N: usize, const M: usize, S: NewtonSystem<N, M>>(
+    sys: &S,
+    meas: [f64; N],
+    weights: &[f64; N],
+    policy: &NewtonPolicy,
+) -> Result<NewtonAnswer<N, S::Point, M>, S::Error> {
+    iterate(sys, meas, None, policy, |jac, r, u| {
+        let jwj: [[f64; M]; M] = std::array::from_fn(|i| {
+            std::array::from_fn(|k| (0..N).map(|j| weights[j] * jac[i][j] * jac[k][j]).sum())
+        });
+        let rhs: [f64; M] = std::array::from_fn(|i| {
+            r[i] + (0..N).map(|j| jac[i][j] * (meas[j] - u[j])).sum::<f64>()
+        });
+        let lambda = solve(&jwj, &rhs)?;
+        Some(std::array::from_fn(|j| {
+            let next = meas[j] - weights[j] * (0..M).map(|i| jac[i][j] * lambda[i]).sum::<f64>();
+            u[j] - next
+        }))
+    })
+}
+
+/// The iteration of [`newton`], [`gauss_newton`] and [`projection`]: `step(J, R, u)` is the
+/// full correction `du` (the trial is `u - lambda du`), `None` where it does not exist.
+fn iterate<const N: usize, const M: usize, S: NewtonSystem<N, M>>(
+    sys: &S,
+    u0: [f64; N],
+    jac0: Option<[[f64; N]; M]>,
+    policy: &NewtonPolicy,
+    step: impl Fn(&[[f64; N]; M], &[f64; M], &[f64; N]) -> Option<[f64; N]>,
+) -> Result<NewtonAnswer<N, S::Point, M>, S::Error> {
     let broyden = matches!(policy.update, JacobianUpdate::Broyden { .. });
     let first = sys.eval(&u0, jac0.is_none() && !broyden)?;
     let mut jac_fresh = first.jac.is_some() && jac0.is_none();
@@ -182,7 +273,7 @@ pub fn newton<const N: usize, S: NewtonSystem<N>>(
         u: u0,
         r: first.r,
         norm: norm(&first.r),
-        jac: jac0.or(first.jac).unwrap_or([[f64::NAN; N]; N]),
+        jac: jac0.or(first.jac).unwrap_or([[f64::NAN; N]; M]),
         point: first.point,
         iterations: 0,
         termination: Termination::Converged,
@@ -195,7 +286,7 @@ pub fn newton<const N: usize, S: NewtonSystem<N>>(
         return Ok(ans);
     }
     for it in 0..policy.max_iter {
-        let Some(du) = solve(&ans.jac, &ans.r) else {
+        let Some(du) = step(&ans.jac, &ans.r, &ans.u) else {
             ans.termination = Termination::Singular;
             return finish(sys, ans, policy, jac_fresh);
         };
@@ -219,6 +310,7 @@ pub fn newton<const N: usize, S: NewtonSystem<N>>(
                 return Ok(ans);
             }
         }
+        let settled = sys.settled(&ans.point, &eval.point);
         ans.u = trial;
         ans.r = eval.r;
         ans.norm = rn;
@@ -228,6 +320,9 @@ pub fn newton<const N: usize, S: NewtonSystem<N>>(
         if let Some(j) = eval.jac {
             ans.jac = j;
             jac_fresh = true;
+        }
+        if settled {
+            return Ok(ans);
         }
         let converged = rn <= policy.tol;
         if converged && (!policy.jacobian_at_solution || broyden || jac_fresh) {
@@ -258,12 +353,12 @@ pub fn newton<const N: usize, S: NewtonSystem<N>>(
 /// `policy.halvings` halvings) that is admissible, evaluates, and lowers the residual norm
 /// (or reaches the tolerance); a full step only, accepted as it comes, without halvings.
 #[allow(clippy::type_complexity)]
-fn damped_step<const N: usize, S: NewtonSystem<N>>(
+fn damped_step<const N: usize, const M: usize, S: NewtonSystem<N, M>>(
     sys: &S,
-    ans: &NewtonAnswer<N, S::Point>,
+    ans: &NewtonAnswer<N, S::Point, M>,
     du: &[f64; N],
     policy: &NewtonPolicy,
-) -> Option<([f64; N], Evaluation<N, S::Point>, f64)> {
+) -> Option<([f64; N], Evaluation<N, S::Point, M>, f64)> {
     let mut lambda = 1.0;
     let tries = policy.halvings.max(1);
     for _ in 0..tries {
@@ -293,11 +388,11 @@ fn damped_step<const N: usize, S: NewtonSystem<N>>(
 
 /// Broyden's rank-one update of `jac` after the step `-du` that took the residual from `r`
 /// to `r_new`: `J += (dR - J s) s^T / (s . s)`, `s = -du`.
-fn broyden_update<const N: usize>(
-    jac: &mut [[f64; N]; N],
+fn broyden_update<const N: usize, const M: usize>(
+    jac: &mut [[f64; N]; M],
     du: &[f64; N],
-    r: &[f64; N],
-    r_new: &[f64; N],
+    r: &[f64; M],
+    r_new: &[f64; M],
 ) {
     let s: [f64; N] = std::array::from_fn(|i| -du[i]);
     let ss: f64 = s.iter().map(|v| v * v).sum();
@@ -315,12 +410,12 @@ fn broyden_update<const N: usize>(
 
 /// A failed iteration: within the noise floor it is accepted, re-evaluated at its iterate
 /// (with a Jacobian if the policy wants one at the solution and the last is stale).
-fn finish<const N: usize, S: NewtonSystem<N>>(
+fn finish<const N: usize, const M: usize, S: NewtonSystem<N, M>>(
     sys: &S,
-    mut ans: NewtonAnswer<N, S::Point>,
+    mut ans: NewtonAnswer<N, S::Point, M>,
     policy: &NewtonPolicy,
     jac_fresh: bool,
-) -> Result<NewtonAnswer<N, S::Point>, S::Error> {
+) -> Result<NewtonAnswer<N, S::Point, M>, S::Error> {
     if ans.norm <= policy.noise_floor {
         ans.termination = Termination::NoiseFloor;
         if policy.jacobian_at_solution && !jac_fresh {
@@ -471,6 +566,145 @@ mod tests {
     fn a_singular_jacobian_is_reported() {
         // at u0 = 0 the first row of the Jacobian vanishes
         let out = newton(&cubic(0.0), [0.0, 1.0], None, &NewtonPolicy::new(1e-12)).unwrap();
+        assert_eq!(out.termination, Termination::Singular);
+    }
+
+    /// `R(u) = (u0 + u1 - 3, u0 u1 - 2, u0 - 2 u1 + c)`: consistent (root `(2, 1)`) for `c = 0`.
+    struct Overdetermined {
+        c: f64,
+    }
+
+    impl NewtonSystem<2, 3> for Overdetermined {
+        type Point = ();
+        type Error = ();
+        fn eval(&self, u: &[f64; 2], _jac: bool) -> Result<Evaluation<2, (), 3>, ()> {
+            let r = [
+                u[0] + u[1] - 3.0,
+                u[0] * u[1] - 2.0,
+                u[0] - 2.0 * u[1] + self.c,
+            ];
+            let jac = [[1.0, 1.0], [u[1], u[0]], [1.0, -2.0]];
+            Ok(Evaluation {
+                r,
+                jac: Some(jac),
+                point: (),
+            })
+        }
+    }
+
+    #[test]
+    fn gauss_newton_solves_a_consistent_overdetermined_system() {
+        let sys = Overdetermined { c: 0.0 };
+        let out = gauss_newton(&sys, [2.5, 0.7], None, &NewtonPolicy::new(1e-13)).unwrap();
+        assert_eq!(out.termination, Termination::Converged);
+        assert!((out.u[0] - 2.0).abs() < 1e-13 && (out.u[1] - 1.0).abs() < 1e-13);
+        // an inconsistent one has no solution: it stops at its least-squares minimum, unsolved
+        let sys = Overdetermined { c: 0.1 };
+        let out = gauss_newton(&sys, [2.5, 0.7], None, &NewtonPolicy::new(1e-13)).unwrap();
+        assert!(!out.termination.is_solution(), "{:?}", out.termination);
+        assert!(out.norm > 1e-3 && out.norm < 0.1, "{}", out.norm);
+    }
+
+    #[test]
+    fn gauss_newton_of_a_square_system_is_newton() {
+        let (a, b) = (cubic(0.0), cubic(0.0));
+        let p = NewtonPolicy::new(1e-13);
+        let n = newton(&a, [1.0, 1.0], None, &p).unwrap();
+        let g = gauss_newton(&b, [1.0, 1.0], None, &p).unwrap();
+        assert_eq!(g.termination, Termination::Converged);
+        assert!((n.u[0] - g.u[0]).abs() < 1e-14 && (n.u[1] - g.u[1]).abs() < 1e-13);
+    }
+
+    /// One condition on three unknowns: the unit sphere `|u|^2 = 1` (or, `linear`, the plane
+    /// `g . u = 1`); the point is `u` itself, settled when it moves by less than `settle`.
+    struct Condition {
+        linear: Option<[f64; 3]>,
+        settle: f64,
+        evals: Cell<usize>,
+    }
+
+    impl NewtonSystem<3, 1> for Condition {
+        type Point = [f64; 3];
+        type Error = ();
+        fn eval(&self, u: &[f64; 3], _jac: bool) -> Result<Evaluation<3, [f64; 3], 1>, ()> {
+            self.evals.set(self.evals.get() + 1);
+            let (r, jac) = match self.linear {
+                Some(g) => (g[0] * u[0] + g[1] * u[1] + g[2] * u[2] - 1.0, g),
+                None => (
+                    u.iter().map(|v| v * v).sum::<f64>() - 1.0,
+                    [2.0 * u[0], 2.0 * u[1], 2.0 * u[2]],
+                ),
+            };
+            Ok(Evaluation {
+                r: [r],
+                jac: Some([jac]),
+                point: *u,
+            })
+        }
+
+        fn settled(&self, old: &[f64; 3], new: &[f64; 3]) -> bool {
+            (0..3).map(|j| (new[j] - old[j]).abs()).fold(0.0, f64::max) <= self.settle
+        }
+    }
+
+    fn projecting() -> NewtonPolicy {
+        NewtonPolicy {
+            tol: 0.0,
+            max_iter: 30,
+            halvings: 0,
+            update: JacobianUpdate::Reevaluate {
+                keep_below: f64::INFINITY,
+            },
+            jacobian_at_solution: false,
+            noise_floor: 0.0,
+        }
+    }
+
+    #[test]
+    fn projection_onto_a_plane_is_one_step_at_least_cost() {
+        let g = [2.0, -0.5, 4.0];
+        let sys = Condition {
+            linear: Some(g),
+            settle: 1e-15,
+            evals: Cell::new(0),
+        };
+        let meas = [0.3, -1.2, 0.05];
+        let w = [0.25, 1.0, 0.01];
+        let out = projection(&sys, meas, &w, &projecting()).unwrap();
+        assert_eq!(out.termination, Termination::Converged);
+        // on the plane after the first step (a second one, if any, only confirms it)
+        assert!(out.r[0].abs() < 1e-15);
+        assert!(out.iterations <= 2, "{}", out.iterations);
+        // least cost (Lagrange): W^-1 (u - meas) is parallel to the gradient
+        let lambda = (out.u[0] - meas[0]) / (w[0] * g[0]);
+        for j in 0..3 {
+            assert!(((out.u[j] - meas[j]) / w[j] - lambda * g[j]).abs() < 1e-14);
+        }
+    }
+
+    #[test]
+    fn projection_onto_a_sphere_finds_the_nearest_point() {
+        // equal weights: the nearest point of the unit sphere is meas / |meas|
+        let sys = Condition {
+            linear: None,
+            settle: 1e-14,
+            evals: Cell::new(0),
+        };
+        let meas = [0.9, 0.6, -0.3];
+        let out = projection(&sys, meas, &[1.0; 3], &projecting()).unwrap();
+        assert_eq!(out.termination, Termination::Converged);
+        let n = meas.iter().map(|v| v * v).sum::<f64>().sqrt();
+        for j in 0..3 {
+            assert!((out.u[j] - meas[j] / n).abs() < 1e-13, "{:?}", out.u);
+        }
+        assert_eq!(sys.evals.get(), out.iterations + 1);
+        // a condition blind to the weighted unknowns has no step
+        let sys = Condition {
+            linear: Some([1.0, 0.0, 0.0]),
+            settle: 0.0,
+            evals: Cell::new(0),
+        };
+        let out = projection(&sys, meas, &[0.0, 1.0, 1.0], &projecting()).unwrap();
         assert_eq!(out.termination, Termination::Singular);
     }
 

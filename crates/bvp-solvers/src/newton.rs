@@ -694,8 +694,8 @@ mod tests {
         let out = projection(&sys, meas, &[1.0; 3], &projecting()).unwrap();
         assert_eq!(out.termination, Termination::Converged);
         let n = meas.iter().map(|v| v * v).sum::<f64>().sqrt();
-        for j in 0..3 {
-            assert!((out.u[j] - meas[j] / n).abs() < 1e-13, "{:?}", out.u);
+        for (u, m) in out.u.iter().zip(meas) {
+            assert!((u - m / n).abs() < 1e-13, "{:?}", out.u);
         }
         assert_eq!(sys.evals.get(), out.iterations + 1);
         // a condition blind to the weighted unknowns has no step

@@ -13,8 +13,9 @@ const TIP_RATIO: f64 = 2.057_143_874_950_285;
 
 /// For the phase-A hypothesis: at `s = 1 - delta` on a grid of `delta`, the relative noise
 /// level `max(|m(s)| / sd_m, |g(s)| / sd_g) / K_SIGMA` at which the phase-B conditions hold
-/// there (`g = f sin(phi - psi) = -dm'/dphi`, [`BaseOde::rate`]; `sd_m`, `sd_g` the standard deviations of `m(1)`,
-/// `g(1)` at unit noise; the cubic part of the interpolant is accurate enough for a level).
+/// there (`g = f sin(phi - psi) = -dm'/dphi`, [`BaseOde::rate`]; `sd_m`, `sd_g` the
+/// standard deviations of `m(1)`, `g(1)` at unit noise; the cubic part of the interpolant is
+/// accurate enough for a level).
 pub(super) fn tip_levels(run: &BaseRun, ode: &BaseOde, sd_m: f64, sd_g: f64) -> Vec<(f64, f64)> {
     let mut out = vec![(0.0, f64::INFINITY); TIP_GRID];
     let (mut u, mut du) = ([0.0; 4], [0.0; 4]);

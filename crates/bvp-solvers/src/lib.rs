@@ -10,7 +10,8 @@
 //! | [`fdm`] | finite differences for `y'' = F(x, y, y')` with Newton on the tridiagonal Jacobian |
 //! | [`richardson`] | Richardson extrapolation of FDM results on `h, h/2, ...` |
 //! | [`integrator`] | first-order systems `u' = G(s, u)`: fixed-step RK4, adaptive Dormand-Prince 8(5,3) with dense output and events |
-//! | [`newton`] | Newton's method for small square systems with one convergence policy (damping, Jacobian reuse or Broyden, noise floor, termination reason) |
+//! | [`newton`] | Newton's method for small systems with one convergence policy (damping, Jacobian reuse or Broyden, noise floor, termination reason): square, least squares (Gauss-Newton) and the nearest point of an underdetermined one (projection) |
+//! | [`nonlinear`] | one interface for small non-linear systems: Newton the fast path, the trust region the fallback, which one ran and why it stopped |
 //! | [`roots`] | scalar roots: bisection and Brent (the `fzero` equivalents) |
 //! | [`trust_region`] | small non-linear systems by argmin's trust region (the `fsolve` equivalent) |
 //! | [`shooting`] | shooting: unknown initial values / parameters found so that boundary residuals vanish |
@@ -25,6 +26,7 @@ pub mod fdm;
 pub mod grid;
 pub mod integrator;
 pub mod newton;
+pub mod nonlinear;
 pub mod richardson;
 pub mod roots;
 pub mod shooting;

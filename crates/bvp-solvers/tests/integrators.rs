@@ -1,6 +1,6 @@
 //! Integrators against closed-form solutions.
 
-use bvp_solvers::integrator::{Dop853, OdeSystem, Rk4};
+use bvp_solvers::integrator::{Dop853, Interpolant, OdeSystem, Rk4};
 use bvp_solvers::BvpError;
 
 /// u0' = u1, u1' = -u0: u = (sin s, cos s) for u(0) = (0, 1).
@@ -177,44 +177,56 @@ fn dop853_error_scales_with_tolerance() {
 }
 
 #[test]
-fn dop853_lazy_dense_output_equals_the_eager_one_once_refined() {
+fn dop853_stepper_interpolants_equal_the_dense_output() {
     let eager = Dop853::new(1e-12, 1e-12)
         .with_dense(true)
         .integrate(&ExpSin, 0.0, 6.0, &[1.0])
         .unwrap();
-    let mut lazy = Dop853::new(1e-12, 1e-12)
-        .with_lazy_dense()
-        .integrate(&ExpSin, 0.0, 6.0, &[1.0])
-        .unwrap();
-    // the same steps and end; three right-hand-side evaluations fewer per step
-    assert_eq!(lazy.step_points(), eager.step_points());
-    assert_eq!(lazy.u_end, eager.u_end);
-    let steps = lazy.steps();
-    assert_eq!(lazy.stats.rhs_evals + 3 * steps, eager.stats.rhs_evals);
+    let opts = Dop853::new(1e-12, 1e-12);
+    let mut st = opts.stepper(&ExpSin, 0.0, 6.0, &[1.0]).unwrap();
     let (mut u, mut du) = ([0.0], [0.0]);
     let mut cubic_err: f64 = 0.0;
-    for i in 0..steps {
-        let (a, b) = (lazy.step_points()[i], lazy.step_points()[i + 1]);
-        let mid = 0.5 * (a + b);
-        // not refined: no 7th-order value, but the cubic Hermite interpolant, exact at the ends
-        assert!(!lazy.is_refined(i));
-        assert!(!lazy.eval_into(mid, &mut u));
-        assert!(lazy.eval_cubic_into(a, &mut u, &mut du));
+    let mut i = 0;
+    while st.step().unwrap() {
+        let (a, b) = (eager.step_points()[i], eager.step_points()[i + 1]);
+        // the same steps as the driver's
+        assert_eq!(st.start(), a);
+        // nothing prepared: no interpolant; the cubic part costs no evaluation
+        assert!(!st
+            .interpolant::<1>()
+            .unwrap()
+            .eval_cubic(0.5, &mut u, &mut du));
+        let evals = st.stats().rhs_evals;
+        st.prepare(Interpolant::Cubic);
+        assert_eq!(st.stats().rhs_evals, evals);
+        let cubic = st.interpolant::<1>().unwrap();
+        assert_eq!(cubic.level(), Interpolant::Cubic);
+        assert!(!cubic.eval(0.5, &mut u));
+        // the cubic Hermite interpolant: exact at the ends, O(h^4) inside
+        assert!(cubic.eval_cubic(0.0, &mut u, &mut du));
         assert!((u[0] - a.sin().exp()).abs() < 1e-11);
         assert!((du[0] - a.cos() * a.sin().exp()).abs() < 1e-10);
-        assert!(lazy.eval_cubic_into(mid, &mut u, &mut du));
+        let mid = 0.5 * (a + b);
+        assert!(cubic.eval_cubic(0.5, &mut u, &mut du));
         cubic_err = cubic_err.max((u[0] - mid.sin().exp()).abs());
-        // refined: bit for bit the eager interpolant
-        lazy.refine(&ExpSin, i);
-        assert!(lazy.is_refined(i));
+        // in full (three evaluations): bit for bit the driver's dense output
+        st.prepare(Interpolant::Full);
+        assert_eq!(st.stats().rhs_evals, evals + 3);
+        let full = st.interpolant::<1>().unwrap();
+        assert!(st.interpolant::<2>().is_none());
         for frac in [0.1, 0.5, 0.9] {
             let s = a + frac * (b - a);
-            assert_eq!(lazy.eval(s), eager.eval(s), "step {i} at {s}");
+            assert!(full.eval((s - full.start()) / full.h(), &mut u));
+            assert_eq!(Some(u.to_vec()), eager.eval(s), "step {i} at {s}");
         }
+        i += 1;
     }
+    assert_eq!(i, eager.steps());
+    assert_eq!(st.state(), &eager.u_end[..]);
     // the cubic is O(h^4): far from the 7th-order accuracy, close enough to scan with
     assert!(cubic_err > 1e-10 && cubic_err < 1e-3, "{cubic_err:e}");
-    assert_eq!(lazy.stats.rhs_evals, eager.stats.rhs_evals);
+    // a step no longer held has no interpolant
+    assert!(st.interpolant::<1>().is_none());
 }
 
 #[test]

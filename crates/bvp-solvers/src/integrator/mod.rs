@@ -25,7 +25,9 @@ use crate::{BvpError, Result};
 mod dop853;
 mod rk4;
 
-pub use dop853::{Dop853, Event, IntegrationStats, Interpolant, OdeSolution, Stepper};
+pub use dop853::{
+    Dop853, Event, IntegrationStats, Interpolant, OdeSolution, StepInterpolant, Stepper,
+};
 pub use rk4::{Rk4, Trajectory};
 
 /// A first-order system `u' = G(s, u)` of dimension [`OdeSystem::dim`].

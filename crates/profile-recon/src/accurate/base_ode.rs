@@ -5,46 +5,56 @@
 use super::context::MAX_WINDING;
 use crate::error::Result;
 use crate::observables::ObservableRow;
-use beam_model::{FluidLoad, Whisker};
+use beam_model::equations::{MomentLaw, MomentRate};
+use beam_model::{FluidLoad, Loads, Reactions, TipForce, Whisker};
 use bvp_solvers::integrator::{Dop853, OdeSolution, OdeSystem};
 
-/// The first-order system [3.25] integrated from the base with the base reaction of a row:
-/// the internal force at `s` is `(P, Q)(s) = (-Ax - q s cos alpha, Ay - q s sin alpha)` in the
-/// form of [6.8, 6.9] (the force balance of `[0, s]`, valid up to any contact `s1 >= s`), so
+/// The first-order system [3.25] integrated from the base with the base reaction of a row.
+/// For a contact at `s1 >= s` the internal force at `s` is fixed by the base reaction and the
+/// flow on `[0, s]` [6.8, 6.9], whatever `s1`; so the row's phase-A loads (the point force
+/// `f (cos beta, sin beta)` at the tip that balances the reactions with the flow on `[0, 1]`,
+/// [`Reactions::point_force`]) give the moment law of every hypothesis
+/// ([`MomentLaw`], as in [`WhiskerOde`](beam_model::equations::WhiskerOde)):
 ///
 /// ```text
-/// phi' = m / e^4 + A s + B,  m' = P sin phi + Q cos phi,  x' = cos phi,  y' = sin phi,
+/// phi' = m / e^4 + A s + B,  m' = f sin(phi + beta) + q (1 - s) sin(phi + alpha),
+/// x' = cos phi,  y' = sin phi,
 /// ```
 ///
 /// with `(phi, m, x, y)(0) = (phi0, -MA, x0, 0)`; optionally followed by the variational
-/// equations with respect to `(Ax, Ay, MA, phi0)` (4 components each).
+/// equations with respect to `(Ax, Ay, MA, phi0)` (4 components each; `Ax`, `Ay` enter the
+/// law through the force `(f cos beta, f sin beta) = (-Ax - q cos alpha, Ay - q sin alpha)`).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct BaseOde {
     whisker: Whisker,
-    ax: f64,
-    ay: f64,
-    q_cos: f64,
-    q_sin: f64,
+    law: MomentLaw,
     sens: bool,
 }
 
 impl BaseOde {
     pub(crate) fn new(whisker: &Whisker, flow: FluidLoad, row: &ObservableRow, sens: bool) -> Self {
-        let (sa, ca) = flow.alpha.sin_cos();
-        BaseOde {
-            whisker: *whisker,
+        let reactions = Reactions {
             ax: row.ax,
             ay: row.ay,
-            q_cos: flow.q * ca,
-            q_sin: flow.q * sa,
+        };
+        let (fc, fs) = reactions.point_force(flow, 1.0);
+        let loads = Loads {
+            tip: TipForce::dp(fc.hypot(fs), fs.atan2(fc)),
+            fluid: flow,
+            s1: 1.0,
+        };
+        BaseOde {
+            whisker: *whisker,
+            law: MomentLaw::new(&loads, 0.0),
             sens,
         }
     }
 
-    /// `(P, Q)(s)`.
+    /// The moment law at `s` where `(sin phi, cos phi) = (sp, cp)`: `m'`, `dm'/dphi` (the
+    /// tangency residual `g = f sin(phi - psi)` of a contact at `s` is `-dm'/dphi`).
     #[inline]
-    pub(super) fn force(&self, s: f64) -> (f64, f64) {
-        (-self.ax - self.q_cos * s, self.ay - self.q_sin * s)
+    pub(super) fn rate(&self, s: f64, sp: f64, cp: f64) -> MomentRate {
+        self.law.at(s, sp, cp)
     }
 
     /// Initial state for `row`.
@@ -76,19 +86,19 @@ impl OdeSystem for BaseOde {
         let e2 = e * e;
         let inv_e4 = 1.0 / (e2 * e2);
         let (sp, cp) = phi.sin_cos();
-        let (p, q) = self.force(s);
+        let rate = self.law.at(s, sp, cp);
         du[0] = m * inv_e4 + w.a * s + w.b;
-        du[1] = p * sp + q * cp;
+        du[1] = rate.dm;
         du[2] = cp;
         du[3] = sp;
         if !self.sens {
             return;
         }
-        let jm = p * cp - q * sp;
+        let jm = rate.dm_dphi;
         for j in 0..4 {
             let o = 4 * (j + 1);
             let (dphi, dm) = (u[o], u[o + 1]);
-            // dP/dAx = -1, dQ/dAy = 1
+            // d(f cos beta)/dAx = -1, d(f sin beta)/dAy = 1
             let explicit = match j {
                 0 => -sp,
                 1 => cp,

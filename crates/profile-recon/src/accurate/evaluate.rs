@@ -3,16 +3,17 @@
 //! hypothesis its consistency `z`, its error estimate and the linear projection of its point
 //! onto the consistent observables.
 
-use super::base_ode::{base_ivp, BaseOde};
+use super::base_ode::BaseOde;
+use super::base_run::BaseRun;
 use super::context::{RowCtx, JACOBIAN_TOL};
 use super::hypotheses::{Hypothesis, RowEval};
-use super::scan::{candidates, close_steps, Candidates};
+use super::scan::{candidates, Candidates};
 use super::tip::tip_levels;
 use crate::common::{contact_force, force_components, NoiseScales};
 use crate::error::Result;
 use crate::observables::ObservableRow;
 use beam_model::FluidLoad;
-use bvp_solvers::integrator::{Dop853, OdeSolution, OdeSystem};
+use bvp_solvers::integrator::{Dop853, OdeSystem};
 use contact_sim::Phase;
 
 /// Evaluates every phase hypothesis of `row` under `ctx.flow`, with the Jacobian of each with
@@ -24,35 +25,21 @@ pub(crate) fn evaluate(ctx: &RowCtx<'_>, row: &ObservableRow) -> Result<RowEval>
         scales,
         integrator,
     } = *ctx;
-    // lazy dense output: the cubic part of every step scans for roots and extrema of m, the
-    // complete 7th-order interpolant is made only on the steps that may hold one
-    let lazy = Dop853 {
-        dense: true,
-        lazy_dense: true,
-        ..integrator.clone()
-    };
-    let mut sol = base_ivp(whisker, flow, row, &lazy)?;
+    // the cubic part of every step scans for roots and extrema of m, the complete 7th-order
+    // interpolant is made only on the steps that may hold one
     let ode = BaseOde::new(whisker, flow, row, false);
-    let reached = sol.s_end >= 1.0;
+    let run = BaseRun::new(&ode, row, integrator)?;
+    let reached = run.s_end >= 1.0;
     let mut evaluations = 1;
-    let close = close_steps(&sol);
-    for (idx, &c) in close.iter().enumerate() {
-        if c {
-            sol.refine(&ode, idx);
-        }
-    }
     // hypotheses: A (if s = 1 was reached) and every root of m on (0, s_end)
     let Candidates {
         roots: mut hyp_s,
         touching,
-    } = candidates(&sol, &ode, row, &close, reached);
-    // a root found at the end of a close step belongs to the next step: complete that one too
-    refine_at(&mut sol, &ode, hyp_s.iter().map(|h| h.1));
-    refine_at(&mut sol, &ode, touching.iter().copied());
+    } = candidates(&run, &ode, row, reached);
     hyp_s.extend(touching.iter().map(|&t| (Phase::B, t)));
     // the Jacobian: variational equations up to the last hypothesis
     let s_jac = hyp_s.iter().map(|h| h.1).fold(0.0, f64::max);
-    let jac_sol = if s_jac > 0.0 {
+    let jac = if s_jac > 0.0 {
         evaluations += 1;
         jacobian(ctx, row, s_jac, &hyp_s)
     } else {
@@ -60,66 +47,60 @@ pub(crate) fn evaluate(ctx: &RowCtx<'_>, row: &ObservableRow) -> Result<RowEval>
     };
     let mut hyps = Vec::with_capacity(hyp_s.len());
     let mut tip_table = Vec::new();
-    let mut jv = [0.0; 20];
     let first_touch = hyp_s.len() - touching.len();
     for (k, &(phase, s)) in hyp_s.iter().enumerate() {
         let kind = Kind::of(phase, k >= first_touch);
-        let Some(at) = Local::at(&sol, &ode, row, flow, s) else {
+        let Some(at) = Local::at(&run, &ode, row, flow, s) else {
             continue;
         };
-        let have_jac = jac_sol.as_ref().is_some_and(|j| j.eval_into(s, &mut jv));
-        let spread = if have_jac {
-            Spread::of(&at, kind, &jv, scales)
-        } else {
-            Spread::default()
-        };
-        if kind == Kind::Tip && have_jac {
-            tip_table = tip_levels(&sol, &ode, spread.var_r.sqrt(), spread.var_v.sqrt());
+        let jv = jac.as_ref().and_then(|j| j[k]);
+        let spread = jv.map(|jv| Spread::of(&at, kind, &jv, scales));
+        if let (Kind::Tip, Some(v)) = (kind, &spread) {
+            tip_table = tip_levels(&run, &ode, v.var_r.sqrt(), v.var_v.sqrt());
         }
-        hyps.push(hypothesis(
-            &ode,
-            flow,
-            &at,
-            kind,
-            have_jac.then_some(&spread),
-        ));
+        hyps.push(hypothesis(&ode, flow, &at, kind, spread.as_ref()));
     }
     Ok(summary(
         row,
         flow,
         scales,
-        &sol,
+        &run,
         (hyps, tip_table, evaluations),
     ))
 }
 
-/// Completes the interpolant of `sol` (of `ode`) on the steps that hold the arcs `s`.
-fn refine_at<S: OdeSystem>(sol: &mut OdeSolution, ode: &S, s: impl IntoIterator<Item = f64>) {
-    for s in s {
-        if let Some(i) = sol.step_index(s) {
-            sol.refine(ode, i);
-        }
-    }
-}
-
-/// The variational equations of the row up to `s_jac` at [`JACOBIAN_TOL`], their
-/// interpolant completed at the hypotheses `hyp_s`; `None` if the integration fails.
+/// The variational equations of the row up to `s_jac` at [`JACOBIAN_TOL`], read at the
+/// hypotheses `hyp_s` (the stepper driven here: the 7th-order interpolant only on the steps
+/// that hold one); `None` if the integration fails.
 fn jacobian(
     ctx: &RowCtx<'_>,
     row: &ObservableRow,
     s_jac: f64,
     hyp_s: &[(Phase, f64)],
-) -> Option<OdeSolution> {
+) -> Option<Vec<Option<[f64; 20]>>> {
     let sode = BaseOde::new(ctx.whisker, ctx.flow, row, true);
-    Dop853::new(JACOBIAN_TOL, JACOBIAN_TOL)
-        .with_lazy_dense()
-        .integrate(&sode, 0.0, s_jac, &sode.initial(row))
-        .ok()
-        .map(|mut j| {
-            // the interpolant is needed at the hypotheses only
-            refine_at(&mut j, &sode, hyp_s.iter().map(|h| h.1));
-            j
-        })
+    let opts = Dop853::new(JACOBIAN_TOL, JACOBIAN_TOL);
+    let mut st = opts.stepper(&sode, 0.0, s_jac, &sode.initial(row)).ok()?;
+    let mut out = vec![None; hyp_s.len()];
+    while st.step().ok()? {
+        // the step holds [start, end) (the end itself is the next step's start, or s_jac)
+        let (a, b) = (st.start(), if st.is_last() { s_jac } else { st.end() });
+        for (o, &(_, s)) in out.iter_mut().zip(hyp_s) {
+            if a <= s && s < b {
+                let mut v = [0.0; 20];
+                st.interpolate((s - a) / st.h(), &mut v);
+                *o = Some(v);
+            }
+        }
+    }
+    for (o, &(_, s)) in out.iter_mut().zip(hyp_s) {
+        if s == s_jac {
+            let mut v = [0.0; 20];
+            v.copy_from_slice(st.state());
+            *o = Some(v);
+        }
+    }
+    Some(out)
 }
 
 /// The row's phase-A force over its scale, `|m(1)|` and the tip state (NaN if the
@@ -128,15 +109,15 @@ fn summary(
     row: &ObservableRow,
     flow: FluidLoad,
     scales: &NoiseScales,
-    sol: &OdeSolution,
+    run: &BaseRun,
     (hyps, tip_levels, evaluations): (Vec<Hypothesis>, Vec<(f64, f64)>, usize),
 ) -> RowEval {
     let tiny = f64::MIN_POSITIVE;
-    let reached = sol.s_end >= 1.0;
+    let reached = run.s_end >= 1.0;
     // the phase-A force and the free-whisker check
     let (fa, fb) = force_components(row, flow, 1.0);
     let f_unit = scales.0[0].max(scales.0[1]).max(tiny);
-    let u = &sol.u_end;
+    let u = &run.u_end;
     let (tip, m1) = if reached {
         ((u[2] - row.x0, u[3], u[0]), u[1].abs())
     } else {
@@ -213,16 +194,16 @@ struct Local {
 }
 
 impl Local {
-    /// The state at `s` on the dense output `sol` of `ode` (`None` outside it).
+    /// The state at `s` on the base integration `run` of `ode` (`None` where it has none).
     fn at(
-        sol: &OdeSolution,
+        run: &BaseRun,
         ode: &BaseOde,
         row: &ObservableRow,
         flow: FluidLoad,
         s: f64,
     ) -> Option<Local> {
         let (mut u, mut du) = ([0.0; 4], [0.0; 4]);
-        if !sol.eval_into(s, &mut u) {
+        if !run.eval_into(s, &mut u) {
             return None;
         }
         let (phi, m, x, y) = (u[0], u[1], u[2], u[3]);
@@ -342,10 +323,11 @@ fn hypothesis(
             ((m.abs() / v.var_r.sqrt().max(tiny)).max(viol), m.abs())
         }
     };
-    let (p, q) = ode.force(at.s);
+    let rate = ode.rate(at.s, at.sp, at.cp);
     let r = match kind {
         Kind::Touch => 0.0,
-        Kind::Root => q * at.sp - p * at.cp,
+        // g = f sin(phi - psi) = -dm'/dphi
+        Kind::Root => -rate.dm_dphi,
         Kind::Tip => m,
     };
     let (x, y, var_post, shift) = linear_projection(at, kind, r, spread);
@@ -367,10 +349,8 @@ fn hypothesis(
         dr: v.dr,
         shift,
         sigma_sqrt: if kind == Kind::Touch {
-            // m'' = P' sin phi + Q' cos phi + (P cos phi - Q sin phi) phi'
-            let (sa, ca) = flow.alpha.sin_cos();
-            let (sp, cp) = (at.sp, at.cp);
-            let m2 = -flow.q * ca * sp - flow.q * sa * cp + (p * cp - q * sp) * at.dphi_s;
+            // m'' = dm'/ds + dm'/dphi phi' = -q sin(phi + alpha) + dm'/dphi phi'
+            let m2 = -flow.q * rate.flow_sin + rate.dm_dphi * at.dphi_s;
             (2.0 * v.var_v.sqrt() / m2.abs().max(tiny)).sqrt()
         } else {
             0.0

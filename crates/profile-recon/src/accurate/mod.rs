@@ -31,13 +31,15 @@
 //! (`RowEval::ambiguity`) and, for a tip contact, a tangential contact just short of the
 //! tip (`RowEval::tip_ambiguity`).
 //!
-//! The base integration keeps a lazy dense output: its cubic Hermite part scans every step
-//! (`close_steps`), the 7th-order interpolant is completed only on the steps that may hold
-//! a root or an extremum of `m`.
+//! The base integration drives the DOP853 stepper itself (`base_run`): the cubic Hermite part
+//! of each step's interpolant (free) judges the step, the 7th-order interpolant (three more
+//! evaluations) is made only on the steps that may hold a root or an extremum of `m`; the
+//! variational equations get it only on the steps that hold a hypothesis.
 //!
 //! | file | concept |
 //! |---|---|
 //! | `base_ode` | the system integrated from the base [3.25, 6.8, 6.9] and its variational equations |
+//! | `base_run` | the stepper-driven integration of a row, its interpolants where they are needed |
 //! | `scan` | the phase-B roots and extrema of `m`, bracketed on the dense output |
 //! | `evaluate` | one row under one flow: every hypothesis with its `z`, Jacobian and linear projection |
 //! | `hypotheses` | the hypotheses of a row and the choice among them at a noise level |
@@ -46,6 +48,7 @@
 //! | `point` | the reconstructed point of a row with its error estimate |
 
 mod base_ode;
+mod base_run;
 mod context;
 mod evaluate;
 mod hypotheses;

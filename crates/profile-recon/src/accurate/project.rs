@@ -1,80 +1,143 @@
 //! The projection of a noisy row onto the observables consistent with one of its
 //! hypotheses: the most likely true observables, by Gauss-Newton steps of a constrained
-//! least-squares problem in the noise metric ([`project`]).
+//! least-squares problem in the noise metric ([`project`], on
+//! [`bvp_solvers::newton::projection`]).
 
 use super::context::{RowCtx, PROJECT_MIN};
 use super::evaluate::evaluate;
 use super::hypotheses::Hypothesis;
-use crate::error::Result;
+use crate::error::{ReconError, Result};
 use crate::observables::ObservableRow;
+use bvp_solvers::newton::{
+    projection, Evaluation, JacobianUpdate, NewtonPolicy, NewtonSystem, Termination,
+};
+use std::cell::{Cell, RefCell};
 
 /// Gauss-Newton steps of [`project`] at most.
 const PROJECT_STEPS: usize = 4;
 
-/// One Gauss-Newton step of `min (obs - meas)^T W^-1 (obs - meas)` subject to the linearised
-/// condition `r + dr . (obs' - obs) = 0` at `obs` (`r`, `dr` of the hypothesis there):
-/// `obs' = meas - W dr (r + dr . (meas - obs)) / (dr W dr)`, `W = diag(w)`. `None` where the
-/// condition does not depend on the observables (`dr W dr` zero or NaN).
-fn constrained_step(
-    meas: &[f64; 4],
-    obs: &[f64; 4],
-    w: &[f64],
-    (r, dr): (f64, &[f64; 4]),
-) -> Option<[f64; 4]> {
-    let sdr: f64 = (0..4).map(|j| w[j] * dr[j] * dr[j]).sum();
-    if sdr.is_nan() || sdr <= 0.0 {
-        return None;
+/// The consistency condition `r = 0` of a hypothesis as a function of the observables
+/// `(Ax, Ay, MA, phi0)` of a row (one equation, four unknowns): each evaluation a new
+/// integration from the base at the moved observables ([`evaluate`]), followed to the
+/// hypothesis nearest to the last one. Its points have settled when the hypothesis' point
+/// moved by at most `1e-3 max(shift, PROJECT_MIN)`.
+struct Consistency<'c, 'a> {
+    ctx: &'c RowCtx<'a>,
+    row: &'c ObservableRow,
+    /// The hypothesis at the measured observables (evaluated already).
+    h0: &'c Hypothesis,
+    /// Whether the measured observables were asked for (the first evaluation).
+    started: Cell<bool>,
+    /// The hypothesis followed: that of the last evaluation (full steps: every evaluated
+    /// trial is taken).
+    current: Cell<Hypothesis>,
+    /// Integrations spent.
+    evals: Cell<usize>,
+    /// An error of [`evaluate`] (it ends the projection).
+    error: RefCell<Option<ReconError>>,
+}
+
+/// Why a trial of [`Consistency`] has no value: the hypothesis was lost, or [`evaluate`]
+/// failed (kept in [`Consistency::error`]).
+#[derive(Clone, Copy, Debug)]
+struct Lost;
+
+impl NewtonSystem<4, 1> for Consistency<'_, '_> {
+    type Point = Hypothesis;
+    type Error = Lost;
+
+    fn eval(
+        &self,
+        u: &[f64; 4],
+        _jacobian: bool,
+    ) -> std::result::Result<Evaluation<4, Hypothesis, 1>, Lost> {
+        let h = if self.started.replace(true) {
+            let trial = ObservableRow {
+                ax: u[0],
+                ay: u[1],
+                ma: u[2],
+                phi0: u[3],
+                ..*self.row
+            };
+            let e = evaluate(self.ctx, &trial).map_err(|e| {
+                *self.error.borrow_mut() = Some(e);
+                Lost
+            })?;
+            self.evals.set(self.evals.get() + e.evaluations);
+            // (a projected hypothesis is a simple root or phase A, like `h0`)
+            let hn = *self.current.get().nearest_in(&e.hyps).ok_or(Lost)?;
+            self.current.set(hn);
+            hn
+        } else {
+            *self.h0
+        };
+        Ok(Evaluation {
+            r: [h.r],
+            jac: Some([h.dr]),
+            point: h,
+        })
     }
-    let num = r + (0..4).map(|j| dr[j] * (meas[j] - obs[j])).sum::<f64>();
-    let mut next = [0.0; 4];
-    for (j, n) in next.iter_mut().enumerate() {
-        *n = meas[j] - w[j] * dr[j] * num / sdr;
+
+    fn settled(&self, old: &Hypothesis, new: &Hypothesis) -> bool {
+        let moved = (new.x - old.x).hypot(new.y - old.y);
+        moved <= 1e-3 * new.shift.max(PROJECT_MIN)
     }
-    Some(next)
 }
 
 /// The most likely true observables of a noisy row under hypothesis `h`: the nearest (in the
 /// noise metric of `ctx.scales`) to the measured ones on which the consistency condition
 /// `r = 0` holds, by Gauss-Newton steps of the constrained least-squares problem (each a new
 /// integration from the base at the moved observables, [`evaluate`]):
-/// `obs' = meas - W dr (r + dr . (meas - obs)) / (dr W dr)` with `W = diag(scales^2)`.
+/// `obs' = meas - W dr (r + dr . (meas - obs)) / (dr W dr)` with `W = diag(scales^2)`
+/// ([`projection`]: full steps, at most [`PROJECT_STEPS`], until the point settles).
 /// Returns `h` with the point, `s1`, `f`, `psi` and the error estimate of the projected
 /// observables (the consistency residual and `z` stay the measured row's), or `None` if the
-/// hypothesis is lost on the way (then the linear projection stands).
+/// hypothesis is lost on the way, or the condition does not depend on the observables (then
+/// the linear projection stands).
 pub(crate) fn project(
     ctx: &RowCtx<'_>,
     row: &ObservableRow,
     h0: &Hypothesis,
 ) -> Result<(Option<Hypothesis>, usize)> {
+    let sys = Consistency {
+        ctx,
+        row,
+        h0,
+        started: Cell::new(false),
+        current: Cell::new(*h0),
+        evals: Cell::new(0),
+        error: RefCell::new(None),
+    };
     let meas = [row.ax, row.ay, row.ma, row.phi0];
-    let mut evals = 0;
-    let mut obs = meas;
-    let mut h = *h0;
-    let w: Vec<f64> = (0..4).map(|j| ctx.scales.0[j] * ctx.scales.0[j]).collect();
-    for _ in 0..PROJECT_STEPS {
-        let Some(next) = constrained_step(&meas, &obs, &w, (h.r, &h.dr)) else {
-            return Ok((None, evals));
-        };
-        let trial = ObservableRow {
-            ax: next[0],
-            ay: next[1],
-            ma: next[2],
-            phi0: next[3],
-            ..*row
-        };
-        let e = evaluate(ctx, &trial)?;
-        evals += e.evaluations;
-        // (a projected hypothesis is a simple root or phase A, like `h`)
-        let Some(hn) = h.nearest_in(&e.hyps) else {
-            return Ok((None, evals));
-        };
-        let moved = (hn.x - h.x).hypot(hn.y - h.y);
-        obs = next;
-        h = *hn;
-        if moved <= 1e-3 * h.shift.max(PROJECT_MIN) {
-            break;
-        }
+    let w: [f64; 4] = std::array::from_fn(|j| ctx.scales.0[j] * ctx.scales.0[j]);
+    let policy = NewtonPolicy {
+        // converged when the point settles (the condition's own residual is noise-sized)
+        tol: 0.0,
+        max_iter: PROJECT_STEPS,
+        halvings: 0,
+        // every evaluation brings its gradient
+        update: JacobianUpdate::Reevaluate {
+            keep_below: f64::INFINITY,
+        },
+        jacobian_at_solution: false,
+        noise_floor: 0.0,
+    };
+    let out = projection(&sys, meas, &w, &policy);
+    if let Some(e) = sys.error.take() {
+        return Err(e);
     }
+    let evals = sys.evals.get();
+    let h = match out {
+        Ok(a)
+            if matches!(
+                a.termination,
+                Termination::Converged | Termination::MaxIterations
+            ) =>
+        {
+            a.point
+        }
+        _ => return Ok((None, evals)),
+    };
     Ok((
         Some(Hypothesis {
             residual: h0.residual,
@@ -91,41 +154,63 @@ pub(crate) fn project(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// A linear condition `r(obs) = r0 + g . (obs - meas)`.
-    fn linear(r0: f64, g: &[f64; 4], meas: &[f64; 4], obs: &[f64; 4]) -> f64 {
-        r0 + (0..4).map(|j| g[j] * (obs[j] - meas[j])).sum::<f64>()
-    }
+    use crate::accurate::evaluate::tests::g2_sweep;
+    use crate::common::NoiseScales;
+    use bvp_solvers::integrator::Dop853;
 
     #[test]
-    fn one_step_solves_a_linear_condition_at_least_cost() {
-        let meas = [0.3, -1.2, 0.05, 1.4];
-        let g = [2.0, -0.5, 4.0, 1.0];
-        let w = [0.25, 1.0, 0.01, 4.0];
-        let next = constrained_step(&meas, &meas, &w, (0.2, &g)).unwrap();
-        // on the constraint
-        assert!(linear(0.2, &g, &meas, &next).abs() < 1e-15);
-        // least cost (Lagrange): W^-1 (next - meas) is parallel to the gradient
-        let lambda = (next[0] - meas[0]) / (w[0] * g[0]);
-        for j in 0..4 {
-            assert!(((next[j] - meas[j]) / w[j] - lambda * g[j]).abs() < 1e-15);
+    fn a_noisy_row_is_projected_onto_its_consistent_observables() {
+        // a contact row of a simulated sweep with its Ay moved by noise
+        let (w, flow, truth) = g2_sweep(12);
+        let rows = crate::observables::from_sweep(&truth);
+        let scales = NoiseScales::of(&rows);
+        let integrator = Dop853::new(1e-12, 1e-12).with_dense(true);
+        let ctx = RowCtx {
+            whisker: &w,
+            flow,
+            scales: &scales,
+            integrator: &integrator,
+        };
+        let k = truth.points.iter().position(|p| p.f > 1e-3).unwrap();
+        let mut row = rows[k];
+        row.ay += 1e-5 * scales.0[1];
+        let e = evaluate(&ctx, &row).unwrap();
+        let h0 = e.chosen(1e-5).unwrap();
+        assert!(h0.shift > PROJECT_MIN);
+        let (h, evals) = project(&ctx, &row, h0).unwrap();
+        let h = h.expect("projected");
+        assert!(evals >= 2, "{evals}");
+        // the measured row's residual is kept
+        assert_eq!((h.r, h.z), (h0.r, h0.z));
+        // the Gauss-Newton iteration written out (the loop `project` had before it ran on
+        // bvp_solvers::newton): the same point up to round-off
+        let meas = [row.ax, row.ay, row.ma, row.phi0];
+        let w: Vec<f64> = (0..4).map(|j| scales.0[j] * scales.0[j]).collect();
+        let (mut obs, mut hr) = (meas, *h0);
+        for _ in 0..PROJECT_STEPS {
+            let sdr: f64 = (0..4).map(|j| w[j] * hr.dr[j] * hr.dr[j]).sum();
+            let num = hr.r + (0..4).map(|j| hr.dr[j] * (meas[j] - obs[j])).sum::<f64>();
+            let next: [f64; 4] = std::array::from_fn(|j| meas[j] - w[j] * hr.dr[j] * num / sdr);
+            let trial = ObservableRow {
+                ax: next[0],
+                ay: next[1],
+                ma: next[2],
+                phi0: next[3],
+                ..row
+            };
+            let hn = *hr
+                .nearest_in(&evaluate(&ctx, &trial).unwrap().hyps)
+                .unwrap();
+            let moved = (hn.x - hr.x).hypot(hn.y - hr.y);
+            (obs, hr) = (next, hn);
+            if moved <= 1e-3 * hr.shift.max(PROJECT_MIN) {
+                break;
+            }
         }
-        // closed form lambda = -r0 / (g W g)
-        let gwg: f64 = (0..4).map(|j| w[j] * g[j] * g[j]).sum();
-        assert!((lambda + 0.2 / gwg).abs() < 1e-15);
-        // a fixed point: the step from the solution, with r = 0 there, stays
-        let again = constrained_step(&meas, &next, &w, (0.0, &g)).unwrap();
-        for j in 0..4 {
-            assert!((again[j] - next[j]).abs() < 1e-15);
-        }
-    }
-
-    #[test]
-    fn a_condition_blind_to_the_observables_has_no_step() {
-        let meas = [1.0; 4];
-        // the gradient only where the scale is zero
-        let w = [0.0, 1.0, 1.0, 1.0];
-        assert!(constrained_step(&meas, &meas, &w, (0.1, &[1.0, 0.0, 0.0, 0.0])).is_none());
-        assert!(constrained_step(&meas, &meas, &w, (0.1, &[f64::NAN; 4])).is_none());
+        assert!((h.x - hr.x).abs() < 1e-13 && (h.y - hr.y).abs() < 1e-13);
+        assert!((h.s1 - hr.s1).abs() < 1e-12 && (h.f - hr.f).abs() < 1e-12);
+        // the nonlinear correction of the linear projection is of second order
+        let moved = (h.x - h0.x).hypot(h.y - h0.y);
+        assert!(moved < 0.1 * h0.shift, "{moved} vs {}", h0.shift);
     }
 }

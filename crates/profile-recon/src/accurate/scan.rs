@@ -1,55 +1,17 @@
 //! Where the phase-B hypotheses of a row lie: every root of the moment `m` on `(0, 1)` and
-//! every extremum of `m` towards zero (a double root at a release), bracketed on the dense
-//! output of the base integration and located by Brent. [`close_steps`] picks the steps on
-//! which one may lie from the cheap cubic part of the interpolant; [`candidates`] scans them.
+//! every extremum of `m` towards zero (a double root at a release), bracketed on the
+//! interpolants of the base integration and located by Brent. The run picked the steps on
+//! which one may lie from the cheap cubic part of the interpolant
+//! ([`close_step`](super::base_run::close_step)); [`candidates`] scans them.
 
 use super::base_ode::BaseOde;
+use super::base_run::BaseRun;
 use super::context::SAMPLES;
 use crate::error::Result;
 use crate::observables::ObservableRow;
-use bvp_solvers::integrator::{OdeSolution, OdeSystem};
+use bvp_solvers::integrator::OdeSystem;
 use bvp_solvers::roots::{brent, RootOptions};
 use contact_sim::Phase;
-
-/// The steps of a lazy base integration on which `m` may have a root or an extremum: the
-/// cubic Hermite part of the step's interpolant (exact at the ends, `O(h^4)` inside) at the
-/// ends and at the thirds comes within twice the step's variation of `m` (its range there,
-/// or `h |m'|`) of zero, or `m'` changes sign there. Elsewhere `m` keeps its sign and its
-/// direction with a margin that the cubic's error cannot close on an accepted step, and
-/// the scan of [`candidates`] has nothing to find.
-pub(super) fn close_steps(sol: &OdeSolution) -> Vec<bool> {
-    let pts = sol.step_points();
-    let mut u = [0.0; 4];
-    let mut du = [0.0; 4];
-    pts.windows(2)
-        .enumerate()
-        .map(|(idx, w)| {
-            let h = (w[1] - w[0]).abs();
-            let (mut lo, mut hi, mut amin, mut dmax) =
-                (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, 0.0f64);
-            let mut dsign = 0.0f64;
-            let mut turns = false;
-            for k in 0..=SAMPLES {
-                if !sol.eval_cubic_on(idx, k as f64 / SAMPLES as f64, &mut u, &mut du) {
-                    return true;
-                }
-                let (m, d) = (u[1], du[1]);
-                if !(m.is_finite() && d.is_finite()) {
-                    return true;
-                }
-                lo = lo.min(m);
-                hi = hi.max(m);
-                amin = amin.min(m.abs());
-                dmax = dmax.max(d.abs());
-                if d == 0.0 || (dsign != 0.0 && d.signum() != dsign) {
-                    turns = true;
-                }
-                dsign = d.signum();
-            }
-            turns || amin <= 2.0 * (hi - lo).max(h * dmax)
-        })
-        .collect()
-}
 
 /// The arc lengths of a row's hypotheses.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -63,7 +25,7 @@ pub(super) struct Candidates {
 
 /// The state of the scan along the whisker.
 struct Scan<'a> {
-    sol: &'a OdeSolution,
+    run: &'a BaseRun,
     ode: &'a BaseOde,
     opts: RootOptions,
     /// `(s, m)` at the last sample.
@@ -81,20 +43,20 @@ impl Scan<'_> {
         du[1]
     }
 
-    /// `m` on the dense output (NaN outside).
+    /// `m` on the interpolant (NaN outside).
     fn m_at(&self, t: f64) -> Result<f64> {
         let mut buf = [0.0; 4];
-        Ok(if self.sol.eval_into(t, &mut buf) {
+        Ok(if self.run.eval_into(t, &mut buf) {
             buf[1]
         } else {
             f64::NAN
         })
     }
 
-    /// `m'` on the dense output (NaN outside).
+    /// `m'` on the interpolant (NaN outside).
     fn d_at(&self, t: f64) -> Result<f64> {
         let mut buf = [0.0; 4];
-        Ok(if self.sol.eval_into(t, &mut buf) {
+        Ok(if self.run.eval_into(t, &mut buf) {
             self.slope(t, &buf)
         } else {
             f64::NAN
@@ -159,20 +121,18 @@ impl Scan<'_> {
     }
 }
 
-/// The hypotheses of a row from its base integration `sol` (of `ode`, with `close` from
-/// [`close_steps`] and those steps refined): phase A if `reached` (`s = 1`), then every
-/// sign change of `m` on the close steps, each step cut in [`SAMPLES`] parts and each part
-/// with an extremum of `m` cut there (two close roots are not lost), and the extrema of `m`
-/// towards zero.
+/// The hypotheses of a row from its base integration `run` (of `ode`): phase A if `reached`
+/// (`s = 1`), then every sign change of `m` on the close steps, each step cut in [`SAMPLES`]
+/// parts and each part with an extremum of `m` cut there (two close roots are not lost),
+/// and the extrema of `m` towards zero.
 pub(super) fn candidates(
-    sol: &OdeSolution,
+    run: &BaseRun,
     ode: &BaseOde,
     row: &ObservableRow,
-    close: &[bool],
     reached: bool,
 ) -> Candidates {
     let mut scan = Scan {
-        sol,
+        run,
         ode,
         opts: RootOptions {
             xtol: 1e-15,
@@ -188,23 +148,23 @@ pub(super) fn candidates(
     }
     scan.prev_slope = scan.slope(0.0, &[row.phi0, -row.ma, row.x0, 0.0]);
     let (mut u, mut du_c) = ([0.0; 4], [0.0; 4]);
-    for (idx, w) in sol.step_points().windows(2).enumerate() {
-        if !close[idx] {
+    for step in run.steps() {
+        if !step.close {
             // m keeps its sign and its direction on this step: only its end is carried
-            if sol.eval_cubic_on(idx, 1.0, &mut u, &mut du_c) {
-                scan.prev = (w[1], u[1]);
+            if step.interp.eval_cubic(1.0, &mut u, &mut du_c) {
+                scan.prev = (step.end, u[1]);
                 scan.prev_slope = du_c[1];
             }
             continue;
         }
         for k in 0..SAMPLES {
-            // the last sample exactly at the step's end (stored exactly, refined or not)
+            // the last sample exactly at the step's end (its state exactly)
             let s = if k + 1 == SAMPLES {
-                w[1]
+                step.end
             } else {
-                w[0] + (w[1] - w[0]) * (k + 1) as f64 / SAMPLES as f64
+                step.start + (step.end - step.start) * (k + 1) as f64 / SAMPLES as f64
             };
-            if sol.eval_into(s, &mut u) {
+            if run.eval_into(s, &mut u) {
                 scan.sample(s, &u);
             }
         }
@@ -217,7 +177,7 @@ mod tests {
     use super::super::base_ode::base_ivp;
     use super::*;
     use beam_model::{FluidLoad, Whisker};
-    use bvp_solvers::integrator::Dop853;
+    use bvp_solvers::integrator::{Dop853, OdeSolution};
 
     /// The roots of `m` on a fine grid of the dense output, by bisection: an independent
     /// count of what the scan must find.
@@ -247,22 +207,10 @@ mod tests {
         out
     }
 
-    fn scan_of(w: &Whisker, flow: FluidLoad, row: &ObservableRow) -> (OdeSolution, Candidates) {
-        let lazy = Dop853 {
-            dense: true,
-            lazy_dense: true,
-            ..Dop853::new(1e-12, 1e-12)
-        };
-        let mut sol = base_ivp(w, flow, row, &lazy).unwrap();
+    fn scan_of(w: &Whisker, flow: FluidLoad, row: &ObservableRow) -> Candidates {
         let ode = BaseOde::new(w, flow, row, false);
-        let close = close_steps(&sol);
-        for (idx, &c) in close.iter().enumerate() {
-            if c {
-                sol.refine(&ode, idx);
-            }
-        }
-        let found = candidates(&sol, &ode, row, &close, sol.s_end >= 1.0);
-        (sol, found)
+        let run = BaseRun::new(&ode, row, &Dop853::new(1e-12, 1e-12)).unwrap();
+        candidates(&run, &ode, row, run.s_end >= 1.0)
     }
 
     #[test]
@@ -275,7 +223,7 @@ mod tests {
             ma: 0.4,
             phi0: 1.0,
         };
-        let (_, c) = scan_of(&Whisker::uniform(), FluidLoad { q: 0.0, alpha: 0.0 }, &row);
+        let c = scan_of(&Whisker::uniform(), FluidLoad { q: 0.0, alpha: 0.0 }, &row);
         assert_eq!(c.roots, vec![(Phase::A, 1.0)]);
         assert!(c.touching.is_empty());
     }
@@ -293,8 +241,8 @@ mod tests {
                 ma,
                 phi0: 1.5,
             };
-            let (_, c) = scan_of(&w, flow, &row);
-            // the truth from a complete dense output (the scan's is lazy)
+            let c = scan_of(&w, flow, &row);
+            // the truth from a complete dense output (the scan's is complete on close steps)
             let full = base_ivp(&w, flow, &row, &Dop853::new(1e-12, 1e-12).with_dense(true));
             let brute = brute_roots(&full.unwrap(), 20_000);
             let found: Vec<f64> = c

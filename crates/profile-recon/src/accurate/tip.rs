@@ -3,8 +3,8 @@
 //! [`RowEval::tip_ambiguity`](super::RowEval::tip_ambiguity)).
 
 use super::base_ode::BaseOde;
+use super::base_run::BaseRun;
 use super::context::{K_SIGMA, TIP_GRID};
-use bvp_solvers::integrator::OdeSolution;
 
 /// The first arc back from the tip checked for a look-alike.
 const TIP_FIRST: f64 = 1e-5;
@@ -13,26 +13,21 @@ const TIP_RATIO: f64 = 2.057_143_874_950_285;
 
 /// For the phase-A hypothesis: at `s = 1 - delta` on a grid of `delta`, the relative noise
 /// level `max(|m(s)| / sd_m, |g(s)| / sd_g) / K_SIGMA` at which the phase-B conditions hold
-/// there (`g = Q sin phi - P cos phi`; `sd_m`, `sd_g` the standard deviations of `m(1)`,
-/// `g(1)` at unit noise; the cubic part of the interpolant is accurate enough for a level).
-pub(super) fn tip_levels(
-    sol: &OdeSolution,
-    ode: &BaseOde,
-    sd_m: f64,
-    sd_g: f64,
-) -> Vec<(f64, f64)> {
+/// there (`g = f sin(phi - psi) = -dm'/dphi`, [`BaseOde::rate`]; `sd_m`, `sd_g` the
+/// standard deviations of `m(1)`, `g(1)` at unit noise; the cubic part of the interpolant is
+/// accurate enough for a level).
+pub(super) fn tip_levels(run: &BaseRun, ode: &BaseOde, sd_m: f64, sd_g: f64) -> Vec<(f64, f64)> {
     let mut out = vec![(0.0, f64::INFINITY); TIP_GRID];
     let (mut u, mut du) = ([0.0; 4], [0.0; 4]);
     let tiny = f64::MIN_POSITIVE;
     // (m, g) at 1 - d
     let mut at = |d: f64| -> Option<(f64, f64)> {
         let s = 1.0 - d;
-        if !sol.eval_cubic_into(s, &mut u, &mut du) {
+        if !run.cubic_at(s, &mut u, &mut du) {
             return None;
         }
-        let (p, q) = ode.force(s);
         let (sp, cp) = u[0].sin_cos();
-        Some((u[1], q * sp - p * cp))
+        Some((u[1], -ode.rate(s, sp, cp).dm_dphi))
     };
     let need = |m: f64, g: f64| (m.abs() / sd_m.max(tiny)).max(g.abs() / sd_g.max(tiny)) / K_SIGMA;
     let mut prev: Option<(f64, f64, f64)> = None;

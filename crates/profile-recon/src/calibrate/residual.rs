@@ -210,7 +210,6 @@ pub(crate) fn row_residuals(
         RowKind::B { s1 } => {
             let dense = Dop853 {
                 dense: true,
-                lazy_dense: false,
                 ..ctx.integrator.clone()
             };
             let sol = base_ivp(&whisker, flow, &obs, &dense).ok()?;
@@ -350,7 +349,6 @@ pub(crate) fn hypotheses(ctx: &RowCtx<'_>, row: &ObservableRow) -> Vec<RowResult
     };
     let dense = Dop853 {
         dense: true,
-        lazy_dense: false,
         ..ctx.integrator.clone()
     };
     let Ok(sol) = base_ivp(&whisker, flow_of(ctx.flow.0, ctx.flow.1), &obs, &dense) else {

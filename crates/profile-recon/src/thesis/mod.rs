@@ -1,6 +1,6 @@
 //! The thesis's reconstruction (section 6.2, eqs. 6.3-6.10), faithfully: per contact row five
-//! unknowns, solved by a trust region (`fsolve` in the thesis,
-//! [`bvp_solvers::trust_region::solve`] here) around finite-difference solves of the
+//! unknowns, solved by a trust region (`fsolve` in the thesis, the trust region of
+//! [`bvp_solvers::nonlinear::solve`] here) around finite-difference solves of the
 //! elastica [3.25] (the thesis's solver of Fig. 4.2), warm-started from the previous row.
 //!
 //! **Unknowns** [6.3, 6.4]: phase A (tip contact, `s1 = 1`): `(xc, yc, psi, f, phi1)`;

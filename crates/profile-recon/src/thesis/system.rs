@@ -1,7 +1,7 @@
 //! The thesis's system of one row and one phase hypothesis: the five unknowns [6.3, 6.4],
 //! the FDM solve of [3.25] on `[0, s1]` and the six residuals [6.5-6.9], solved by the trust
-//! region with the stall rule ([`STALL_TRIALS`]); a solved hypothesis and
-//! the conversion of a solution of one phase into a start of the other.
+//! region of [`bvp_solvers::nonlinear`] with the stall rule ([`STALL_TRIALS`]); a solved
+//! hypothesis and the conversion of a solution of one phase into a start of the other.
 
 use crate::error::{ReconError, Result};
 use crate::observables::ObservableRow;
@@ -9,7 +9,8 @@ use beam_model::equations::WhiskerFdmProblem;
 use beam_model::{FluidLoad, Whisker};
 use bvp_solvers::fdm::{BoundaryCondition, FdmOptions, FdmSolver};
 use bvp_solvers::grid::UniformGrid;
-use bvp_solvers::trust_region::{self, NonlinearSystem, TrustRegionOptions};
+use bvp_solvers::nonlinear::{self, NonlinearOptions};
+use bvp_solvers::trust_region::{NonlinearSystem, TrustRegionOptions};
 use bvp_solvers::BvpError;
 use contact_sim::phase::contact_loads;
 use contact_sim::Phase;
@@ -182,16 +183,22 @@ impl<'a> RowSystem<'a> {
         r[5] = self.row.ay - self.flow.q * s1 * sa - f * cp; // [6.9]
     }
 
-    /// Solves the row from `start`.
+    /// Solves the row from `start` ([`nonlinear::solve`] with the trust region alone: the six
+    /// residuals have a least-squares minimum at the FDM level, above any useful tolerance,
+    /// where a Newton fast path could only fail, and its evaluations would move the FDM warm
+    /// start and the stall count of [`Track`] that the trust region's run depends on).
     pub(super) fn run(self, start: &[f64]) -> Result<Solved> {
-        let opts = TrustRegionOptions {
-            tol: self.tol,
-            max_iters: MAX_ITERS,
-            initial_radius: 0.1,
-            max_radius: 10.0,
+        let opts = NonlinearOptions {
+            newton: None,
+            trust_region: TrustRegionOptions {
+                tol: self.tol,
+                max_iters: MAX_ITERS,
+                initial_radius: 0.1,
+                max_radius: 10.0,
+            },
         };
-        let (u, residual, iterations) = match trust_region::solve(&self, start, &opts) {
-            Ok(sol) => (sol.x, sol.residual_norm, sol.iterations as usize),
+        let (u, residual, iterations) = match nonlinear::solve::<5, 6, _>(&self, start, &opts) {
+            Ok(sol) => (sol.x, sol.residual_norm, sol.iterations),
             // The least-squares minimum above the tolerance (the FDM level): the best point found.
             Err(ReconError::Bvp(BvpError::NoConvergence { .. }))
                 if self.track.borrow().best.is_finite() =>

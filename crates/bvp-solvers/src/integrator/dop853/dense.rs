@@ -1,7 +1,10 @@
 //! Dense output: Hairer's 7th-order continuous extension of each accepted step (three extra
-//! stages `k14..k16`), stored per step in [`OdeSolution`] and evaluated by [`OdeSolution::eval`].
+//! stages `k14..k16`), stored per step in [`OdeSolution`] and evaluated by
+//! [`OdeSolution::eval`], or copied out of the stepper one step at a time
+//! ([`StepInterpolant`]).
 
 use super::coef::*;
+use super::Interpolant;
 use crate::integrator::OdeSystem;
 
 /// Result of a [`Dop853`](super::Dop853) integration: the end state and (optionally) the dense output.
@@ -20,18 +23,9 @@ pub struct OdeSolution {
     pub(super) points: Vec<f64>,
     /// Step sizes (len = steps).
     pub(super) hs: Vec<f64>,
-    /// 8 * dim interpolation coefficients per step (lazy: the last 4 blocks only once the
-    /// step is refined).
+    /// 8 * dim interpolation coefficients per step.
     pub(super) cont: Vec<f64>,
-    /// Lazy dense output: the stages [`LAZY_SLOTS`] of each step (9 * dim per step).
-    pub(super) stages: Vec<f64>,
-    /// Lazy dense output: whether each step's interpolant is complete (empty: all are).
-    pub(super) refined: Vec<bool>,
-    /// Lazy dense output: work space of [`OdeSolution::refine`].
-    pub(super) scratch: Vec<f64>,
     pub(super) dense: bool,
-    /// Lazy dense output: the stages are stored and steps refined on demand.
-    pub(super) lazy: bool,
 }
 
 /// Evaluates the DOP853 dense output of one step with coefficients `rc` (8 blocks of `n`).
@@ -54,6 +48,70 @@ fn dense_eval_in<D: Dim>(d: D, rc: &[f64], theta: f64, out: &mut [f64]) {
                     + t1 * (r(2)
                         + theta
                             * (r(3) + t1 * (r(4) + theta * (r(5) + t1 * (r(6) + theta * r(7)))))));
+    }
+}
+
+/// A copy of one accepted step's interpolant that outlives the [`Stepper`](super::Stepper)'s
+/// move to the next step ([`Stepper::interpolant`](super::Stepper::interpolant)), for a
+/// state of dimension `N`: with `theta = (s - start) / h`,
+///
+/// ```text
+/// u(theta) = r0 + theta (r1 + (1 - theta) (r2 + theta (r3 + (1 - theta) (r4 + theta (r5
+///          + (1 - theta) (r6 + theta r7))))))
+/// ```
+///
+/// (Hairer's 7th-order continuous extension of `DOP853`, [`Interpolant::Full`]); its first
+/// four terms alone are the cubic Hermite interpolant of the step's ends and slopes
+/// ([`Interpolant::Cubic`], exact at the ends, `O(h^4)` inside).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepInterpolant<const N: usize> {
+    pub(super) start: f64,
+    pub(super) h: f64,
+    pub(super) level: Interpolant,
+    /// The coefficient blocks `r0..r7` (the last four valid at [`Interpolant::Full`] only).
+    pub(super) rc: [[f64; N]; 8],
+}
+
+impl<const N: usize> StepInterpolant<N> {
+    /// Start of the step.
+    pub fn start(&self) -> f64 {
+        self.start
+    }
+
+    /// Size of the step (signed).
+    pub fn h(&self) -> f64 {
+        self.h
+    }
+
+    /// How much of the interpolant was computed when it was copied.
+    pub fn level(&self) -> Interpolant {
+        self.level
+    }
+
+    /// The 7th-order interpolant at `theta` into `out`; `false` (and `out` untouched) unless
+    /// it was copied in full.
+    pub fn eval(&self, theta: f64, out: &mut [f64; N]) -> bool {
+        if self.level != Interpolant::Full {
+            return false;
+        }
+        dense_eval(self.rc.as_flattened(), N, theta, out);
+        true
+    }
+
+    /// The cubic Hermite part at `theta` into `out` and its derivative `du/ds` into `dout`;
+    /// `false` (outputs untouched) if no interpolant was computed.
+    pub fn eval_cubic(&self, theta: f64, out: &mut [f64; N], dout: &mut [f64; N]) -> bool {
+        if self.level == Interpolant::None {
+            return false;
+        }
+        let [r0, r1, r2, r3, ..] = &self.rc;
+        let th = theta;
+        for i in 0..N {
+            let (r0, r1, r2, r3) = (r0[i], r1[i], r2[i], r3[i]);
+            out[i] = r0 + th * (r1 + (1.0 - th) * (r2 + th * r3));
+            dout[i] = (r1 + (1.0 - 2.0 * th) * r2 + th * (2.0 - 3.0 * th) * r3) / self.h;
+        }
+        true
     }
 }
 
@@ -88,14 +146,6 @@ impl OdeSolution {
             return false;
         };
         let n = self.dim;
-        if !self.is_refined(idx) {
-            // a step's start is stored exactly (the interpolant's value at theta = 0)
-            if s == self.points[idx] {
-                out.copy_from_slice(&self.cont[idx * 8 * n..idx * 8 * n + n]);
-                return true;
-            }
-            return false;
-        }
         let theta = (s - self.points[idx]) / self.hs[idx];
         dense_eval(&self.cont[idx * 8 * n..(idx + 1) * 8 * n], n, theta, out);
         true
@@ -137,70 +187,8 @@ impl OdeSolution {
         self.hs.len()
     }
 
-    /// Whether step `idx` has its complete 7th-order interpolant (always, unless the output
-    /// is lazy, [`Dop853::with_lazy_dense`](super::Dop853::with_lazy_dense)).
-    pub fn is_refined(&self, idx: usize) -> bool {
-        self.refined.get(idx).copied().unwrap_or(true)
-    }
-
-    /// Completes the 7th-order interpolant of step `idx` of a lazy dense output (the three
-    /// extra stages `k14..k16` of Hairer's `DOP853`). `sys` must be the system that was
-    /// integrated. Nothing happens for a refined step or an index out of range.
-    pub fn refine<S: OdeSystem + ?Sized>(&mut self, sys: &S, idx: usize) {
-        if self.is_refined(idx) || idx >= self.hs.len() {
-            return;
-        }
-        let n = self.dim;
-        // scratch: the 16 stage slots, y, and the stage argument
-        self.scratch.resize(18 * n, 0.0);
-        let (k, rest) = self.scratch.split_at_mut(16 * n);
-        let (y, tmp) = rest.split_at_mut(n);
-        let st = &self.stages[idx * 9 * n..(idx + 1) * 9 * n];
-        for (b, &slot) in LAZY_SLOTS.iter().enumerate() {
-            k[slot * n..(slot + 1) * n].copy_from_slice(&st[b * n..(b + 1) * n]);
-        }
-        let rc = &mut self.cont[idx * 8 * n..(idx + 1) * 8 * n];
-        y.copy_from_slice(&rc[..n]);
-        extend(sys, self.points[idx], self.hs[idx], y, k, tmp, rc);
-        self.refined[idx] = true;
-        self.stats.rhs_evals += 3;
-    }
-
-    /// The cubic Hermite interpolant of the step containing `s` (exact at the step's ends,
-    /// error `O(h^4)` inside; the first four terms of Hairer's interpolant) into `out`, and its
-    /// derivative `du/ds` into `dout`; available on every step of a dense output, refined or
-    /// not. Returns `false` as [`OdeSolution::eval_into`] does.
-    pub fn eval_cubic_into(&self, s: f64, out: &mut [f64], dout: &mut [f64]) -> bool {
-        if out.len() != self.dim || dout.len() != self.dim {
-            return false;
-        }
-        let Some(idx) = self.step_index(s) else {
-            return false;
-        };
-        let th = (s - self.points[idx]) / self.hs[idx];
-        self.eval_cubic_on(idx, th, out, dout)
-    }
-
-    /// As [`OdeSolution::eval_cubic_into`] on step `idx` at `theta = (s - start) / h` in
-    /// `[0, 1]` (no search for the step); `false` for an index out of range.
-    pub fn eval_cubic_on(&self, idx: usize, theta: f64, out: &mut [f64], dout: &mut [f64]) -> bool {
-        let n = self.dim;
-        if idx >= self.hs.len() || out.len() != n || dout.len() != n {
-            return false;
-        }
-        let h = self.hs[idx];
-        let th = theta;
-        let rc = &self.cont[idx * 8 * n..idx * 8 * n + 4 * n];
-        for i in 0..n {
-            let (r0, r1, r2, r3) = (rc[i], rc[n + i], rc[2 * n + i], rc[3 * n + i]);
-            out[i] = r0 + th * (r1 + (1.0 - th) * (r2 + th * r3));
-            dout[i] = (r1 + (1.0 - 2.0 * th) * r2 + th * (2.0 - 3.0 * th) * r3) / h;
-        }
-        true
-    }
-
     /// An empty solution at `(s0, u0)` (room reserved for a typical dense output).
-    pub(super) fn start(s0: f64, u0: &[f64], dense: bool, lazy: bool) -> Self {
+    pub(super) fn start(s0: f64, u0: &[f64], dense: bool) -> Self {
         let n = u0.len();
         let mut sol = OdeSolution {
             s_end: s0,
@@ -212,11 +200,7 @@ impl OdeSolution {
             points: Vec::new(),
             hs: Vec::new(),
             cont: Vec::new(),
-            stages: Vec::new(),
-            refined: Vec::new(),
-            scratch: Vec::new(),
             dense,
-            lazy: dense && lazy,
         };
         if dense {
             // room for a typical integration (vector growth was ~4 % of a short one)
@@ -225,37 +209,21 @@ impl OdeSolution {
             sol.points.push(s0);
             sol.hs.reserve(GUESS);
             sol.cont.reserve(GUESS * 8 * n);
-            if lazy {
-                sol.stages.reserve(GUESS * 9 * n);
-                sol.refined.reserve(GUESS);
-            }
         }
         sol
     }
 
-    /// Stores the stepper's held step, ending at `end` (its interpolant as far as computed;
-    /// the stages too when the step is not complete, for [`OdeSolution::refine`]).
+    /// Stores the stepper's held step, ending at `end`, with its interpolant (prepared in
+    /// full by the caller).
     pub(super) fn store_step<S: OdeSystem + ?Sized>(
         &mut self,
         st: &super::Stepper<'_, S>,
         end: f64,
     ) {
-        let (rc, level) = st.coefficients();
+        let (rc, _) = st.coefficients();
         self.points.push(end);
         self.hs.push(st.h());
         self.cont.extend_from_slice(rc);
-        if self.lazy {
-            self.store_stages(st.stages(), level == super::Interpolant::Full);
-        }
-    }
-
-    /// Lazy dense output: keeps the stages of the step just stored.
-    pub(super) fn store_stages(&mut self, k: &[f64], complete: bool) {
-        let n = self.dim;
-        for &slot in LAZY_SLOTS.iter() {
-            self.stages.extend_from_slice(&k[slot * n..(slot + 1) * n]);
-        }
-        self.refined.push(complete);
     }
 
     /// Accepted step end points, including the start (and ending at `s_end`); empty if the
@@ -284,11 +252,6 @@ pub(super) fn hermite(h: f64, y: &[f64], ynew: &[f64], k: &[f64], rc: &mut [f64]
     }
 }
 
-/// Stage slots (0-based) that [`extend`] reads besides the three it computes: `k1`, `k6..k13`.
-pub(super) const LAZY_SLOTS: [usize; 9] = [0, 5, 6, 7, 8, 9, 10, 11, 12];
-
-/// The last 4 blocks of the dense-output coefficients of the step `[x, x + h]` from `y`
-/// and the stages `k1, k6..k13` in `k`: evaluates the extra stages `k14..k16`.
 /// A stage: the combination of earlier stages (slot, coefficient), its node `C`, its slot.
 type Stage = (&'static [(usize, f64)], f64, usize);
 
@@ -398,6 +361,8 @@ const DENSE_ROWS: [[(usize, f64); 12]; 4] = [
     ],
 ];
 
+/// The last 4 blocks of the dense-output coefficients of the step `[x, x + h]` from `y`
+/// and the stages `k1, k6..k13` in `k`: evaluates the extra stages `k14..k16`.
 pub(super) fn extend<S: OdeSystem + ?Sized>(
     sys: &S,
     x: f64,

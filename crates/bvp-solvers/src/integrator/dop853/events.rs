@@ -59,3 +59,15 @@ pub(super) fn locate<E: FnMut(f64, &[f64]) -> f64>(
 pub(super) fn crossed(g_old: f64, g_new: f64) -> bool {
     g_new == 0.0 || (g_old != 0.0 && (g_old < 0.0) != (g_new < 0.0))
 }
+
+/// `g` if it is not NaN (an event function's value at `s`).
+pub(super) fn finite(g: f64, s: f64) -> Result<f64> {
+    if g.is_nan() {
+        Err(BvpError::NonFinite {
+            what: "event function",
+            s,
+        })
+    } else {
+        Ok(g)
+    }
+}

@@ -1,7 +1,7 @@
 //! Dormand-Prince 8(5,3) (Hairer's `DOP853`): the options and the driver of
 //! `integrate`/`integrate_until`; the tableau (`coef`), one step (`step`), the step-size
-//! controller (`control`), the stepper ([`Stepper`]), the dense output ([`OdeSolution`])
-//! and event location (`events`) live in the submodules.
+//! controller (`control`), the stepper ([`Stepper`]), the dense output ([`OdeSolution`],
+//! [`StepInterpolant`]) and event location (`events`) live in the submodules.
 
 // `!(x > 0.0)` is used on purpose: it is true for NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -15,8 +15,7 @@ mod stepper;
 
 use super::OdeSystem;
 use crate::{BvpError, Result};
-use dense::dense_eval;
-pub use dense::OdeSolution;
+pub use dense::{OdeSolution, StepInterpolant};
 pub use stepper::{Interpolant, Stepper};
 
 /// Dormand-Prince 8(5,3) (Hairer's `DOP853`) with step-size control, dense output of order 7,
@@ -46,10 +45,6 @@ pub struct Dop853 {
     pub max_steps: usize,
     /// Store the dense output for [`OdeSolution::eval`].
     pub dense: bool,
-    /// With `dense`: store only the cubic Hermite part of each step's interpolant and the
-    /// stages its completion needs; [`OdeSolution::refine`] completes a step on demand
-    /// (three right-hand-side evaluations per refined step instead of per step).
-    pub lazy_dense: bool,
 }
 
 /// Work counters of an adaptive integration.
@@ -81,26 +76,12 @@ impl Dop853 {
             h_init: None,
             max_steps: 100_000,
             dense: false,
-            lazy_dense: false,
         }
     }
 
     /// Sets whether the dense output is stored.
     pub fn with_dense(self, dense: bool) -> Self {
         Self { dense, ..self }
-    }
-
-    /// Stores a lazy dense output (implies `dense`): each step keeps its cubic Hermite
-    /// interpolant ([`OdeSolution::eval_cubic_into`]) and the stages from which
-    /// [`OdeSolution::refine`] completes Hairer's 7th-order interpolant where it is needed
-    /// ([`OdeSolution::eval_into`] reports `false` on a step not refined yet). For callers
-    /// that scan a solution cheaply and look closely at a few steps only.
-    pub fn with_lazy_dense(self) -> Self {
-        Self {
-            dense: true,
-            lazy_dense: true,
-            ..self
-        }
     }
 
     pub(super) fn check(&self) -> Result<()> {
@@ -173,7 +154,7 @@ impl Dop853 {
 
     /// The driver of [`Dop853::integrate`] and [`Dop853::integrate_until`]: a
     /// [`Stepper`], each accepted step's interpolant stored (dense output) and searched for
-    /// the event.
+    /// the event ([`Stepper::crossing`]).
     fn run<S: OdeSystem + ?Sized, E: FnMut(f64, &[f64]) -> f64>(
         &self,
         sys: &S,
@@ -183,77 +164,38 @@ impl Dop853 {
         mut event: Option<E>,
     ) -> Result<(OdeSolution, Option<Event>)> {
         let mut st = self.stepper(sys, s0, s1, u0)?;
-        let n = sys.dim();
-        let mut sol = OdeSolution::start(s0, u0, self.dense, self.lazy_dense);
+        let mut sol = OdeSolution::start(s0, u0, self.dense);
         if s0 == s1 {
             return Ok((sol, None));
         }
-        // full interpolants of every step (eager dense output), or the cubic part only (lazy
-        // dense output, events: completed on the step where an event is located)
-        let level = if self.dense && !self.lazy_dense {
-            Interpolant::Full
-        } else if self.dense || event.is_some() {
-            Interpolant::Cubic
-        } else {
-            Interpolant::None
-        };
         let mut g_old = 0.0;
         if let Some(ev) = event.as_mut() {
-            g_old = finite_event(ev(s0, u0), s0)?;
+            g_old = events::finite(ev(s0, u0), s0)?;
         }
         while st.step()? {
-            st.prepare(level);
-            let xph = st.end();
+            if self.dense {
+                st.prepare(Interpolant::Full);
+            }
             if let Some(ev) = event.as_mut() {
-                let g_new = finite_event(ev(xph, st.end_state()), xph)?;
-                if events::crossed(g_old, g_new) {
-                    st.prepare(Interpolant::Full);
-                    let mut u_ev = vec![0.0; n];
-                    let s_ev = {
-                        let (rc, _) = st.coefficients();
-                        let step = events::StepSpan {
-                            x: st.start(),
-                            h: st.h(),
-                            posneg: st.direction(),
-                            rc,
-                        };
-                        events::locate(ev, g_new, &step, &mut u_ev)?
-                    };
-                    if s_ev == xph {
-                        u_ev.copy_from_slice(st.end_state());
-                    } else {
-                        let (rc, _) = st.coefficients();
-                        dense_eval(rc, n, (s_ev - st.start()) / st.h(), &mut u_ev);
-                    }
+                let (g_new, hit) = st.crossing(ev, g_old)?;
+                if let Some(e) = hit {
                     if self.dense {
-                        sol.store_step(&st, s_ev);
+                        sol.store_step(&st, e.s);
                     }
-                    sol.s_end = s_ev;
-                    sol.u_end.copy_from_slice(&u_ev);
+                    sol.s_end = e.s;
+                    sol.u_end.copy_from_slice(&e.u);
                     sol.stats = st.stats();
-                    return Ok((sol, Some(Event { s: s_ev, u: u_ev })));
+                    return Ok((sol, Some(e)));
                 }
                 g_old = g_new;
             }
             if self.dense {
-                sol.store_step(&st, if st.is_last() { s1 } else { xph });
+                sol.store_step(&st, if st.is_last() { s1 } else { st.end() });
             }
         }
         sol.s_end = s1;
         sol.u_end.copy_from_slice(st.state());
         sol.stats = st.stats();
         Ok((sol, None))
-    }
-}
-
-/// `g` if it is not NaN (an event function's value at `s`).
-fn finite_event(g: f64, s: f64) -> Result<f64> {
-    if g.is_nan() {
-        Err(BvpError::NonFinite {
-            what: "event function",
-            s,
-        })
-    } else {
-        Ok(g)
     }
 }

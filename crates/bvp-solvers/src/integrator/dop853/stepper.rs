@@ -4,9 +4,9 @@
 //! stopping rule, a scan of the solution as it grows) drives it directly.
 
 use super::control::{StepControl, Verdict};
-use super::dense::{dense_eval, extend, hermite};
-use super::step;
-use super::{Dop853, IntegrationStats};
+use super::dense::{dense_eval, extend, hermite, StepInterpolant};
+use super::{events, step};
+use super::{Dop853, Event, IntegrationStats};
 use crate::integrator::{all_finite, check_initial, check_span, OdeSystem};
 use crate::{BvpError, Result};
 
@@ -383,14 +383,149 @@ impl<S: OdeSystem + ?Sized> Stepper<'_, S> {
         (&self.buf[rc..rc + 8 * self.n], self.interp)
     }
 
-    /// The stage slots of the held step (for a lazy dense output).
-    pub(super) fn stages(&self) -> &[f64] {
-        let [_, y, ..] = self.offsets();
-        &self.buf[..y]
+    /// A copy of the held step's interpolant as far as it is prepared ([`Stepper::prepare`]),
+    /// kept after the stepper moves on; `None` without a held step or if `N` is not the
+    /// system's dimension.
+    pub fn interpolant<const N: usize>(&self) -> Option<StepInterpolant<N>> {
+        if !self.held || N != self.n {
+            return None;
+        }
+        let (rc, level) = self.coefficients();
+        let blocks = match level {
+            Interpolant::None => 0,
+            Interpolant::Cubic => 4,
+            Interpolant::Full => 8,
+        };
+        let mut out = StepInterpolant {
+            start: self.x,
+            h: self.h,
+            level,
+            rc: [[0.0; N]; 8],
+        };
+        for (b, src) in out.rc.iter_mut().zip(rc.chunks_exact(N)).take(blocks) {
+            b.copy_from_slice(src);
+        }
+        Some(out)
+    }
+
+    /// The held step checked for a zero of the event function `g = ev(s, u)`, which had the
+    /// value `g_old` at the step's start: `g` at the step's end, and the event if `g` crossed
+    /// zero over the step (a sign change, or an exact zero at the end), located by Brent's
+    /// method on the step's 7th-order interpolant (prepared here) to
+    /// `|ds| <= 1e-14 max(|start|, |end|, |h|)`, with the state there.
+    ///
+    /// # Errors
+    /// `NonFinite` if `ev` returns NaN.
+    pub fn crossing<E: FnMut(f64, &[f64]) -> f64>(
+        &mut self,
+        ev: &mut E,
+        g_old: f64,
+    ) -> Result<(f64, Option<Event>)> {
+        let xph = self.end();
+        let g_new = events::finite(ev(xph, self.end_state()), xph)?;
+        if !self.held || !events::crossed(g_old, g_new) {
+            return Ok((g_new, None));
+        }
+        self.prepare(Interpolant::Full);
+        let n = self.n;
+        let [_, _, ynew, _, rc] = self.offsets();
+        let rc = &self.buf[rc..rc + 8 * n];
+        let mut u = vec![0.0; n];
+        let span = events::StepSpan {
+            x: self.x,
+            h: self.h,
+            posneg: self.posneg,
+            rc,
+        };
+        let s = events::locate(ev, g_new, &span, &mut u)?;
+        if s == xph {
+            u.copy_from_slice(&self.buf[ynew..ynew + n]);
+        } else {
+            dense_eval(rc, n, (s - self.x) / self.h, &mut u);
+        }
+        Ok((g_new, Some(Event { s, u })))
     }
 
     /// Work counters so far.
     pub fn stats(&self) -> IntegrationStats {
         self.stats
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `u' = (u1, -u0)`: `u = (sin s, cos s)` from `(0, 1)`.
+    struct Harmonic;
+    impl OdeSystem for Harmonic {
+        fn dim(&self) -> usize {
+            2
+        }
+        fn rhs(&self, _s: f64, u: &[f64], du: &mut [f64]) {
+            du[0] = u[1];
+            du[1] = -u[0];
+        }
+    }
+
+    #[test]
+    fn a_copied_interpolant_is_the_held_steps() {
+        let opts = Dop853::new(1e-12, 1e-12);
+        let mut st = opts.stepper(&Harmonic, 0.0, 3.0, &[0.0, 1.0]).unwrap();
+        assert!(st.interpolant::<2>().is_none(), "no step held yet");
+        assert!(st.step().unwrap());
+        assert_eq!(st.interpolant::<2>().unwrap().level(), Interpolant::None);
+        st.prepare(Interpolant::Full);
+        let copy = st.interpolant::<2>().unwrap();
+        assert_eq!((copy.start(), copy.h()), (st.start(), st.h()));
+        let (mut a, mut b, mut db) = ([0.0; 2], [0.0; 2], [0.0; 2]);
+        for theta in [0.0, 0.3, 1.0] {
+            st.interpolate(theta, &mut a);
+            assert!(copy.eval(theta, &mut b));
+            assert_eq!(a, b);
+            // the cubic part: at the ends the step's values and slopes
+            assert!(copy.eval_cubic(theta, &mut b, &mut db));
+            if theta != 0.3 {
+                let s = st.start() + theta * st.h();
+                assert!((b[0] - s.sin()).abs() < 1e-12 && (b[1] - s.cos()).abs() < 1e-12);
+                assert!((db[0] - s.cos()).abs() < 1e-12 && (db[1] + s.sin()).abs() < 1e-12);
+            }
+        }
+        // the copy outlives the step
+        assert!(st.step().unwrap());
+        assert!(copy.eval(0.5, &mut b));
+        assert!((b[0] - (copy.start() + 0.5 * copy.h()).sin()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn crossing_locates_the_first_zero_on_the_held_step() {
+        // sin s crosses zero at pi
+        let opts = Dop853::new(1e-12, 1e-12);
+        let mut st = opts
+            .stepper(&Harmonic, 0.5, 5.0, &[0.5f64.sin(), 0.5f64.cos()])
+            .unwrap();
+        let mut ev = |_: f64, u: &[f64]| u[0];
+        let mut g_old = 0.5f64.sin();
+        let mut found = None;
+        while st.step().unwrap() {
+            let (g, hit) = st.crossing(&mut ev, g_old).unwrap();
+            if let Some(e) = hit {
+                assert!(st.start() < e.s && e.s <= st.end());
+                found = Some(e);
+                break;
+            }
+            assert_eq!(g, st.end_state()[0]);
+            g_old = g;
+        }
+        let e = found.expect("a crossing");
+        assert!((e.s - std::f64::consts::PI).abs() < 1e-12, "{}", e.s);
+        assert!(
+            e.u[0].abs() < 1e-12 && (e.u[1] + 1.0).abs() < 1e-11,
+            "{:?}",
+            e.u
+        );
+        // an event function that returns NaN is an error
+        let mut nan = |_: f64, _: &[f64]| f64::NAN;
+        assert!(st.crossing(&mut nan, 1.0).is_err());
     }
 }

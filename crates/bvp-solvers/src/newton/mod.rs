@@ -1,12 +1,24 @@
-//! Newton's method for small square systems `R(u) = 0`, `u` in `R^N`, with one convergence
-//! policy: a damped step (halved until the residual norm falls), the Jacobian kept while it
-//! contracts the residual fast enough (simplified Newton) or updated by Broyden's rank-one
-//! formula, a noise floor under which a stalled iteration is accepted, and an answer that
-//! always says why it stopped ([`Termination`]) with the best point reached.
+//! Newton's method for small systems `R(u) = 0`, `u` in `R^N`, `R` in `R^M`, with one
+//! convergence policy: a damped step (halved until the residual norm falls), the Jacobian
+//! kept while it contracts the residual fast enough (simplified Newton) or updated by
+//! Broyden's rank-one formula, a noise floor under which a stalled iteration is accepted, and
+//! an answer that always says why it stopped ([`Termination`]) with the best point reached.
+//!
+//! One iteration, three step rules (`J = dR/du`):
+//! - [`newton`] (`M = N`): `J du = R`;
+//! - [`gauss_newton`] (`M >= N`, least squares `min |R|^2`): the normal equations
+//!   `J^T J du = J^T R`;
+//! - [`projection`] (`M <= N`, the nearest point of `R = 0` to a measured `u_m` in the metric
+//!   `W^-1`, `W = diag(w)`): the Gauss-Newton step of the constrained least-squares problem
+//!   `u' = u_m - W J^T (J W J^T)^-1 (R(u) + J (u_m - u))`.
+//!
+//! For `M = N` and a regular `J` all three are the Newton step `u' = u - J^-1 R`.
 //!
 //! The system ([`NewtonSystem`]) evaluates its residual, with the Jacobian on request, and
 //! carries a point of its own along (whatever the domain computes with the residual: a
-//! shot, a contact state), so that the converged answer needs no extra evaluation.
+//! shot, a contact state), so that the converged answer needs no extra evaluation; it may
+//! also say when consecutive points have settled ([`NewtonSystem::settled`]: converged by the
+//! domain's own measure).
 //!
 //! ```
 //! use bvp_solvers::newton::{newton, Evaluation, NewtonPolicy, NewtonSystem, Termination};
@@ -27,19 +39,23 @@
 //! assert!((out.u[0] - 2f64.sqrt()).abs() < 1e-14 && (out.u[1] - 2f64.sqrt()).abs() < 1e-14);
 //! ```
 
-/// One evaluation of the system at a point.
+mod least_squares;
+pub use least_squares::{gauss_newton, projection};
+
+/// One evaluation of the system at a point (`N` unknowns, `M` equations).
 #[derive(Clone, Debug)]
-pub struct Evaluation<const N: usize, P> {
+pub struct Evaluation<const N: usize, P, const M: usize = N> {
     /// The residual `R(u)`.
-    pub r: [f64; N],
+    pub r: [f64; M],
     /// The Jacobian `dR/du` (rows by equation) when it was asked for.
-    pub jac: Option<[[f64; N]; N]>,
+    pub jac: Option<[[f64; N]; M]>,
     /// What the domain computed along with the residual.
     pub point: P,
 }
 
-/// A square system for [`newton`].
-pub trait NewtonSystem<const N: usize> {
+/// A system of `M` equations in `N` unknowns (square by default) for [`newton`],
+/// [`gauss_newton`] and [`projection`].
+pub trait NewtonSystem<const N: usize, const M: usize = N> {
     /// What an evaluation carries besides the residual.
     type Point;
     /// The error of an evaluation.
@@ -50,13 +66,23 @@ pub trait NewtonSystem<const N: usize> {
     /// # Errors
     /// Whatever keeps the system from being evaluated at `u`; at a trial point such an
     /// error only rejects the step.
-    fn eval(&self, u: &[f64; N], jacobian: bool)
-        -> Result<Evaluation<N, Self::Point>, Self::Error>;
+    fn eval(
+        &self,
+        u: &[f64; N],
+        jacobian: bool,
+    ) -> Result<Evaluation<N, Self::Point, M>, Self::Error>;
 
     /// Whether a trial point may be evaluated at all (e.g. within a radius); a trial outside
     /// is halved towards the current point without an evaluation.
     fn admissible(&self, _u: &[f64; N]) -> bool {
         true
+    }
+
+    /// Whether the step from the point `old` to `new` moved what the domain computes by too
+    /// little to matter: the iteration ends there as [`Termination::Converged`] (default:
+    /// never; convergence by the residual's tolerance only).
+    fn settled(&self, _old: &Self::Point, _new: &Self::Point) -> bool {
+        false
     }
 }
 
@@ -120,7 +146,8 @@ impl NewtonPolicy {
 /// Why [`newton`] stopped.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Termination {
-    /// The residual norm reached the tolerance.
+    /// The residual norm reached the tolerance (or the system's points settled,
+    /// [`NewtonSystem::settled`]).
     Converged,
     /// The iteration failed above the tolerance but within the noise floor.
     NoiseFloor,
@@ -143,15 +170,15 @@ impl Termination {
 /// The answer of [`newton`]: the last iterate (the best: every accepted step lowers the
 /// residual) with its evaluation.
 #[derive(Clone, Debug)]
-pub struct NewtonAnswer<const N: usize, P> {
+pub struct NewtonAnswer<const N: usize, P, const M: usize = N> {
     /// The iterate.
     pub u: [f64; N],
     /// Its residual.
-    pub r: [f64; N],
+    pub r: [f64; M],
     /// The residual's Euclidean norm.
     pub norm: f64,
     /// The Jacobian: at `u` if evaluated there, else the last one used.
-    pub jac: [[f64; N]; N],
+    pub jac: [[f64; N]; M],
     /// The system's point at `u`.
     pub point: P,
     /// Steps taken.
@@ -165,9 +192,9 @@ fn norm<const N: usize>(v: &[f64; N]) -> f64 {
     v.iter().map(|x| x * x).sum::<f64>().sqrt()
 }
 
-/// Newton's method on `sys` from `u0` under `policy` (module docs); `jac0` is a start
-/// Jacobian (required for [`JacobianUpdate::Broyden`]; otherwise the first evaluation
-/// computes one when it is `None`).
+/// Newton's method on `sys` from `u0` under `policy` (module docs): steps `J du = R`;
+/// `jac0` is a start Jacobian (required for [`JacobianUpdate::Broyden`]; otherwise the first
+/// evaluation computes one when it is `None`).
 ///
 /// # Errors
 /// An evaluation error at `u0`, or where a Jacobian is evaluated; errors at trial points
@@ -179,6 +206,18 @@ pub fn newton<const N: usize, S: NewtonSystem<N>>(
     jac0: Option<[[f64; N]; N]>,
     policy: &NewtonPolicy,
 ) -> Result<NewtonAnswer<N, S::Point>, S::Error> {
+    iterate(sys, u0, jac0, policy, |jac, r, _| solve(jac, r))
+}
+
+/// The iteration of [`newton`], [`gauss_newton`] and [`projection`]: `step(J, R, u)` is the
+/// full correction `du` (the trial is `u - lambda du`), `None` where it does not exist.
+fn iterate<const N: usize, const M: usize, S: NewtonSystem<N, M>>(
+    sys: &S,
+    u0: [f64; N],
+    jac0: Option<[[f64; N]; M]>,
+    policy: &NewtonPolicy,
+    step: impl Fn(&[[f64; N]; M], &[f64; M], &[f64; N]) -> Option<[f64; N]>,
+) -> Result<NewtonAnswer<N, S::Point, M>, S::Error> {
     let broyden = matches!(policy.update, JacobianUpdate::Broyden { .. });
     let first = sys.eval(&u0, jac0.is_none() && !broyden)?;
     let mut jac_fresh = first.jac.is_some() && jac0.is_none();
@@ -186,7 +225,7 @@ pub fn newton<const N: usize, S: NewtonSystem<N>>(
         u: u0,
         r: first.r,
         norm: norm(&first.r),
-        jac: jac0.or(first.jac).unwrap_or([[f64::NAN; N]; N]),
+        jac: jac0.or(first.jac).unwrap_or([[f64::NAN; N]; M]),
         point: first.point,
         iterations: 0,
         termination: Termination::Converged,
@@ -201,7 +240,7 @@ pub fn newton<const N: usize, S: NewtonSystem<N>>(
     // the last step's contraction |R_new| / |R_old| (none before the first step)
     let mut contraction = f64::NAN;
     for it in 0..policy.max_iter {
-        let Some(du) = solve(&ans.jac, &ans.r) else {
+        let Some(du) = step(&ans.jac, &ans.r, &ans.u) else {
             ans.termination = Termination::Singular;
             return finish(sys, ans, policy, jac_fresh);
         };
@@ -227,6 +266,7 @@ pub fn newton<const N: usize, S: NewtonSystem<N>>(
                 return Ok(ans);
             }
         }
+        let settled = sys.settled(&ans.point, &eval.point);
         ans.u = trial;
         ans.r = eval.r;
         ans.norm = rn;
@@ -236,6 +276,9 @@ pub fn newton<const N: usize, S: NewtonSystem<N>>(
         if let Some(j) = eval.jac {
             ans.jac = j;
             jac_fresh = true;
+        }
+        if settled {
+            return Ok(ans);
         }
         let converged = rn <= policy.tol;
         if converged && (!policy.jacobian_at_solution || jac_fresh) {
@@ -267,13 +310,13 @@ pub fn newton<const N: usize, S: NewtonSystem<N>>(
 /// `policy.halvings` halvings) that is admissible, evaluates, and lowers the residual norm
 /// (or reaches the tolerance); a full step only, accepted as it comes, without halvings.
 #[allow(clippy::type_complexity)]
-fn damped_step<const N: usize, S: NewtonSystem<N>>(
+fn damped_step<const N: usize, const M: usize, S: NewtonSystem<N, M>>(
     sys: &S,
-    ans: &NewtonAnswer<N, S::Point>,
+    ans: &NewtonAnswer<N, S::Point, M>,
     du: &[f64; N],
     policy: &NewtonPolicy,
     want_jac: bool,
-) -> Option<([f64; N], Evaluation<N, S::Point>, f64)> {
+) -> Option<([f64; N], Evaluation<N, S::Point, M>, f64)> {
     let mut lambda = 1.0;
     let tries = policy.halvings.max(1);
     for _ in 0..tries {
@@ -303,11 +346,11 @@ fn damped_step<const N: usize, S: NewtonSystem<N>>(
 
 /// Broyden's rank-one update of `jac` after the step `-du` that took the residual from `r`
 /// to `r_new`: `J += (dR - J s) s^T / (s . s)`, `s = -du`.
-fn broyden_update<const N: usize>(
-    jac: &mut [[f64; N]; N],
+fn broyden_update<const N: usize, const M: usize>(
+    jac: &mut [[f64; N]; M],
     du: &[f64; N],
-    r: &[f64; N],
-    r_new: &[f64; N],
+    r: &[f64; M],
+    r_new: &[f64; M],
 ) {
     let s: [f64; N] = std::array::from_fn(|i| -du[i]);
     let ss: f64 = s.iter().map(|v| v * v).sum();
@@ -325,12 +368,12 @@ fn broyden_update<const N: usize>(
 
 /// A failed iteration: within the noise floor it is accepted, re-evaluated at its iterate
 /// (with a Jacobian if the policy wants one at the solution and the last is stale).
-fn finish<const N: usize, S: NewtonSystem<N>>(
+fn finish<const N: usize, const M: usize, S: NewtonSystem<N, M>>(
     sys: &S,
-    mut ans: NewtonAnswer<N, S::Point>,
+    mut ans: NewtonAnswer<N, S::Point, M>,
     policy: &NewtonPolicy,
     jac_fresh: bool,
-) -> Result<NewtonAnswer<N, S::Point>, S::Error> {
+) -> Result<NewtonAnswer<N, S::Point, M>, S::Error> {
     if ans.norm <= policy.noise_floor {
         ans.termination = Termination::NoiseFloor;
         if policy.jacobian_at_solution && !jac_fresh {
@@ -503,6 +546,16 @@ mod tests {
         // at u0 = 0 the first row of the Jacobian vanishes
         let out = newton(&cubic(0.0), [0.0, 1.0], None, &NewtonPolicy::new(1e-12)).unwrap();
         assert_eq!(out.termination, Termination::Singular);
+    }
+
+    #[test]
+    fn gauss_newton_of_a_square_system_is_newton() {
+        let (a, b) = (cubic(0.0), cubic(0.0));
+        let p = NewtonPolicy::new(1e-13);
+        let n = newton(&a, [1.0, 1.0], None, &p).unwrap();
+        let g = gauss_newton(&b, [1.0, 1.0], None, &p).unwrap();
+        assert_eq!(g.termination, Termination::Converged);
+        assert!((n.u[0] - g.u[0]).abs() < 1e-14 && (n.u[1] - g.u[1]).abs() < 1e-13);
     }
 
     #[test]

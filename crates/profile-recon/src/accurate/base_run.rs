@@ -1,0 +1,255 @@
+//! The one integration from the base that every hypothesis of a row reads ([`BaseRun`]):
+//! the DOP853 stepper driven step by step over `[0, 1]` (stopped early where `phi` winds by
+//! [`MAX_WINDING`]); the cheap cubic part of each step's interpolant judges whether the
+//! moment `m` may have a root or an extremum there ([`close_step`]), and only those steps get
+//! Hairer's 7th-order interpolant (three more evaluations each).
+
+use super::base_ode::BaseOde;
+use super::context::{MAX_WINDING, SAMPLES};
+use crate::error::Result;
+use crate::observables::ObservableRow;
+use bvp_solvers::integrator::{Dop853, Interpolant, StepInterpolant};
+
+/// The base integration of a row [3.25, 6.8, 6.9]: the interpolant of every accepted step
+/// (complete on the close steps, the cubic part elsewhere) and the end state.
+#[derive(Clone, Debug)]
+pub(super) struct BaseRun {
+    /// The accepted steps' interpolants.
+    steps: Vec<StepInterpolant<4>>,
+    /// Where each step ends (the last at `s_end`).
+    ends: Vec<f64>,
+    /// Whether `m` may have a root or an extremum on each step ([`close_step`]).
+    close: Vec<bool>,
+    /// Where the integration ended: 1, or where `phi` wound by [`MAX_WINDING`].
+    pub s_end: f64,
+    /// The state `(phi, m, x, y)` at `s_end`.
+    pub u_end: [f64; 4],
+}
+
+/// One step of a [`BaseRun`]: `[start, end]`, whether it is close, and its interpolant.
+pub(super) struct RunStep<'a> {
+    pub start: f64,
+    pub end: f64,
+    pub close: bool,
+    pub interp: &'a StepInterpolant<4>,
+}
+
+impl BaseRun {
+    /// Integrates `ode` (without sensitivities) from the base with the row's initial state
+    /// `(phi0, -MA, x0, 0)` to `s = 1`, or to where `|phi - phi0| = MAX_WINDING` (located on
+    /// the step's interpolant).
+    ///
+    /// # Errors
+    /// The integrator's errors.
+    pub(super) fn new(ode: &BaseOde, row: &ObservableRow, integrator: &Dop853) -> Result<Self> {
+        let u0 = ode.initial(row);
+        let phi0 = row.phi0;
+        let mut winding = |_: f64, u: &[f64]| MAX_WINDING - (u[0] - phi0).abs();
+        let mut st = integrator.stepper(ode, 0.0, 1.0, &u0)?;
+        let mut run = BaseRun {
+            steps: Vec::with_capacity(32),
+            ends: Vec::with_capacity(32),
+            close: Vec::with_capacity(32),
+            s_end: 1.0,
+            u_end: [0.0; 4],
+        };
+        let mut g_old = winding(0.0, &u0);
+        while st.step()? {
+            st.prepare(Interpolant::Cubic);
+            let (g_new, hit) = st.crossing(&mut winding, g_old)?;
+            let end = match &hit {
+                Some(e) => e.s,
+                None if st.is_last() => 1.0,
+                None => st.end(),
+            };
+            let cubic = st
+                .interpolant::<4>()
+                .expect("the base system has 4 components");
+            let close = close_step(&cubic, end - cubic.start());
+            let interp = if close {
+                st.prepare(Interpolant::Full);
+                st.interpolant::<4>()
+                    .expect("the base system has 4 components")
+            } else {
+                cubic
+            };
+            run.steps.push(interp);
+            run.ends.push(end);
+            run.close.push(close);
+            if let Some(e) = hit {
+                run.s_end = e.s;
+                run.u_end.copy_from_slice(&e.u);
+                return Ok(run);
+            }
+            g_old = g_new;
+        }
+        run.u_end.copy_from_slice(st.state());
+        Ok(run)
+    }
+
+    /// The steps in order.
+    pub(super) fn steps(&self) -> impl Iterator<Item = RunStep<'_>> {
+        self.steps
+            .iter()
+            .zip(&self.ends)
+            .zip(&self.close)
+            .map(|((interp, &end), &close)| RunStep {
+                start: interp.start(),
+                end,
+                close,
+                interp,
+            })
+    }
+
+    /// Index of the step holding `s` in `[0, s_end]` (the last one starting at or before it).
+    fn step_index(&self, s: f64) -> Option<usize> {
+        if self.steps.is_empty() || !(s.is_finite() && s >= 0.0 && s <= self.s_end) {
+            return None;
+        }
+        let k = self.steps.partition_point(|p| p.start() <= s);
+        Some(k.saturating_sub(1).min(self.steps.len() - 1))
+    }
+
+    /// The state at `s` into `out` from the 7th-order interpolant (the end state at `s_end`,
+    /// a step's start state on any step); `false` where that is not available (outside
+    /// `[0, s_end]`, inside a step that is not close).
+    pub(super) fn eval_into(&self, s: f64, out: &mut [f64; 4]) -> bool {
+        let Some(k) = self.step_index(s) else {
+            return false;
+        };
+        if s == self.s_end {
+            *out = self.u_end;
+            return true;
+        }
+        let p = &self.steps[k];
+        if p.level() != Interpolant::Full {
+            // a step's start is its interpolant's first coefficient, exactly
+            let mut d = [0.0; 4];
+            return s == p.start() && p.eval_cubic(0.0, out, &mut d);
+        }
+        p.eval((s - p.start()) / p.h(), out)
+    }
+
+    /// The cubic Hermite part of the interpolant at `s` into `out` and its derivative into
+    /// `dout` (any step; `false` outside `[0, s_end]`).
+    pub(super) fn cubic_at(&self, s: f64, out: &mut [f64; 4], dout: &mut [f64; 4]) -> bool {
+        let Some(k) = self.step_index(s) else {
+            return false;
+        };
+        let p = &self.steps[k];
+        p.eval_cubic((s - p.start()) / p.h(), out, dout)
+    }
+}
+
+/// Whether `m` may have a root or an extremum on a step (`span` its length as integrated):
+/// the cubic Hermite part of the step's interpolant (exact at the ends, `O(h^4)` inside) at
+/// the ends and at the [`SAMPLES`] parts comes within twice the step's variation of `m` (its
+/// range there, or `h |m'|`) of zero, or `m'` changes sign there. Elsewhere `m` keeps its
+/// sign and its direction with a margin that the cubic's error cannot close on an accepted
+/// step, and the scan of [`candidates`](super::scan::candidates) has nothing to find.
+pub(super) fn close_step(cubic: &StepInterpolant<4>, span: f64) -> bool {
+    let h = span.abs();
+    let (mut u, mut du) = ([0.0; 4], [0.0; 4]);
+    let (mut lo, mut hi, mut amin, mut dmax) =
+        (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, 0.0f64);
+    let mut dsign = 0.0f64;
+    let mut turns = false;
+    for k in 0..=SAMPLES {
+        if !cubic.eval_cubic(k as f64 / SAMPLES as f64, &mut u, &mut du) {
+            return true;
+        }
+        let (m, d) = (u[1], du[1]);
+        if !(m.is_finite() && d.is_finite()) {
+            return true;
+        }
+        lo = lo.min(m);
+        hi = hi.max(m);
+        amin = amin.min(m.abs());
+        dmax = dmax.max(d.abs());
+        if d == 0.0 || (dsign != 0.0 && d.signum() != dsign) {
+            turns = true;
+        }
+        dsign = d.signum();
+    }
+    turns || amin <= 2.0 * (hi - lo).max(h * dmax)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::base_ode::base_ivp;
+    use super::*;
+    use beam_model::{FluidLoad, Whisker};
+
+    fn row(ax: f64, ay: f64, ma: f64, phi0: f64) -> ObservableRow {
+        ObservableRow {
+            x0: 0.3,
+            ax,
+            ay,
+            ma,
+            phi0,
+        }
+    }
+
+    #[test]
+    fn the_run_is_the_dense_integration_where_it_is_complete() {
+        let w = Whisker::new(0.6, 2.0, -1.0, f64::INFINITY);
+        let flow = FluidLoad { q: 3.0, alpha: 0.2 };
+        let r = row(-1.0, 6.0, 0.9, 1.5);
+        let opts = Dop853::new(1e-12, 1e-12);
+        let ode = BaseOde::new(&w, flow, &r, false);
+        let run = BaseRun::new(&ode, &r, &opts).unwrap();
+        let full = base_ivp(&w, flow, &r, &opts.clone().with_dense(true)).unwrap();
+        assert_eq!(run.s_end, full.s_end);
+        assert_eq!(run.u_end.to_vec(), full.u_end);
+        let (mut u, mut du) = ([0.0; 4], [0.0; 4]);
+        let mut closes = 0;
+        for (k, p) in run.steps().enumerate() {
+            assert_eq!(
+                (p.start, p.end),
+                (full.step_points()[k], full.step_points()[k + 1])
+            );
+            // the start state on every step; inside, the 7th-order interpolant on close steps
+            assert!(run.eval_into(p.start, &mut u));
+            assert_eq!(Some(u.to_vec()), full.eval(p.start));
+            let mid = 0.5 * (p.start + p.end);
+            assert_eq!(run.eval_into(mid, &mut u), p.close);
+            if p.close {
+                closes += 1;
+                assert_eq!(Some(u.to_vec()), full.eval(mid));
+            }
+            // the cubic everywhere, close to the truth
+            assert!(run.cubic_at(mid, &mut u, &mut du));
+            let exact = full.eval(mid).unwrap();
+            assert!((u[1] - exact[1]).abs() < 1e-4, "{} vs {}", u[1], exact[1]);
+        }
+        // m changes sign on this row: some steps are close, not all
+        assert!(closes > 0 && closes < run.steps.len(), "{closes}");
+        assert!(!run.eval_into(1.5, &mut u) && !run.cubic_at(-0.1, &mut u, &mut du));
+    }
+
+    #[test]
+    fn winding_stops_the_run_early() {
+        // a moment of 20 winds phi by 20 rad over the whisker: stopped at 12 rad, s = 0.6
+        let flow = FluidLoad { q: 0.0, alpha: 0.0 };
+        let r = row(0.0, 0.0, -20.0, 0.0);
+        let ode = BaseOde::new(&Whisker::uniform(), flow, &r, false);
+        let run = BaseRun::new(&ode, &r, &Dop853::new(1e-12, 1e-12)).unwrap();
+        assert!(
+            (run.s_end - MAX_WINDING / 20.0).abs() < 1e-9,
+            "{}",
+            run.s_end
+        );
+        assert!((run.u_end[0] - MAX_WINDING).abs() < 1e-9);
+        assert_eq!(run.ends.last(), Some(&run.s_end));
+    }
+
+    #[test]
+    fn a_step_far_from_a_root_of_m_is_not_close() {
+        // m from -1 to about -0.9, rising all along (m' = 0.1 cos phi, phi in [-0.8, 0.2])
+        let flow = FluidLoad { q: 0.0, alpha: 0.0 };
+        let r = row(0.0, 0.1, 1.0, 0.2);
+        let ode = BaseOde::new(&Whisker::uniform(), flow, &r, false);
+        let run = BaseRun::new(&ode, &r, &Dop853::new(1e-12, 1e-12)).unwrap();
+        assert!(run.steps().all(|p| !p.close));
+    }
+}

@@ -278,3 +278,35 @@ impl SecondOrderBvp for WhiskerFdmProblem {
         self.parts(s, phi, dphi, phi1)
     }
 }
+
+/// The load-free segment `(s1, 1]` beyond a tangential contact (m = 0 in [3.25], so
+/// `phi' = A s + B`): the angle in closed
+/// form, `phi = phi1 + A (s^2 - s1^2)/2 + B (s - s1)` ([`Whisker::phi_free`]), and the
+/// position by integration of `x' = cos phi`, `y' = sin phi` (state `(x, y)`).
+#[derive(Clone, Copy, Debug)]
+pub struct FreeSegment {
+    /// The whisker (its pre-curvature).
+    pub whisker: Whisker,
+    /// Where the segment starts (the contact point).
+    pub s1: f64,
+    /// The angle there.
+    pub phi1: f64,
+}
+
+impl FreeSegment {
+    /// The angle at `s`.
+    pub fn phi(&self, s: f64) -> f64 {
+        self.whisker.phi_free(self.s1, self.phi1, s)
+    }
+}
+
+impl OdeSystem for FreeSegment {
+    fn dim(&self) -> usize {
+        2
+    }
+    fn rhs(&self, s: f64, _u: &[f64], du: &mut [f64]) {
+        let (sp, cp) = self.phi(s).sin_cos();
+        du[0] = cp;
+        du[1] = sp;
+    }
+}

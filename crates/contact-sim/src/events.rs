@@ -12,8 +12,8 @@ use crate::branch::{dot, norm, sub, Branch, Constraint, Node};
 use crate::error::Result;
 use crate::phase::{ContactState, Phase};
 use crate::profile::Profile;
-use beam_model::shot::Integration;
-use beam_model::{shape_with, FluidLoad, Scene, Whisker};
+use beam_model::path::{shape_path, PathPoint, ShapePath};
+use beam_model::{FluidLoad, Scene, Whisker};
 
 /// Integration tolerance of the shape checked for penetration (its depths are then accurate
 /// to ~1e-10, well inside the margin a second contact must exceed).
@@ -32,12 +32,17 @@ pub(crate) fn phase_margin(node: &Node) -> f64 {
 }
 
 /// How deep the whisker of `state` enters the obstacle away from its contact point (positive
-/// inside): the maximum over the elastica (one DOP853 shot at tolerance [`SHAPE_TOL`], its
-/// dense output sampled at 200 intervals; no validation of the loads: a
-/// trial may exceed their bounds, the maximum refined by the parabola through its
-/// neighbours) of the depth below the contour, for a circle also inside
-/// its vertical sides. Only the contact point itself is excluded (`|s - s1| < 2e-3`), so a
-/// free segment that curls into the obstacle next to a tangential contact counts.
+/// inside): the maximum over the elastica of the depth below the contour (for a circle also
+/// inside its vertical sides), sampled at `s = i/200` ([`samples`]) on the dense elastica of
+/// one DOP853 integration at [`SHAPE_TOL`] ([`shape_path`]; the loads are not validated: a
+/// trial may exceed their bounds), the maximum refined by the parabola through its
+/// neighbours. Only the contact point itself is excluded (`|s - s1| < 2e-3`), so a free
+/// segment that curls into the obstacle next to a tangential contact counts.
+///
+/// The grid is sampled only where the depth may come within [`COLD`] of the contour: on
+/// each interval between the integrator's step points the depth is bounded by its end
+/// values and a Lipschitz bound ([`depth_bound`]); where every interval stays colder, that
+/// bound (below `-COLD`) is returned instead of the sampled maximum.
 pub(crate) fn penetration(
     whisker: &Whisker,
     flow: FluidLoad,
@@ -45,37 +50,109 @@ pub(crate) fn penetration(
     state: &ContactState,
 ) -> Result<f64> {
     let scene = Scene::new(*whisker, state.loads(flow));
-    let sol = shape_with(&scene, state.phi1, &Integration::adaptive(SHAPE_TOL), 200)?;
-    let el = &sol.elastica;
-    let depth_at = |i: usize| -> f64 {
-        if (el.s[i] - state.s1).abs() < 2e-3 {
-            return f64::NEG_INFINITY;
-        }
-        let x = state.x0 + el.x[i];
+    let path = shape_path(&scene, state.phi1, SHAPE_TOL)?;
+    let depth = |p: PathPoint| -> f64 {
+        let x = state.x0 + p.x;
         let g = profile.y(x);
         if !g.is_finite() {
             return f64::NEG_INFINITY;
         }
-        let mut d = el.y[i] - g;
+        let mut d = p.y - g;
         if let Profile::Circle { xc, r, .. } = *profile {
             d = d.min(r - (x - xc).abs());
         }
         d
     };
-    let depths: Vec<f64> = (0..el.len()).map(depth_at).collect();
+    let knots = path.knots();
+    let (mut hot, mut cold_max) = (Vec::new(), f64::NEG_INFINITY);
+    for w in knots.windows(2) {
+        let bound = depth_bound(&path, profile, state.x0, (w[0], w[1]), &depth);
+        if bound >= -COLD {
+            hot.push((w[0], w[1]));
+        } else {
+            cold_max = cold_max.max(bound);
+        }
+    }
+    let ss = samples(path.s1());
+    let in_hot = |s: f64| hot.iter().any(|&(a, b)| s >= a && s <= b);
+    let depths: Vec<f64> = (0..ss.len())
+        .map(|i| {
+            let near = (i.saturating_sub(1)..=(i + 1).min(ss.len() - 1)).any(|j| in_hot(ss[j]));
+            if !near || (ss[i] - state.s1).abs() < 2e-3 {
+                return f64::NEG_INFINITY;
+            }
+            path.at(ss[i]).map_or(f64::NEG_INFINITY, &depth)
+        })
+        .collect();
+    let sampled = refined_max(&depths);
+    Ok(if sampled >= -COLD {
+        sampled
+    } else {
+        sampled.max(cold_max)
+    })
+}
+
+/// Depth below which an interval of the elastica is not sampled ([`penetration`]).
+const COLD: f64 = 1e-3;
+
+/// The sample points of [`penetration`]: `s = i/200` and the loaded length `s1`.
+fn samples(s1: f64) -> Vec<f64> {
+    let grid = (0..=200).map(|i| i as f64 / 200.0);
+    let mut ss: Vec<f64> = grid.clone().filter(|&s| s <= s1).collect();
+    if ss.last().is_none_or(|&l| l < s1) {
+        ss.push(s1);
+    }
+    ss.extend(grid.filter(|&s| s > s1));
+    ss
+}
+
+/// An upper bound of the depth on the interval `[a, b]` of `path` (base at `x0`): the mean of
+/// the end depths plus `L (b - a)/2`, with `L = sqrt(1 + G^2)` bounding `|d depth/ds|`
+/// (`|sin phi - g' cos phi| <= sqrt(1 + g'^2)`; a circle's sides change at rate `<= 1`) and
+/// `G` the largest `|g'|` where the interval can reach, `|x - x(a)| <= b - a` (at the ends
+/// of that range for a convex closed form). Infinite (no bound) for a tabulated contour,
+/// beyond a circle's sides or where an end depth is not finite.
+fn depth_bound(
+    path: &ShapePath,
+    profile: &Profile,
+    x0: f64,
+    (a, b): (f64, f64),
+    depth: &dyn Fn(PathPoint) -> f64,
+) -> f64 {
+    let (Some(pa), Some(pb)) = (path.at(a), path.at(b)) else {
+        return f64::INFINITY;
+    };
+    let (da, db) = (depth(pa), depth(pb));
+    let h = b - a;
+    let (lo, hi) = (x0 + pa.x - h, x0 + pa.x + h);
+    let (dlo, dhi) = profile.domain();
+    if matches!(profile, Profile::Points(_)) || !(lo > dlo && hi < dhi) {
+        return f64::INFINITY;
+    }
+    let g = profile.eval(lo).1.abs().max(profile.eval(hi).1.abs());
+    let bound = 0.5 * (da + db) + 0.5 * h * (1.0 + g * g).sqrt();
+    if bound.is_finite() {
+        bound
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// The largest of `depths`, refined to the vertex of the parabola through it and its two
+/// neighbours where both are finite and the three bend down.
+fn refined_max(depths: &[f64]) -> f64 {
     let Some((i, &dmax)) = depths.iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1)) else {
-        return Ok(f64::NEG_INFINITY);
+        return f64::NEG_INFINITY;
     };
     if i == 0 || i + 1 >= depths.len() || !depths[i - 1].is_finite() || !depths[i + 1].is_finite() {
-        return Ok(dmax);
+        return dmax;
     }
-    // the vertex of the parabola through the three samples around the largest depth
     let (a, b, c) = (depths[i - 1], dmax, depths[i + 1]);
     let curv = a - 2.0 * b + c;
     if curv < 0.0 {
-        Ok(b - (c - a) * (c - a) / (8.0 * curv))
+        b - (c - a) * (c - a) / (8.0 * curv)
     } else {
-        Ok(dmax)
+        dmax
     }
 }
 

@@ -398,34 +398,6 @@ pub fn shape_from_tip_angle(
     )
 }
 
-/// Like [`shape_from_tip_angle`] with any integrator and no validation of the scene (for
-/// geometric checks of trial states, whose loads may exceed the bounds a user may ask
-/// for): DOP853's dense output sampled at `samples` intervals, or a fixed-step RK4's
-/// nodes (`Integration::Rk4 { n }`, `samples` ignored).
-pub fn shape_with(
-    scene: &Scene,
-    phi1: f64,
-    integration: &crate::shot::Integration,
-    samples: usize,
-) -> Result<Solution> {
-    let samples = match integration {
-        crate::shot::Integration::Rk4 { n } => *n,
-        crate::shot::Integration::Dop853(_) => samples,
-    };
-    shooting::shape(
-        scene,
-        phi1,
-        integration,
-        samples,
-        crate::solution::SolveStats {
-            method_used: MethodKind::Shape,
-            requested: MethodKind::Shape,
-            ..Default::default()
-        },
-        "shape",
-    )
-}
-
 /// FDM on `n, 2n, 4n` intervals (`n = max(200, 40/theta)`, fine enough to resolve a thin tip)
 /// with two levels of Richardson extrapolation (the central scheme and the trapezoidal
 /// positions expand in even powers of h: order 2 -> 6) of the tip, the loaded end and the

@@ -2,7 +2,7 @@
 //! the tip angle `phi1` with the exact derivative from the variational equations, load
 //! continuation when the direct iteration fails, then the elastica from the final shot.
 
-use crate::equations::Sensitivities;
+use crate::equations::{FreeSegment, Sensitivities};
 use crate::error::{ModelError, Result};
 use crate::loads::Loads;
 use crate::scene::Scene;
@@ -10,7 +10,7 @@ use crate::shot::{shoot, shoot_path, BaseValues, Integration, ShotPath};
 use crate::solution::{BaseObservables, Elastica, EndState, Solution, SolveStats};
 use crate::whisker::Whisker;
 use bvp_solvers::continuation::{BranchGuard, Continuation};
-use bvp_solvers::integrator::{OdeSystem, Rk4};
+use bvp_solvers::integrator::Rk4;
 use std::cell::Cell;
 use std::f64::consts::FRAC_PI_2;
 
@@ -325,31 +325,6 @@ pub(crate) fn solve_tip_angle_within(
     t.evaluations += evaluations;
     t.branch_jumps = stats.jumps;
     Ok((t, stats.steps))
-}
-
-/// The load-free segment `(s1, 1]`: `phi = phi1 + A (s^2 - s1^2)/2 + B (s - s1)`,
-/// `x' = cos phi`, `y' = sin phi`.
-struct FreeSegment {
-    whisker: Whisker,
-    s1: f64,
-    phi1: f64,
-}
-
-impl FreeSegment {
-    fn phi(&self, s: f64) -> f64 {
-        self.whisker.phi_free(self.s1, self.phi1, s)
-    }
-}
-
-impl OdeSystem for FreeSegment {
-    fn dim(&self) -> usize {
-        2
-    }
-    fn rhs(&self, s: f64, _u: &[f64], du: &mut [f64]) {
-        let (sp, cp) = self.phi(s).sin_cos();
-        du[0] = cp;
-        du[1] = sp;
-    }
 }
 
 /// Solves a scene by shooting and samples the elastica; the continuation stops with

@@ -593,3 +593,29 @@ fn battery_subset() {
 fn battery_full() {
     run_battery(56, 0x5EED_0010, 1);
 }
+
+/// The slender rigid whisker under a strong flow of issue "Speed to the floor" (g1,
+/// theta = 0.1, k = inf, q = 8, a tangential first contact) had stopped with a stalled
+/// corrector near the fold of its contact point: it sweeps through, every row passing the
+/// battery's independent checks. (Kept out of `named_scenes`, which would shift the seeded
+/// random scenes.)
+#[test]
+fn a_slender_rigid_whisker_under_a_strong_flow_sweeps_through() {
+    let s = SceneSpec {
+        name: "slender rigid theta = 0.1, q = 8 on g1".into(),
+        whisker: Whisker::new(0.1, 0.0, 0.0, f64::INFINITY),
+        flow: FluidLoad { q: 8.0, alpha: 0.0 },
+        profile: Profile::g1(),
+    };
+    let settings = SweepSettings {
+        points: 30,
+        pre_contact_rows: 3,
+        ..SweepSettings::default()
+    };
+    let r = sweep(&s.whisker, s.flow, &s.profile, &settings).expect("the sweep goes through");
+    assert_eq!(r.first_contact, FirstContact::Tangential);
+    assert_eq!(r.separation, Separation::Release);
+    let mut tally = Tally::default();
+    tally.record(&s, &r, 0.0);
+    assert!(tally.failures.is_empty(), "{:?}", tally.failures);
+}

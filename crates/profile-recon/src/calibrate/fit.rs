@@ -62,6 +62,8 @@ pub(crate) struct LmResult<S> {
     pub state: S,
     pub iterations: usize,
     pub evaluations: usize,
+    /// The cost at `p`.
+    pub cost: f64,
 }
 
 /// Forward-difference Jacobian (column-major: `jac[i]` is `dr / dp_i`), steps
@@ -187,6 +189,7 @@ pub(crate) fn levenberg_marquardt<P: Problem>(
             state,
             iterations,
             evaluations,
+            cost: c,
         });
     }
     'outer: while iterations < settings.max_iter {
@@ -264,12 +267,13 @@ pub(crate) fn levenberg_marquardt<P: Problem>(
             }
         }
     }
-    let _ = (r, c);
+    let _ = r;
     Some(LmResult {
         p,
         state,
         iterations,
         evaluations,
+        cost: c,
     })
 }
 

@@ -158,9 +158,10 @@ pub struct CalibSettings {
     pub max_iter: usize,
     /// Rounds of (fit, phase decision) at most.
     pub rounds: usize,
-    /// Chord-Newton steps of the final polish that project each row onto the model (the
-    /// exact output error instead of its first-order form; module docs), 0 for none; used
-    /// when the logs' noise level squared exceeds the polish tolerance.
+    /// Chord-Newton steps at most of the final polish that project each row onto the model
+    /// (the exact output error instead of its first-order form; module docs; the steps stop
+    /// once converged, [`whiten::PROJECTION_TOL`]), 0 for none; used when the logs' noise
+    /// level squared exceeds the polish tolerance.
     pub projection: usize,
 }
 
@@ -180,7 +181,7 @@ impl Default for CalibSettings {
             seed: 19,
             max_iter: 60,
             rounds: 8,
-            projection: 2,
+            projection: 8,
         }
     }
 }

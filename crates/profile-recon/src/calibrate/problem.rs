@@ -192,6 +192,41 @@ impl<'a> CalibProblem<'a> {
         true
     }
 
+    /// Marks the rows of `judged` (kinds at `p`) as skipped whose kind differs from
+    /// `state` (the kinds the whiteners were made for) and which cannot be evaluated or
+    /// whitened at `p` or whose whitener is degenerate there ([`DEGENERATE`]); the others
+    /// keep the verdict of their current whiteners. Returns how many were.
+    pub fn skip_degenerate_changed(&self, p: &[f64], judged: &mut Kinds, state: &Kinds) -> usize {
+        let (model, flows) = self.unpack(p);
+        let mut n = 0;
+        for (l, used) in self.used.iter().enumerate() {
+            let ctx = self.ctx(l, &model, flows[l]);
+            for (k, &i) in used.iter().enumerate() {
+                let kind = judged[l][k];
+                if matches!(kind, RowKind::Skipped | RowKind::Pre) {
+                    continue;
+                }
+                let same = match (kind, state[l][k]) {
+                    (RowKind::B { .. }, RowKind::B { .. }) => true,
+                    (a, b) => a == b,
+                };
+                let bad = if same {
+                    self.whiteners[l][k].degeneracy < DEGENERATE
+                } else {
+                    let row = &self.logs[l].rows[i];
+                    row_residuals(&ctx, row, kind)
+                        .and_then(|res| whitener(&ctx, row, &res, &self.scales[l]))
+                        .is_none_or(|w| w.degeneracy < DEGENERATE)
+                };
+                if bad {
+                    judged[l][k] = RowKind::Skipped;
+                    n += 1;
+                }
+            }
+        }
+        n
+    }
+
     /// [`CalibProblem::reweight`], with the rows that cannot be evaluated or whitened at `p`
     /// skipped ([`CalibProblem::skip_failing`]) if it fails at first.
     pub fn reweight_or_skip(&mut self, p: &[f64], kinds: &mut Kinds) -> bool {

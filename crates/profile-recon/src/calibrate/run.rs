@@ -227,6 +227,8 @@ pub(crate) fn fit_rounds(
     let (mut kinds, mut lost) = prob.judge_all(&p, pre);
     let mut never: Vec<Vec<bool>> = kinds.iter().map(|k| vec![false; k.len()]).collect();
     let mut settled = false;
+    // the start of the last round whose phases stayed, with its cost
+    let mut prev: Option<(Vec<f64>, Kinds, f64)> = None;
     let mut out = Rounds {
         p: p.clone(),
         kinds: kinds.clone(),
@@ -241,6 +243,22 @@ pub(crate) fn fit_rounds(
             return Err(start_failure(prob, &p, &kinds));
         }
         prob.skip_degenerate(&mut kinds);
+        // the cost with the whiteners of the point itself: the rounds descend on it; a
+        // round that raised it (the whiteners frozen at its start favoured a point they
+        // misjudge) is undone and ends the rounds
+        let mut start_cost = prob.residuals(&p, &kinds).map(|r| cost(&r.0));
+        if let Some((pp, pk, pc)) = prev.take() {
+            if start_cost.is_none_or(|c| c >= pc) {
+                match descend(prob, &pp, &p, &pk, pc) {
+                    Some((q, c)) => (p, kinds, start_cost) = (q, pk, Some(c)),
+                    None => {
+                        (p, kinds) = (pp, pk);
+                        break;
+                    }
+                }
+            }
+        }
+        let round_start = (p.clone(), kinds.clone());
         // while the phases still change, a few iterations are enough before deciding them
         // again
         let lm = LmSettings {
@@ -256,6 +274,10 @@ pub(crate) fn fit_rounds(
         };
         out.iterations += res.iterations;
         out.evaluations += res.evaluations;
+        // the whiteners were frozen at the round's start: the round is the last only if
+        // the fit did not move from there (or fits to the residuals' numerical floor, where
+        // the weights do not matter)
+        let moved = res.p != p && res.cost > floor_cost(prob, &res.state, lm.floor);
         p = res.p;
         let (judged, l) = prob.judge_all(&p, pre);
         lost = l;
@@ -277,7 +299,10 @@ pub(crate) fn fit_rounds(
                 continue;
             }
         }
-        let judged = without(&judged, &never);
+        let mut judged = without(&judged, &never);
+        // a row is out where it is degenerate at these parameters: one left out at earlier
+        // parameters (degenerate there, or trimmed) is back in the comparison below
+        prob.skip_degenerate_changed(&p, &mut judged, &res.state);
         // a fit far above the noise (a compromise held by rows decided in the wrong phase):
         // the next round leaves out the rows that fit worst, which come back at the round
         // after, decided again at better parameters
@@ -287,17 +312,20 @@ pub(crate) fn fit_rounds(
                 continue;
             }
         }
-        // (a row left out as degenerate stays out)
         let stay = judged
             .iter()
             .flatten()
             .zip(res.state.iter().flatten())
-            .all(|(a, b)| *b == RowKind::Skipped || same_kind(a, b));
+            .all(|(a, b)| same_kind(a, b));
         settled = stay;
         kinds = if stay { res.state } else { judged };
-        if stay && round > 0 {
+        if stay && !moved {
             break;
         }
+        prev = match (stay, start_cost) {
+            (true, Some(c)) => Some((round_start.0, round_start.1, c)),
+            _ => None,
+        };
     }
     if !prob.reweight_or_skip(&p, &mut kinds) {
         return Err(start_failure(prob, &p, &kinds));
@@ -311,6 +339,42 @@ pub(crate) fn fit_rounds(
     out.kinds = kinds;
     out.lost = lost;
     Ok(out)
+}
+
+/// The cost of residuals at the numerical floor `floor` (RMS) for the rows in `kinds`.
+fn floor_cost(prob: &CalibProblem<'_>, kinds: &Kinds, floor: f64) -> f64 {
+    0.5 * prob.residual_count(kinds) as f64 * floor * floor
+}
+
+/// Halvings of the step in [`descend`].
+const HALVINGS: usize = 5;
+
+/// Backtracking along the step of a round from `from` (cost `c0` with its own whiteners)
+/// to `to`: the first of `to`, halfway, a quarter, ... ([`HALVINGS`]) whose cost with its
+/// own whiteners is below `c0`, with that cost; the problem keeps its whiteners. `None`
+/// (the whiteners of `from` restored) if none is.
+fn descend(
+    prob: &mut CalibProblem<'_>,
+    from: &[f64],
+    to: &[f64],
+    kinds: &Kinds,
+    c0: f64,
+) -> Option<(Vec<f64>, f64)> {
+    let mut t = 0.5;
+    for _ in 0..HALVINGS {
+        let q: Vec<f64> = from.iter().zip(to).map(|(a, b)| a + t * (b - a)).collect();
+        if prob.reweight(&q, kinds) {
+            if let Some((r, _)) = prob.residuals(&q, kinds) {
+                let c = cost(&r);
+                if c < c0 {
+                    return Some((q, c));
+                }
+            }
+        }
+        t *= 0.5;
+    }
+    prob.reweight(from, kinds);
+    None
 }
 
 /// Levenberg-Marquardt iterations of a round whose phases were just decided anew.
@@ -500,20 +564,76 @@ fn polish(prob: &mut CalibProblem<'_>, fit: &mut Rounds, settings: &CalibSetting
         floor: tol,
         ..LmSettings::default()
     };
-    if let Some(res) = levenberg_marquardt(prob, &fit.p, &fit.kinds, &prob.bounds(), &lm) {
-        fit.iterations += res.iterations;
-        fit.evaluations += res.evaluations;
-        fit.p = res.p;
-        fit.kinds = res.state;
-    }
-    if !prob.reweight_or_skip(&fit.p, &mut fit.kinds) {
-        return Err(start_failure(prob, &fit.p, &fit.kinds));
+    // the estimate is the fit of the rows that are in it at the end: a row left out at the
+    // fit (no longer evaluable, degenerate, or an outlier) means another pass without it
+    for _ in 0..POLISH_PASSES {
+        let before = skipped(&fit.kinds);
+        if let Some(res) = levenberg_marquardt(prob, &fit.p, &fit.kinds, &prob.bounds(), &lm) {
+            fit.iterations += res.iterations;
+            fit.evaluations += res.evaluations;
+            fit.p = res.p;
+            fit.kinds = res.state;
+        }
+        if !prob.reweight_or_skip(&fit.p, &mut fit.kinds) {
+            return Err(start_failure(prob, &fit.p, &fit.kinds));
+        }
+        prob.skip_degenerate(&mut fit.kinds);
+        leave_out_outliers(prob, &fit.p, &mut fit.kinds);
+        if skipped(&fit.kinds) == before {
+            break;
+        }
     }
     let (r, _) = prob
         .residuals(&fit.p, &fit.kinds)
         .ok_or_else(|| start_failure(prob, &fit.p, &fit.kinds))?;
     fit.cost = cost(&r);
     Ok(())
+}
+
+/// Passes of the polish at most (each a fit of the rows still in).
+const POLISH_PASSES: usize = 3;
+
+/// A contact row whose whitened residual norm exceeds this multiple of the logs' noise
+/// level is one the model does not describe at that noise (four residuals of unit variance:
+/// a chi-square of 4 degrees of freedom beyond 36 has probability 1e-6): a row on the border
+/// of two phases, where neither fits, or at a fold.
+pub(crate) const OUTLIER: f64 = 6.0;
+
+/// Outliers beyond this share of the contact rows are not left out: the fit as a whole is
+/// wrong, which the residual check reports.
+const OUTLIER_SHARE: f64 = 0.1;
+
+/// Which rows are skipped.
+fn skipped(kinds: &Kinds) -> Vec<bool> {
+    kinds
+        .iter()
+        .flatten()
+        .map(|k| *k == RowKind::Skipped)
+        .collect()
+}
+
+/// Leaves out the contact rows beyond [`OUTLIER`] times the logs' noise level at `p`
+/// (unless they are more than [`OUTLIER_SHARE`] of the contact rows, at least two);
+/// returns how many were.
+fn leave_out_outliers(prob: &CalibProblem<'_>, p: &[f64], kinds: &mut Kinds) -> usize {
+    let norms = prob.row_norms(p, kinds);
+    let limit = OUTLIER * prob.log_noise.max(1e-9);
+    let contact = |k: &RowKind| matches!(k, RowKind::A | RowKind::B { .. });
+    let n_contact = kinds.iter().flatten().filter(|k| contact(k)).count();
+    let out: Vec<(usize, usize)> = kinds
+        .iter()
+        .enumerate()
+        .flat_map(|(l, ks)| ks.iter().enumerate().map(move |(k, kind)| (l, k, *kind)))
+        .filter(|&(l, k, kind)| contact(&kind) && norms[l][k] > limit)
+        .map(|(l, k, _)| (l, k))
+        .collect();
+    if out.len() as f64 > (OUTLIER_SHARE * n_contact as f64).max(2.0) {
+        return 0;
+    }
+    for &(l, k) in &out {
+        kinds[l][k] = RowKind::Skipped;
+    }
+    out.len()
 }
 
 /// The largest model-free noise level over the logs.

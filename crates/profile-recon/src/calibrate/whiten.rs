@@ -172,6 +172,10 @@ fn mul(
     out
 }
 
+/// The chord-Newton iteration of [`projected`] stops when a step is below this fraction of
+/// the distance (the output error then known to about this relative accuracy).
+pub const PROJECTION_TOL: f64 = 1e-6;
+
 /// The whitened residuals of `row` projected onto the model (the output error).
 ///
 /// The four residuals of a row are four equations in its four noisy observables, so for
@@ -199,6 +203,7 @@ pub(crate) fn projected(
     let mut delta = mul(&map.r_inv, &res.r).map(|v| -v);
     let mut kind = res.kind;
     for _ in 0..steps {
+        let size = delta.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         let sc = &scales.0;
         let moved = ObservableRow {
             x0: row.x0,
@@ -214,6 +219,10 @@ pub(crate) fn projected(
         let step = mul(&map.r_inv, &e.r);
         for (d, s) in delta.iter_mut().zip(step) {
             *d -= s;
+        }
+        // converged: what is left changes the residual by a negligible part of itself
+        if step.iter().all(|v| v.abs() <= PROJECTION_TOL * size) {
+            break;
         }
     }
     let z = mul(&map.q, &delta).map(|v| -v);

@@ -161,7 +161,8 @@ fn start_compliance(logs: &[CalibLog]) -> Option<f64> {
 /// The pre-contact rows of a log: the largest group (at least two) of rows equal to one of
 /// them, first within 1e-9 of each column's scale (exact logs), else within five noise
 /// deviations of the log's model-free noise level (the free whisker under the flow gives
-/// the same observables wherever the base is [6.1]).
+/// the same observables wherever the base is [6.1]), among the groups that can be the free
+/// whisker ([`can_be_free`]; the largest group if none can).
 pub(crate) fn pre_contact(rows: &[ObservableRow]) -> Vec<bool> {
     let scales = NoiseScales::of(rows);
     let level = smoothness_noise(rows, &scales);
@@ -171,19 +172,36 @@ pub(crate) fn pre_contact(rows: &[ObservableRow]) -> Vec<bool> {
             let d = [a.ax - b.ax, a.ay - b.ay, a.ma - b.ma, a.phi0 - b.phi0];
             d.iter().zip(&tol).all(|(d, t)| d.abs() <= *t)
         };
-        let best = (0..rows.len())
+        let mut groups: Vec<(usize, usize)> = (0..rows.len())
             .map(|i| (rows.iter().filter(|r| near(&rows[i], r)).count(), i))
-            .max_by_key(|c| c.0);
-        if let Some((count, i)) = best {
-            if count >= 2 {
-                return rows.iter().map(|r| near(&rows[i], r)).collect();
-            }
+            .filter(|g| g.0 >= 2)
+            .collect();
+        // largest first, the first row of equal groups first
+        groups.sort_by_key(|g| (std::cmp::Reverse(g.0), g.1));
+        let pick = groups
+            .iter()
+            .find(|g| can_be_free(rows, &rows[g.1], tol[1]))
+            .or(groups.first());
+        if let Some(&(_, i)) = pick {
+            return rows.iter().map(|r| near(&rows[i], r)).collect();
         }
         if !rel.is_finite() {
             break;
         }
     }
     vec![false; rows.len()]
+}
+
+/// Whether the rows equal to `free` can be the free whisker: then its base forces are the
+/// flow's, `Ay = q sin alpha`, and every contact row's force `(Ax, Ay)` balances that flow on
+/// `[0, s1]` with a contact force whose y part `Ay - s1 q sin alpha` is positive for some
+/// `s1` in `(0, 1]` (a contour `y = g(x)` with the obstacle above pushes the whisker
+/// towards `-y`): `Ay > min(0, q sin alpha)` for every row, within `tol`. A group of equal
+/// contact rows (a plateau of the contact force under noise) taken for the free whisker
+/// makes the true free rows pull instead.
+fn can_be_free(rows: &[ObservableRow], free: &ObservableRow, tol: f64) -> bool {
+    let least = free.ay.min(0.0) - tol;
+    rows.iter().all(|r| r.ay >= least)
 }
 
 /// A fit: parameters, kinds, residuals and cost, with the work spent.
@@ -283,26 +301,21 @@ pub(crate) fn fit_rounds(
         lost = l;
         // a row that carries most of a direction of the information alone (a fold of the
         // contact branch, where the linearised whitening fails) is left out for good
-        if let Some(cols) = jacobian(prob, &p, &res.state, &bounds) {
-            let lev = prob.leverages(&cols, &res.state);
-            let mut dropped = false;
-            for (l, ks) in lev.iter().enumerate() {
-                for (k, h) in ks.iter().enumerate() {
-                    if *h > LEVERAGE_MAX && pre.get(l).is_some_and(|p| !p[prob.used[l][k]]) {
-                        never[l][k] = true;
-                        dropped = true;
-                    }
-                }
-            }
-            if dropped && round + 1 < settings.rounds {
-                kinds = without(&judged, &never);
-                continue;
-            }
+        if drop_leverage(prob, &p, &res.state, pre, &mut never) && round + 1 < settings.rounds {
+            kinds = without(&judged, &never);
+            continue;
         }
         let mut judged = without(&judged, &never);
-        // a row is out where it is degenerate at these parameters: one left out at earlier
-        // parameters (degenerate there, or trimmed) is back in the comparison below
-        prob.skip_degenerate_changed(&p, &mut judged, &res.state);
+        // a row is out where the fit cannot use it at these parameters (degenerate, or an
+        // outlier beyond the fit's own level): one left out at earlier parameters
+        // (degenerate there, or trimmed) is back in the comparison below
+        let n = prob
+            .residual_count(&res.state)
+            .saturating_sub(prob.dim())
+            .max(1);
+        let level = (2.0 * res.cost / n as f64).sqrt();
+        let limit = super::polish::OUTLIER * level.max(prob.log_noise).max(1e-9);
+        prob.admit(&p, &mut judged, &res.state, limit);
         // a fit far above the noise (a compromise held by rows decided in the wrong phase):
         // the next round leaves out the rows that fit worst, which come back at the round
         // after, decided again at better parameters
@@ -336,9 +349,23 @@ pub(crate) fn fit_rounds(
         .ok_or_else(|| start_failure(prob, &p, &kinds))?;
     out.cost = cost(&r);
     out.p = p;
+    out.lost = lost + free_lost(prob, pre, &kinds);
     out.kinds = kinds;
-    out.lost = lost;
     Ok(out)
+}
+
+/// The pre-contact rows left out (the fitted whisker cannot evaluate them): they count as
+/// lost, as contact rows without a hypothesis do.
+fn free_lost(prob: &CalibProblem<'_>, pre: &[Vec<bool>], kinds: &Kinds) -> usize {
+    kinds
+        .iter()
+        .enumerate()
+        .flat_map(|(l, ks)| {
+            ks.iter()
+                .enumerate()
+                .filter(move |(k, kind)| **kind == RowKind::Skipped && pre[l][prob.used[l][*k]])
+        })
+        .count()
 }
 
 /// The cost of residuals at the numerical floor `floor` (RMS) for the rows in `kinds`.
@@ -377,8 +404,32 @@ fn descend(
     None
 }
 
+/// Marks in `never` the contact rows whose leverage at `p` (kinds `state`) exceeds
+/// [`LEVERAGE_MAX`]; returns whether any was.
+fn drop_leverage(
+    prob: &CalibProblem<'_>,
+    p: &[f64],
+    state: &Kinds,
+    pre: &[Vec<bool>],
+    never: &mut [Vec<bool>],
+) -> bool {
+    let Some(cols) = jacobian(prob, p, state, &prob.bounds()) else {
+        return false;
+    };
+    let mut dropped = false;
+    for (l, ks) in prob.leverages(&cols, state).iter().enumerate() {
+        for (k, h) in ks.iter().enumerate() {
+            if *h > LEVERAGE_MAX && pre.get(l).is_some_and(|p| !p[prob.used[l][k]]) {
+                never[l][k] = true;
+                dropped = true;
+            }
+        }
+    }
+    dropped
+}
+
 /// Levenberg-Marquardt iterations of a round whose phases were just decided anew.
-const SETTLING_ITER: usize = 12;
+const SETTLING_ITER: usize = 6;
 
 /// Contact rows with a leverage beyond this are left out of the fit.
 const LEVERAGE_MAX: f64 = 0.75;
@@ -518,7 +569,11 @@ fn search(
             .max(1);
         let level = (2.0 * fit.cost / n as f64).sqrt();
         let clean = fit.lost == 0 && level <= NOISE_CHECK * log_noise.max(1e-9);
-        if best.as_ref().is_none_or(|b| fit.cost < b.cost) {
+        // the fit that explains more rows, then the lower cost
+        if best
+            .as_ref()
+            .is_none_or(|b| (fit.lost, fit.cost) < (b.lost, b.cost))
+        {
             best = Some(fit);
         }
         if clean {
@@ -531,109 +586,8 @@ fn search(
         (None, None) => return Err(start_failure(prob, p0, &prob.judge_all(p0, pre).0)),
     };
     best.evaluations = evaluations;
-    polish(prob, &mut best, settings)?;
+    super::polish::polish(prob, &mut best, settings)?;
     Ok((best, costs))
-}
-
-/// The final polish: the phases as settled, the integrations at [`CalibSettings::polish_tol`]
-/// (the searches run at the looser [`CalibSettings::tol`]), the whiteners made at the fit,
-/// and Levenberg-Marquardt to convergence; the problem keeps the polished integrator and
-/// whiteners for the result.
-fn polish(prob: &mut CalibProblem<'_>, fit: &mut Rounds, settings: &CalibSettings) -> Result<()> {
-    let tol = settings.polish_tol.min(settings.tol);
-    let search = prob.integrator.clone();
-    prob.integrator = Dop853 {
-        h_init: Some(0.05),
-        ..Dop853::new(tol, tol)
-    };
-    if !prob.reweight_or_skip(&fit.p, &mut fit.kinds) {
-        // no polish: the search's fit stands
-        prob.integrator = search;
-        if !prob.reweight_or_skip(&fit.p, &mut fit.kinds) {
-            return Err(start_failure(prob, &fit.p, &fit.kinds));
-        }
-        return Ok(());
-    }
-    // the projection changes a row's whitened residual by about the noise level squared:
-    // below the integration's tolerance (exact logs) there is nothing to gain
-    if prob.log_noise.powi(2) > tol {
-        prob.projection = settings.projection;
-    }
-    let lm = LmSettings {
-        max_iter: settings.max_iter,
-        floor: tol,
-        ..LmSettings::default()
-    };
-    // the estimate is the fit of the rows that are in it at the end: a row left out at the
-    // fit (no longer evaluable, degenerate, or an outlier) means another pass without it
-    for _ in 0..POLISH_PASSES {
-        let before = skipped(&fit.kinds);
-        if let Some(res) = levenberg_marquardt(prob, &fit.p, &fit.kinds, &prob.bounds(), &lm) {
-            fit.iterations += res.iterations;
-            fit.evaluations += res.evaluations;
-            fit.p = res.p;
-            fit.kinds = res.state;
-        }
-        if !prob.reweight_or_skip(&fit.p, &mut fit.kinds) {
-            return Err(start_failure(prob, &fit.p, &fit.kinds));
-        }
-        prob.skip_degenerate(&mut fit.kinds);
-        leave_out_outliers(prob, &fit.p, &mut fit.kinds);
-        if skipped(&fit.kinds) == before {
-            break;
-        }
-    }
-    let (r, _) = prob
-        .residuals(&fit.p, &fit.kinds)
-        .ok_or_else(|| start_failure(prob, &fit.p, &fit.kinds))?;
-    fit.cost = cost(&r);
-    Ok(())
-}
-
-/// Passes of the polish at most (each a fit of the rows still in).
-const POLISH_PASSES: usize = 3;
-
-/// A contact row whose whitened residual norm exceeds this multiple of the logs' noise
-/// level is one the model does not describe at that noise (four residuals of unit variance:
-/// a chi-square of 4 degrees of freedom beyond 36 has probability 1e-6): a row on the border
-/// of two phases, where neither fits, or at a fold.
-pub(crate) const OUTLIER: f64 = 6.0;
-
-/// Outliers beyond this share of the contact rows are not left out: the fit as a whole is
-/// wrong, which the residual check reports.
-const OUTLIER_SHARE: f64 = 0.1;
-
-/// Which rows are skipped.
-fn skipped(kinds: &Kinds) -> Vec<bool> {
-    kinds
-        .iter()
-        .flatten()
-        .map(|k| *k == RowKind::Skipped)
-        .collect()
-}
-
-/// Leaves out the contact rows beyond [`OUTLIER`] times the logs' noise level at `p`
-/// (unless they are more than [`OUTLIER_SHARE`] of the contact rows, at least two);
-/// returns how many were.
-fn leave_out_outliers(prob: &CalibProblem<'_>, p: &[f64], kinds: &mut Kinds) -> usize {
-    let norms = prob.row_norms(p, kinds);
-    let limit = OUTLIER * prob.log_noise.max(1e-9);
-    let contact = |k: &RowKind| matches!(k, RowKind::A | RowKind::B { .. });
-    let n_contact = kinds.iter().flatten().filter(|k| contact(k)).count();
-    let out: Vec<(usize, usize)> = kinds
-        .iter()
-        .enumerate()
-        .flat_map(|(l, ks)| ks.iter().enumerate().map(move |(k, kind)| (l, k, *kind)))
-        .filter(|&(l, k, kind)| contact(&kind) && norms[l][k] > limit)
-        .map(|(l, k, _)| (l, k))
-        .collect();
-    if out.len() as f64 > (OUTLIER_SHARE * n_contact as f64).max(2.0) {
-        return 0;
-    }
-    for &(l, k) in &out {
-        kinds[l][k] = RowKind::Skipped;
-    }
-    out.len()
 }
 
 /// The largest model-free noise level over the logs.

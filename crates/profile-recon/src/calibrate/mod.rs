@@ -25,8 +25,9 @@
 //! and decided again after each fit until it stays. The rows in the fit are those the fit
 //! can use at the current parameters (evaluable, not degenerate, not an outlier beyond 6
 //! times the fit's noise level): a row left out at earlier parameters comes back. The
-//! whiteners of a round are frozen at its start; the rounds go on until the fit no longer
-//! moves under them, each descending on the cost with the point's own whiteners (a round
+//! whiteners of a round are frozen at its start; the rounds go on until a round lowers the
+//! cost by less than 1 % (a fit crawling in a compromise stops for a new phase decision),
+//! each descending on the cost with the point's own whiteners (a round
 //! that raised it is cut back). The pre-contact rows are the largest group of equal rows
 //! that can be the free whisker (every other row's force then pushes,
 //! `run::pre_contact`); contact forces within 10 noise deviations of zero are

@@ -239,6 +239,7 @@ pub(crate) fn fit_rounds(
     let lm = LmSettings {
         max_iter: settings.max_iter,
         floor: settings.tol,
+        stall: STALL,
         ..LmSettings::default()
     };
     let mut p = p0;
@@ -293,9 +294,11 @@ pub(crate) fn fit_rounds(
         out.iterations += res.iterations;
         out.evaluations += res.evaluations;
         // the whiteners were frozen at the round's start: the round is the last only if
-        // the fit did not move from there (or fits to the residuals' numerical floor, where
-        // the weights do not matter)
-        let moved = res.p != p && res.cost > floor_cost(prob, &res.state, lm.floor);
+        // the fit did not move from there (lowered the cost by less than [`STALL`]), or fits
+        // to the residuals' numerical floor, where the weights do not matter
+        let moved = res.p != p
+            && start_cost.is_none_or(|c| res.cost < (1.0 - STALL) * c)
+            && res.cost > floor_cost(prob, &res.state, lm.floor);
         p = res.p;
         let (judged, l) = prob.judge_all(&p, pre);
         lost = l;
@@ -427,6 +430,10 @@ fn drop_leverage(
     }
     dropped
 }
+
+/// A round's fit stops when five iterations lowered the cost by less than this fraction
+/// ([`LmSettings::stall`]).
+const STALL: f64 = 0.01;
 
 /// Levenberg-Marquardt iterations of a round whose phases were just decided anew.
 const SETTLING_ITER: usize = 6;

@@ -81,7 +81,7 @@ pub(crate) const OUTLIER: f64 = 6.0;
 
 /// Outliers beyond this share of the contact rows are not left out: the fit as a whole is
 /// wrong, which the residual check reports.
-const OUTLIER_SHARE: f64 = 0.1;
+pub(crate) const OUTLIER_SHARE: f64 = 0.1;
 
 /// Which rows are skipped.
 fn skipped(kinds: &Kinds) -> Vec<bool> {

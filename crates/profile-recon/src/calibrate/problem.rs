@@ -326,6 +326,29 @@ impl<'a> CalibProblem<'a> {
         (kinds, lost)
     }
 
+    /// Per log and used row: whether it is a contact row (not in `pre`) whose force at `p`
+    /// reaches [`CalibProblem::min_force`] (the rows the data say the fit should explain).
+    pub fn usable_contact(&self, p: &[f64], pre: &[Vec<bool>]) -> Vec<Vec<bool>> {
+        let (model, flows) = self.unpack(p);
+        self.used
+            .iter()
+            .enumerate()
+            .map(|(l, used)| {
+                let rows = &self.logs[l].rows;
+                let force = |i: usize| tip_force(&model, flows[l], &rows[i]);
+                let fmax = used
+                    .iter()
+                    .filter(|&&i| !pre[l][i])
+                    .map(|&i| force(i))
+                    .fold(0.0, f64::max);
+                let floor = self.min_force(l, &model, fmax);
+                used.iter()
+                    .map(|&i| !pre[l][i] && force(i) >= floor)
+                    .collect()
+            })
+            .collect()
+    }
+
     /// The norm of every used row's whitened residuals at `p` (NaN for skipped rows or if
     /// the evaluation fails).
     pub fn row_norms(&self, p: &[f64], kinds: &Kinds) -> Vec<Vec<f64>> {

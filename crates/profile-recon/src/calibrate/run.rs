@@ -352,9 +352,36 @@ pub(crate) fn fit_rounds(
         .ok_or_else(|| start_failure(prob, &p, &kinds))?;
     out.cost = cost(&r);
     out.p = p;
-    out.lost = lost + free_lost(prob, pre, &kinds);
+    out.lost = free_lost(prob, pre, &kinds) + contact_lost(prob, &out.p, pre, &kinds, lost);
     out.kinds = kinds;
     Ok(out)
+}
+
+/// The contact rows lost at `p`: `judged_lost` (those without any hypothesis), or, if the
+/// fit left out more than [`OUTLIER_SHARE`](super::polish::OUTLIER_SHARE) of the contact
+/// rows whose force the data show (at least two) for whatever reason (no hypothesis, not
+/// evaluable, degenerate, outliers), all of those: such a fit does not explain its log,
+/// however small its cost.
+fn contact_lost(
+    prob: &CalibProblem<'_>,
+    p: &[f64],
+    pre: &[Vec<bool>],
+    kinds: &Kinds,
+    judged_lost: usize,
+) -> usize {
+    let usable = prob.usable_contact(p, pre);
+    let total = usable.iter().flatten().filter(|u| **u).count();
+    let out = usable
+        .iter()
+        .flatten()
+        .zip(kinds.iter().flatten())
+        .filter(|(u, k)| **u && **k == RowKind::Skipped)
+        .count();
+    if out as f64 > (super::polish::OUTLIER_SHARE * total as f64).max(2.0) {
+        out.max(judged_lost)
+    } else {
+        judged_lost
+    }
 }
 
 /// The pre-contact rows left out (the fitted whisker cannot evaluate them): they count as

@@ -13,10 +13,10 @@
 //!
 //! The default tests take ~5 s (`cargo test -p profile-recon --test calibrate`); the big
 //! battery is ignored: `cargo test --release -p profile-recon --test calibrate --
-//! --ignored --nocapture` (about 50 s in release on the 2-core machine).
+//! --ignored --nocapture` (about 60 s in release on the 2-core machine).
 
 use beam_model::{FluidLoad, Whisker};
-use contact_sim::{sweep, Profile, SweepSettings};
+use contact_sim::{sweep, Phase, Profile, SweepResult, SweepSettings};
 use profile_recon::calibrate::{
     calibrate, design, CalibLog, CalibParam, CalibSettings, Calibration, DesignSettings,
 };
@@ -80,18 +80,25 @@ fn random_case(rng: &mut StdRng, i: usize) -> Case {
     }
 }
 
-fn log_of(case: &Case, points: usize) -> Option<CalibLog> {
+/// The sweep of a case and its log (`None` if the sweep failed or has fewer than 8 contact
+/// rows).
+fn sweep_of(case: &Case, points: usize) -> Option<(SweepResult, CalibLog)> {
     let settings = SweepSettings {
         points,
         ..Default::default()
     };
     let res = sweep(&case.truth, case.flow, &case.profile.1, &settings).ok()?;
     // at least a handful of contact rows
-    (res.contact_points().count() >= 8).then(|| CalibLog {
+    let log = (res.contact_points().count() >= 8).then(|| CalibLog {
         rows: from_sweep(&res),
         profile: case.profile.1.clone(),
         flow: KnownFlow::default(),
-    })
+    })?;
+    Some((res, log))
+}
+
+fn log_of(case: &Case, points: usize) -> Option<CalibLog> {
+    sweep_of(case, points).map(|s| s.1)
 }
 
 /// A start off by up to 50 % in every parameter (an absolute 0.25 for A, B near 0; a
@@ -236,12 +243,18 @@ fn exact_logs_give_the_truth_and_reconstruct_an_unknown_contour() {
     }
 }
 
-/// Share of (case, parameter) pairs within 3 standard errors, and per case the standard
-/// errors, over `n` random cases at relative noise `level`.
-fn noisy_battery(n: usize, level: f64, points: usize, seed: u64) -> (usize, usize, usize) {
+/// The seeded cases of the noisy battery at relative noise `level`, in order: `f(i, case,
+/// noisy log, start, sweep)` for each, returning whether the calibration counted, until `n`
+/// counted.
+fn noisy_cases(
+    n: usize,
+    level: f64,
+    points: usize,
+    seed: u64,
+    mut f: impl FnMut(usize, &Case, CalibLog, Whisker, &SweepResult) -> bool,
+) {
     let mut rng = StdRng::seed_from_u64(seed);
-    let (mut within, mut total, mut cases, mut flagged) = (0, 0, 0, 0);
-    let mut i = 0;
+    let (mut cases, mut i) = (0, 0);
     while cases < n && i < 10 * n {
         i += 1;
         let case = random_case(&mut rng, i);
@@ -249,15 +262,25 @@ fn noisy_battery(n: usize, level: f64, points: usize, seed: u64) -> (usize, usiz
             // slender tips at noise 1e-3 are beyond the base integration (README)
             continue;
         }
-        let Some(mut log) = log_of(&case, points) else {
+        let Some((res, mut log)) = sweep_of(&case, points) else {
             continue;
         };
         log.rows = add_noise(&log.rows, level, 1000 + i as u64);
         let start = wrong_start(&case.truth, &mut rng);
+        cases += usize::from(f(i, &case, log, start, &res));
+    }
+}
+
+/// (Case, parameter) pairs within 3 standard errors, pairs with an estimate, pairs asked
+/// for, and cases, over `n` random cases at relative noise `level`.
+fn noisy_battery(n: usize, level: f64, points: usize, seed: u64) -> [usize; 4] {
+    let (mut within, mut total, mut asked, mut cases, mut flagged) = (0, 0, 0, 0, 0);
+    noisy_cases(n, level, points, seed, |i, case, log, start, _| {
         let Ok(cal) = calibrate(&start, &[log], &CalibSettings::default()) else {
-            continue;
+            return false;
         };
         cases += 1;
+        asked += cal.parameters.len();
         flagged += usize::from(!cal.warnings.is_empty());
         for (p, e, sd) in errors(&cal, &case.truth) {
             total += 1;
@@ -273,16 +296,17 @@ fn noisy_battery(n: usize, level: f64, points: usize, seed: u64) -> (usize, usiz
                 );
             }
         }
-    }
+        true
+    });
     eprintln!("noise {level:e}: {flagged} of {cases} calibrations came with a warning");
-    (within, total, cases)
+    [within, total, asked, cases]
 }
 
 #[test]
 fn noisy_logs_truth_within_three_standard_errors() {
-    // a small sample (the battery measures the rates: 94.4 % at 1e-4, 96.3 % at 1e-3)
+    // a small sample (the battery measures the rates: 157/160 at both levels)
     for (level, share) in [(1e-4, 0.9), (1e-3, 0.8)] {
-        let (within, total, cases) = noisy_battery(6, level, 40, 77);
+        let [within, total, _, cases] = noisy_battery(6, level, 40, 77);
         eprintln!("noise {level:e}: {within}/{total} within 3 stderr over {cases} cases");
         assert!(cases >= 5);
         assert!(within as f64 >= share * total as f64, "{within}/{total}");
@@ -290,7 +314,7 @@ fn noisy_logs_truth_within_three_standard_errors() {
 }
 
 #[test]
-#[ignore = "battery: ~50 s in release"]
+#[ignore = "battery: ~60 s in release"]
 fn battery_exact_and_noisy() {
     let mut rng = StdRng::seed_from_u64(19);
     let (mut done, mut failed_sweeps, mut flagged, mut silent) = (0, 0, 0, 0);
@@ -329,20 +353,27 @@ fn battery_exact_and_noisy() {
          logs all reported theta, a, b as not identifiable ({:?})",
         t.elapsed()
     );
-    // The issue asks for 95 % at both levels. Measured with the projected residuals of the
-    // polish (CalibSettings::projection): 151/160 = 94.4 % at 1e-4 (7 of the 9 misses in
-    // three local minima the residual check reports: cases 21 and 31 with a warning, case 29
-    // (theta = 0.05) silently 4-8 standard errors off) and 154/160 = 96.3 % at 1e-3 (misses
-    // of 3.0-3.5 standard errors); before the projection 153/160 and 148/160 (misses at 1e-3
-    // up to 4.4). One case moves the share by 2.5 %; the bounds guard against regressions
-    // below what was measured.
-    for (level, bound) in [(1e-4, 0.94), (1e-3, 0.95)] {
-        let (within, total, cases) = noisy_battery(40, level, 60, 7 + level.log10().abs() as u64);
+    // The issue asks for 95 % at both levels. Measured: 157/160 pairs at 1e-4 (case 31, a
+    // local minimum, reported) and 157/160 at 1e-3 (case 47, a local minimum, reported;
+    // case 22: a and b 3.5 standard errors off at the global minimum, the same from the
+    // truth). Three calibrations at each level warn (case 21 at 1e-4, theta = 0.05 with
+    // contact forces of 5-25 noise deviations, within 3 standard errors). Before the rounds'
+    // consistent row set, the outlier passes, the pushing-contact and free-group checks and
+    // the count of rows a fit cannot use: 151/160 (case 29 silently 4-8 standard errors off)
+    // and 154/160. Both shares: of the pairs with an estimate, and of all pairs asked for (a
+    // parameter reported unidentifiable counts as a miss).
+    for level in [1e-4f64, 1e-3] {
+        let seed = 7 + level.log10().abs() as u64;
+        let [within, total, asked, cases] = noisy_battery(40, level, 60, seed);
         let share = within as f64 / total as f64;
         eprintln!(
-            "noise {level:e}: {within}/{total} = {share:.3} within 3 stderr over {cases} cases"
+            "noise {level:e}: {within}/{total} = {share:.3} within 3 stderr over {cases} cases \
+             ({within}/{asked} of the pairs asked for)"
         );
-        assert!(share >= bound, "{within}/{total}");
+        assert!(
+            share >= 0.95 && within as f64 >= 0.95 * asked as f64,
+            "{within}/{total}"
+        );
     }
     assert_eq!(silent, 0);
     assert!(flagged * 10 <= done, "{flagged} of {done}");
@@ -573,4 +604,85 @@ fn timing_200_rows() {
         times[2], times[0]
     );
     assert!(rows >= 200 && times[2] < 0.5);
+}
+
+/// Diagnostics of the noisy battery's cases (`CALIB_CASES=21,29,31`, `CALIB_LEVEL=1e-4`,
+/// `CALIB_EXACT=1` for the exact log of the case; all cases that miss without
+/// `CALIB_CASES`): the local fits, the fit from the truth, the
+/// rows that dominate the cost and the rows whose phase differs from the sweep's, and the
+/// conditioning. `cargo test --release -p profile-recon --test calibrate diagnose --
+/// --ignored --nocapture`.
+#[test]
+#[ignore = "diagnostics"]
+fn diagnose_battery_cases() {
+    let var = |k: &str| std::env::var(k).ok();
+    let level: f64 = var("CALIB_LEVEL").map_or(1e-4, |v| v.parse().unwrap());
+    let only: Vec<usize> = var("CALIB_CASES")
+        .map(|v| v.split(',').map(|x| x.parse().unwrap()).collect())
+        .unwrap_or_default();
+    let exact = var("CALIB_EXACT").is_some();
+    let seed = 7 + level.log10().abs() as u64;
+    noisy_cases(40, level, 60, seed, |i, case, mut log, start, res| {
+        if exact {
+            log.rows = from_sweep(res);
+        }
+        let settings = CalibSettings::default();
+        let cal = match calibrate(&start, std::slice::from_ref(&log), &settings) {
+            Ok(cal) => cal,
+            Err(e) => {
+                eprintln!("== case {i}: {e}");
+                return false;
+            }
+        };
+        let errs = errors(&cal, &case.truth);
+        let miss = errs.iter().any(|(_, e, sd)| e.abs() > 3.0 * sd);
+        if !(only.contains(&i) || only.is_empty() && miss) {
+            return true;
+        }
+        let from_truth = CalibSettings {
+            screen: 0,
+            starts: 1,
+            ..settings.clone()
+        };
+        let tr = calibrate(&case.truth, std::slice::from_ref(&log), &from_truth).unwrap();
+        eprintln!(
+            "== case {i} ({}): {:?} flow {:?} pattern {}\n   start {start:?}",
+            case.profile.0,
+            case.truth,
+            case.flow,
+            res.phase_pattern()
+        );
+        for (name, c) in [("fit", &cal), ("from truth", &tr)] {
+            let z: Vec<String> = errors(c, &case.truth)
+                .iter()
+                .map(|(p, e, sd)| format!("{}: {:+.1}", p.name(), e / sd))
+                .collect();
+            let kinds: String = c.rows.iter().map(|r| r.kind).collect();
+            eprintln!(
+                "   {name}: {kinds} fits {:?}, noise {:.3e} (logs {:.3e}), sv {:.1e}, z [{}], {:?}",
+                c.fits,
+                c.noise_level,
+                c.log_noise,
+                c.singular_values.last().unwrap_or(&f64::NAN),
+                z.join(", "),
+                c.warnings
+            );
+        }
+        for ((r, t), p) in cal.rows.iter().zip(&tr.rows).zip(&res.points) {
+            let truth = match p.phase {
+                Phase::None => '-',
+                Phase::A => 'A',
+                Phase::B => 'B',
+            };
+            let odd = r.kind != truth || (r.kind == 'B' && (r.s1 - p.s1).abs() > 1e-2);
+            if odd || r.chi > 4.0 || t.kind != truth {
+                eprintln!(
+                    "   row {:2} x0 {:+.3}: truth {truth} s1 {:.3} f {:.2e} | fit {} {:.3} chi {:.1} \
+                     | from truth {} {:.3} chi {:.1}",
+                    r.row, p.x0, p.s1, p.f, r.kind, r.s1, r.chi, t.kind, t.s1, t.chi
+                );
+            }
+        }
+        true
+    });
 }

@@ -25,7 +25,14 @@ pub(crate) struct LmSettings {
     pub ftol: f64,
     /// Stop when the RMS residual is below this (the residuals' numerical floor).
     pub floor: f64,
+    /// Stop when the last [`STALL_SPAN`] iterations lowered the cost by less than this
+    /// fraction (0: never): a fit crawling in a compromise, whose phases are better decided
+    /// again than followed further.
+    pub stall: f64,
 }
+
+/// Iterations over which [`LmSettings::stall`] measures the progress.
+pub(crate) const STALL_SPAN: usize = 5;
 
 impl Default for LmSettings {
     fn default() -> Self {
@@ -34,6 +41,7 @@ impl Default for LmSettings {
             xtol: 1e-13,
             ftol: 1e-8,
             floor: 0.0,
+            stall: 0.0,
         }
     }
 }
@@ -62,6 +70,8 @@ pub(crate) struct LmResult<S> {
     pub state: S,
     pub iterations: usize,
     pub evaluations: usize,
+    /// The cost at `p`.
+    pub cost: f64,
 }
 
 /// Forward-difference Jacobian (column-major: `jac[i]` is `dr / dp_i`), steps
@@ -187,9 +197,16 @@ pub(crate) fn levenberg_marquardt<P: Problem>(
             state,
             iterations,
             evaluations,
+            cost: c,
         });
     }
+    let mut history = vec![c];
     'outer: while iterations < settings.max_iter {
+        if history.len() > STALL_SPAN
+            && c > (1.0 - settings.stall) * history[history.len() - 1 - STALL_SPAN]
+        {
+            break;
+        }
         iterations += 1;
         let Some(jac) = jacobian(prob, &p, &r, &state, bounds, 1e-7) else {
             break;
@@ -249,6 +266,7 @@ pub(crate) fn levenberg_marquardt<P: Problem>(
                 Some((rt, st)) if cost(&rt) < c => {
                     let ct = cost(&rt);
                     (p, r, state, c) = (trial, rt, st, ct);
+                    history.push(c);
                     mu = (mu / 3.0).max(1e-12);
                     break;
                 }
@@ -264,12 +282,13 @@ pub(crate) fn levenberg_marquardt<P: Problem>(
             }
         }
     }
-    let _ = (r, c);
+    let _ = r;
     Some(LmResult {
         p,
         state,
         iterations,
         evaluations,
+        cost: c,
     })
 }
 

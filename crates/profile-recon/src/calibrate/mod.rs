@@ -12,6 +12,7 @@
 //! | `screen` | the global search: seeded candidates ranked by a phase-free objective |
 //! | `result` | the result: covariance, estimates, flows, rows, warnings |
 //! | `run` | the calibration itself: start values, rounds of fit and phase decision, multi-start, result |
+//! | `polish` | the final fit: polish tolerance, projection, passes without the rows it cannot use |
 //!
 //! **The fit.** Least squares over all rows of all logs of the whitened residuals of
 //! [`residual`] (to first order the maximum-likelihood fit of the measured observables), in
@@ -19,9 +20,20 @@
 //! is not given (fitted jointly, started from the pre-contact rows [6.1]). Start values: k from
 //! all rows' `MA`, `phi0` by the follicle law (linear least squares), the flow from the
 //! pre-contact rows, the others from the start whisker. The phase of each contact row is
-//! decided at the current parameters (the hypothesis, tip contact or a root of `m`, with
-//! the smallest whitened residual) and decided again after each fit until it stays. The
-//! final polish of a noisy log projects each row onto the model
+//! decided at the current parameters (the hypothesis, tip contact or a root of `m` whose
+//! contact force pushes the whisker off the obstacle, with the smallest whitened residual)
+//! and decided again after each fit until it stays. The rows in the fit are those the fit
+//! can use at the current parameters (evaluable, not degenerate, not an outlier beyond 6
+//! times the fit's noise level): a row left out at earlier parameters comes back. The
+//! whiteners of a round are frozen at its start; the rounds go on until a round lowers the
+//! cost by less than 1 % (a fit crawling in a compromise stops for a new phase decision),
+//! each descending on the cost with the point's own whiteners (a round
+//! that raised it is cut back). The pre-contact rows are the largest group of equal rows
+//! that can be the free whisker (every other row's force then pushes,
+//! `run::pre_contact`); contact forces within 10 noise deviations of zero are
+//! left out. The final polish refits without the rows it cannot use at its end, outliers
+//! included (beyond 6 times the logs' noise level, at most 10 % of the contact rows); it
+//! projects each row of a noisy log onto the model
 //! ([`CalibSettings::projection`] chord-Newton steps): the residual becomes the exact
 //! whitened distance of the measured observables to those the model admits at that base
 //! position (the output error), whose first-order form leaves a bias of the order of the
@@ -35,8 +47,10 @@
 //! residual check: a fit is accepted when the noise level it implies
 //! ([`Calibration::noise_level`]) is within 3 times a model-free noise level of the logs
 //! (third differences along x0, [`Calibration::log_noise`]) and no row was lost; otherwise
-//! the next candidate is fitted (up to [`CalibSettings::starts`] local fits), the lowest
-//! cost wins, and a fit that still fails the check is reported in
+//! the next candidate is fitted (up to [`CalibSettings::starts`] local fits), the fit with
+//! the fewest lost rows and then the lowest cost wins (a row the fitted whisker cannot
+//! evaluate or explain at all is lost, a pre-contact row included), and a fit that still
+//! fails the check is reported in
 //! [`Calibration::warnings`], never passed silently.
 //!
 //! **E I.** In a dimensionless log the force unit IS E I_b / L^2: `ei` is then 1 by
@@ -66,6 +80,7 @@
 pub mod design;
 mod fit;
 pub mod ident;
+mod polish;
 mod problem;
 pub mod residual;
 mod result;
@@ -158,9 +173,10 @@ pub struct CalibSettings {
     pub max_iter: usize,
     /// Rounds of (fit, phase decision) at most.
     pub rounds: usize,
-    /// Chord-Newton steps of the final polish that project each row onto the model (the
-    /// exact output error instead of its first-order form; module docs), 0 for none; used
-    /// when the logs' noise level squared exceeds the polish tolerance.
+    /// Chord-Newton steps at most of the final polish that project each row onto the model
+    /// (the exact output error instead of its first-order form; module docs; the steps stop
+    /// once converged, [`whiten::PROJECTION_TOL`]), 0 for none; used when the logs' noise
+    /// level squared exceeds the polish tolerance.
     pub projection: usize,
 }
 
@@ -180,7 +196,7 @@ impl Default for CalibSettings {
             seed: 19,
             max_iter: 60,
             rounds: 8,
-            projection: 2,
+            projection: 8,
         }
     }
 }

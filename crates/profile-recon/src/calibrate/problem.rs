@@ -13,7 +13,8 @@ use beam_model::support::K_MIN;
 use beam_model::whisker::{PRECURVATURE_MAX, THETA_MIN};
 use bvp_solvers::integrator::Dop853;
 
-/// See [`CalibProblem::min_force`].
+/// Contact forces below this many standard deviations of their noise are left out
+/// ([`CalibProblem::min_force`]).
 pub const F_MIN_NOISE: f64 = 10.0;
 
 /// Bounds of the stiffness ratio `lambda` (its logarithm is fitted).
@@ -192,6 +193,49 @@ impl<'a> CalibProblem<'a> {
         true
     }
 
+    /// Marks the contact rows of `judged` (kinds at `p`) as skipped that the fit cannot
+    /// use at `p`: not evaluable or not whitenable there, with a degenerate whitener
+    /// ([`DEGENERATE`]), or with a whitened residual norm beyond `limit` (an outlier). A row
+    /// whose kind is that of `state` (the kinds the whiteners were made for) keeps its
+    /// whitener; the others are whitened at `p`. Returns how many were.
+    pub fn admit(&self, p: &[f64], judged: &mut Kinds, state: &Kinds, limit: f64) -> usize {
+        let (model, flows) = self.unpack(p);
+        let mut n = 0;
+        for (l, used) in self.used.iter().enumerate() {
+            let ctx = self.ctx(l, &model, flows[l]);
+            for (k, &i) in used.iter().enumerate() {
+                let kind = judged[l][k];
+                if matches!(kind, RowKind::Skipped | RowKind::Pre) {
+                    continue;
+                }
+                let same = match (kind, state[l][k]) {
+                    (RowKind::B { .. }, RowKind::B { .. }) => true,
+                    (a, b) => a == b,
+                };
+                let row = &self.logs[l].rows[i];
+                let w = |res: &RowResult| {
+                    if same {
+                        Some(self.whiteners[l][k])
+                    } else {
+                        whitener(&ctx, row, res, &self.scales[l])
+                    }
+                };
+                let ok = row_residuals(&ctx, row, kind).is_some_and(|res| {
+                    w(&res).is_some_and(|w| {
+                        let z = w.apply(&res.r);
+                        w.degeneracy >= DEGENERATE
+                            && z.iter().map(|v| v * v).sum::<f64>().sqrt() <= limit
+                    })
+                });
+                if !ok {
+                    judged[l][k] = RowKind::Skipped;
+                    n += 1;
+                }
+            }
+        }
+        n
+    }
+
     /// [`CalibProblem::reweight`], with the rows that cannot be evaluated or whitened at `p`
     /// skipped ([`CalibProblem::skip_failing`]) if it fails at first.
     pub fn reweight_or_skip(&mut self, p: &[f64], kinds: &mut Kinds) -> bool {
@@ -265,7 +309,7 @@ impl<'a> CalibProblem<'a> {
                         if pre[l][i] {
                             return RowKind::Pre;
                         }
-                        if tip_force(&model, flows[l], &rows[i]) < self.min_force() * fmax {
+                        if tip_force(&model, flows[l], &rows[i]) < self.min_force(l, &model, fmax) {
                             return RowKind::Skipped;
                         }
                         match judge(&ctx, &rows[i], &self.scales[l]) {
@@ -280,6 +324,29 @@ impl<'a> CalibProblem<'a> {
             })
             .collect();
         (kinds, lost)
+    }
+
+    /// Per log and used row: whether it is a contact row (not in `pre`) whose force at `p`
+    /// reaches [`CalibProblem::min_force`] (the rows the data say the fit should explain).
+    pub fn usable_contact(&self, p: &[f64], pre: &[Vec<bool>]) -> Vec<Vec<bool>> {
+        let (model, flows) = self.unpack(p);
+        self.used
+            .iter()
+            .enumerate()
+            .map(|(l, used)| {
+                let rows = &self.logs[l].rows;
+                let force = |i: usize| tip_force(&model, flows[l], &rows[i]);
+                let fmax = used
+                    .iter()
+                    .filter(|&&i| !pre[l][i])
+                    .map(|&i| force(i))
+                    .fold(0.0, f64::max);
+                let floor = self.min_force(l, &model, fmax);
+                used.iter()
+                    .map(|&i| !pre[l][i] && force(i) >= floor)
+                    .collect()
+            })
+            .collect()
     }
 
     /// The norm of every used row's whitened residuals at `p` (NaN for skipped rows or if
@@ -348,12 +415,15 @@ impl<'a> CalibProblem<'a> {
             .collect()
     }
 
-    /// Contact rows with a force below this fraction of the log's largest are left out:
-    /// [`F_MIN_REL`], or [`F_MIN_NOISE`] times the logs' noise level if that is larger (a
-    /// contact force within a few noise deviations of zero fixes neither the phase nor the
-    /// force's direction, and the linearised whitening fails there).
-    pub fn min_force(&self) -> f64 {
-        F_MIN_REL.max(F_MIN_NOISE * self.log_noise)
+    /// Contact rows of log `l` with a force (model units at `model`) below this are left
+    /// out: [`F_MIN_REL`] of the log's largest force `fmax`, or [`F_MIN_NOISE`] standard
+    /// deviations of the force's noise if that is larger (a contact force within a few noise
+    /// deviations of zero fixes neither the phase nor the force's direction, and the
+    /// linearised whitening fails there).
+    pub fn min_force(&self, l: usize, model: &Model, fmax: f64) -> f64 {
+        let sc = &self.scales[l].0;
+        let f_sd = self.log_noise * sc[0].max(sc[1]) / model.lambda;
+        (F_MIN_REL * fmax).max(F_MIN_NOISE * f_sd)
     }
 
     /// Number of residuals at `kinds`.

@@ -126,6 +126,10 @@ pub struct RowResult {
     /// Signed normal distance of the point to the contour (positive inside the obstacle;
     /// NaN for pre-contact rows).
     pub distance: f64,
+    /// The contact force's component along the contour's normal out of the obstacle,
+    /// `f cos(psi_f - psi_c)` (NaN for pre-contact rows): positive for the push of a
+    /// frictionless contact, negative for a pull, which no contact exerts.
+    pub compression: f64,
 }
 
 /// Everything a row's evaluation needs besides the row and its kind.
@@ -177,6 +181,7 @@ pub(crate) fn row_residuals(
             kind,
             point: nan,
             distance: f64::NAN,
+            compression: f64::NAN,
         }),
         RowKind::Pre | RowKind::A => {
             let sol = base_ivp(&whisker, flow, &obs, ctx.integrator).ok()?;
@@ -194,6 +199,7 @@ pub(crate) fn row_residuals(
                     kind,
                     point: nan,
                     distance: f64::NAN,
+                    compression: f64::NAN,
                 });
             }
             let (fa, fb) = (-obs.ax - qc, obs.ay - qs);
@@ -205,6 +211,7 @@ pub(crate) fn row_residuals(
                 kind,
                 point: (x1, y1),
                 distance: dist,
+                compression: fa * psi_c.sin() + fb * psi_c.cos(),
             })
         }
         RowKind::B { s1 } => {
@@ -229,6 +236,7 @@ pub(crate) fn row_residuals(
                 kind: RowKind::B { s1: root },
                 point: (x, y),
                 distance: dist,
+                compression: fa * psi_c.sin() + fb * psi_c.cos(),
             })
         }
     }
@@ -330,7 +338,8 @@ pub(crate) fn all_roots(sol: &OdeSolution) -> Vec<f64> {
 }
 
 /// The hypotheses of a contact row at `ctx`: tip contact (if the integration reaches the tip)
-/// and every root of `m` (phase B), each with its residuals; the phase of the row is the
+/// and every root of `m` (phase B) whose contact force pushes (positive
+/// [`RowResult::compression`]), each with its residuals; the phase of the row is the
 /// hypothesis with the smallest whitened residual
 /// ([`judge`](super::whiten::judge)).
 pub(crate) fn hypotheses(ctx: &RowCtx<'_>, row: &ObservableRow) -> Vec<RowResult> {
@@ -361,6 +370,9 @@ pub(crate) fn hypotheses(ctx: &RowCtx<'_>, row: &ObservableRow) -> Vec<RowResult
     for s in all_roots(&sol) {
         out.extend(row_residuals(ctx, row, RowKind::B { s1: s }));
     }
+    // a contact pushes: a hypothesis whose force pulls the whisker towards the obstacle is
+    // none (the normal-force residual alone admits both directions)
+    out.retain(|h| h.compression > 0.0);
     out
 }
 

@@ -258,7 +258,8 @@ fn warnings(cal: &Calibration, fit: &Rounds, costs: &[f64]) -> Vec<String> {
     let mut w = Vec::new();
     if fit.lost > 0 {
         w.push(format!(
-            "{} contact row(s) admit no contact hypothesis with the fitted whisker and were left out",
+            "{} contact row(s) admit no contact hypothesis with the fitted whisker, or cannot be \
+             used by it, and were left out",
             fit.lost
         ));
     }

@@ -161,7 +161,8 @@ fn start_compliance(logs: &[CalibLog]) -> Option<f64> {
 /// The pre-contact rows of a log: the largest group (at least two) of rows equal to one of
 /// them, first within 1e-9 of each column's scale (exact logs), else within five noise
 /// deviations of the log's model-free noise level (the free whisker under the flow gives
-/// the same observables wherever the base is [6.1]).
+/// the same observables wherever the base is [6.1]), among the groups that can be the free
+/// whisker ([`can_be_free`]; the largest group if none can).
 pub(crate) fn pre_contact(rows: &[ObservableRow]) -> Vec<bool> {
     let scales = NoiseScales::of(rows);
     let level = smoothness_noise(rows, &scales);
@@ -171,19 +172,36 @@ pub(crate) fn pre_contact(rows: &[ObservableRow]) -> Vec<bool> {
             let d = [a.ax - b.ax, a.ay - b.ay, a.ma - b.ma, a.phi0 - b.phi0];
             d.iter().zip(&tol).all(|(d, t)| d.abs() <= *t)
         };
-        let best = (0..rows.len())
+        let mut groups: Vec<(usize, usize)> = (0..rows.len())
             .map(|i| (rows.iter().filter(|r| near(&rows[i], r)).count(), i))
-            .max_by_key(|c| c.0);
-        if let Some((count, i)) = best {
-            if count >= 2 {
-                return rows.iter().map(|r| near(&rows[i], r)).collect();
-            }
+            .filter(|g| g.0 >= 2)
+            .collect();
+        // largest first, the first row of equal groups first
+        groups.sort_by_key(|g| (std::cmp::Reverse(g.0), g.1));
+        let pick = groups
+            .iter()
+            .find(|g| can_be_free(rows, &rows[g.1], tol[1]))
+            .or(groups.first());
+        if let Some(&(_, i)) = pick {
+            return rows.iter().map(|r| near(&rows[i], r)).collect();
         }
         if !rel.is_finite() {
             break;
         }
     }
     vec![false; rows.len()]
+}
+
+/// Whether the rows equal to `free` can be the free whisker: then its base forces are the
+/// flow's, `Ay = q sin alpha`, and every contact row's force `(Ax, Ay)` balances that flow on
+/// `[0, s1]` with a contact force whose y part `Ay - s1 q sin alpha` is positive for some
+/// `s1` in `(0, 1]` (a contour `y = g(x)` with the obstacle above pushes the whisker
+/// towards `-y`): `Ay > min(0, q sin alpha)` for every row, within `tol`. A group of equal
+/// contact rows (a plateau of the contact force under noise) taken for the free whisker
+/// makes the true free rows pull instead.
+fn can_be_free(rows: &[ObservableRow], free: &ObservableRow, tol: f64) -> bool {
+    let least = free.ay.min(0.0) - tol;
+    rows.iter().all(|r| r.ay >= least)
 }
 
 /// A fit: parameters, kinds, residuals and cost, with the work spent.
@@ -221,12 +239,15 @@ pub(crate) fn fit_rounds(
     let lm = LmSettings {
         max_iter: settings.max_iter,
         floor: settings.tol,
+        stall: STALL,
         ..LmSettings::default()
     };
     let mut p = p0;
     let (mut kinds, mut lost) = prob.judge_all(&p, pre);
     let mut never: Vec<Vec<bool>> = kinds.iter().map(|k| vec![false; k.len()]).collect();
     let mut settled = false;
+    // the start of the last round whose phases stayed, with its cost
+    let mut prev: Option<(Vec<f64>, Kinds, f64)> = None;
     let mut out = Rounds {
         p: p.clone(),
         kinds: kinds.clone(),
@@ -241,6 +262,22 @@ pub(crate) fn fit_rounds(
             return Err(start_failure(prob, &p, &kinds));
         }
         prob.skip_degenerate(&mut kinds);
+        // the cost with the whiteners of the point itself: the rounds descend on it; a
+        // round that raised it (the whiteners frozen at its start favoured a point they
+        // misjudge) is undone and ends the rounds
+        let mut start_cost = prob.residuals(&p, &kinds).map(|r| cost(&r.0));
+        if let Some((pp, pk, pc)) = prev.take() {
+            if start_cost.is_none_or(|c| c >= pc) {
+                match descend(prob, &pp, &p, &pk, pc) {
+                    Some((q, c)) => (p, kinds, start_cost) = (q, pk, Some(c)),
+                    None => {
+                        (p, kinds) = (pp, pk);
+                        break;
+                    }
+                }
+            }
+        }
+        let round_start = (p.clone(), kinds.clone());
         // while the phases still change, a few iterations are enough before deciding them
         // again
         let lm = LmSettings {
@@ -256,28 +293,32 @@ pub(crate) fn fit_rounds(
         };
         out.iterations += res.iterations;
         out.evaluations += res.evaluations;
+        // the whiteners were frozen at the round's start: the round is the last only if
+        // the fit did not move from there (lowered the cost by less than [`STALL`]), or fits
+        // to the residuals' numerical floor, where the weights do not matter
+        let moved = res.p != p
+            && start_cost.is_none_or(|c| res.cost < (1.0 - STALL) * c)
+            && res.cost > floor_cost(prob, &res.state, lm.floor);
         p = res.p;
         let (judged, l) = prob.judge_all(&p, pre);
         lost = l;
         // a row that carries most of a direction of the information alone (a fold of the
         // contact branch, where the linearised whitening fails) is left out for good
-        if let Some(cols) = jacobian(prob, &p, &res.state, &bounds) {
-            let lev = prob.leverages(&cols, &res.state);
-            let mut dropped = false;
-            for (l, ks) in lev.iter().enumerate() {
-                for (k, h) in ks.iter().enumerate() {
-                    if *h > LEVERAGE_MAX && pre.get(l).is_some_and(|p| !p[prob.used[l][k]]) {
-                        never[l][k] = true;
-                        dropped = true;
-                    }
-                }
-            }
-            if dropped && round + 1 < settings.rounds {
-                kinds = without(&judged, &never);
-                continue;
-            }
+        if drop_leverage(prob, &p, &res.state, pre, &mut never) && round + 1 < settings.rounds {
+            kinds = without(&judged, &never);
+            continue;
         }
-        let judged = without(&judged, &never);
+        let mut judged = without(&judged, &never);
+        // a row is out where the fit cannot use it at these parameters (degenerate, or an
+        // outlier beyond the fit's own level): one left out at earlier parameters
+        // (degenerate there, or trimmed) is back in the comparison below
+        let n = prob
+            .residual_count(&res.state)
+            .saturating_sub(prob.dim())
+            .max(1);
+        let level = (2.0 * res.cost / n as f64).sqrt();
+        let limit = super::polish::OUTLIER * level.max(prob.log_noise).max(1e-9);
+        prob.admit(&p, &mut judged, &res.state, limit);
         // a fit far above the noise (a compromise held by rows decided in the wrong phase):
         // the next round leaves out the rows that fit worst, which come back at the round
         // after, decided again at better parameters
@@ -287,17 +328,20 @@ pub(crate) fn fit_rounds(
                 continue;
             }
         }
-        // (a row left out as degenerate stays out)
         let stay = judged
             .iter()
             .flatten()
             .zip(res.state.iter().flatten())
-            .all(|(a, b)| *b == RowKind::Skipped || same_kind(a, b));
+            .all(|(a, b)| same_kind(a, b));
         settled = stay;
         kinds = if stay { res.state } else { judged };
-        if stay && round > 0 {
+        if stay && !moved {
             break;
         }
+        prev = match (stay, start_cost) {
+            (true, Some(c)) => Some((round_start.0, round_start.1, c)),
+            _ => None,
+        };
     }
     if !prob.reweight_or_skip(&p, &mut kinds) {
         return Err(start_failure(prob, &p, &kinds));
@@ -308,13 +352,118 @@ pub(crate) fn fit_rounds(
         .ok_or_else(|| start_failure(prob, &p, &kinds))?;
     out.cost = cost(&r);
     out.p = p;
+    out.lost = free_lost(prob, pre, &kinds) + contact_lost(prob, &out.p, pre, &kinds, lost);
     out.kinds = kinds;
-    out.lost = lost;
     Ok(out)
 }
 
+/// The contact rows lost at `p`: `judged_lost` (those without any hypothesis), or, if the
+/// fit left out more than [`OUTLIER_SHARE`](super::polish::OUTLIER_SHARE) of the contact
+/// rows whose force the data show (at least two) for whatever reason (no hypothesis, not
+/// evaluable, degenerate, outliers), all of those: such a fit does not explain its log,
+/// however small its cost.
+fn contact_lost(
+    prob: &CalibProblem<'_>,
+    p: &[f64],
+    pre: &[Vec<bool>],
+    kinds: &Kinds,
+    judged_lost: usize,
+) -> usize {
+    let usable = prob.usable_contact(p, pre);
+    let total = usable.iter().flatten().filter(|u| **u).count();
+    let out = usable
+        .iter()
+        .flatten()
+        .zip(kinds.iter().flatten())
+        .filter(|(u, k)| **u && **k == RowKind::Skipped)
+        .count();
+    if out as f64 > (super::polish::OUTLIER_SHARE * total as f64).max(2.0) {
+        out.max(judged_lost)
+    } else {
+        judged_lost
+    }
+}
+
+/// The pre-contact rows left out (the fitted whisker cannot evaluate them): they count as
+/// lost, as contact rows without a hypothesis do.
+fn free_lost(prob: &CalibProblem<'_>, pre: &[Vec<bool>], kinds: &Kinds) -> usize {
+    kinds
+        .iter()
+        .enumerate()
+        .flat_map(|(l, ks)| {
+            ks.iter()
+                .enumerate()
+                .filter(move |(k, kind)| **kind == RowKind::Skipped && pre[l][prob.used[l][*k]])
+        })
+        .count()
+}
+
+/// The cost of residuals at the numerical floor `floor` (RMS) for the rows in `kinds`.
+fn floor_cost(prob: &CalibProblem<'_>, kinds: &Kinds, floor: f64) -> f64 {
+    0.5 * prob.residual_count(kinds) as f64 * floor * floor
+}
+
+/// Halvings of the step in [`descend`].
+const HALVINGS: usize = 5;
+
+/// Backtracking along the step of a round from `from` (cost `c0` with its own whiteners)
+/// to `to`: the first of `to`, halfway, a quarter, ... ([`HALVINGS`]) whose cost with its
+/// own whiteners is below `c0`, with that cost; the problem keeps its whiteners. `None`
+/// (the whiteners of `from` restored) if none is.
+fn descend(
+    prob: &mut CalibProblem<'_>,
+    from: &[f64],
+    to: &[f64],
+    kinds: &Kinds,
+    c0: f64,
+) -> Option<(Vec<f64>, f64)> {
+    let mut t = 0.5;
+    for _ in 0..HALVINGS {
+        let q: Vec<f64> = from.iter().zip(to).map(|(a, b)| a + t * (b - a)).collect();
+        if prob.reweight(&q, kinds) {
+            if let Some((r, _)) = prob.residuals(&q, kinds) {
+                let c = cost(&r);
+                if c < c0 {
+                    return Some((q, c));
+                }
+            }
+        }
+        t *= 0.5;
+    }
+    prob.reweight(from, kinds);
+    None
+}
+
+/// Marks in `never` the contact rows whose leverage at `p` (kinds `state`) exceeds
+/// [`LEVERAGE_MAX`]; returns whether any was.
+fn drop_leverage(
+    prob: &CalibProblem<'_>,
+    p: &[f64],
+    state: &Kinds,
+    pre: &[Vec<bool>],
+    never: &mut [Vec<bool>],
+) -> bool {
+    let Some(cols) = jacobian(prob, p, state, &prob.bounds()) else {
+        return false;
+    };
+    let mut dropped = false;
+    for (l, ks) in prob.leverages(&cols, state).iter().enumerate() {
+        for (k, h) in ks.iter().enumerate() {
+            if *h > LEVERAGE_MAX && pre.get(l).is_some_and(|p| !p[prob.used[l][k]]) {
+                never[l][k] = true;
+                dropped = true;
+            }
+        }
+    }
+    dropped
+}
+
+/// A round's fit stops when five iterations lowered the cost by less than this fraction
+/// ([`LmSettings::stall`]).
+const STALL: f64 = 0.01;
+
 /// Levenberg-Marquardt iterations of a round whose phases were just decided anew.
-const SETTLING_ITER: usize = 12;
+const SETTLING_ITER: usize = 6;
 
 /// Contact rows with a leverage beyond this are left out of the fit.
 const LEVERAGE_MAX: f64 = 0.75;
@@ -454,7 +603,11 @@ fn search(
             .max(1);
         let level = (2.0 * fit.cost / n as f64).sqrt();
         let clean = fit.lost == 0 && level <= NOISE_CHECK * log_noise.max(1e-9);
-        if best.as_ref().is_none_or(|b| fit.cost < b.cost) {
+        // the fit that explains more rows, then the lower cost
+        if best
+            .as_ref()
+            .is_none_or(|b| (fit.lost, fit.cost) < (b.lost, b.cost))
+        {
             best = Some(fit);
         }
         if clean {
@@ -467,53 +620,8 @@ fn search(
         (None, None) => return Err(start_failure(prob, p0, &prob.judge_all(p0, pre).0)),
     };
     best.evaluations = evaluations;
-    polish(prob, &mut best, settings)?;
+    super::polish::polish(prob, &mut best, settings)?;
     Ok((best, costs))
-}
-
-/// The final polish: the phases as settled, the integrations at [`CalibSettings::polish_tol`]
-/// (the searches run at the looser [`CalibSettings::tol`]), the whiteners made at the fit,
-/// and Levenberg-Marquardt to convergence; the problem keeps the polished integrator and
-/// whiteners for the result.
-fn polish(prob: &mut CalibProblem<'_>, fit: &mut Rounds, settings: &CalibSettings) -> Result<()> {
-    let tol = settings.polish_tol.min(settings.tol);
-    let search = prob.integrator.clone();
-    prob.integrator = Dop853 {
-        h_init: Some(0.05),
-        ..Dop853::new(tol, tol)
-    };
-    if !prob.reweight_or_skip(&fit.p, &mut fit.kinds) {
-        // no polish: the search's fit stands
-        prob.integrator = search;
-        if !prob.reweight_or_skip(&fit.p, &mut fit.kinds) {
-            return Err(start_failure(prob, &fit.p, &fit.kinds));
-        }
-        return Ok(());
-    }
-    // the projection changes a row's whitened residual by about the noise level squared:
-    // below the integration's tolerance (exact logs) there is nothing to gain
-    if prob.log_noise.powi(2) > tol {
-        prob.projection = settings.projection;
-    }
-    let lm = LmSettings {
-        max_iter: settings.max_iter,
-        floor: tol,
-        ..LmSettings::default()
-    };
-    if let Some(res) = levenberg_marquardt(prob, &fit.p, &fit.kinds, &prob.bounds(), &lm) {
-        fit.iterations += res.iterations;
-        fit.evaluations += res.evaluations;
-        fit.p = res.p;
-        fit.kinds = res.state;
-    }
-    if !prob.reweight_or_skip(&fit.p, &mut fit.kinds) {
-        return Err(start_failure(prob, &fit.p, &fit.kinds));
-    }
-    let (r, _) = prob
-        .residuals(&fit.p, &fit.kinds)
-        .ok_or_else(|| start_failure(prob, &fit.p, &fit.kinds))?;
-    fit.cost = cost(&r);
-    Ok(())
 }
 
 /// The largest model-free noise level over the logs.

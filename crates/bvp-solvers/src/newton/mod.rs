@@ -258,22 +258,10 @@ fn iterate<const N: usize, const M: usize, S: NewtonSystem<N, M>>(
     guards: &Safeguards,
     step: impl Fn(&[[f64; N]; M], &[f64; M], &[f64; N]) -> Option<[f64; N]>,
 ) -> Result<NewtonAnswer<N, S::Point, M>, S::Error> {
-    let broyden = matches!(policy.update, JacobianUpdate::Broyden { .. });
     // a Jacobian wanted after every step comes with every trial
     let every_step = matches!(policy.update,
         JacobianUpdate::Reevaluate { keep_below } if keep_below <= 0.0);
-    let first = sys.eval(&u0, jac0.is_none() && !broyden)?;
-    let mut jac_fresh = first.jac.is_some() && jac0.is_none();
-    let mut ans = NewtonAnswer {
-        u: u0,
-        r: first.r,
-        norm: norm(&first.r),
-        jac: jac0.or(first.jac).unwrap_or([[f64::NAN; N]; M]),
-        point: first.point,
-        iterations: 0,
-        step: [0.0; N],
-        termination: Termination::Converged,
-    };
+    let (mut ans, mut jac_fresh) = start(sys, u0, jac0, policy)?;
     let mut scale = sys.scale(&ans.point);
     if ans.norm <= policy.tol * scale {
         return Ok(ans);
@@ -285,11 +273,9 @@ fn iterate<const N: usize, const M: usize, S: NewtonSystem<N, M>>(
     // the last step's contraction |R_new| / |R_old| (none before the first step)
     let mut contraction = f64::NAN;
     let mut watch = StallWatch::default();
-    let at_last =
-        guards.stall.is_some() || guards.small_step.is_some() || guards.predict_below.is_some();
     for it in 0..=policy.max_iter {
         let last = it == policy.max_iter;
-        if last && !at_last {
+        if last && guards == &Safeguards::NONE {
             break;
         }
         let Some(du) = step(&ans.jac, &ans.r, &ans.u) else {
@@ -380,6 +366,31 @@ fn iterate<const N: usize, const M: usize, S: NewtonSystem<N, M>>(
     }
     ans.termination = Termination::MaxIterations;
     finish(sys, ans, policy, jac_fresh)
+}
+
+/// The iteration's start: the evaluation at `u0` (with a Jacobian unless `jac0` is given or
+/// the policy is Broyden's) as an answer, and whether its Jacobian was evaluated there.
+#[allow(clippy::type_complexity)]
+fn start<const N: usize, const M: usize, S: NewtonSystem<N, M>>(
+    sys: &S,
+    u0: [f64; N],
+    jac0: Option<[[f64; N]; M]>,
+    policy: &NewtonPolicy,
+) -> Result<(NewtonAnswer<N, S::Point, M>, bool), S::Error> {
+    let broyden = matches!(policy.update, JacobianUpdate::Broyden { .. });
+    let first = sys.eval(&u0, jac0.is_none() && !broyden)?;
+    let jac_fresh = first.jac.is_some() && jac0.is_none();
+    let ans = NewtonAnswer {
+        u: u0,
+        r: first.r,
+        norm: norm(&first.r),
+        jac: jac0.or(first.jac).unwrap_or([[f64::NAN; N]; M]),
+        point: first.point,
+        iterations: 0,
+        step: [0.0; N],
+        termination: Termination::Converged,
+    };
+    Ok((ans, jac_fresh))
 }
 
 /// The trial `u - lambda du` with the largest `lambda = 1, 1/2, ...` (at most

@@ -13,13 +13,12 @@
 use crate::error::{ContactError, Result};
 use crate::profile::Profile;
 use beam_model::equations::{Sensitivities, WhiskerOde};
-use beam_model::shot::{shoot, Integration};
+use beam_model::shot::{shoot, Integration, Shot};
 use beam_model::{FluidLoad, Loads, Whisker};
 use bvp_solvers::integrator::{Dop853, OdeSolution};
-use bvp_solvers::newton::{
-    newton_guarded, Evaluation, JacobianUpdate, NewtonPolicy, NewtonSystem, Safeguards, SmallStep,
-};
+use bvp_solvers::newton::{JacobianUpdate, NewtonPolicy, Safeguards, SmallStep};
 use bvp_solvers::roots::bisect;
+use bvp_solvers::shooting::{solve_shooting, ShotProblem};
 use serde::{Deserialize, Serialize};
 use std::cell::Cell;
 
@@ -73,8 +72,9 @@ impl FreeShape {
     }
 }
 
-/// The free whisker's tip-angle equation: the base condition [3.21, 3.22] of a shot from
-/// the tip at `phi1`, with its exact derivative from the shot's variational equations.
+/// The free whisker's tip-angle equation as a [`ShotProblem`]: the base condition
+/// [3.21, 3.22] of a shot from the tip at `phi1`, with its exact derivative from the shot's
+/// variational equations.
 struct FreeTip<'a> {
     whisker: &'a Whisker,
     loads: Loads,
@@ -83,26 +83,20 @@ struct FreeTip<'a> {
     error: Cell<Option<beam_model::ModelError>>,
 }
 
-impl NewtonSystem<1> for FreeTip<'_> {
-    type Point = ();
+impl ShotProblem<1> for FreeTip<'_> {
+    type End = Shot;
     type Error = ();
-    fn eval(&self, u: &[f64; 1], _jacobian: bool) -> std::result::Result<Evaluation<1, ()>, ()> {
-        let shot = shoot(
-            self.whisker,
-            &self.loads,
-            u[0],
-            Sensitivities::TipAngle,
-            self.integration,
-        )
-        .map_err(|e| self.error.set(Some(e)))?;
-        let support = &self.whisker.support;
-        let r = support.residual(shot.phi0, shot.m0);
-        let d = support.residual_rate(shot.d_phi1.phi0, shot.d_phi1.m0);
-        Ok(Evaluation {
-            r: [r],
-            jac: Some([[d]]),
-            point: (),
-        })
+    fn shoot(&self, p: &[f64; 1], _sensitivities: bool) -> std::result::Result<Shot, ()> {
+        let sens = Sensitivities::TipAngle;
+        shoot(self.whisker, &self.loads, p[0], sens, self.integration)
+            .map_err(|e| self.error.set(Some(e)))
+    }
+    fn residual(&self, _p: &[f64; 1], shot: &Shot) -> [f64; 1] {
+        [self.whisker.support.residual(shot.phi0, shot.m0)]
+    }
+    fn residual_jacobian(&self, _p: &[f64; 1], shot: &Shot) -> Option<[[f64; 1]; 1]> {
+        let d = shot.d_phi1;
+        Some([[self.whisker.support.residual_rate(d.phi0, d.m0)]])
     }
 }
 
@@ -140,7 +134,7 @@ pub(crate) fn free_tip_angle(
         predict_below: Some(1e-15),
         ..Safeguards::NONE
     };
-    let out = newton_guarded(&problem, [guess], None, &policy, &guards);
+    let out = solve_shooting(&problem, [guess], &policy, &guards);
     if let Some(e) = problem.error.take() {
         return Err(e.into());
     }

@@ -6,15 +6,15 @@ use crate::equations::Sensitivities;
 use crate::error::{ModelError, Result};
 use crate::loads::Loads;
 use crate::scene::Scene;
-use crate::shot::{shoot, shoot_path, BaseValues, Integration, ShotPath};
+use crate::shot::{shoot, shoot_path, BaseValues, Integration, Shot, ShotPath};
 use crate::solution::{BaseObservables, Elastica, EndState, Solution, SolveStats};
 use crate::whisker::Whisker;
 use bvp_solvers::continuation::{BranchGuard, Continuation};
 use bvp_solvers::integrator::{OdeSystem, Rk4};
 use bvp_solvers::newton::{
-    newton_guarded, Evaluation, JacobianUpdate, NewtonPolicy, NewtonSystem, Safeguards, SmallStep,
-    Stall, Termination,
+    JacobianUpdate, NewtonPolicy, Safeguards, SmallStep, Stall, Termination,
 };
+use bvp_solvers::shooting::{solve_shooting, ShotProblem};
 use std::cell::Cell;
 use std::f64::consts::FRAC_PI_2;
 
@@ -62,7 +62,7 @@ pub(crate) fn newton_tip_angle(
 }
 
 /// The tip-angle equation of a scene: the whisker, its loads and the shots' integrator
-/// (`method` names it in errors), as a [`NewtonSystem`] in `phi1` with the residual
+/// (`method` names it in errors), as a [`ShotProblem`] in `phi1`: the residual
 /// `R(phi1) = phi(0) - pi/2 - m(0)/k` [3.21, 3.22] relative to `1 + |m0|/k`, its derivative
 /// from the shot's variational equations.
 struct TipProblem<'a> {
@@ -97,47 +97,48 @@ impl<'a> TipProblem<'a> {
     }
 }
 
-impl NewtonSystem<1> for TipProblem<'_> {
-    /// The shot's base values `(phi0, m0, dx, dy)`.
-    type Point = BaseValues;
+impl ShotProblem<1> for TipProblem<'_> {
+    /// The shot, and whether it carries `d/dphi1`.
+    type End = (Shot, bool);
     /// The shot's error is kept in [`TipProblem::error`].
     type Error = ();
 
-    /// One shot from the loaded end at `phi1 = u[0]`, with the tip-angle sensitivities when
-    /// the Jacobian is asked for.
-    fn eval(
-        &self,
-        u: &[f64; 1],
-        jacobian: bool,
-    ) -> std::result::Result<Evaluation<1, BaseValues>, ()> {
-        let sens = if jacobian {
+    /// One shot from the loaded end at `phi1 = p[0]`, with the tip-angle sensitivities (the
+    /// variational equations) when asked for.
+    fn shoot(&self, p: &[f64; 1], sensitivities: bool) -> std::result::Result<(Shot, bool), ()> {
+        let sens = if sensitivities {
             Sensitivities::TipAngle
         } else {
             Sensitivities::None
         };
-        let shot = match shoot(self.whisker, self.loads, u[0], sens, self.integration) {
-            Ok(shot) => shot,
+        match shoot(self.whisker, self.loads, p[0], sens, self.integration) {
+            Ok(shot) => {
+                self.spent.set(self.spent.get() + shot.evaluations);
+                if sensitivities {
+                    self.sens.set(shot.d_phi1);
+                }
+                Ok((shot, sensitivities))
+            }
             Err(e) => {
                 self.error.set(Some(e));
-                return Err(());
+                Err(())
             }
-        };
-        self.spent.set(self.spent.get() + shot.evaluations);
-        let support = &self.whisker.support;
-        let r = support.residual(shot.phi0, shot.m0);
-        let jac = jacobian.then(|| {
-            self.sens.set(shot.d_phi1);
-            [[support.residual_rate(shot.d_phi1.phi0, shot.d_phi1.m0)]]
-        });
-        Ok(Evaluation {
-            r: [r],
-            jac,
-            point: shot.values(),
-        })
+        }
     }
 
-    fn scale(&self, values: &BaseValues) -> f64 {
-        1.0 + values.m0.abs() * self.whisker.support.compliance()
+    /// The base condition `phi(0) - pi/2 - m(0)/k` [3.21, 3.22].
+    fn residual(&self, _p: &[f64; 1], (shot, _): &(Shot, bool)) -> [f64; 1] {
+        [self.whisker.support.residual(shot.phi0, shot.m0)]
+    }
+
+    fn residual_jacobian(&self, _p: &[f64; 1], end: &(Shot, bool)) -> Option<[[f64; 1]; 1]> {
+        let (shot, sensitive) = end;
+        let d = shot.d_phi1;
+        sensitive.then(|| [[self.whisker.support.residual_rate(d.phi0, d.m0)]])
+    }
+
+    fn scale(&self, (shot, _): &(Shot, bool)) -> f64 {
+        1.0 + shot.m0.abs() * self.whisker.support.compliance()
     }
 }
 
@@ -197,12 +198,12 @@ impl TipTarget {
     }
 }
 
-/// Newton on the tip angle of `problem` from `guess` to `target`
-/// ([`bvp_solvers::newton::newton_guarded`] with [`TipTarget::policy`] and
-/// [`TipTarget::guards`]).
+/// Newton on the tip angle of `problem` from `guess` to `target`: generic shooting with the
+/// exact sensitivity ([`bvp_solvers::shooting::solve_shooting`]) under [`TipTarget::policy`]
+/// and [`TipTarget::guards`].
 fn newton_to(problem: &TipProblem<'_>, guess: f64, target: &TipTarget) -> Result<TipSolve> {
     let spent = problem.spent.get();
-    let out = newton_guarded(problem, [guess], None, &target.policy(), &target.guards());
+    let out = solve_shooting(problem, [guess], &target.policy(), &target.guards());
     if let Some(e) = problem.error.take() {
         return Err(e);
     }
@@ -221,7 +222,7 @@ fn newton_to(problem: &TipProblem<'_>, guess: f64, target: &TipTarget) -> Result
         iterations: ans.iterations,
         residual: ans.norm,
         evaluations: problem.spent.get() - spent,
-        values: ans.point,
+        values: ans.point.0.values(),
         sens,
         branch_jumps: 0,
     };
@@ -229,7 +230,7 @@ fn newton_to(problem: &TipProblem<'_>, guess: f64, target: &TipTarget) -> Result
         Termination::Converged => Ok(t),
         Termination::Predicted => {
             // the base values moved along the step by their sensitivities
-            let (v, step) = (ans.point, ans.step[0]);
+            let (v, step) = (t.values, ans.step[0]);
             t.values = BaseValues {
                 phi0: v.phi0 + sens.phi0 * step,
                 m0: v.m0 + sens.m0 * step,

@@ -1,6 +1,8 @@
 //! The safeguards of [`newton_guarded`](super::newton_guarded): a largest step, stall
 //! detection, the predicted exit and the negligible-step exit.
 
+#[cfg(doc)]
+use super::{newton, newton_guarded, NewtonPolicy};
 use super::{norm, NewtonAnswer, NewtonSystem, Termination};
 
 /// Safeguards of [`newton_guarded`] beyond the [`NewtonPolicy`]: a largest step, stall

@@ -6,7 +6,7 @@ use crate::equations::Sensitivities;
 use crate::error::{ModelError, Result};
 use crate::loads::Loads;
 use crate::scene::Scene;
-use crate::shot::{shoot, shoot_path, BaseValues, Integration, Shot, ShotPath};
+use crate::shot::{shoot, shoot_path, BaseValues, Integration, ShotPath};
 use crate::solution::{BaseObservables, Elastica, EndState, Solution, SolveStats};
 use crate::whisker::Whisker;
 use bvp_solvers::continuation::{BranchGuard, Continuation};
@@ -97,15 +97,21 @@ impl<'a> TipProblem<'a> {
     }
 }
 
+/// What a tip-angle shot reaches: the base values, with `d/dphi1` if it integrated them.
+#[derive(Clone, Copy, Debug)]
+struct TipEnd {
+    values: BaseValues,
+    d_phi1: Option<BaseValues>,
+}
+
 impl ShotProblem<1> for TipProblem<'_> {
-    /// The shot, and whether it carries `d/dphi1`.
-    type End = (Shot, bool);
+    type End = TipEnd;
     /// The shot's error is kept in [`TipProblem::error`].
     type Error = ();
 
     /// One shot from the loaded end at `phi1 = p[0]`, with the tip-angle sensitivities (the
     /// variational equations) when asked for.
-    fn shoot(&self, p: &[f64; 1], sensitivities: bool) -> std::result::Result<(Shot, bool), ()> {
+    fn shoot(&self, p: &[f64; 1], sensitivities: bool) -> std::result::Result<TipEnd, ()> {
         let sens = if sensitivities {
             Sensitivities::TipAngle
         } else {
@@ -117,7 +123,10 @@ impl ShotProblem<1> for TipProblem<'_> {
                 if sensitivities {
                     self.sens.set(shot.d_phi1);
                 }
-                Ok((shot, sensitivities))
+                Ok(TipEnd {
+                    values: shot.values(),
+                    d_phi1: sensitivities.then_some(shot.d_phi1),
+                })
             }
             Err(e) => {
                 self.error.set(Some(e));
@@ -127,18 +136,20 @@ impl ShotProblem<1> for TipProblem<'_> {
     }
 
     /// The base condition `phi(0) - pi/2 - m(0)/k` [3.21, 3.22].
-    fn residual(&self, _p: &[f64; 1], (shot, _): &(Shot, bool)) -> [f64; 1] {
-        [self.whisker.support.residual(shot.phi0, shot.m0)]
+    fn residual(&self, _p: &[f64; 1], end: &TipEnd) -> [f64; 1] {
+        [self
+            .whisker
+            .support
+            .residual(end.values.phi0, end.values.m0)]
     }
 
-    fn residual_jacobian(&self, _p: &[f64; 1], end: &(Shot, bool)) -> Option<[[f64; 1]; 1]> {
-        let (shot, sensitive) = end;
-        let d = shot.d_phi1;
-        sensitive.then(|| [[self.whisker.support.residual_rate(d.phi0, d.m0)]])
+    fn residual_jacobian(&self, _p: &[f64; 1], end: &TipEnd) -> Option<[[f64; 1]; 1]> {
+        let support = &self.whisker.support;
+        end.d_phi1.map(|d| [[support.residual_rate(d.phi0, d.m0)]])
     }
 
-    fn scale(&self, (shot, _): &(Shot, bool)) -> f64 {
-        1.0 + shot.m0.abs() * self.whisker.support.compliance()
+    fn scale(&self, end: &TipEnd) -> f64 {
+        1.0 + end.values.m0.abs() * self.whisker.support.compliance()
     }
 }
 
@@ -222,7 +233,7 @@ fn newton_to(problem: &TipProblem<'_>, guess: f64, target: &TipTarget) -> Result
         iterations: ans.iterations,
         residual: ans.norm,
         evaluations: problem.spent.get() - spent,
-        values: ans.point.0.values(),
+        values: ans.point.values,
         sens,
         branch_jumps: 0,
     };

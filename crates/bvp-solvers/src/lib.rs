@@ -10,11 +10,11 @@
 //! | [`fdm`] | finite differences for `y'' = F(x, y, y')` with Newton on the tridiagonal Jacobian |
 //! | [`richardson`] | Richardson extrapolation of FDM results on `h, h/2, ...` |
 //! | [`integrator`] | first-order systems `u' = G(s, u)`: fixed-step RK4, adaptive Dormand-Prince 8(5,3) with dense output and events |
-//! | [`newton`] | Newton's method for small systems with one convergence policy (damping, Jacobian reuse or Broyden, noise floor, termination reason): square, least squares (Gauss-Newton) and the nearest point of an underdetermined one (projection) |
+//! | [`newton`] | Newton's method for small systems with one convergence policy (damping, Jacobian reuse or Broyden, noise floor, termination reason; safeguards: largest step, stall detection, early exits): square, least squares (Gauss-Newton) and the nearest point of an underdetermined one (projection) |
 //! | [`nonlinear`] | one interface for small non-linear systems: Newton the fast path, the trust region the fallback, which one ran and why it stopped |
 //! | [`roots`] | scalar roots: bisection and Brent (the `fzero` equivalents) |
 //! | [`trust_region`] | small non-linear systems by argmin's trust region (the `fsolve` equivalent) |
-//! | [`shooting`] | shooting: unknown initial values / parameters found so that boundary residuals vanish |
+//! | [`shooting`] | shooting: unknown initial values / parameters found so that boundary residuals vanish; Newton with the problem's own sensitivities (what the domain runs), or forward differences and the trust region for bare ODEs |
 //! | [`continuation`] | load continuation: step a parameter from an easy value to the target |
 //!
 //! Every fallible routine returns [`BvpError`], whose variants carry the numbers

@@ -1,18 +1,27 @@
-//! Shooting for two-point boundary-value problems.
+//! Shooting for two-point boundary-value problems: parameters `p` (unknown initial values,
+//! free parameters) are found so that the boundary residuals at the end of the span vanish,
 //!
-//! Unknown initial values and free parameters `p` (length `n_params`) are found so that the
-//! boundary residuals at the end of the span vanish:
+//! `R(p) = residual(p, u(s1; p)) = 0`, where `u' = G_p(s, u)`, `u(s0) = u0(p)`.
 //!
-//! `R(p) = residual(p, u(s1; p)) = 0`, where `u' = G_p(s, u)`, `u(s0) = u0(p)`, `(s0, s1) = span(p)`,
-//!
-//! solved by the trust-region method of [`crate::trust_region`] with a forward-difference
-//! Jacobian of `R` (each column costs one integration).
+//! Two drivers:
+//! - [`solve_shooting`], the one the domain runs: the problem shoots itself and returns the
+//!   end state with its sensitivities `d u_end / d p` (variational equations integrated
+//!   along, [`ShotProblem`]); Newton ([`crate::newton::newton_guarded`]) with that exact
+//!   Jacobian, one shot per step, under any [`NewtonPolicy`] and [`Safeguards`].
+//! - [`Shooting`], for a problem posed as a bare ODE without variational equations
+//!   ([`ShootingProblem`]): the trust-region method of [`crate::trust_region`] with a
+//!   forward-difference Jacobian of `R` (each column costs one integration); robust from far
+//!   guesses, but its Jacobian is only as accurate as `sqrt` of the shot's noise.
 
 use crate::integrator::{Dop853, OdeSystem, Rk4};
+use crate::newton::{
+    newton_guarded, Evaluation, NewtonAnswer, NewtonPolicy, NewtonSystem, Safeguards,
+};
 use crate::trust_region::{self, NonlinearSystem, TrustRegionOptions};
 use crate::{BvpError, Result};
 
-/// A boundary-value problem posed for shooting.
+/// A boundary-value problem posed for shooting as a bare ODE (no sensitivities): solved by
+/// [`Shooting`] with a forward-difference Jacobian.
 ///
 /// ```
 /// use bvp_solvers::integrator::{Dop853, OdeSystem};
@@ -63,6 +72,125 @@ pub trait ShootingProblem {
     fn initial_state(&self, p: &[f64], u0: &mut [f64]);
     /// Boundary residuals at the end state, length `n_params`.
     fn residual(&self, p: &[f64], u_end: &[f64], r: &mut [f64]);
+}
+
+/// A boundary-value problem posed for shooting with analytic sensitivities: a shot with the
+/// parameters `p` reaches an end state (whatever the problem integrates: the state at the
+/// far end, with its derivatives `d u_end / d p` from the variational equations
+/// `U' = (dG/du) U + dG/dp`, `U(s0) = d u0 / d p`, integrated along when asked for), and
+/// the boundary residuals `R(p, u_end)` vanish at the solution. [`solve_shooting`] finds
+/// `p` by [`newton_guarded`] with the exact Jacobian `dR/dp = dR/du_end U(s1) + dR/dp`
+/// that [`ShotProblem::residual_jacobian`] assembles, one shot per Newton step.
+///
+/// ```
+/// use bvp_solvers::integrator::{Dop853, OdeSystem};
+/// use bvp_solvers::newton::{NewtonPolicy, Safeguards, Termination};
+/// use bvp_solvers::shooting::{solve_shooting, ShotProblem};
+///
+/// /// y'' = -y, y(0) = 0, y(pi/2) = 1 (solution sin s): unknown slope p = y'(0); with the
+/// /// variational equation of (y, y') in p alongside.
+/// struct Sine;
+/// struct Rhs;
+/// impl OdeSystem for Rhs {
+///     fn dim(&self) -> usize { 4 }
+///     fn rhs(&self, _s: f64, u: &[f64], du: &mut [f64]) {
+///         du[0] = u[1];
+///         du[1] = -u[0];
+///         du[2] = u[3];
+///         du[3] = -u[2];
+///     }
+/// }
+/// impl ShotProblem<1> for Sine {
+///     type End = Vec<f64>;
+///     type Error = bvp_solvers::BvpError;
+///     fn shoot(&self, p: &[f64; 1], _sensitivities: bool) -> Result<Vec<f64>, Self::Error> {
+///         let end = std::f64::consts::FRAC_PI_2;
+///         Ok(Dop853::new(1e-12, 1e-12).integrate(&Rhs, 0.0, end, &[0.0, p[0], 0.0, 1.0])?.u_end)
+///     }
+///     fn residual(&self, _p: &[f64; 1], u: &Vec<f64>) -> [f64; 1] {
+///         [u[0] - 1.0]
+///     }
+///     fn residual_jacobian(&self, _p: &[f64; 1], u: &Vec<f64>) -> Option<[[f64; 1]; 1]> {
+///         Some([[u[2]]])
+///     }
+/// }
+///
+/// let out = solve_shooting(&Sine, [0.3], &NewtonPolicy::new(1e-10), &Safeguards::NONE);
+/// let out = out.unwrap();
+/// assert_eq!(out.termination, Termination::Converged);
+/// assert!((out.u[0] - 1.0).abs() < 1e-8);
+/// ```
+pub trait ShotProblem<const N: usize> {
+    /// What a shot reaches: the end state, with its sensitivities when asked for.
+    type End;
+    /// The error of a shot.
+    type Error;
+
+    /// One shot with the parameters `p`; with the sensitivities `d u_end / d p` (the
+    /// variational equations integrated along) if `sensitivities` is set (a problem may
+    /// always integrate them).
+    ///
+    /// # Errors
+    /// Whatever keeps the shot from reaching the end (an integrator error); at a Newton
+    /// trial it only rejects the step.
+    fn shoot(
+        &self,
+        p: &[f64; N],
+        sensitivities: bool,
+    ) -> std::result::Result<Self::End, Self::Error>;
+
+    /// The boundary residuals `R(p, u_end)`.
+    fn residual(&self, p: &[f64; N], end: &Self::End) -> [f64; N];
+
+    /// `dR/dp` by the chain rule through the shot's sensitivities; `None` when the shot
+    /// carries none.
+    fn residual_jacobian(&self, p: &[f64; N], end: &Self::End) -> Option<[[f64; N]; N]>;
+
+    /// The residual's scale at an end state ([`NewtonSystem::scale`]; default 1).
+    fn scale(&self, _end: &Self::End) -> f64 {
+        1.0
+    }
+}
+
+/// A [`ShotProblem`] as the [`NewtonSystem`] of its parameters.
+struct ShotSystem<'a, P>(&'a P);
+
+impl<const N: usize, P: ShotProblem<N>> NewtonSystem<N> for ShotSystem<'_, P> {
+    type Point = P::End;
+    type Error = P::Error;
+
+    fn eval(
+        &self,
+        p: &[f64; N],
+        jacobian: bool,
+    ) -> std::result::Result<Evaluation<N, P::End>, P::Error> {
+        let end = self.0.shoot(p, jacobian)?;
+        Ok(Evaluation {
+            r: self.0.residual(p, &end),
+            jac: self.0.residual_jacobian(p, &end),
+            point: end,
+        })
+    }
+
+    fn scale(&self, end: &P::End) -> f64 {
+        self.0.scale(end)
+    }
+}
+
+/// Shooting with analytic sensitivities: the parameters of `problem` from `p0` by
+/// [`newton_guarded`] under `policy` and `guards`, one shot per evaluation; the answer's
+/// point is the last shot's end state.
+///
+/// # Errors
+/// A shot's error at `p0` (or where only a Jacobian is evaluated, [`crate::newton::newton`]'s
+/// rules).
+pub fn solve_shooting<const N: usize, P: ShotProblem<N>>(
+    problem: &P,
+    p0: [f64; N],
+    policy: &NewtonPolicy,
+    guards: &Safeguards,
+) -> std::result::Result<NewtonAnswer<N, P::End>, P::Error> {
+    newton_guarded(&ShotSystem(problem), p0, None, policy, guards)
 }
 
 /// The integrator used for each shot.

@@ -1,7 +1,10 @@
 //! Shooting against closed-form BVP solutions.
 
 use bvp_solvers::integrator::{Dop853, OdeSystem};
-use bvp_solvers::shooting::{Shooting, ShootingIntegrator, ShootingProblem};
+use bvp_solvers::newton::{JacobianUpdate, NewtonPolicy, Safeguards, Termination};
+use bvp_solvers::shooting::{
+    solve_shooting, Shooting, ShootingIntegrator, ShootingProblem, ShotProblem,
+};
 use bvp_solvers::trust_region::TrustRegionOptions;
 use bvp_solvers::BvpError;
 
@@ -219,4 +222,70 @@ fn shooting_dimension_error() {
         dop(1e-10).solve(&LinearBvp, &[0.0, 1.0]),
         Err(BvpError::DimensionMismatch { .. })
     ));
+}
+
+/// Bratu with its variational equation `v'' = -lambda e^y v`, `v(0) = 0`, `v'(0) = 1`
+/// (`v = dy/dp`): shot with the exact sensitivity for [`solve_shooting`].
+struct BratuSensitive {
+    lambda: f64,
+    shots: std::cell::Cell<usize>,
+}
+struct BratuVariational {
+    lambda: f64,
+}
+impl OdeSystem for BratuVariational {
+    fn dim(&self) -> usize {
+        4
+    }
+    fn rhs(&self, _s: f64, u: &[f64], du: &mut [f64]) {
+        let e = self.lambda * u[0].exp();
+        du[0] = u[1];
+        du[1] = -e;
+        du[2] = u[3];
+        du[3] = -e * u[2];
+    }
+}
+impl ShotProblem<1> for BratuSensitive {
+    type End = Vec<f64>;
+    type Error = BvpError;
+    fn shoot(&self, p: &[f64; 1], _sensitivities: bool) -> Result<Vec<f64>, BvpError> {
+        self.shots.set(self.shots.get() + 1);
+        let ode = BratuVariational {
+            lambda: self.lambda,
+        };
+        let d = Dop853::new(1e-13, 1e-13);
+        Ok(d.integrate(&ode, 0.0, 1.0, &[0.0, p[0], 0.0, 1.0])?.u_end)
+    }
+    fn residual(&self, _p: &[f64; 1], u: &Vec<f64>) -> [f64; 1] {
+        [u[0]]
+    }
+    fn residual_jacobian(&self, _p: &[f64; 1], u: &Vec<f64>) -> Option<[[f64; 1]; 1]> {
+        Some([[u[2]]])
+    }
+}
+
+#[test]
+fn bratu_both_branches_with_exact_sensitivities() {
+    let lambda = 1.0;
+    for (lo, hi, guess) in [(0.0, 4.0, 0.5), (4.0, 20.0, 10.0)] {
+        let theta = bratu_theta(lambda, lo, hi);
+        let p_exact = theta * (theta / 4.0).tanh();
+        let problem = BratuSensitive {
+            lambda,
+            shots: std::cell::Cell::new(0),
+        };
+        let policy = NewtonPolicy {
+            update: JacobianUpdate::Reevaluate { keep_below: 0.0 },
+            jacobian_at_solution: false,
+            ..NewtonPolicy::new(1e-11)
+        };
+        let out = solve_shooting(&problem, [guess], &policy, &Safeguards::NONE).unwrap();
+        assert_eq!(out.termination, Termination::Converged);
+        assert!((out.u[0] - p_exact).abs() < 1e-9 * p_exact.max(1.0));
+        // the end state is the last shot's: y'(1) = -y'(0)
+        assert!((out.point[1] + p_exact).abs() < 1e-9 * p_exact.max(1.0));
+        // one shot per step (the Jacobian comes with it), quadratic convergence
+        assert_eq!(problem.shots.get(), out.iterations + 1);
+        assert!(out.iterations <= 8, "{}", out.iterations);
+    }
 }

@@ -13,11 +13,14 @@
 use crate::error::{ContactError, Result};
 use crate::profile::Profile;
 use beam_model::equations::{Sensitivities, WhiskerOde};
-use beam_model::shot::{shoot, Integration};
+use beam_model::shot::{shoot, Integration, Shot};
 use beam_model::{FluidLoad, Loads, Whisker};
 use bvp_solvers::integrator::{Dop853, OdeSolution};
+use bvp_solvers::newton::{JacobianUpdate, NewtonPolicy, Safeguards, SmallStep};
 use bvp_solvers::roots::bisect;
+use bvp_solvers::shooting::{solve_shooting, ShotProblem};
 use serde::{Deserialize, Serialize};
+use std::cell::Cell;
 
 /// How the contact began.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -69,41 +72,83 @@ impl FreeShape {
     }
 }
 
+/// The free whisker's tip-angle equation as a [`ShotProblem`]: the base condition
+/// [3.21, 3.22] of a shot from the tip at `phi1`, with its exact derivative from the shot's
+/// variational equations.
+struct FreeTip<'a> {
+    whisker: &'a Whisker,
+    loads: Loads,
+    integration: &'a Integration,
+    /// The error of a shot that failed (the iteration stops there).
+    error: Cell<Option<beam_model::ModelError>>,
+}
+
+impl ShotProblem<1> for FreeTip<'_> {
+    type End = Shot;
+    type Error = ();
+    fn shoot(&self, p: &[f64; 1], _sensitivities: bool) -> std::result::Result<Shot, ()> {
+        let sens = Sensitivities::TipAngle;
+        shoot(self.whisker, &self.loads, p[0], sens, self.integration)
+            .map_err(|e| self.error.set(Some(e)))
+    }
+    fn residual(&self, _p: &[f64; 1], shot: &Shot) -> [f64; 1] {
+        [self.whisker.support.residual(shot.phi0, shot.m0)]
+    }
+    fn residual_jacobian(&self, _p: &[f64; 1], shot: &Shot) -> Option<[[f64; 1]; 1]> {
+        let d = shot.d_phi1;
+        Some([[self.whisker.support.residual_rate(d.phi0, d.m0)]])
+    }
+}
+
 /// The tip angle of the free whisker under `flow`: Newton on the base condition
-/// [3.21, 3.22] with the exact derivative of the shot, from `guess`.
+/// [3.21, 3.22] with the exact derivative of the shot, from `guess`: at most 40 shots, full
+/// steps; the step after a residual of 1e-15, or a step below `1e-15 (1 + |phi1|)`, is
+/// returned unshot; a failed iteration within 1e-11 is accepted.
 pub(crate) fn free_tip_angle(
     whisker: &Whisker,
     flow: FluidLoad,
     guess: f64,
     integration: &Integration,
 ) -> Result<f64> {
-    let loads = Loads::fluid(flow.q, flow.alpha);
-    let mut phi1 = guess;
-    let mut last = f64::NAN;
-    for _ in 0..40 {
-        let shot = shoot(whisker, &loads, phi1, Sensitivities::TipAngle, integration)?;
-        let r = whisker.support.residual(shot.phi0, shot.m0);
-        last = r.abs();
-        let d = whisker
-            .support
-            .residual_rate(shot.d_phi1.phi0, shot.d_phi1.m0);
-        let step = r / d;
-        if !step.is_finite() {
-            break;
-        }
-        phi1 -= step;
-        if step.abs() <= 1e-15 * (1.0 + phi1.abs()) || r.abs() <= 1e-15 {
-            return Ok(phi1);
+    let problem = FreeTip {
+        whisker,
+        loads: Loads::fluid(flow.q, flow.alpha),
+        integration,
+        error: Cell::new(None),
+    };
+    let policy = NewtonPolicy {
+        max_iter: 39,
+        halvings: 0,
+        update: JacobianUpdate::Reevaluate { keep_below: 0.0 },
+        jacobian_at_solution: false,
+        noise_floor: 1e-11,
+        ..NewtonPolicy::new(0.0)
+    };
+    let guards = Safeguards {
+        small_step: Some(SmallStep {
+            rel: 1e-15,
+            shift: 1.0,
+            floor: 0.0,
+            check: None,
+        }),
+        predict_below: Some(1e-15),
+        ..Safeguards::NONE
+    };
+    let out = solve_shooting(&problem, [guess], &policy, &guards);
+    if let Some(e) = problem.error.take() {
+        return Err(e.into());
+    }
+    match out {
+        Ok(ans) if ans.termination.is_solution() => Ok(ans.u[0]),
+        other => {
+            let last = other.map_or(f64::NAN, |a| a.norm);
+            Err(ContactError::NoContact {
+                reason: format!(
+                    "the free whisker under the flow could not be solved (base residual {last:.3e})"
+                ),
+            })
         }
     }
-    if last <= 1e-11 {
-        return Ok(phi1);
-    }
-    Err(ContactError::NoContact {
-        reason: format!(
-            "the free whisker under the flow could not be solved (base residual {last:.3e})"
-        ),
-    })
 }
 
 /// Locates the first contact of the free whisker (tip angle `phi1`) with `profile`.

@@ -11,6 +11,10 @@ use crate::solution::{BaseObservables, Elastica, EndState, Solution, SolveStats}
 use crate::whisker::Whisker;
 use bvp_solvers::continuation::{BranchGuard, Continuation};
 use bvp_solvers::integrator::Rk4;
+use bvp_solvers::newton::{
+    JacobianUpdate, NewtonPolicy, Safeguards, SmallStep, Stall, Termination,
+};
+use bvp_solvers::shooting::{solve_shooting, ShotProblem};
 use std::cell::Cell;
 use std::f64::consts::FRAC_PI_2;
 
@@ -31,7 +35,8 @@ pub(crate) struct TipSolve {
 }
 
 const MAX_NEWTON: usize = 40;
-/// Newton iterations without halving the smallest residual after which the iteration fails.
+/// Newton iterations without halving the smallest residual after which the iteration fails
+/// ([`Stall::patience`]).
 const STALL: usize = 2;
 /// The largest tip rotation (rad) the continuation's first step predicts by linear theory.
 const LINEAR_STEP: f64 = 0.25;
@@ -51,19 +56,15 @@ pub(crate) fn newton_tip_angle(
     guess: f64,
     method: &'static str,
 ) -> (Result<TipSolve>, usize) {
-    let problem = TipProblem {
-        whisker,
-        loads,
-        integration,
-        method,
-        spent: Cell::new(0),
-    };
+    let problem = TipProblem::new(whisker, loads, integration, method);
     let t = newton_to(&problem, guess, &TipTarget::FINAL);
     (t, problem.spent.get())
 }
 
 /// The tip-angle equation of a scene: the whisker, its loads and the shots' integrator
-/// (`method` names it in errors).
+/// (`method` names it in errors), as a [`ShotProblem`] in `phi1`: the residual
+/// `R(phi1) = phi(0) - pi/2 - m(0)/k` [3.21, 3.22] relative to `1 + |m0|/k`, its derivative
+/// from the shot's variational equations.
 struct TipProblem<'a> {
     whisker: &'a Whisker,
     loads: &'a Loads,
@@ -71,6 +72,85 @@ struct TipProblem<'a> {
     method: &'static str,
     /// Right-hand-side evaluations spent by every shot, also of a failed iteration.
     spent: Cell<usize>,
+    /// `d(phi0, m0, dx, dy)/dphi1` of the last shot with sensitivities.
+    sens: Cell<BaseValues>,
+    /// The error of a shot that failed (the iteration stops there).
+    error: Cell<Option<ModelError>>,
+}
+
+impl<'a> TipProblem<'a> {
+    fn new(
+        whisker: &'a Whisker,
+        loads: &'a Loads,
+        integration: &'a Integration,
+        method: &'static str,
+    ) -> Self {
+        TipProblem {
+            whisker,
+            loads,
+            integration,
+            method,
+            spent: Cell::new(0),
+            sens: Cell::new(BaseValues::default()),
+            error: Cell::new(None),
+        }
+    }
+}
+
+/// What a tip-angle shot reaches: the base values, with `d/dphi1` if it integrated them.
+#[derive(Clone, Copy, Debug)]
+struct TipEnd {
+    values: BaseValues,
+    d_phi1: Option<BaseValues>,
+}
+
+impl ShotProblem<1> for TipProblem<'_> {
+    type End = TipEnd;
+    /// The shot's error is kept in [`TipProblem::error`].
+    type Error = ();
+
+    /// One shot from the loaded end at `phi1 = p[0]`, with the tip-angle sensitivities (the
+    /// variational equations) when asked for.
+    fn shoot(&self, p: &[f64; 1], sensitivities: bool) -> std::result::Result<TipEnd, ()> {
+        let sens = if sensitivities {
+            Sensitivities::TipAngle
+        } else {
+            Sensitivities::None
+        };
+        match shoot(self.whisker, self.loads, p[0], sens, self.integration) {
+            Ok(shot) => {
+                self.spent.set(self.spent.get() + shot.evaluations);
+                if sensitivities {
+                    self.sens.set(shot.d_phi1);
+                }
+                Ok(TipEnd {
+                    values: shot.values(),
+                    d_phi1: sensitivities.then_some(shot.d_phi1),
+                })
+            }
+            Err(e) => {
+                self.error.set(Some(e));
+                Err(())
+            }
+        }
+    }
+
+    /// The base condition `phi(0) - pi/2 - m(0)/k` [3.21, 3.22].
+    fn residual(&self, _p: &[f64; 1], end: &TipEnd) -> [f64; 1] {
+        [self
+            .whisker
+            .support
+            .residual(end.values.phi0, end.values.m0)]
+    }
+
+    fn residual_jacobian(&self, _p: &[f64; 1], end: &TipEnd) -> Option<[[f64; 1]; 1]> {
+        let support = &self.whisker.support;
+        end.d_phi1.map(|d| [[support.residual_rate(d.phi0, d.m0)]])
+    }
+
+    fn scale(&self, end: &TipEnd) -> f64 {
+        1.0 + end.values.m0.abs() * self.whisker.support.compliance()
+    }
 }
 
 /// How far [`newton_to`] iterates.
@@ -91,115 +171,91 @@ impl TipTarget {
         verify_last: false,
         load_scale: 1.0,
     };
-}
 
-/// Newton on the tip angle of `problem` from `guess` to `target`.
-fn newton_to(problem: &TipProblem<'_>, guess: f64, target: &TipTarget) -> Result<TipSolve> {
-    let TipProblem {
-        whisker,
-        loads,
-        integration,
-        method,
-        ..
-    } = *problem;
-    let TipTarget {
-        tol,
-        verify_last,
-        load_scale,
-    } = *target;
-    let c = whisker.support.compliance();
-    let mut p = guess;
-    let mut evaluations = 0;
-    let mut last_r = f64::INFINITY;
-    // the smallest residual so far and the iterations since it fell
-    let (mut best, mut stalled) = (f64::INFINITY, 0);
-    let mut iterations = 0;
-    for it in 0..MAX_NEWTON {
-        iterations = it + 1;
-        let shot = shoot(whisker, loads, p, Sensitivities::TipAngle, integration)?;
-        evaluations += shot.evaluations;
-        problem.spent.set(problem.spent.get() + shot.evaluations);
-        let r = whisker.support.residual(shot.phi0, shot.m0);
-        let dr = whisker
-            .support
-            .residual_rate(shot.d_phi1.phi0, shot.d_phi1.m0);
-        last_r = r.abs();
-        let scale = 1.0 + shot.m0.abs() * c;
-        let sens = shot.d_phi1;
-        let values = shot.values();
-        if r.abs() <= tol * scale {
-            return Ok(TipSolve {
-                phi1: p,
-                iterations: it,
-                residual: r.abs(),
-                evaluations,
-                values,
-                sens,
-                branch_jumps: 0,
-            });
-        }
-        if !(dr.is_finite() && dr != 0.0) {
-            break;
-        }
-        if r.abs() < 0.5 * best || r.abs() <= 1e-9 * scale {
-            (best, stalled) = (r.abs(), 0);
-        } else {
-            // Newton that does not halve its best residual twice running (far from the
-            // rounding floor, which the step test below handles) is cycling, diverging or
-            // crawling along clamped steps: fail now (a continuation shortens its load step)
-            best = best.min(r.abs());
-            stalled += 1;
-            if stalled >= STALL {
-                break;
-            }
-        }
-        let step = (-r / dr).clamp(-MAX_STEP, MAX_STEP);
-        p += step;
-        if verify_last && r.abs() <= 1e-7 * scale {
-            // Quadratic convergence: this step brings the residual to ~r^2, far below the
-            // tolerance; the caller's final shot verifies it instead of one more shot here.
-            let values = BaseValues {
-                phi0: values.phi0 + sens.phi0 * step,
-                m0: values.m0 + sens.m0 * step,
-                dx: values.dx + sens.dx * step,
-                dy: values.dy + sens.dy * step,
-            };
-            return Ok(TipSolve {
-                phi1: p,
-                iterations: it + 1,
-                residual: f64::NAN,
-                evaluations,
-                values,
-                sens,
-                branch_jumps: 0,
-            });
-        }
-        if step.abs() <= 4.0 * f64::EPSILON * p.abs().max(1.0) {
-            // Converged to rounding: the residual cannot drop further.
-            let shot = shoot(whisker, loads, p, Sensitivities::None, integration)?;
-            problem.spent.set(problem.spent.get() + shot.evaluations);
-            let r = whisker.support.residual(shot.phi0, shot.m0);
-            if r.abs() <= 1e-9 * scale {
-                return Ok(TipSolve {
-                    phi1: p,
-                    iterations: it + 1,
-                    residual: r.abs(),
-                    evaluations: evaluations + shot.evaluations,
-                    values: shot.values(),
-                    sens,
-                    branch_jumps: 0,
-                });
-            }
-            last_r = r.abs();
-            break;
+    /// Newton's policy: at most [`MAX_NEWTON`] shots, each with its derivative, full steps.
+    fn policy(&self) -> NewtonPolicy {
+        NewtonPolicy {
+            tol: self.tol,
+            max_iter: MAX_NEWTON - 1,
+            halvings: 0,
+            update: JacobianUpdate::Reevaluate { keep_below: 0.0 },
+            jacobian_at_solution: false,
+            noise_floor: 0.0,
         }
     }
-    Err(ModelError::NoConvergence {
-        method,
-        load_scale,
+
+    /// The safeguards: steps of at most [`MAX_STEP`]; failure once the best residual has not
+    /// halved [`STALL`] times running (cycling, diverging or crawling along limited steps
+    /// from a bad prediction: a continuation then shortens its load step), unless the
+    /// residual is at the rounding floor 1e-9; a step below 4 ulp of the angle has converged
+    /// to rounding (one more shot, without sensitivities, accepts it within 1e-9); with
+    /// `verify_last`, the step after a residual of 1e-7 is returned unshot.
+    fn guards(&self) -> Safeguards {
+        Safeguards {
+            max_step: MAX_STEP,
+            stall: Some(Stall {
+                factor: 0.5,
+                patience: STALL,
+                floor: 1e-9,
+            }),
+            small_step: Some(SmallStep {
+                rel: 4.0 * f64::EPSILON,
+                shift: 0.0,
+                floor: 1.0,
+                check: Some(1e-9),
+            }),
+            predict_below: self.verify_last.then_some(1e-7),
+        }
+    }
+}
+
+/// Newton on the tip angle of `problem` from `guess` to `target`: generic shooting with the
+/// exact sensitivity ([`bvp_solvers::shooting::solve_shooting`]) under [`TipTarget::policy`]
+/// and [`TipTarget::guards`].
+fn newton_to(problem: &TipProblem<'_>, guess: f64, target: &TipTarget) -> Result<TipSolve> {
+    let spent = problem.spent.get();
+    let out = solve_shooting(problem, [guess], &target.policy(), &target.guards());
+    if let Some(e) = problem.error.take() {
+        return Err(e);
+    }
+    let fail = |iterations, residual| ModelError::NoConvergence {
+        method: problem.method,
+        load_scale: target.load_scale,
         iterations,
-        residual: last_r,
-    })
+        residual,
+    };
+    let Ok(ans) = out else {
+        return Err(fail(0, f64::NAN));
+    };
+    let sens = problem.sens.get();
+    let mut t = TipSolve {
+        phi1: ans.u[0],
+        iterations: ans.iterations,
+        residual: ans.norm,
+        evaluations: problem.spent.get() - spent,
+        values: ans.point.values,
+        sens,
+        branch_jumps: 0,
+    };
+    match ans.termination {
+        Termination::Converged => Ok(t),
+        Termination::Predicted => {
+            // the base values moved along the step by their sensitivities
+            let (v, step) = (t.values, ans.step[0]);
+            t.values = BaseValues {
+                phi0: v.phi0 + sens.phi0 * step,
+                m0: v.m0 + sens.m0 * step,
+                dx: v.dx + sens.dx * step,
+                dy: v.dy + sens.dy * step,
+            };
+            t.residual = f64::NAN;
+            Ok(t)
+        }
+        // the rounding shot's residual, after the step it checked
+        Termination::NoDescent => Err(fail(ans.iterations, ans.norm)),
+        // at the iterate's own shot
+        _ => Err(fail(ans.iterations + 1, ans.norm)),
+    }
 }
 
 /// A rough measure of how non-linear a load case is: the linear-theory tip rotation
@@ -290,13 +346,7 @@ pub(crate) fn solve_tip_angle_within(
                 // evaluations, tip unchanged to 1e-15); the full accuracy is restored by the
                 // final Newton at lambda = 1
                 let scaled = loads.scaled(lambda);
-                let problem = TipProblem {
-                    whisker,
-                    loads: &scaled,
-                    integration: &loose,
-                    method,
-                    spent: Cell::new(0),
-                };
+                let problem = TipProblem::new(whisker, &scaled, &loose, method);
                 let target = TipTarget {
                     tol: 1e-5,
                     verify_last: false,
@@ -312,13 +362,7 @@ pub(crate) fn solve_tip_angle_within(
             // the budget stops the run at once, whatever the step size
             ModelError::from_continuation(method, e)
         })?;
-    let problem = TipProblem {
-        whisker,
-        loads,
-        integration,
-        method,
-        spent: Cell::new(0),
-    };
+    let problem = TipProblem::new(whisker, loads, integration, method);
     let target = TipTarget {
         verify_last: true,
         ..TipTarget::FINAL

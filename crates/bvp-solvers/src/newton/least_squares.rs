@@ -2,7 +2,7 @@
 //! [`newton`](super)): Gauss-Newton through the normal equations for least squares, and the
 //! Gauss-Newton projection onto the solutions of an underdetermined system.
 
-use super::{iterate, solve, NewtonAnswer, NewtonPolicy, NewtonSystem};
+use super::{iterate, solve, NewtonAnswer, NewtonPolicy, NewtonSystem, Safeguards};
 #[cfg(doc)]
 use super::{newton, Termination};
 
@@ -19,7 +19,7 @@ pub fn gauss_newton<const N: usize, const M: usize, S: NewtonSystem<N, M>>(
     jac0: Option<[[f64; N]; M]>,
     policy: &NewtonPolicy,
 ) -> Result<NewtonAnswer<N, S::Point, M>, S::Error> {
-    iterate(sys, u0, jac0, policy, |jac, r, _| {
+    iterate(sys, u0, jac0, policy, &Safeguards::NONE, |jac, r, _| {
         let jtj: [[f64; N]; N] = std::array::from_fn(|a| {
             std::array::from_fn(|b| (0..M).map(|i| jac[i][a] * jac[i][b]).sum())
         });
@@ -46,7 +46,7 @@ pub fn projection<const N: usize, const M: usize, S: NewtonSystem<N, M>>(
     weights: &[f64; N],
     policy: &NewtonPolicy,
 ) -> Result<NewtonAnswer<N, S::Point, M>, S::Error> {
-    iterate(sys, meas, None, policy, |jac, r, u| {
+    iterate(sys, meas, None, policy, &Safeguards::NONE, |jac, r, u| {
         let jwj: [[f64; M]; M] = std::array::from_fn(|i| {
             std::array::from_fn(|k| (0..N).map(|j| weights[j] * jac[i][j] * jac[k][j]).sum())
         });

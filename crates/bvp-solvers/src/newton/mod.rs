@@ -39,7 +39,10 @@
 //! assert!((out.u[0] - 2f64.sqrt()).abs() < 1e-14 && (out.u[1] - 2f64.sqrt()).abs() < 1e-14);
 //! ```
 
+mod guards;
 mod least_squares;
+use guards::{early_exit, limit, StallWatch};
+pub use guards::{Safeguards, SmallStep, Stall};
 pub use least_squares::{gauss_newton, projection};
 
 /// One evaluation of the system at a point (`N` unknowns, `M` equations).
@@ -84,14 +87,21 @@ pub trait NewtonSystem<const N: usize, const M: usize = N> {
     fn settled(&self, _old: &Self::Point, _new: &Self::Point) -> bool {
         false
     }
+
+    /// The residual's scale at a point: every residual bound of the policy and the guards
+    /// (`tol`, `noise_floor`, [`Stall::floor`], [`SmallStep::check`], `predict_below`) is
+    /// relative to it (default 1: absolute bounds).
+    fn scale(&self, _point: &Self::Point) -> f64 {
+        1.0
+    }
 }
 
 /// How the Jacobian is obtained after a step.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum JacobianUpdate {
     /// Evaluated again where the step contracted the residual by less than `keep_below`
-    /// (`|R_new| / |R_old| > keep_below`), kept otherwise (simplified Newton); 0 evaluates it
-    /// at every step.
+    /// (`|R_new| / |R_old| > keep_below`), kept otherwise (simplified Newton); 0 (or less)
+    /// evaluates it at every step, asked for with every trial.
     Reevaluate {
         /// Largest contraction ratio at which the old Jacobian is kept.
         keep_below: f64,
@@ -158,12 +168,21 @@ pub enum Termination {
     NoDescent,
     /// The step budget ran out.
     MaxIterations,
+    /// The residual stopped falling ([`Safeguards::stall`]).
+    Stalled,
+    /// The last step's trial is returned unevaluated, predicted to converge
+    /// ([`Safeguards::predict_below`], [`SmallStep::check`] `None`).
+    Predicted,
 }
 
 impl Termination {
-    /// Whether the answer is a solution (converged, or within the noise floor).
+    /// Whether the answer is a solution (converged, within the noise floor, or predicted to
+    /// converge).
     pub fn is_solution(&self) -> bool {
-        matches!(self, Termination::Converged | Termination::NoiseFloor)
+        matches!(
+            self,
+            Termination::Converged | Termination::NoiseFloor | Termination::Predicted
+        )
     }
 }
 
@@ -183,6 +202,9 @@ pub struct NewtonAnswer<const N: usize, P, const M: usize = N> {
     pub point: P,
     /// Steps taken.
     pub iterations: usize,
+    /// The last step taken, `u - u_previous` as intended (before the rounding of the
+    /// addition); zero before the first.
+    pub step: [f64; N],
     /// Why the iteration stopped.
     pub termination: Termination,
 }
@@ -206,7 +228,24 @@ pub fn newton<const N: usize, S: NewtonSystem<N>>(
     jac0: Option<[[f64; N]; N]>,
     policy: &NewtonPolicy,
 ) -> Result<NewtonAnswer<N, S::Point>, S::Error> {
-    iterate(sys, u0, jac0, policy, |jac, r, _| solve(jac, r))
+    newton_guarded(sys, u0, jac0, policy, &Safeguards::NONE)
+}
+
+/// [`newton`] with [`Safeguards`]: at each iterate, in this order, convergence, a singular
+/// Jacobian, stall detection, the step (limited to `max_step`), the predicted exit, the
+/// negligible-step exit, then the trial's evaluation (with up to `max_iter` evaluated steps;
+/// the checks and exits before the evaluation also run at the last iterate).
+///
+/// # Errors
+/// As [`newton`]; also an evaluation error at the negligible step's checked trial.
+pub fn newton_guarded<const N: usize, S: NewtonSystem<N>>(
+    sys: &S,
+    u0: [f64; N],
+    jac0: Option<[[f64; N]; N]>,
+    policy: &NewtonPolicy,
+    guards: &Safeguards,
+) -> Result<NewtonAnswer<N, S::Point>, S::Error> {
+    iterate(sys, u0, jac0, policy, guards, |jac, r, _| solve(jac, r))
 }
 
 /// The iteration of [`newton`], [`gauss_newton`] and [`projection`]: `step(J, R, u)` is the
@@ -216,21 +255,15 @@ fn iterate<const N: usize, const M: usize, S: NewtonSystem<N, M>>(
     u0: [f64; N],
     jac0: Option<[[f64; N]; M]>,
     policy: &NewtonPolicy,
+    guards: &Safeguards,
     step: impl Fn(&[[f64; N]; M], &[f64; M], &[f64; N]) -> Option<[f64; N]>,
 ) -> Result<NewtonAnswer<N, S::Point, M>, S::Error> {
-    let broyden = matches!(policy.update, JacobianUpdate::Broyden { .. });
-    let first = sys.eval(&u0, jac0.is_none() && !broyden)?;
-    let mut jac_fresh = first.jac.is_some() && jac0.is_none();
-    let mut ans = NewtonAnswer {
-        u: u0,
-        r: first.r,
-        norm: norm(&first.r),
-        jac: jac0.or(first.jac).unwrap_or([[f64::NAN; N]; M]),
-        point: first.point,
-        iterations: 0,
-        termination: Termination::Converged,
-    };
-    if ans.norm <= policy.tol {
+    // a Jacobian wanted after every step comes with every trial
+    let every_step = matches!(policy.update,
+        JacobianUpdate::Reevaluate { keep_below } if keep_below <= 0.0);
+    let (mut ans, mut jac_fresh) = start(sys, u0, jac0, policy)?;
+    let mut scale = sys.scale(&ans.point);
+    if ans.norm <= policy.tol * scale {
         return Ok(ans);
     }
     if ans.norm.is_nan() {
@@ -239,27 +272,53 @@ fn iterate<const N: usize, const M: usize, S: NewtonSystem<N, M>>(
     }
     // the last step's contraction |R_new| / |R_old| (none before the first step)
     let mut contraction = f64::NAN;
-    for it in 0..policy.max_iter {
+    let mut watch = StallWatch::default();
+    for it in 0..=policy.max_iter {
+        let last = it == policy.max_iter;
+        if last && guards == &Safeguards::NONE {
+            break;
+        }
         let Some(du) = step(&ans.jac, &ans.r, &ans.u) else {
+            if last {
+                break;
+            }
             ans.termination = Termination::Singular;
             return finish(sys, ans, policy, jac_fresh);
         };
+        if let Some(stall) = &guards.stall {
+            if watch.stalled(stall, ans.norm, scale) {
+                ans.termination = Termination::Stalled;
+                return finish(sys, ans, policy, jac_fresh);
+            }
+        }
+        let du = limit(du, guards.max_step);
+        if let Some(exit) = early_exit(sys, &mut ans, &du, guards, scale, it)? {
+            ans.termination = exit;
+            return Ok(ans);
+        }
+        if last {
+            break;
+        }
         // a trial predicted to converge brings the Jacobian at the solution along
-        let want_jac = policy.jacobian_at_solution && ans.norm * contraction <= policy.tol;
-        let Some((trial, eval, rn)) = damped_step(sys, &ans, &du, policy, want_jac) else {
+        let want_jac = every_step
+            || (policy.jacobian_at_solution && ans.norm * contraction <= policy.tol * scale);
+        let Some((lambda, trial, eval, rn)) = damped_step(sys, &ans, &du, policy, want_jac) else {
             ans.termination = Termination::NoDescent;
             return finish(sys, ans, policy, jac_fresh);
         };
         contraction = rn / ans.norm;
+        let taken: [f64; N] = std::array::from_fn(|i| -(lambda * du[i]));
         if let JacobianUpdate::Broyden { min_contraction } = policy.update {
             broyden_update(&mut ans.jac, &du, &ans.r, &eval.r);
-            if rn > policy.tol && (contraction >= min_contraction || contraction.is_nan()) {
+            let scale = sys.scale(&eval.point);
+            if rn > policy.tol * scale && (contraction >= min_contraction || contraction.is_nan()) {
                 ans = NewtonAnswer {
                     u: trial,
                     r: eval.r,
                     norm: rn,
                     point: eval.point,
                     iterations: it + 1,
+                    step: taken,
                     termination: Termination::NoDescent,
                     ..ans
                 };
@@ -272,6 +331,8 @@ fn iterate<const N: usize, const M: usize, S: NewtonSystem<N, M>>(
         ans.norm = rn;
         ans.point = eval.point;
         ans.iterations = it + 1;
+        ans.step = taken;
+        scale = sys.scale(&ans.point);
         jac_fresh = false;
         if let Some(j) = eval.jac {
             ans.jac = j;
@@ -280,7 +341,7 @@ fn iterate<const N: usize, const M: usize, S: NewtonSystem<N, M>>(
         if settled {
             return Ok(ans);
         }
-        let converged = rn <= policy.tol;
+        let converged = rn <= policy.tol * scale;
         if converged && (!policy.jacobian_at_solution || jac_fresh) {
             return Ok(ans);
         }
@@ -293,6 +354,7 @@ fn iterate<const N: usize, const M: usize, S: NewtonSystem<N, M>>(
             ans.r = e.r;
             ans.norm = norm(&e.r);
             ans.point = e.point;
+            scale = sys.scale(&ans.point);
             if let Some(j) = e.jac {
                 ans.jac = j;
                 jac_fresh = true;
@@ -306,6 +368,31 @@ fn iterate<const N: usize, const M: usize, S: NewtonSystem<N, M>>(
     finish(sys, ans, policy, jac_fresh)
 }
 
+/// The iteration's start: the evaluation at `u0` (with a Jacobian unless `jac0` is given or
+/// the policy is Broyden's) as an answer, and whether its Jacobian was evaluated there.
+#[allow(clippy::type_complexity)]
+fn start<const N: usize, const M: usize, S: NewtonSystem<N, M>>(
+    sys: &S,
+    u0: [f64; N],
+    jac0: Option<[[f64; N]; M]>,
+    policy: &NewtonPolicy,
+) -> Result<(NewtonAnswer<N, S::Point, M>, bool), S::Error> {
+    let broyden = matches!(policy.update, JacobianUpdate::Broyden { .. });
+    let first = sys.eval(&u0, jac0.is_none() && !broyden)?;
+    let jac_fresh = first.jac.is_some() && jac0.is_none();
+    let ans = NewtonAnswer {
+        u: u0,
+        r: first.r,
+        norm: norm(&first.r),
+        jac: jac0.or(first.jac).unwrap_or([[f64::NAN; N]; M]),
+        point: first.point,
+        iterations: 0,
+        step: [0.0; N],
+        termination: Termination::Converged,
+    };
+    Ok((ans, jac_fresh))
+}
+
 /// The trial `u - lambda du` with the largest `lambda = 1, 1/2, ...` (at most
 /// `policy.halvings` halvings) that is admissible, evaluates, and lowers the residual norm
 /// (or reaches the tolerance); a full step only, accepted as it comes, without halvings.
@@ -316,7 +403,7 @@ fn damped_step<const N: usize, const M: usize, S: NewtonSystem<N, M>>(
     du: &[f64; N],
     policy: &NewtonPolicy,
     want_jac: bool,
-) -> Option<([f64; N], Evaluation<N, S::Point, M>, f64)> {
+) -> Option<(f64, [f64; N], Evaluation<N, S::Point, M>, f64)> {
     let mut lambda = 1.0;
     let tries = policy.halvings.max(1);
     for _ in 0..tries {
@@ -333,10 +420,10 @@ fn damped_step<const N: usize, const M: usize, S: NewtonSystem<N, M>>(
             let accept = if policy.halvings == 0 {
                 !rn.is_nan()
             } else {
-                rn.is_finite() && (rn < ans.norm || rn <= policy.tol)
+                rn.is_finite() && (rn < ans.norm || rn <= policy.tol * sys.scale(&e.point))
             };
             if accept {
-                return Some((trial, e, rn));
+                return Some((lambda, trial, e, rn));
             }
         }
         lambda *= 0.5;
@@ -374,7 +461,7 @@ fn finish<const N: usize, const M: usize, S: NewtonSystem<N, M>>(
     policy: &NewtonPolicy,
     jac_fresh: bool,
 ) -> Result<NewtonAnswer<N, S::Point, M>, S::Error> {
-    if ans.norm <= policy.noise_floor {
+    if ans.norm <= policy.noise_floor * sys.scale(&ans.point) {
         ans.termination = Termination::NoiseFloor;
         if policy.jacobian_at_solution && !jac_fresh {
             let e = sys.eval(&ans.u, true)?;

@@ -312,12 +312,7 @@ pub(crate) fn fit_rounds(
         // a row is out where the fit cannot use it at these parameters (degenerate, or an
         // outlier beyond the fit's own level): one left out at earlier parameters
         // (degenerate there, or trimmed) is back in the comparison below
-        let n = prob
-            .residual_count(&res.state)
-            .saturating_sub(prob.dim())
-            .max(1);
-        let level = (2.0 * res.cost / n as f64).sqrt();
-        let limit = super::polish::OUTLIER * level.max(prob.log_noise).max(1e-9);
+        let limit = outlier_limit(prob, &res.state, res.cost);
         prob.admit(&p, &mut judged, &res.state, limit);
         // a fit far above the noise (a compromise held by rows decided in the wrong phase):
         // the next round leaves out the rows that fit worst, which come back at the round
@@ -343,6 +338,27 @@ pub(crate) fn fit_rounds(
             _ => None,
         };
     }
+    final_rounds(prob, (p, kinds), pre, lost, out)
+}
+
+/// The residual beyond which a row is an outlier of a fit of cost `cost` with the rows
+/// `state`: [`OUTLIER`](super::polish::OUTLIER) times the fit's own level (or the logs' noise,
+/// if larger).
+fn outlier_limit(prob: &CalibProblem<'_>, state: &Kinds, cost: f64) -> f64 {
+    let n = prob.residual_count(state).saturating_sub(prob.dim()).max(1);
+    let level = (2.0 * cost / n as f64).sqrt();
+    super::polish::OUTLIER * level.max(prob.log_noise).max(1e-9)
+}
+
+/// The rounds' answer at `p`: the whiteners frozen there, its cost and the rows it lost
+/// (`lost` contact rows without a hypothesis at the last phase decision).
+fn final_rounds(
+    prob: &mut CalibProblem<'_>,
+    (p, mut kinds): (Vec<f64>, Kinds),
+    pre: &[Vec<bool>],
+    lost: usize,
+    mut out: Rounds,
+) -> Result<Rounds> {
     if !prob.reweight_or_skip(&p, &mut kinds) {
         return Err(start_failure(prob, &p, &kinds));
     }

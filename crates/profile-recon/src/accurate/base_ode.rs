@@ -130,10 +130,11 @@ pub(crate) fn base_ivp(
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
-    fn row(ax: f64, ay: f64, ma: f64, phi0: f64) -> ObservableRow {
+    /// A row at x0 = 0.3 with the given observables.
+    pub(crate) fn row(ax: f64, ay: f64, ma: f64, phi0: f64) -> ObservableRow {
         ObservableRow {
             x0: 0.3,
             ax,

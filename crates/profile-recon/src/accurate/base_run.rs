@@ -177,18 +177,9 @@ pub(super) fn close_step(cubic: &StepInterpolant<4>, span: f64) -> bool {
 #[cfg(test)]
 mod tests {
     use super::super::base_ode::base_ivp;
+    use super::super::base_ode::tests::row;
     use super::*;
     use beam_model::{FluidLoad, Whisker};
-
-    fn row(ax: f64, ay: f64, ma: f64, phi0: f64) -> ObservableRow {
-        ObservableRow {
-            x0: 0.3,
-            ax,
-            ay,
-            ma,
-            phi0,
-        }
-    }
 
     #[test]
     fn the_run_is_the_dense_integration_where_it_is_complete() {

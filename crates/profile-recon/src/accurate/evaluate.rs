@@ -463,21 +463,49 @@ pub(crate) mod tests {
         (w, flow, sweep(&w, flow, &Profile::g2(), &settings).unwrap())
     }
 
+    /// [`g2_sweep`] with its rows, their noise scales and the integrator of a row context.
+    pub(crate) struct G2Rows {
+        pub truth: SweepResult,
+        pub rows: Vec<ObservableRow>,
+        pub scales: NoiseScales,
+        whisker: Whisker,
+        flow: FluidLoad,
+        integrator: Dop853,
+    }
+
+    impl G2Rows {
+        pub(crate) fn new(points: usize) -> Self {
+            let (whisker, flow, truth) = g2_sweep(points);
+            let rows = crate::observables::from_sweep(&truth);
+            let scales = NoiseScales::of(&rows);
+            G2Rows {
+                truth,
+                rows,
+                scales,
+                whisker,
+                flow,
+                integrator: Dop853::new(1e-12, 1e-12).with_dense(true),
+            }
+        }
+
+        /// The row context of the sweep's whisker and flow.
+        pub(crate) fn ctx(&self) -> RowCtx<'_> {
+            RowCtx {
+                whisker: &self.whisker,
+                flow: self.flow,
+                scales: &self.scales,
+                integrator: &self.integrator,
+            }
+        }
+    }
+
     #[test]
     fn a_simulated_row_is_its_own_contact() {
         // round trip: the observables of a simulated sweep give back its hidden contact point
-        let (w, flow, truth) = g2_sweep(12);
-        let rows = crate::observables::from_sweep(&truth);
-        let scales = NoiseScales::of(&rows);
-        let integrator = Dop853::new(1e-12, 1e-12).with_dense(true);
-        let ctx = RowCtx {
-            whisker: &w,
-            flow,
-            scales: &scales,
-            integrator: &integrator,
-        };
+        let g2 = G2Rows::new(12);
+        let (truth, rows, ctx) = (&g2.truth, &g2.rows, g2.ctx());
         let mut contacts = 0;
-        for (p, row) in truth.points.iter().zip(&rows) {
+        for (p, row) in truth.points.iter().zip(rows) {
             if p.f <= 1e-9 {
                 continue;
             }

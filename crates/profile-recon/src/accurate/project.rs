@@ -154,23 +154,13 @@ pub(crate) fn project(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::accurate::evaluate::tests::g2_sweep;
-    use crate::common::NoiseScales;
-    use bvp_solvers::integrator::Dop853;
+    use crate::accurate::evaluate::tests::G2Rows;
 
     #[test]
     fn a_noisy_row_is_projected_onto_its_consistent_observables() {
         // a contact row of a simulated sweep with its Ay moved by noise
-        let (w, flow, truth) = g2_sweep(12);
-        let rows = crate::observables::from_sweep(&truth);
-        let scales = NoiseScales::of(&rows);
-        let integrator = Dop853::new(1e-12, 1e-12).with_dense(true);
-        let ctx = RowCtx {
-            whisker: &w,
-            flow,
-            scales: &scales,
-            integrator: &integrator,
-        };
+        let g2 = G2Rows::new(12);
+        let (truth, rows, scales, ctx) = (&g2.truth, &g2.rows, &g2.scales, g2.ctx());
         let k = truth.points.iter().position(|p| p.f > 1e-3).unwrap();
         let mut row = rows[k];
         row.ay += 1e-5 * scales.0[1];

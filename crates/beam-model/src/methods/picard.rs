@@ -181,6 +181,8 @@ fn with_sampling(g: &Cheb, samples: usize, f: impl FnOnce(&[f64])) {
 #[derive(Clone, Debug, Default)]
 struct Iterate {
     phi: Vec<f64>,
+    /// `(sin, cos)` of phi ([`Iterate::trig`]): the next step and the observables share them.
+    sc: Vec<(f64, f64)>,
     m: Vec<f64>,
     kappa: Vec<f64>,
     x: Vec<f64>,
@@ -192,6 +194,7 @@ impl Iterate {
     fn new(n: usize) -> Self {
         Iterate {
             phi: vec![0.0; n + 1],
+            sc: Vec::with_capacity(n + 1),
             m: vec![0.0; n + 1],
             kappa: vec![0.0; n + 1],
             x: Vec::new(),
@@ -200,17 +203,22 @@ impl Iterate {
         }
     }
 
+    /// Fills `sc` from phi.
+    fn trig(&mut self) {
+        self.sc.clear();
+        self.sc.extend(self.phi.iter().map(|p| p.sin_cos()));
+    }
+
     /// Fills x and y (the loaded part's positions) from phi.
     fn positions(&mut self, g: &Cheb, s1: f64, work: &mut [f64]) {
         self.x.resize(g.n + 1, 0.0);
         self.y.resize(g.n + 1, 0.0);
-        for (w, p) in work.iter_mut().zip(&self.phi) {
-            *w = p.cos();
+        // one sin_cos per point: the sines wait in y until the cosines are integrated
+        for ((w, sn), p) in work.iter_mut().zip(self.y.iter_mut()).zip(&self.phi) {
+            (*sn, *w) = p.sin_cos();
         }
         g.integrate(work, s1, &mut self.x);
-        for (w, p) in work.iter_mut().zip(&self.phi) {
-            *w = p.sin();
-        }
+        work[..g.n + 1].copy_from_slice(&self.y);
         g.integrate(work, s1, &mut self.y);
     }
 }
@@ -230,12 +238,20 @@ fn free_angle(scene: &Scene, phi1: f64, t: f64) -> f64 {
 }
 
 /// The numbers the error estimate compares (tip, loaded end, base observables), from an
-/// iterate without its positions.
+/// iterate without its positions (its `sc` filled).
 fn observables(scene: &Scene, g: &Cheb, it: &Iterate) -> [f64; 10] {
     let s1 = scene.loads.s1;
     let n = g.n;
-    let x1 = s1 * total(g, it.phi.iter().map(|p| p.cos()));
-    let y1 = s1 * total(g, it.phi.iter().map(|p| p.sin()));
+    let (x1, y1) = {
+        let m = g.n + 1;
+        let (sx, sy) = g.q[g.n * m..]
+            .iter()
+            .zip(&it.sc)
+            .fold((0.0, 0.0), |(sx, sy), (a, &(sn, cs))| {
+                (sx + a * cs, sy + a * sn)
+            });
+        (s1 * sx, s1 * sy)
+    };
     let phi1 = it.phi[n];
     let rest = 1.0 - s1;
     let (mut xt, mut yt, mut pt) = (x1, y1, phi1);
@@ -255,8 +271,15 @@ fn distance(a: &[f64; 10], b: &[f64; 10]) -> f64 {
         .fold(0.0, |m, d| if d.is_nan() { f64::NAN } else { m.max(d) })
 }
 
-/// One application of the integral map `T` on grid `g` (module docs): `out` from `phi`.
-fn step(scene: &Scene, g: &Cheb, phi: &[f64], out: &mut Iterate, work: &mut [f64]) {
+/// One application of the integral map `T` on grid `g` (module docs): `out` from `phi`
+/// (with its sines and cosines `sc`).
+fn step(
+    scene: &Scene,
+    g: &Cheb,
+    (phi, sc): (&[f64], &[(f64, f64)]),
+    out: &mut Iterate,
+    work: &mut [f64],
+) {
     let w = &scene.whisker;
     let l = &scene.loads;
     let s1 = l.s1;
@@ -264,7 +287,7 @@ fn step(scene: &Scene, g: &Cheb, phi: &[f64], out: &mut Iterate, work: &mut [f64
     // m' [3.25] on the nodes, from the tip angle phi(s1) = phi[n] of the iterate; m(s1) = 0.
     let law = MomentLaw::new(l, phi[n]);
     for (j, v) in work.iter_mut().enumerate() {
-        let (sn, cs) = phi[j].sin_cos();
+        let (sn, cs) = sc[j];
         *v = law.at(s1 * g.t[j], sn, cs).dm;
     }
     g.integrate(work, s1, &mut out.m);
@@ -423,13 +446,16 @@ fn iterate(
     let mut work = vec![0.0; g.n + 1];
     let mut cur = Iterate::new(g.n);
     let mut next = Iterate::new(g.n);
-    step(scene, g, start, &mut cur, &mut work);
+    let start_sc: Vec<(f64, f64)> = start.iter().map(|p| p.sin_cos()).collect();
+    step(scene, g, (start, &start_sc), &mut cur, &mut work);
+    cur.trig();
     let mut prev_obs = observables(scene, g, &cur);
     let (mut d_prev, mut last_r) = (f64::NAN, f64::NAN);
     let mut ratio = known_ratio;
     let noise = 1e-15 * (1.0 + scene.loads.tip.f + scene.loads.fluid.q);
     for k in 1..=MAX_ITERATIONS {
-        step(scene, g, &cur.phi, &mut next, &mut work);
+        step(scene, g, (&cur.phi, &cur.sc), &mut next, &mut work);
+        next.trig();
         let obs = observables(scene, g, &next);
         let dphi = next
             .phi

@@ -14,8 +14,9 @@
 
 use crate::branch::{dot, Branch, Constraint, Node};
 use crate::error::{ContactError, Result};
-use crate::events::{locate, penetration, phase_margin, smooth_turn, x0_rate};
+use crate::events::{penetration, phase_margin, x0_rate};
 use crate::phase::Phase;
+use bvp_solvers::arclength::{locate, ArcControl, Arclength, Attempt, Curve};
 
 /// How the trace ended.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -69,7 +70,7 @@ const SNAP_STEP: f64 = 1e-7;
 
 /// Corrector iterations from which the next step is shortened (a prediction that far off
 /// costs more shots than the shorter step saves).
-const HARD: u64 = 6;
+const HARD: usize = 6;
 
 /// Longest step over which an event is located (longer steps are shrunk first).
 const EVENT_BRACKET: f64 = 0.02;
@@ -141,32 +142,56 @@ fn depth(branch: &Branch, n: &Node) -> Result<f64> {
     penetration(branch.whisker, branch.flow, branch.profile, &n.state)
 }
 
-/// What one predictor-corrector step gave (moved once per step: a box would allocate).
-#[allow(clippy::large_enum_variant)]
-enum Step {
-    /// The corrector failed or the tangent turned too fast: the step was shrunk, try again.
-    Retry,
-    /// A corrected node with its tangent.
-    Node(Node, [f64; 3]),
-    /// The corrector failed at the smallest step because the contact point left the contour.
-    End(End),
+/// The contact branch of one phase as a curve in `(v, f, t)` for the arclength driver: the
+/// hyperplane corrector of [`Branch::correct`], the tangent of [`Node::tangent`], and a step
+/// measured with the force relative to its size, `|(dv, df/F, dt)|` with `F = max(1, |f|)`:
+/// forces that grow large (a contact sliding to the base) are followed in proportion, not
+/// in unit steps.
+pub(crate) struct PhaseCurve<'b, 'a> {
+    pub branch: &'b Branch<'a>,
+    pub phase: Phase,
 }
 
-/// The state of a trace: the nodes so far, the current node, tangent and step.
-struct Tracer<'a> {
-    branch: &'a Branch<'a>,
-    ctl: &'a StepControl,
+impl Curve<3> for PhaseCurve<'_, '_> {
+    type Point = Node;
+    type Error = ContactError;
+
+    fn coords(&self, p: &Node) -> [f64; 3] {
+        p.u
+    }
+
+    fn correct(&self, p: [f64; 3], n: [f64; 3], radius: f64) -> Result<Node> {
+        self.branch
+            .correct(self.phase, p, Constraint::Hyperplane { n, p, radius })
+    }
+
+    fn tangent(&self, p: &Node, dir: &[f64; 3]) -> [f64; 3] {
+        p.tangent(dir)
+    }
+
+    fn iterations(&self, p: &Node) -> usize {
+        p.state.iterations as usize
+    }
+
+    fn step_length(&self, p: &Node, t: &[f64; 3]) -> f64 {
+        let fscale = p.state.f.abs().max(1.0);
+        (t[0] * t[0] + (t[1] / fscale).powi(2) + t[2] * t[2]).sqrt()
+    }
+}
+
+/// The state of a trace: the nodes so far and the arclength driver on the current phase's
+/// branch.
+struct Tracer<'b, 'a> {
+    branch: &'b Branch<'a>,
+    ctl: &'b StepControl,
     nodes: Vec<Node>,
     switches: Vec<Node>,
-    cur: Node,
-    t: [f64; 3],
-    h: f64,
+    arc: Arclength<Node, 3>,
 }
 
 /// Traces the branch from `first` until it separates.
 pub(crate) fn trace(branch: &Branch, first: Node, ctl: &StepControl) -> Result<Trace> {
     let down = [-first.jac[2][0], -first.jac[2][1], -first.jac[2][2]];
-    let t = first.tangent(&down);
     if ctl.check_penetration {
         let depth = depth(branch, &first)?;
         if depth > PENETRATION_MARGIN {
@@ -179,23 +204,36 @@ pub(crate) fn trace(branch: &Branch, first: Node, ctl: &StepControl) -> Result<T
             });
         }
     }
+    let curve = PhaseCurve {
+        branch,
+        phase: first.phase,
+    };
+    let arc_ctl = ArcControl {
+        initial: ctl.initial,
+        max: ctl.max,
+        min: ctl.min,
+        hard: HARD,
+        ..ArcControl::default()
+    };
     let mut tr = Tracer {
         branch,
         ctl,
         nodes: vec![first],
         switches: Vec::new(),
-        cur: first,
-        t,
-        h: ctl.initial,
+        arc: Arclength::new(&curve, first, down, arc_ctl),
     };
-    if x0_rate(&first, &t) >= 0.0 {
+    if x0_rate(&first, tr.arc.tangent()) >= 0.0 {
         return Ok(tr.finish(End::Snap(first)));
     }
     for _ in 0..ctl.max_steps {
-        let (node, tn) = match tr.step()? {
-            Step::Node(node, tn) => (node, tn),
-            Step::Retry => continue,
-            Step::End(end) => return Ok(tr.finish(end)),
+        let (node, tn) = match tr.arc.attempt(&tr.curve()) {
+            Attempt::Point(node, tn) => (node, tn),
+            Attempt::Retry => continue,
+            Attempt::Failed(ContactError::LeftContour { .. }) => {
+                let end = End::OffContour(*tr.cur());
+                return Ok(tr.finish(end));
+            }
+            Attempt::Failed(e) => return Err(tr.stalled(e.to_string())),
         };
         let events = tr.events(&node, &tn)?;
         if events.is_empty() {
@@ -207,7 +245,8 @@ pub(crate) fn trace(branch: &Branch, first: Node, ctl: &StepControl) -> Result<T
         let Some((ev, at)) = tr.earliest(&events, &node)? else {
             continue;
         };
-        if at.u != tr.cur.u && at.x0() < tr.cur.x0() {
+        let cur = tr.cur();
+        if at.u != cur.u && at.x0() < cur.x0() {
             tr.nodes.push(at);
         }
         if let Some(end) = ev.end(at) {
@@ -217,11 +256,11 @@ pub(crate) fn trace(branch: &Branch, first: Node, ctl: &StepControl) -> Result<T
             return Ok(tr.finish(end));
         }
     }
-    let end = End::NotReached(tr.cur, ctl.max_steps);
+    let end = End::NotReached(*tr.cur(), ctl.max_steps);
     Ok(tr.finish(end))
 }
 
-impl Tracer<'_> {
+impl<'b, 'a> Tracer<'b, 'a> {
     /// The trace as it ends.
     fn finish(self, end: End) -> Trace {
         Trace {
@@ -231,57 +270,29 @@ impl Tracer<'_> {
         }
     }
 
-    /// The error of a trace that cannot go on from the current node.
-    fn stalled(&self, reason: String) -> ContactError {
-        ContactError::BranchStalled {
-            phase: self.cur.phase.letter(),
-            x0: self.cur.x0(),
-            xc: self.cur.state.point.xc,
-            step: self.h,
-            reason,
+    /// The branch of the current phase.
+    fn curve(&self) -> PhaseCurve<'b, 'a> {
+        PhaseCurve {
+            branch: self.branch,
+            phase: self.cur().phase,
         }
     }
 
-    /// One predictor-corrector step from the current node.
-    fn step(&mut self) -> Result<Step> {
-        let (cur, t) = (&self.cur, self.t);
-        // The step is measured with the force relative to its size, `|(dv, df/F, dt)|` with
-        // `F = max(1, |f|)`: forces that grow large (a contact sliding to the base) are
-        // followed in proportion, not in unit steps.
-        let fscale = cur.state.f.abs().max(1.0);
-        let len = (t[0] * t[0] + (t[1] / fscale).powi(2) + t[2] * t[2]).sqrt();
-        let hs = self.h / len;
-        let p = [
-            cur.u[0] + hs * t[0],
-            cur.u[1] + hs * t[1],
-            cur.u[2] + hs * t[2],
-        ];
-        let plane = Constraint::Hyperplane {
-            n: t,
-            p,
-            radius: 0.5 * hs + 1e-9,
-        };
-        let node = match self.branch.correct(cur.phase, p, plane) {
-            Ok(n) => n,
-            Err(e) => {
-                self.h *= 0.5;
-                if self.h < self.ctl.min {
-                    return match e {
-                        ContactError::LeftContour { .. } => {
-                            Ok(Step::End(End::OffContour(self.cur)))
-                        }
-                        e => Err(self.stalled(e.to_string())),
-                    };
-                }
-                return Ok(Step::Retry);
-            }
-        };
-        let tn = node.tangent(&t);
-        if !smooth_turn(&t, &tn) && self.h > self.ctl.min {
-            self.h *= 0.5;
-            return Ok(Step::Retry);
+    /// The current node.
+    fn cur(&self) -> &Node {
+        self.arc.current()
+    }
+
+    /// The error of a trace that cannot go on from the current node.
+    fn stalled(&self, reason: String) -> ContactError {
+        let cur = self.cur();
+        ContactError::BranchStalled {
+            phase: cur.phase.letter(),
+            x0: cur.x0(),
+            xc: cur.state.point.xc,
+            step: self.arc.step(),
+            reason,
         }
-        Ok(Step::Node(node, tn))
     }
 
     /// The events passed between the current node and `node` (the second contact checked,
@@ -300,32 +311,25 @@ impl Tracer<'_> {
         Ok(events)
     }
 
-    /// Accepts `node` when x0 fell (and grows the step after an easy correction); a rise
-    /// of x0 shrinks the step, or is the snap's turning point on a tiny step.
+    /// Accepts `node` when x0 fell (the driver then grows the step after an easy
+    /// correction); a rise of x0 shrinks the step, or is the snap's turning point on a tiny
+    /// step.
     fn advance(&mut self, node: Node, tn: [f64; 3]) -> Result<Option<End>> {
-        if node.x0() >= self.cur.x0() {
+        if node.x0() >= self.cur().x0() {
             // x0 must fall along an oriented tangent with a negative rate at both ends;
             // a rise means the step jumped over a pair of turning points, or, on a tiny
             // step, that x0 is stationary to within the shots' accuracy: the turning
             // point of the snap, reached within the step.
-            if self.h < SNAP_STEP {
-                return Ok(Some(End::Snap(self.cur)));
+            if self.arc.step() < SNAP_STEP {
+                return Ok(Some(End::Snap(*self.cur())));
             }
-            self.h *= 0.5;
-            if self.h < self.ctl.min {
+            if !self.arc.shorten(0.5, false) {
                 return Err(self.stalled("x0 rose between two nodes".into()));
             }
             return Ok(None);
         }
-        let easy = node.state.iterations <= 3;
-        self.cur = node;
-        self.t = tn;
+        self.arc.accept(&self.curve(), node, tn);
         self.nodes.push(node);
-        if easy {
-            self.h = (self.h * 1.6).min(self.ctl.max);
-        } else if node.state.iterations >= HARD {
-            self.h = (self.h * 0.6).max(self.ctl.min);
-        }
         Ok(None)
     }
 
@@ -333,28 +337,28 @@ impl Tracer<'_> {
     /// the step was shrunk first. A second contact before it takes its place.
     ///
     /// Switches and releases alone are solved directly, with the event condition as the
-    /// third equation from the secant point of the bracket. Other events are located by
-    /// regula falsi along the chord in short brackets, where the chord stays close to the
-    /// branch: longer steps are shrunk first (this also separates several events).
+    /// third equation from the secant point of the bracket. Other events are located along
+    /// the chord in short brackets ([`Arclength::earliest`]), where the chord stays close to
+    /// the branch: longer steps are shrunk first (this also separates several events).
     fn earliest(&mut self, events: &[Event], node: &Node) -> Result<Option<(Event, Node)>> {
         let mut best = match events {
             [ev] => self.direct(*ev, node),
             _ => None,
         };
+        let (h, min) = (self.arc.step(), self.ctl.min);
         if best.is_none() {
-            if self.h > EVENT_BRACKET || (events.len() > 1 && self.h > 64.0 * self.ctl.min) {
-                self.h = (self.h * 0.25).max(self.ctl.min);
+            if h > EVENT_BRACKET || (events.len() > 1 && h > 64.0 * min) {
+                self.arc.shorten(0.25, true);
                 return Ok(None);
             }
-            let (cur, t) = (&self.cur, &self.t);
-            for &ev in events {
-                let g = |n: &Node| ev.condition(self.branch, n, t);
-                let at = locate(self.branch, cur, node, &g, self.ctl.event_tol)?;
-                let along = dot(&crate::branch::sub(&at.u, &cur.u), t);
-                if best.is_none_or(|(_, b)| along < dot(&crate::branch::sub(&b.u, &cur.u), t)) {
-                    best = Some((ev, at));
-                }
-            }
+            let (branch, t) = (self.branch, self.arc.tangent());
+            let conditions: Vec<_> = events
+                .iter()
+                .map(|&ev| (ev, move |n: &Node| ev.condition(branch, n, t)))
+                .collect();
+            best = self
+                .arc
+                .earliest(&self.curve(), node, &conditions, self.ctl.event_tol)?;
         }
         // A second contact before the located event ends the trace there.
         if let Some((ev, at)) = best {
@@ -362,8 +366,9 @@ impl Tracer<'_> {
                 && self.ctl.check_penetration
                 && depth(self.branch, &at)? > PENETRATION_MARGIN
             {
-                let g = |n: &Node| Event::SecondContact.condition(self.branch, n, &self.t);
-                let sc = locate(self.branch, &self.cur, &at, &g, self.ctl.event_tol)?;
+                let t = self.arc.tangent();
+                let g = |n: &Node| Event::SecondContact.condition(self.branch, n, t);
+                let sc = locate(&self.curve(), self.cur(), &at, &g, self.ctl.event_tol)?;
                 best = Some((Event::SecondContact, sc));
             }
         }
@@ -375,8 +380,11 @@ impl Tracer<'_> {
     /// the step).
     fn direct(&self, ev: Event, node: &Node) -> Option<(Event, Node)> {
         let c = ev.constraint()?;
-        let cur = &self.cur;
-        let g = |n: &Node| ev.condition(self.branch, n, &self.t).unwrap_or(f64::NAN);
+        let cur = self.cur();
+        let g = |n: &Node| {
+            ev.condition(self.branch, n, self.arc.tangent())
+                .unwrap_or(f64::NAN)
+        };
         let (ga, gb) = (g(cur), g(node));
         let w = ga / (ga - gb);
         let p = crate::branch::lerp(&cur.u, &node.u, w);
@@ -404,9 +412,11 @@ impl Tracer<'_> {
             return Ok(Some(End::Snap(at)));
         }
         self.nodes.push(next);
-        self.cur = next;
-        self.t = tn;
-        self.h = self.ctl.initial.min(self.h);
+        let curve = PhaseCurve {
+            branch: self.branch,
+            phase: next.phase,
+        };
+        self.arc.restart(&curve, next, tn, self.ctl.initial);
         Ok(None)
     }
 }

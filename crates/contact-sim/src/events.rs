@@ -3,12 +3,12 @@
 //! position, `dx0/dsigma = 0`) and a second contact (another part of the whisker reaching the
 //! contour).
 //!
-//! An event is bracketed by two nodes of the branch, one on each side, and located by the
-//! Illinois variant of regula falsi along the chord between them: every trial point is a
-//! solution of the branch equations on a hyperplane across the chord, so the located node is
-//! an exact equilibrium, within `tol` of the event in the state `(v, f, t)`.
+//! An event is bracketed by two nodes of the branch, one on each side, and located by
+//! [`bvp_solvers::arclength::locate`] (regula falsi along the chord, every trial point a
+//! solution of the branch equations on a hyperplane across it), so the located node is an
+//! exact equilibrium, within `tol` of the event in the state `(v, f, t)`.
 
-use crate::branch::{dot, norm, sub, Branch, Constraint, Node};
+use crate::branch::Node;
 use crate::error::Result;
 use crate::phase::{ContactState, Phase};
 use crate::profile::Profile;
@@ -18,9 +18,6 @@ use beam_model::{FluidLoad, Scene, Whisker};
 /// Integration tolerance of the shape checked for penetration (its depths are then accurate
 /// to ~1e-10, well inside the margin a second contact must exceed).
 const SHAPE_TOL: f64 = 1e-10;
-
-/// Iterations of the Illinois method (each one a corrector solve).
-const MAX_ILLINOIS: usize = 80;
 
 /// The validity of the phase of `node`: `phi1 - psi` in phase A (tip contact needs the tip
 /// steeper than the contour), `1 - s1` in phase B.
@@ -156,62 +153,7 @@ fn refined_max(depths: &[f64]) -> f64 {
     }
 }
 
-/// Locates the zero of the event function `g` between `a` (`g > 0`) and `b` (`g <= 0`), both
-/// in the same phase. Returns the node on the valid side (`g > 0` or `g = 0`) within `tol` of
-/// the event, or `a` itself if a trial point cannot be solved (the bracket is then reported
-/// by the caller as it is).
-pub(crate) fn locate(
-    branch: &Branch,
-    a: &Node,
-    b: &Node,
-    g: &dyn Fn(&Node) -> Result<f64>,
-    tol: f64,
-) -> Result<Node> {
-    let d = sub(&b.u, &a.u);
-    let len = norm(&d);
-    if len <= tol {
-        return Ok(*a);
-    }
-    let n = [d[0] / len, d[1] / len, d[2] / len];
-    let (mut sa, mut ga, mut na) = (0.0, g(a)?, *a);
-    let (mut sb, mut gb) = (1.0, g(b)?);
-    let mut side = 0;
-    for _ in 0..MAX_ILLINOIS {
-        if (sb - sa) * len <= tol {
-            break;
-        }
-        let mut s = sb - gb * (sb - sa) / (gb - ga);
-        if !(s > sa && s < sb) {
-            s = 0.5 * (sa + sb);
-        }
-        let p = crate::branch::lerp(&a.u, &b.u, s);
-        let node = branch.correct(a.phase, p, Constraint::Hyperplane { n, p, radius: len })?;
-        let gs = g(&node)?;
-        if gs > 0.0 {
-            (sa, ga, na) = (s, gs, node);
-            if side == 1 {
-                gb *= 0.5;
-            }
-            side = 1;
-        } else if gs == 0.0 {
-            return Ok(node);
-        } else {
-            (sb, gb) = (s, gs);
-            if side == -1 {
-                ga *= 0.5;
-            }
-            side = -1;
-        }
-    }
-    Ok(na)
-}
-
 /// `dx0/dsigma` at `node` along the branch tangent oriented like `dir`.
 pub(crate) fn x0_rate(node: &Node, dir: &[f64; 3]) -> f64 {
     node.x0_rate(&node.tangent(dir))
-}
-
-/// Whether two unit tangents are close enough for a step between them to be trusted.
-pub(crate) fn smooth_turn(t0: &[f64; 3], t1: &[f64; 3]) -> bool {
-    dot(t0, t1) > 0.9
 }

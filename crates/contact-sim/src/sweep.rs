@@ -16,6 +16,7 @@ use crate::profile::Profile;
 use beam_model::equations::Sensitivities;
 use beam_model::shot::{shoot, Integration};
 use beam_model::{FluidLoad, Loads, Whisker};
+use bvp_solvers::continuation::{BranchGuard, Continuation};
 use serde::{Deserialize, Serialize};
 
 /// Largest number of contact rows a sweep accepts.
@@ -438,7 +439,7 @@ fn first_node(branch: &Branch, touch: &FirstTouch) -> Result<Node> {
 /// a tangential touch removes the flow beyond s1 (spec/model.md), which can move the state far
 /// from the free whisker's (slender tips). The branch point with `f = 0` is solved first (the
 /// whisker under the flow on `[0, s1]` alone, tangent to the contour), then the branch is
-/// followed in x0 down to `x0` with halving substeps. Where that branch does not reach `x0`
+/// followed in x0 down to `x0` ([`Continuation::follow`]). Where that branch does not reach `x0`
 /// with `f >= 0` (the thesis's phase-B model has no admissible state there), the sweep cannot
 /// start and says so.
 fn tangential_first_node(branch: &Branch, u: [f64; 3], x0: f64) -> Result<Node> {
@@ -451,34 +452,36 @@ fn tangential_first_node(branch: &Branch, u: [f64; 3], x0: f64) -> Result<Node> 
             ),
         });
     }
-    let (mut cur, mut prev): (Node, Option<Node>) = (start, None);
-    let mut h = (cur.x0() - x0).min(0.05);
-    for _ in 0..10_000 {
-        if cur.x0() - x0 <= 1e-13 {
-            return Ok(cur);
-        }
-        let target = (cur.x0() - h).max(x0);
-        // secant predictor through the last two states
-        let guess = match prev {
-            Some(p) if p.x0() != cur.x0() => {
-                let w = (target - cur.x0()) / (cur.x0() - p.x0());
-                crate::branch::lerp(&cur.u, &p.u, -w)
-            }
-            _ => cur.u,
-        };
+    if start.x0() - x0 <= 1e-13 {
+        return Ok(start);
+    }
+    // Natural-parameter continuation in x0 with the secant predictor; an inadmissible
+    // state (s1 >= 1 or f < 0) counts as a failed corrector.
+    let step = (start.x0() - x0).min(0.05);
+    let cont = Continuation {
+        initial_step: step.max(1e-9),
+        min_step: 1e-9,
+        max_step: 0.05,
+    };
+    let guard = BranchGuard {
+        absolute: f64::INFINITY,
+        relative: 0.0,
+        max_attempts: 10_000,
+    };
+    let mut cur = start;
+    let followed = cont.follow(start.x0(), x0, start.u.to_vec(), &guard, |target, guess| {
+        let guess = [guess[0], guess[1], guess[2]];
         match branch.correct(Phase::B, guess, Constraint::BasePosition(target)) {
             Ok(n) if n.state.s1 < 1.0 && n.state.f >= 0.0 => {
-                prev = Some(cur);
                 cur = n;
-                h = (h * 1.5).min(0.05);
+                Ok(n.u.to_vec())
             }
-            _ => {
-                h *= 0.5;
-                if h < 1e-9 {
-                    break;
-                }
-            }
+            Ok(_) => Err(()),
+            Err(_) => Err(()),
         }
+    });
+    if followed.is_ok() {
+        return Ok(cur);
     }
     Err(ContactError::NoContact {
         reason: format!(

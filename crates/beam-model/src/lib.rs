@@ -45,7 +45,10 @@ pub use error::{ModelError, Result};
 pub use loads::{FluidLoad, LoadKind, Loads, TipForce};
 pub use methods::{shape_from_tip_angle, solve, Method};
 pub use scene::Scene;
-pub use solution::{BaseObservables, Elastica, EndState, MethodKind, Solution, SolveStats};
+pub use solution::{
+    BaseObservables, Elastica, EndState, LoadFold, LoadPath, MethodKind, PathEquilibrium, Solution,
+    SolveStats,
+};
 pub use support::Support;
 pub use units::{PhysicalWhisker, Preset};
 pub use whisker::Whisker;

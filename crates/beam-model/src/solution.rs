@@ -185,6 +185,42 @@ impl SolveStats {
     }
 }
 
+/// A fold of the load path: the load scale at which the equilibrium followed from zero
+/// turns back (`dR/dphi1 = 0`), with its tip and base angles.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct LoadFold {
+    /// The load scale of the fold (the loads there are `lambda` times the scene's).
+    pub lambda: f64,
+    /// The tip angle there.
+    pub phi1: f64,
+    /// The base angle there.
+    pub phi0: f64,
+}
+
+/// An equilibrium at full load on the load path (tip and base angles).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PathEquilibrium {
+    /// The tip angle `phi1`.
+    pub phi1: f64,
+    /// The base angle `phi0`.
+    pub phi0: f64,
+}
+
+/// What following the load path found: the folds passed before the first arrival at full
+/// load (in order), that arrival, and the other equilibria at full load met further along
+/// the path (at most three, within 300 steps past the arrival).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct LoadPath {
+    /// Folds of the path from zero load to the returned equilibrium.
+    pub folds: Vec<LoadFold>,
+    /// The returned equilibrium: the first arrival at full load.
+    pub arrival: PathEquilibrium,
+    /// Other equilibria at full load further along the same path.
+    pub others: Vec<PathEquilibrium>,
+    /// Accepted arclength steps from zero load to the arrival.
+    pub steps: usize,
+}
+
 /// A solved scene.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Solution {
@@ -198,6 +234,11 @@ pub struct Solution {
     pub base: BaseObservables,
     /// Statistics.
     pub stats: SolveStats,
+    /// The load path from zero where it folds or the method's own load continuation
+    /// jumped: its folds and the other equilibria at full load (`None` where loading from
+    /// zero is monotone).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub load_path: Option<LoadPath>,
 }
 
 impl Solution {

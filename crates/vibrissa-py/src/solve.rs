@@ -13,7 +13,9 @@ use crate::params::{model_flags, units_scene};
 
 /// Solves the whisker of `spec` under its loads [3.27]; returns `{"columns": {s, x, y, phi,
 /// kappa, m}, "tip", "base", "stats", "scene", "units"}` with lengths, forces and moments in
-/// the scene's units (mm, N, N mm for a physical scene), as `elastica.csv` holds them.
+/// the scene's units (mm, N, N mm for a physical scene), as `elastica.csv` holds them, and
+/// `"load_path"` (`{"folds": [{lambda, phi1, phi0}], "arrival", "other_equilibria",
+/// "steps"}`) where the load path from zero folds.
 #[pyfunction]
 pub fn solve<'py>(py: Python<'py>, spec: &Bound<'py, PyDict>) -> PyResult<Bound<'py, PyDict>> {
     let flags = model_flags(spec)?;
@@ -61,6 +63,10 @@ pub fn solve<'py>(py: Python<'py>, spec: &Bound<'py, PyDict>) -> PyResult<Bound<
     out.set_item("base", base)?;
     for key in ["stats", "scene", "units", "method", "n"] {
         out.set_item(key, json(py, &summary[key])?)?;
+    }
+    // where the load path from zero folds: its folds and the other equilibria at full load
+    if let Some(path) = summary.get("load_path") {
+        out.set_item("load_path", json(py, path)?)?;
     }
     out.set_item("length_unit", units.unit(Quantity::Length))?;
     out.set_item("force_unit", units.unit(Quantity::Force))?;

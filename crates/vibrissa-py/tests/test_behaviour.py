@@ -124,3 +124,25 @@ def test_study_on_a_local_dask_cluster_equals_serial():
         single_chunks = vibrissa.study(scenes, client=client, chunk_size=1)
     pd.testing.assert_frame_equal(comparable(serial), comparable(on_cluster))
     pd.testing.assert_frame_equal(comparable(serial), comparable(single_chunks))
+
+
+def test_a_folding_load_path_is_reported_and_every_method_agrees():
+    # an elastic pre-curved whisker under an angle-preserving force and a strong flow: the
+    # load path from zero folds; accurate and fdm-richardson return its first arrival at
+    # full load and say where it folded
+    scene = dict(theta=0.7323434944791731, a=2.222275368972509, b=1.7358338258877062,
+                 k=0.7089498786012104, f=18.79416057674968,
+                 beta_deg=math.degrees(-0.473166133066333), load="ap",
+                 q=13.17037091699504, alpha_deg=math.degrees(1.3236317660145445))
+    acc = vibrissa.solve(**scene)
+    rich = vibrissa.solve(method="fdm-richardson", **scene)
+    plain = vibrissa.solve(theta=0.5, f=1.0)
+    assert plain.load_path is None
+    for sol in (acc, rich):
+        folds = sol.load_path["folds"]
+        assert len(folds) >= 2 and len(folds) % 2 == 0
+        assert all(0.0 < fold["lambda"] < 1.0 for fold in folds)
+    assert abs(acc.tip["phi"] - acc.load_path["arrival"]["phi1"]) < 1e-9
+    tol = acc.stats["error_estimate"] + rich.stats["error_estimate"]
+    assert abs(acc.tip["x"] - rich.tip["x"]) <= tol
+    assert abs(acc.base["MA"] - rich.base["MA"]) <= tol

@@ -4,11 +4,13 @@
 //! right-hand side (`m' = f cos(phi + beta - phi1)`), which the FDM handles as a right-end
 //! (bordered) dependence solved together with the nodal angles.
 
-use crate::equations::{MomentLaw, WhiskerFdmProblem};
+use crate::equations::{MomentLaw, Sensitivities, WhiskerFdmProblem};
 use crate::error::{ModelError, Result};
 use crate::loads::Loads;
+use crate::path::shape_path;
 use crate::scene::Scene;
-use crate::solution::{BaseObservables, Elastica, EndState, Solution, SolveStats};
+use crate::shot::{shoot, Integration};
+use crate::solution::{BaseObservables, Elastica, EndState, LoadPath, Solution, SolveStats};
 use crate::support::Support;
 use crate::whisker::Whisker;
 use bvp_solvers::continuation::{BranchGuard, Continuation};
@@ -115,37 +117,120 @@ pub(crate) fn solve_from(
         solve_fixed(w, loads, &grid, &unloaded)
             .ok()
             .filter(|(sol, _)| max_diff(&sol.y, &unloaded) <= DIRECT_JUMP)
+            .filter(|(sol, _)| !past_fold(scene, last_or(&sol.y)))
     } else {
         None
     };
-    let (sol, iterations, continuation_steps, jumps) = match direct {
-        Some((sol, it)) => (sol, it, 0, 0),
-        None => {
-            // Load continuation from the unloaded whisker (the one driver of bvp-solvers:
-            // secant predictor, jump guard), each corrector a Newton solve on the grid.
-            let first = (1.0 / sev.ceil()).clamp(1e-3, 1.0);
-            let cont = Continuation {
-                initial_step: first,
-                min_step: 1e-8,
-                max_step: (2.0 * first).min(1.0),
-            };
-            let (y, stats) = cont
-                .follow(
-                    0.0,
-                    1.0,
-                    unloaded,
-                    &BranchGuard::default(),
-                    |lambda, pred: &[f64]| {
-                        solve_fixed(w, &loads.scaled(lambda), &grid, pred).map(|(sol, _)| sol.y)
-                    },
-                )
-                .map_err(|e| ModelError::from_continuation(METHOD, e))?;
-            let (sol, it) = solve_fixed(w, loads, &grid, &y)?;
-            (sol, it, stats.steps, stats.jumps)
-        }
+    let (sol, iterations, continuation_steps, jumps, path) = match direct {
+        Some((sol, it)) => (sol, it, 0, 0, None),
+        None => from_zero(scene, &grid, unloaded, sev)?,
     };
     let mut out = assemble(scene, &sol, iterations, continuation_steps, n);
     out.stats.branch_jumps = jumps;
+    out.load_path = path;
+    Ok((out, sol.y))
+}
+
+/// What [`from_zero`] gives: the solution, its Newton iterations, the continuation steps,
+/// the branch jumps and the load path where it decided.
+type FromZero = (FdmSolution, usize, usize, usize, Option<LoadPath>);
+
+/// The FDM solution on `grid` reached by loading from zero: load continuation from the
+/// unloaded whisker (the one driver of bvp-solvers: secant predictor, jump guard), each
+/// corrector a Newton solve on the grid; where that jumped to another equilibrium or
+/// stalled, the rule every method follows: the load path's first arrival at full load
+/// ([`super::load_path::follow`], by accurate shots), sampled on the grid as Newton's start.
+fn from_zero(scene: &Scene, grid: &UniformGrid, unloaded: Vec<f64>, sev: f64) -> Result<FromZero> {
+    let (w, loads) = (&scene.whisker, &scene.loads);
+    let first = (1.0 / sev.ceil()).clamp(1e-3, 1.0);
+    let cont = Continuation {
+        initial_step: first,
+        min_step: 1e-8,
+        max_step: (2.0 * first).min(1.0),
+    };
+    let followed = cont
+        .follow(
+            0.0,
+            1.0,
+            unloaded,
+            &BranchGuard::default(),
+            |lambda, pred: &[f64]| {
+                solve_fixed(w, &loads.scaled(lambda), grid, pred).map(|(sol, _)| sol.y)
+            },
+        )
+        .map_err(|e| ModelError::from_continuation(METHOD, e));
+    match followed {
+        Ok((y, stats)) if stats.jumps == 0 && !past_fold(scene, last_or(&y)) => {
+            let (sol, it) = solve_fixed(w, loads, grid, &y)?;
+            Ok((sol, it, stats.steps, 0, None))
+        }
+        followed => {
+            let jumps = followed.as_ref().map_or(0, |(_, s)| s.jumps);
+            let Some((guess, path)) = path_start(scene, grid) else {
+                let (y, stats) = followed?;
+                let (sol, it) = solve_fixed(w, loads, grid, &y)?;
+                return Ok((sol, it, stats.steps, jumps, None));
+            };
+            let (sol, it) = solve_fixed(w, loads, grid, &guess)?;
+            Ok((sol, it, path.steps, jumps, Some(path)))
+        }
+    }
+}
+
+/// Whether the equilibrium with the loaded-end angle `phi1` lies past an odd number of folds
+/// of the load path: `dR/dphi1 <= 0` in a shot from there (it is 1 on the unloaded whisker
+/// and vanishes only at a fold, [`super::load_path`]).
+fn past_fold(scene: &Scene, phi1: f64) -> bool {
+    let (w, loads) = (&scene.whisker, &scene.loads);
+    let integration = Integration::adaptive(1e-8);
+    match shoot(w, loads, phi1, Sensitivities::TipAngle, &integration) {
+        Ok(shot) => w.support.residual_rate(shot.d_phi1.phi0, shot.d_phi1.m0) <= 0.0,
+        Err(_) => false,
+    }
+}
+
+/// The nodal angles on `grid` of the load path's first arrival at full load, by accurate
+/// shots at tolerance 1e-10, with the path (`None` where the path cannot be followed).
+fn path_start(scene: &Scene, grid: &UniformGrid) -> Option<(Vec<f64>, LoadPath)> {
+    let (w, loads) = (&scene.whisker, &scene.loads);
+    let integration = Integration::adaptive(1e-10);
+    let budget = super::SHOOTING_BUDGET;
+    let (path, _) = super::load_path::follow(w, loads, &integration, METHOD, budget).ok()?;
+    Some((angles_on(scene, grid, path.arrival.phi1)?, path))
+}
+
+/// The nodal angles on `grid` of the shot from the loaded-end angle `phi1` (tolerance 1e-10).
+fn angles_on(scene: &Scene, grid: &UniformGrid, phi1: f64) -> Option<Vec<f64>> {
+    let shape = shape_path(scene, phi1, 1e-10).ok()?;
+    grid.nodes()
+        .iter()
+        .map(|&s| shape.at(s).map(|p| p.phi))
+        .collect()
+}
+
+/// The FDM solution on `ceil(n s1)` intervals that starts from the arrival of `path` (the
+/// load path another grid's solve followed), carrying that path.
+pub(crate) fn solve_on_path(
+    scene: &Scene,
+    n: usize,
+    path: &LoadPath,
+) -> Result<(Solution, Vec<f64>)> {
+    let (w, loads) = (&scene.whisker, &scene.loads);
+    let grid = UniformGrid::new(0.0, loads.s1, intervals(n, loads.s1)).map_err(|source| {
+        ModelError::Solver {
+            method: METHOD,
+            source,
+        }
+    })?;
+    let guess = angles_on(scene, &grid, path.arrival.phi1).ok_or(ModelError::NoConvergence {
+        method: METHOD,
+        load_scale: 1.0,
+        iterations: 0,
+        residual: f64::NAN,
+    })?;
+    let (sol, it) = solve_fixed(w, loads, &grid, &guess)?;
+    let mut out = assemble(scene, &sol, it, path.steps, n);
+    out.load_path = Some(path.clone());
     Ok((out, sol.y))
 }
 
@@ -228,5 +313,6 @@ fn assemble(
             requested: crate::solution::MethodKind::Fdm,
             ..SolveStats::default()
         },
+        load_path: None,
     }
 }

@@ -8,6 +8,7 @@
 //! | [`Method::Auto`] | the cheapest of: spectral Picard iteration, then `accurate` at the tolerance that suffices | spectral / 8 | — |
 
 pub(crate) mod fdm;
+pub(crate) mod load_path;
 pub(crate) mod picard;
 pub(crate) mod shooting;
 
@@ -427,8 +428,14 @@ impl<'a> GridLadder<'a> {
     /// another equilibrium than the continuous one, and two grids that disagree by more than
     /// [`BRANCH_AGREEMENT`] expose it ([`ModelError::BranchAmbiguous`]).
     fn new(scene: &'a Scene, n0: usize, method: &'static str) -> Result<Self> {
-        let first = fdm::solve_from(scene, n0, None)?;
-        let second = fdm::solve_from(scene, n0.saturating_mul(2), None)?;
+        let mut first = fdm::solve_from(scene, n0, None)?;
+        let mut second = fdm::solve_from(scene, n0.saturating_mul(2), None)?;
+        // where one grid's load path decided (a fold), the other follows the same path
+        match (&first.0.load_path, &second.0.load_path) {
+            (Some(p), None) => second = fdm::solve_on_path(scene, n0.saturating_mul(2), p)?,
+            (None, Some(p)) => first = fdm::solve_on_path(scene, n0, p)?,
+            _ => {}
+        }
         let distance = first.0.difference(&second.0);
         // NaN counts as a disagreement
         if distance.is_nan() || distance > BRANCH_AGREEMENT {
@@ -495,6 +502,7 @@ impl<'a> GridLadder<'a> {
         best.stats.evaluations = self.levels.iter().map(|(s, _)| s.stats.evaluations).sum();
         best.stats.continuation_steps = self.levels[0].0.stats.continuation_steps;
         best.stats.branch_jumps = self.levels[0].0.stats.branch_jumps;
+        best.load_path = self.levels[0].0.load_path.clone();
         best.stats.method_used = MethodKind::FdmRichardson;
         Ok(best)
     }

@@ -412,6 +412,7 @@ fn solution(scene: &Scene, g: &Cheb, it: &Iterate, samples: usize) -> Solution {
             method_used: MethodKind::Picard,
             ..SolveStats::default()
         },
+        load_path: None,
     }
 }
 

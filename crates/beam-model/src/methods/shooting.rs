@@ -7,7 +7,7 @@ use crate::error::{ModelError, Result};
 use crate::loads::Loads;
 use crate::scene::Scene;
 use crate::shot::{shoot, shoot_path, BaseValues, Integration, ShotPath};
-use crate::solution::{BaseObservables, Elastica, EndState, Solution, SolveStats};
+use crate::solution::{BaseObservables, Elastica, EndState, LoadPath, Solution, SolveStats};
 use crate::whisker::Whisker;
 use bvp_solvers::continuation::{BranchGuard, Continuation};
 use bvp_solvers::integrator::Rk4;
@@ -410,8 +410,7 @@ fn verified(scene: &Scene, run: &Run<'_>, stats: SolveStats) -> Result<(Solution
     let w = &scene.whisker;
     let loads = &scene.loads;
     let (integration, samples, method) = (run.integration, run.samples, run.method);
-    let (tip, continuation_steps) =
-        solve_tip_angle_within(w, loads, integration, None, method, run.budget)?;
+    let (tip, continuation_steps, load_path) = tip_angle_from_zero(w, loads, run)?;
     let mut stats = SolveStats {
         iterations: tip.iterations,
         residual: tip.residual,
@@ -433,7 +432,40 @@ fn verified(scene: &Scene, run: &Run<'_>, stats: SolveStats) -> Result<(Solution
         sol = shape(scene, t.phi1, integration, samples, stats, method)?;
     }
     sol.stats.residual = residual(&sol);
+    sol.load_path = load_path;
     Ok((sol, sens))
+}
+
+/// The tip angle of the equilibrium reached by loading from zero: by load continuation
+/// ([`solve_tip_angle_within`]), or, where that jumped to another equilibrium, stalled, or
+/// ended past a fold (`dR/dphi1 <= 0`), by following the load path through its folds to
+/// its first arrival at full load ([`super::load_path::follow`]). A run out of its
+/// evaluation budget stays out of it.
+fn tip_angle_from_zero(
+    w: &Whisker,
+    loads: &Loads,
+    run: &Run<'_>,
+) -> Result<(TipSolve, usize, Option<LoadPath>)> {
+    let (integration, method) = (run.integration, run.method);
+    let natural = solve_tip_angle_within(w, loads, integration, None, method, run.budget);
+    // dR/dphi1 = 1 on the unloaded whisker (m = 0, phi0 = phi1 - const) and it vanishes
+    // only at a fold: a solution where it is negative lies past an odd number of folds
+    let unfolded = |tip: &TipSolve| w.support.residual_rate(tip.sens.phi0, tip.sens.m0) > 0.0;
+    match natural {
+        Ok((tip, steps)) if tip.branch_jumps == 0 && unfolded(&tip) => Ok((tip, steps, None)),
+        Err(e @ ModelError::Budget { .. }) => Err(e),
+        natural => {
+            let followed = super::load_path::follow(w, loads, integration, method, run.budget);
+            let Ok((path, spent)) = followed else {
+                return natural.map(|(tip, steps)| (tip, steps, None));
+            };
+            let (tip, more) = newton_tip_angle(w, loads, integration, path.arrival.phi1, method);
+            let mut tip = tip?;
+            tip.evaluations += spent + more;
+            tip.branch_jumps = natural.map_or(0, |(t, _)| t.branch_jumps);
+            Ok((tip, path.steps, Some(path)))
+        }
+    }
 }
 
 /// `accurate`: Newton on the tip angle with DOP853 at `tol` and the elastica from a dense
@@ -614,6 +646,7 @@ pub(crate) fn shape(
             phi0: shot.phi0,
         },
         stats,
+        load_path: None,
     })
 }
 

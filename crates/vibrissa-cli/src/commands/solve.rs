@@ -118,6 +118,21 @@ pub fn solution_json(r: &Resolved, sol: &Solution) -> Value {
         },
         "units": if r.physical.is_some() { "physical" } else { "dimensionless" },
     });
+    if let (Some(p), Some(obj)) = (&sol.load_path, v.as_object_mut()) {
+        obj.insert(
+            "load_path".to_string(),
+            json!({
+                "folds": p.folds.iter().map(|f| json!({
+                    "lambda": num(f.lambda), "phi1": num(f.phi1), "phi0": num(f.phi0),
+                })).collect::<Vec<_>>(),
+                "arrival": {"phi1": num(p.arrival.phi1), "phi0": num(p.arrival.phi0)},
+                "other_equilibria": p.others.iter().map(|e| json!({
+                    "phi1": num(e.phi1), "phi0": num(e.phi0),
+                })).collect::<Vec<_>>(),
+                "steps": p.steps,
+            }),
+        );
+    }
     if let (Some(p), Some(obj)) = (&r.physical, v.as_object_mut()) {
         obj.insert(
             "physical".to_string(),
@@ -139,6 +154,40 @@ pub fn solution_json(r: &Resolved, sol: &Solution) -> Value {
     v
 }
 
+/// What the summary says about the load path from zero: its folds (load scale and angles
+/// there) and the other equilibria at full load, or that the continuation met other
+/// equilibria.
+fn load_path_note(sol: &Solution) -> String {
+    match &sol.load_path {
+        Some(p) if !p.folds.is_empty() => {
+            let folds: Vec<String> = p
+                .folds
+                .iter()
+                .map(|f| format!("at load scale {:.4} (phi1 = {:.4})", f.lambda, f.phi1))
+                .collect();
+            let others: Vec<String> = p
+                .others
+                .iter()
+                .map(|e| format!("phi1 = {:.6}, phi0 = {:.6}", e.phi1, e.phi0))
+                .collect();
+            format!(
+                "; the load path from zero folds {} time(s), {}; the equilibrium returned is its first arrival at full load{}",
+                p.folds.len(),
+                folds.join(", "),
+                if others.is_empty() {
+                    String::new()
+                } else {
+                    format!("; other equilibria at full load on the path: {}", others.join("; "))
+                }
+            )
+        }
+        _ if sol.stats.branch_jumps > 0 || sol.load_path.is_some() => {
+            "; other equilibria exist near the load path (the one returned is reached by loading from zero)".into()
+        }
+        _ => String::new(),
+    }
+}
+
 fn human_summary(r: &Resolved, sol: &Solution) -> String {
     let mut out = format!(
         "solve: {} (n = {}){}, {} iterations, residual {:.2e}, estimated error {:.1e} (tolerance {:.0e}){}\n",
@@ -157,11 +206,7 @@ fn human_summary(r: &Resolved, sol: &Solution) -> String {
             format!(", {} continuation steps", sol.stats.continuation_steps)
         } else {
             String::new()
-        } + if sol.stats.branch_jumps > 0 {
-            "; other equilibria exist along the load path (the one returned is reached by loading from zero)"
-        } else {
-            ""
-        }
+        } + &load_path_note(sol)
     );
     out += &format!(
         "tip   x = {:.8}  y = {:.8}  phi = {:.8}\n",

@@ -46,7 +46,10 @@ class Solution(_Columns):
     whisker lengths, or mm, 1/mm and N mm for a physical scene); ``tip`` (x, y, phi),
     ``base`` (the base observables Ax, Ay, MA, phi0 [6.1]), ``stats`` (``method_used``,
     ``error_estimate``, ``tolerance``, iterations, ...), ``scene`` (the keyword arguments
-    that give this solution back)."""
+    that give this solution back), ``load_path`` (None where loading from zero is monotone;
+    else a dict: ``folds`` [{lambda, phi1, phi0}] passed on the way, ``arrival`` the
+    equilibrium returned, its first arrival at full load, ``other_equilibria`` further along
+    the path)."""
 
     _names = ("s", "x", "y", "phi", "kappa", "m")
 
@@ -61,6 +64,7 @@ class Solution(_Columns):
         self.moment_unit: str = raw["moment_unit"]
         self.method: str = raw["method"]
         self.scene: Dict[str, Any] = scene
+        self.load_path: Optional[Dict[str, Any]] = raw.get("load_path")
 
     def __repr__(self) -> str:
         t, b, st = self.tip, self.base, self.stats

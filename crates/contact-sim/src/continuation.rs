@@ -43,6 +43,44 @@ pub(crate) struct Trace {
     pub end: End,
 }
 
+impl Trace {
+    /// Solves the nodes that become rows (the switches and the end) again on `branch` (the
+    /// sweep's full tolerances) from the trace's own: a switch on its phase boundary, a
+    /// release at `f = 0`, any other end on the hyperplane through it normal to the branch.
+    pub(crate) fn tighten(&mut self, branch: &Branch) -> Result<()> {
+        for n in &mut self.switches {
+            *n = branch.correct(n.phase, n.u, Constraint::PhaseEnd)?;
+        }
+        let end = match &mut self.end {
+            End::Release(n) => {
+                let mut at = branch.correct(n.phase, n.u, Constraint::NoForce)?;
+                at.state.f = at.state.f.max(0.0);
+                at.u[1] = at.state.f;
+                *n = at;
+                return Ok(());
+            }
+            End::Snap(n)
+            | End::MultiContact(n)
+            | End::OffContour(n)
+            | End::AtBase(n)
+            | End::NotReached(n, _) => n,
+        };
+        if end.u == self.nodes[0].u {
+            // the first node, solved at the full tolerances already
+            *end = self.nodes[0];
+            return Ok(());
+        }
+        let t = end.tangent(&[0.0, 0.0, 0.0]);
+        let plane = Constraint::Hyperplane {
+            n: t,
+            p: end.u,
+            radius: 1e-3,
+        };
+        *end = branch.correct(end.phase, end.u, plane)?;
+        Ok(())
+    }
+}
+
 /// Step control of the trace.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct StepControl {

@@ -274,7 +274,17 @@ pub fn sweep_with_progress(
         event_tol: settings.event_tol,
         check_penetration: settings.check_penetration,
     };
-    let tr = trace(&branch, first, &ctl)?;
+    // The trace's nodes only guide the rows and bracket the events: it runs at looser
+    // tolerances, and the nodes that become rows (switches, the end) are solved again at
+    // the full ones.
+    let loose = Integration::adaptive(settings.integration_tol.max(TRACE_INTEGRATION_TOL));
+    let trace_branch = Branch {
+        integration: &loose,
+        tol: settings.solve_tol.max(TRACE_SOLVE_TOL),
+        ..branch
+    };
+    let mut tr = trace(&trace_branch, first, &ctl)?;
+    tr.tighten(&branch)?;
     progress(SweepProgress::Coarse {
         steps: tr.nodes.len(),
     });
@@ -338,6 +348,13 @@ pub fn sweep_with_progress(
         separation,
     })
 }
+
+/// The trace's integrator tolerance (at most as tight as the sweep's): its nodes guide the
+/// rows' predictions, whose errors (~1e-6 from the Hermite interpolant) dwarf it.
+const TRACE_INTEGRATION_TOL: f64 = 1e-10;
+
+/// The trace's residual tolerance (at most as tight as the sweep's).
+const TRACE_SOLVE_TOL: f64 = 1e-9;
 
 /// Refuses settings the sweep cannot honour, naming the culprit.
 fn check_settings(settings: &SweepSettings, flow: FluidLoad) -> Result<()> {

@@ -208,7 +208,7 @@ pub struct PathEquilibrium {
 
 /// What following the load path found: the folds passed before the first arrival at full
 /// load (in order), that arrival, and the other equilibria at full load met further along
-/// the path (at most three, within 300 steps past the arrival).
+/// the path (at most three, within 100 steps past the arrival and load scales in [0, 2]).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct LoadPath {
     /// Folds of the path from zero load to the returned equilibrium.
@@ -234,9 +234,8 @@ pub struct Solution {
     pub base: BaseObservables,
     /// Statistics.
     pub stats: SolveStats,
-    /// The load path from zero where it folds or the method's own load continuation
-    /// jumped: its folds and the other equilibria at full load (`None` where loading from
-    /// zero is monotone).
+    /// The load path from zero where the method's own load continuation stalled or ended
+    /// past a fold: its folds and the other equilibria at full load (`None` otherwise).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub load_path: Option<LoadPath>,
 }

@@ -137,9 +137,10 @@ type FromZero = (FdmSolution, usize, usize, usize, Option<LoadPath>);
 
 /// The FDM solution on `grid` reached by loading from zero: load continuation from the
 /// unloaded whisker (the one driver of bvp-solvers: secant predictor, jump guard), each
-/// corrector a Newton solve on the grid; where that jumped to another equilibrium or
-/// stalled, the rule every method follows: the load path's first arrival at full load
-/// ([`super::load_path::follow`], by accurate shots), sampled on the grid as Newton's start.
+/// corrector a Newton solve on the grid; where that stalled or ended past a fold
+/// ([`past_fold`]), the rule every method follows: the load path's first arrival at full
+/// load ([`super::load_path::follow`], by accurate shots), sampled on the grid as Newton's
+/// start.
 fn from_zero(scene: &Scene, grid: &UniformGrid, unloaded: Vec<f64>, sev: f64) -> Result<FromZero> {
     let (w, loads) = (&scene.whisker, &scene.loads);
     let first = (1.0 / sev.ceil()).clamp(1e-3, 1.0);
@@ -160,9 +161,9 @@ fn from_zero(scene: &Scene, grid: &UniformGrid, unloaded: Vec<f64>, sev: f64) ->
         )
         .map_err(|e| ModelError::from_continuation(METHOD, e));
     match followed {
-        Ok((y, stats)) if stats.jumps == 0 && !past_fold(scene, last_or(&y)) => {
+        Ok((y, stats)) if !past_fold(scene, last_or(&y)) => {
             let (sol, it) = solve_fixed(w, loads, grid, &y)?;
-            Ok((sol, it, stats.steps, 0, None))
+            Ok((sol, it, stats.steps, stats.jumps, None))
         }
         followed => {
             let jumps = followed.as_ref().map_or(0, |(_, s)| s.jumps);

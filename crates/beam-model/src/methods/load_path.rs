@@ -14,8 +14,11 @@
 //! pseudo-arclength ([`bvp_solvers::arclength`]) from `(phi1_unloaded, 0)`, passing its folds
 //! (located where `dR/dphi1 = 0`), to its **first arrival at full load** (`lambda = 1`,
 //! located, then Newton at full accuracy): that equilibrium is the answer of every method
-//! whose own load continuation jumped or stalled. The trace then goes on a bounded distance
-//! to list the other equilibria at full load on the same path.
+//! whose own load continuation stalled or ended past a fold (`dR/dphi1 <= 0` there: it is 1
+//! on the unloaded whisker and vanishes only at folds, so an odd number of folds was passed
+//! by jumps; an even number passed that way is not detected). The trace then goes on a
+//! bounded distance (at most 100 steps, load scales in `[0, 2]`) to list the other
+//! equilibria at full load on the same path.
 //!
 //! `dR/dphi1` comes from the shot's variational equations; `dR/dlambda` from a forward
 //! difference in `lambda` (one more shot; the corrector only needs it approximately, and the
@@ -35,7 +38,9 @@ use std::f64::consts::FRAC_PI_2;
 /// Most other equilibria listed.
 pub(crate) const MAX_OTHERS: usize = 3;
 /// Steps followed past the arrival looking for other equilibria.
-pub(crate) const AFTER_STEPS: usize = 300;
+pub(crate) const AFTER_STEPS: usize = 100;
+/// The range of load scales `[0, AFTER_LAMBDA]` the search past the arrival stays in.
+const AFTER_LAMBDA: f64 = 2.0;
 /// Step budget before the arrival.
 const MAX_STEPS: usize = 2000;
 /// Residual tolerance of the path's corrector (relative to `1 + |m0|/k`): the path only
@@ -223,7 +228,9 @@ pub(crate) fn follow(
                 limit: budget,
             });
         }
-        if arrival.is_some() && (others.len() >= MAX_OTHERS || after >= AFTER_STEPS) {
+        let lambda = arc.current().u[1];
+        let far = !(0.0..=AFTER_LAMBDA).contains(&lambda);
+        if arrival.is_some() && (others.len() >= MAX_OTHERS || after >= AFTER_STEPS || far) {
             break;
         }
         let (p, t) = match arc.attempt(&curve) {

@@ -437,10 +437,10 @@ fn verified(scene: &Scene, run: &Run<'_>, stats: SolveStats) -> Result<(Solution
 }
 
 /// The tip angle of the equilibrium reached by loading from zero: by load continuation
-/// ([`solve_tip_angle_within`]), or, where that jumped to another equilibrium, stalled, or
-/// ended past a fold (`dR/dphi1 <= 0`), by following the load path through its folds to
-/// its first arrival at full load ([`super::load_path::follow`]). A run out of its
-/// evaluation budget stays out of it.
+/// ([`solve_tip_angle_within`]), or, where that stalled or ended past a fold
+/// (`dR/dphi1 <= 0`: an odd number of folds passed by jumps the branch guard let through),
+/// by following the load path through its folds to its first arrival at full load
+/// ([`super::load_path::follow`]). A run out of its evaluation budget stays out of it.
 fn tip_angle_from_zero(
     w: &Whisker,
     loads: &Loads,
@@ -452,7 +452,7 @@ fn tip_angle_from_zero(
     // only at a fold: a solution where it is negative lies past an odd number of folds
     let unfolded = |tip: &TipSolve| w.support.residual_rate(tip.sens.phi0, tip.sens.m0) > 0.0;
     match natural {
-        Ok((tip, steps)) if tip.branch_jumps == 0 && unfolded(&tip) => Ok((tip, steps, None)),
+        Ok((tip, steps)) if unfolded(&tip) => Ok((tip, steps, None)),
         Err(e @ ModelError::Budget { .. }) => Err(e),
         natural => {
             let followed = super::load_path::follow(w, loads, integration, method, run.budget);

@@ -455,10 +455,10 @@ fn tip_angle_from_zero(
         Ok((tip, steps)) if unfolded(&tip) => Ok((tip, steps, None)),
         Err(e @ ModelError::Budget { .. }) => Err(e),
         natural => {
-            let followed = super::load_path::follow(w, loads, integration, method, run.budget);
-            let Ok((path, spent)) = followed else {
-                return natural.map(|(tip, steps)| (tip, steps, None));
-            };
+            // a path that cannot be followed leaves no answer by the rule: the error (the
+            // caller's fallback follows the rule by its own method)
+            let (path, spent) =
+                super::load_path::follow(w, loads, integration, method, run.budget)?;
             let (tip, more) = newton_tip_angle(w, loads, integration, path.arrival.phi1, method);
             let mut tip = tip?;
             tip.evaluations += spent + more;

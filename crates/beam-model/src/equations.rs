@@ -157,7 +157,7 @@ impl OdeSystem for WhiskerOde {
         let e = w.diameter(s);
         let e2 = e * e;
         let inv_e4 = 1.0 / (e2 * e2);
-        let (sp, cp) = phi.sin_cos();
+        let (sp, cp) = crate::trig::sin_cos(phi);
         let rate = self.law.at(s, sp, cp);
         du[0] = m * inv_e4 + w.a * s + w.b;
         du[1] = rate.dm;
@@ -316,7 +316,7 @@ impl OdeSystem for FreeSegment {
         2
     }
     fn rhs(&self, s: f64, _u: &[f64], du: &mut [f64]) {
-        let (sp, cp) = self.phi(s).sin_cos();
+        let (sp, cp) = crate::trig::sin_cos(self.phi(s));
         du[0] = cp;
         du[1] = sp;
     }

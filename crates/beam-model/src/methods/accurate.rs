@@ -35,7 +35,7 @@ use crate::solution::{MethodKind, Solution, SolveStats};
 
 /// The guiding tolerance of the branch search: the load steps only guide the branch (to
 /// within far less than the jump guard's 0.2 rad).
-pub(crate) const GUIDE_TOL: f64 = 1e-4;
+pub(crate) const GUIDE_TOL: f64 = 1e-3;
 
 /// The search tolerance of stage 2: it puts `phi1` within ~1e-8 of the root at `tol`, so
 /// that stage 3's Newton step is small enough to be taken linearised.

@@ -189,8 +189,8 @@ impl TipTarget {
         load_scale: 1.0,
     };
 
-    /// A corrector of a load step of `accurate`'s branch search, on DOP853 at the guiding
-    /// tolerance 1e-4: residual 1e-4, or the Newton step from a residual of 1e-2 returned
+    /// A corrector of a load step of `accurate`'s branch search, on DOP853 at its guiding
+    /// tolerance (1e-3): residual 1e-4, or the Newton step from a residual of 1e-2 returned
     /// unshot (its residual near 1e-4: the steps only guide the branch, to within far less
     /// than the jump guard's 0.2 rad).
     pub(crate) const GUIDE_LOOSE: TipTarget = TipTarget {

@@ -171,7 +171,7 @@ fn refine(
                 };
                 sol.stats.error_estimate = corrected_difference(&shot, sens, d, &sol, loads);
                 sol.stats.residual = support.residual(sol.base.phi0, -sol.base.ma).abs();
-                return Ok(Ok(sol));
+                return Ok(Ok(*sol));
             }
             Linearised::Far { d, evaluations } => {
                 spent += evaluations;

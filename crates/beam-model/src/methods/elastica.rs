@@ -66,14 +66,20 @@ pub(crate) fn linearised_shape(
         path,
     };
     let sol = assemble(scene, run, &moved, stats)?;
-    Ok(Linearised::Root { sol, sens })
+    Ok(Linearised::Root {
+        sol: Box::new(sol),
+        sens,
+    })
 }
 
 /// What [`linearised_shape`] gives.
 pub(crate) enum Linearised {
     /// The solution at the shot's root, with the shot's sensitivities
     /// `d(phi0, m0, dx, dy)/dphi1`.
-    Root { sol: Solution, sens: BaseValues },
+    Root {
+        sol: Box<Solution>,
+        sens: BaseValues,
+    },
     /// The step `d` to the root was not finite or too long; the evaluations spent.
     Far { d: f64, evaluations: usize },
 }

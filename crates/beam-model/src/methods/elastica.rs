@@ -245,3 +245,47 @@ fn free_segment(
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{solve, Method};
+
+    /// A dense shot a little off the root, moved to its root, gives the plain shot's
+    /// solution there: base values, loaded end, tip and every elastica sample to O(d^2).
+    #[test]
+    fn the_linearised_shot_is_the_shot_at_its_root() {
+        for (name, scene) in crate::scenarios::reference_scenes() {
+            let scene = scene.normalised();
+            let phi1 = solve(&scene, &Method::accurate()).unwrap().loaded_end.phi;
+            let integration = Integration::adaptive(1e-12);
+            let plain = shape(&scene, phi1, &integration, 50, SolveStats::default(), "t").unwrap();
+            let run = Run {
+                integration: &integration,
+                samples: 50,
+                method: "t",
+                budget: 0,
+            };
+            let off = phi1 + 1e-7;
+            let Linearised::Root { sol, sens } =
+                linearised_shape(&scene, off, &run, SolveStats::default(), 1e-6).unwrap()
+            else {
+                panic!("{name}: a step of 1e-7 is within the bound");
+            };
+            assert!((sol.loaded_end.phi - phi1).abs() < 1e-12, "{name}");
+            assert!(sens.phi0.is_finite() && sens.m0 != 0.0, "{name}");
+            let d = sol.difference(&plain);
+            assert!(d < 1e-10, "{name}: {d:e}");
+            assert_eq!(sol.elastica.len(), plain.elastica.len());
+            for (a, b) in sol.elastica.phi.iter().zip(&plain.elastica.phi) {
+                assert!((a - b).abs() < 1e-10, "{name}: {a} {b}");
+            }
+            for (a, b) in sol.elastica.x.iter().zip(&plain.elastica.x) {
+                assert!((a - b).abs() < 1e-10, "{name}: {a} {b}");
+            }
+            // beyond the bound: the step is reported, nothing is assembled
+            let far = linearised_shape(&scene, phi1 + 1e-3, &run, SolveStats::default(), 1e-6);
+            assert!(matches!(far, Ok(Linearised::Far { d, .. }) if (d + 1e-3).abs() < 1e-4));
+        }
+    }
+}

@@ -157,28 +157,39 @@ impl OdeSystem for WhiskerOde {
         let e = w.diameter(s);
         let e2 = e * e;
         let inv_e4 = 1.0 / (e2 * e2);
-        let (sp, cp) = phi.sin_cos();
+        let (sp, cp) = crate::trig::sin_cos(phi);
         let rate = self.law.at(s, sp, cp);
         du[0] = m * inv_e4 + w.a * s + w.b;
         du[1] = rate.dm;
         du[2] = cp;
         du[3] = sp;
-        if self.sens == Sensitivities::None {
-            return;
-        }
         let jm = rate.dm_dphi;
         let (sc, cc) = rate.force;
+        // phi1 enters AP loads only: d/dphi1 f sin(c) = -f cos(c)
+        let explicit_phi1 = match l.tip.kind {
+            LoadKind::Dp => 0.0,
+            LoadKind::Ap => -l.tip.f * cc,
+        };
+        match self.sens {
+            Sensitivities::None => return,
+            Sensitivities::TipAngle => {
+                // the one block of the Newton shots, written out
+                let (dphi, dm) = (u[4], u[5]);
+                du[4] = dm * inv_e4;
+                du[5] = jm * dphi + explicit_phi1;
+                du[6] = -sp * dphi;
+                du[7] = cp * dphi;
+                return;
+            }
+            Sensitivities::All => {}
+        }
         let sa = rate.flow_sin;
         let n = self.sens.count();
         for j in 0..n {
             let o = 4 * (j + 1);
             let (dphi, dm) = (u[o], u[o + 1]);
             let explicit = match j {
-                // phi1 enters AP loads only: d/dphi1 f sin(c) = -f cos(c)
-                0 => match l.tip.kind {
-                    LoadKind::Dp => 0.0,
-                    LoadKind::Ap => -l.tip.f * cc,
-                },
+                0 => explicit_phi1,
                 1 => sc,
                 2 => l.fluid.q * sa,
                 // the force angle c moves with beta for DP and AP alike
@@ -305,7 +316,7 @@ impl OdeSystem for FreeSegment {
         2
     }
     fn rhs(&self, s: f64, _u: &[f64], du: &mut [f64]) {
-        let (sp, cp) = self.phi(s).sin_cos();
+        let (sp, cp) = crate::trig::sin_cos(self.phi(s));
         du[0] = cp;
         du[1] = sp;
     }

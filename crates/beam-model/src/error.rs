@@ -54,6 +54,16 @@ pub enum ModelError {
         /// The guard's bound.
         allowed: f64,
     },
+    /// The continuation ended past a fold of the load path from zero (`dR/dphi1 <= 0` at its
+    /// answer, `phi1`) and the load path itself could not be followed to full load: no
+    /// answer by the rule every method follows.
+    #[error("{method}: the load path from zero folds (the continuation ended past a fold at phi1 = {phi1:.6}) and could not be followed through its folds to full load")]
+    FoldedPath {
+        /// The method.
+        method: &'static str,
+        /// The loaded-end angle the continuation reached.
+        phi1: f64,
+    },
     /// The load paths on `n` and `2n` grid intervals reached different equilibria: the grid
     /// does not resolve the whisker (usually the thin tip's boundary layer).
     #[error("{method}: the load paths on {n} and 2x{n} intervals reach different equilibria (distance {distance:.3e}); the grid does not resolve the tip, use a finer --n")]
@@ -118,6 +128,7 @@ impl ModelError {
             ModelError::NoConvergence { method, .. }
             | ModelError::ContinuationFailed { method, .. }
             | ModelError::BranchJump { method, .. }
+            | ModelError::FoldedPath { method, .. }
             | ModelError::BranchAmbiguous { method, .. }
             | ModelError::Budget { method, .. }
             | ModelError::Inaccurate { method, .. }

@@ -35,7 +35,7 @@ pub fn rotations(whisker: &Whisker, loads: &Loads) -> (f64, f64) {
     let h = s1 / INTERVALS as f64;
     let rate = |i: usize| {
         let s = i as f64 * h;
-        let (sp, cp) = whisker.phi_unloaded(s).sin_cos();
+        let (sp, cp) = crate::trig::sin_cos(whisker.phi_unloaded(s));
         law.at(s, sp, cp).dm
     };
     // m at the nodes from the loaded end (m(s1) = 0), then its integral over 1/e^4 from the

@@ -162,15 +162,28 @@ fn from_zero(scene: &Scene, grid: &UniformGrid, unloaded: Vec<f64>, sev: f64) ->
         .map_err(|e| ModelError::from_continuation(METHOD, e));
     match followed {
         Ok((y, stats)) if !past_fold(scene, last_or(&y)) => {
+            if stats.jumps > 0 {
+                // the branch guard met other equilibria: a jump it let through would land
+                // on one of them unnoticed; shooting by the rule settles the branch
+                let ends = (y.first().copied().unwrap_or(FRAC_PI_2), last_or(&y));
+                if let Some((guess, path)) = shooting_start(scene, grid, ends) {
+                    let (sol, it) = solve_fixed(w, loads, grid, &guess)?;
+                    return Ok((sol, it, stats.steps, stats.jumps, path));
+                }
+            }
             let (sol, it) = solve_fixed(w, loads, grid, &y)?;
             Ok((sol, it, stats.steps, stats.jumps, None))
         }
         followed => {
             let jumps = followed.as_ref().map_or(0, |(_, s)| s.jumps);
             let Some((guess, path)) = path_start(scene, grid) else {
-                let (y, stats) = followed?;
-                let (sol, it) = solve_fixed(w, loads, grid, &y)?;
-                return Ok((sol, it, stats.steps, jumps, None));
+                // no answer by the rule: the continuation's own error, or its past-fold
+                // equilibrium refused
+                let (y, _) = followed?;
+                return Err(ModelError::FoldedPath {
+                    method: METHOD,
+                    phi1: last_or(&y),
+                });
             };
             let (sol, it) = solve_fixed(w, loads, grid, &guess)?;
             Ok((sol, it, path.steps, jumps, Some(path)))
@@ -189,6 +202,31 @@ fn past_fold(scene: &Scene, phi1: f64) -> bool {
         Err(_) => false,
     }
 }
+
+/// Where shooting by the rule ([`super::shooting::solve_tip_angle_within`], DOP853 at
+/// 1e-10) reaches another equilibrium than a continuation on the grid with the end angles
+/// `(phi0, phi1)` (either more than [`BRANCH_APART`] away: two branches may share one of
+/// them): the nodal angles of the shooting's equilibrium on `grid`, with its load path where
+/// that decided. `None` when they agree or shooting has no answer.
+fn shooting_start(
+    scene: &Scene,
+    grid: &UniformGrid,
+    (phi0, phi1): (f64, f64),
+) -> Option<(Vec<f64>, Option<LoadPath>)> {
+    let (w, loads) = (&scene.whisker, &scene.loads);
+    let integration = Integration::adaptive(1e-10);
+    let budget = super::SHOOTING_BUDGET;
+    let (tip, _, path) =
+        super::shooting::solve_tip_angle_within(w, loads, &integration, METHOD, budget).ok()?;
+    if (tip.phi1 - phi1).abs().max((tip.values.phi0 - phi0).abs()) <= BRANCH_APART {
+        return None;
+    }
+    Some((angles_on(scene, grid, tip.phi1)?, path))
+}
+
+/// Loaded-end angles farther apart than this are two equilibria, not one resolved on two
+/// grids (the FDM's own error on a grid it resolves is far below it).
+const BRANCH_APART: f64 = 0.05;
 
 /// The nodal angles on `grid` of the load path's first arrival at full load, by accurate
 /// shots at tolerance 1e-10, with the path (`None` where the path cannot be followed).

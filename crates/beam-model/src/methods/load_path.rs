@@ -256,16 +256,22 @@ pub(crate) fn follow(
             let side = (1.0 - cur.u[1]).signum();
             let g = |q: &PathPoint| Ok::<f64, ModelError>((1.0 - q.u[1]) * side);
             let at = locate(&curve, &cur, &p, &g, EVENT_TOL)?;
+            // at full accuracy where the integration resolves it, else at the path's own
+            // (the caller's solve polishes it at its tolerance)
             let (t, _) = newton_tip_angle(whisker, loads, integration, at.u[0], method);
-
-            let eq = t.map(|t| PathEquilibrium {
-                phi1: t.phi1,
-                phi0: t.values.phi0,
-            });
-            match (&arrival, eq) {
-                (None, Ok(eq)) => arrival = Some(eq),
-                (None, Err(e)) => return Err(e),
-                (Some(a), Ok(eq)) if (eq.phi1 - a.phi1).abs() > 1e-6 => others.push(eq),
+            let eq = t.map_or(
+                PathEquilibrium {
+                    phi1: at.u[0],
+                    phi0: at.phi0,
+                },
+                |t| PathEquilibrium {
+                    phi1: t.phi1,
+                    phi0: t.values.phi0,
+                },
+            );
+            match &arrival {
+                None => arrival = Some(eq),
+                Some(a) if (eq.phi1 - a.phi1).abs() > 1e-6 => others.push(eq),
                 _ => {}
             }
         }

@@ -7,6 +7,8 @@
 //! | [`Method::Accurate`] | adaptive DOP853 shooting from the loaded end | 8 | — |
 //! | [`Method::Auto`] | the cheapest of: spectral Picard iteration, then `accurate` at the tolerance that suffices | spectral / 8 | — |
 
+pub(crate) mod accurate;
+pub(crate) mod elastica;
 pub(crate) mod fdm;
 pub(crate) mod load_path;
 pub(crate) mod picard;
@@ -296,7 +298,7 @@ fn check_estimate(scene: &Scene, sol: &Solution) -> Result<()> {
 /// the FDM + Richardson fallback where shooting fails or does not meet `tolerance`.
 fn accurate(scene: &Scene, tol: f64, samples: usize, tolerance: f64) -> Result<Solution> {
     let check_tol = (tol * CHECK_TOL_RATIO).max(MIN_CHECK_TOL);
-    let shot = shooting::solve_accurate(scene, tol, check_tol, samples, SHOOTING_BUDGET);
+    let shot = accurate::solve_accurate(scene, tol, check_tol, samples, SHOOTING_BUDGET);
     let shooting_evaluations = match &shot {
         Ok(sol) if sol.stats.error_estimate <= tolerance => return shot,
         Ok(sol) => sol.stats.evaluations,
@@ -385,7 +387,7 @@ pub fn shape_from_tip_angle(
 ) -> Result<Solution> {
     scene.validate()?;
     Method::Accurate { tol, samples }.validate()?;
-    shooting::shape(
+    elastica::shape(
         &scene.normalised(),
         phi1,
         &crate::shot::Integration::adaptive(tol),

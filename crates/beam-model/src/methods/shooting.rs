@@ -2,15 +2,15 @@
 //! the tip angle `phi1` with the exact derivative from the variational equations, load
 //! continuation when the direct iteration fails, then the elastica from the final shot.
 
-use crate::equations::{FreeSegment, Sensitivities};
+use super::elastica::shape;
+use crate::equations::Sensitivities;
 use crate::error::{ModelError, Result};
 use crate::loads::Loads;
 use crate::scene::Scene;
-use crate::shot::{shoot, shoot_path, BaseValues, Integration, ShotPath};
-use crate::solution::{BaseObservables, Elastica, EndState, LoadPath, Solution, SolveStats};
+use crate::shot::{shoot, BaseValues, Integration};
+use crate::solution::{LoadPath, Solution, SolveStats};
 use crate::whisker::Whisker;
 use bvp_solvers::continuation::{BranchGuard, Continuation};
-use bvp_solvers::integrator::Rk4;
 use bvp_solvers::newton::{
     JacobianUpdate, NewtonPolicy, Safeguards, SmallStep, Stall, Termination,
 };
@@ -45,7 +45,7 @@ const MAX_STEP: f64 = 0.5;
 /// angle back to Newton: the plain 4-component shot at tolerance 1e-12 carries a noise of a
 /// few 1e-12 in its base values (measured: 2e-12 on s18 where the 8-component Newton shot
 /// at the same angle gives 8.5e-15), so a tighter bound re-solves a converged angle.
-const VERIFY_TOL: f64 = 1e-11;
+pub(crate) const VERIFY_TOL: f64 = 1e-11;
 
 /// Newton on `R(phi1) = phi(0) - pi/2 - m(0)/k` [3.21, 3.22] from `guess`; with the
 /// right-hand-side evaluations spent, failed or not.
@@ -154,12 +154,14 @@ impl ShotProblem<1> for TipProblem<'_> {
 }
 
 /// How far [`newton_to`] iterates.
-struct TipTarget {
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct TipTarget {
     /// Residual tolerance, relative to `1 + |m0|/k`.
     tol: f64,
-    /// Return after the step that follows a residual of 1e-7 (quadratic convergence puts the
-    /// next residual far below `tol`; the caller's final shot verifies it).
-    verify_last: bool,
+    /// Return the step that follows a residual below this bound unshot (quadratic
+    /// convergence puts the next residual near its square; the caller's next shot verifies
+    /// it).
+    predict_below: Option<f64>,
     /// The load scale reported with a failure.
     load_scale: f64,
 }
@@ -168,7 +170,41 @@ impl TipTarget {
     /// The final solve at full load.
     const FINAL: TipTarget = TipTarget {
         tol: 1e-13,
-        verify_last: false,
+        predict_below: None,
+        load_scale: 1.0,
+    };
+
+    /// The final solve at full load after a continuation: the step after a residual of 1e-7
+    /// is returned unshot (the elastica's shot verifies it).
+    pub(crate) const POLISH: TipTarget = TipTarget {
+        predict_below: Some(1e-7),
+        ..TipTarget::FINAL
+    };
+
+    /// A continuation corrector: residual 1e-5, every shot verified (the load steps only
+    /// guide the branch; the final Newton at full load restores the accuracy).
+    const GUIDE: TipTarget = TipTarget {
+        tol: 1e-5,
+        predict_below: None,
+        load_scale: 1.0,
+    };
+
+    /// A corrector of a load step of `accurate`'s branch search, on DOP853 at its guiding
+    /// tolerance (1e-3): residual 1e-4, or the Newton step from a residual of 1e-2 returned
+    /// unshot (its residual near 1e-4: the steps only guide the branch, to within far less
+    /// than the jump guard's 0.2 rad).
+    pub(crate) const GUIDE_LOOSE: TipTarget = TipTarget {
+        tol: 1e-4,
+        predict_below: Some(1e-2),
+        load_scale: 1.0,
+    };
+
+    /// The Newton solve at the search tolerance that starts `accurate`'s answer: residual
+    /// 1e-8, or the Newton step from a residual of 1e-4 returned unshot (quadratic
+    /// convergence lands it near 1e-8, within the search integration's own error).
+    pub(crate) const SEARCH: TipTarget = TipTarget {
+        tol: 1e-8,
+        predict_below: Some(1e-4),
         load_scale: 1.0,
     };
 
@@ -189,7 +225,7 @@ impl TipTarget {
     /// from a bad prediction: a continuation then shortens its load step), unless the
     /// residual is at the rounding floor 1e-9; a step below 4 ulp of the angle has converged
     /// to rounding (one more shot, without sensitivities, accepts it within 1e-9); with
-    /// `verify_last`, the step after a residual of 1e-7 is returned unshot.
+    /// `predict_below`, the step after a residual below it is returned unshot.
     fn guards(&self) -> Safeguards {
         Safeguards {
             max_step: MAX_STEP,
@@ -204,7 +240,7 @@ impl TipTarget {
                 floor: 1.0,
                 check: Some(1e-9),
             }),
-            predict_below: self.verify_last.then_some(1e-7),
+            predict_below: self.predict_below,
         }
     }
 }
@@ -267,43 +303,66 @@ pub(crate) fn severity(whisker: &Whisker, loads: &Loads) -> f64 {
     rot * taper
 }
 
+/// How the branch search of [`find_branch`] runs: the integrator and target of the direct
+/// attempt, and those of the continuation's correctors (`guide`; the target's load scale is
+/// set per step).
+pub(crate) struct Search<'a> {
+    pub direct: &'a Integration,
+    pub direct_target: TipTarget,
+    pub guide: &'a Integration,
+    pub guide_target: TipTarget,
+}
+
+/// The tip angle reached by [`find_branch`]: at the search's integrator and target.
+pub(crate) struct Found {
+    /// The last solve (its `evaluations` count every attempt of the search).
+    pub tip: TipSolve,
+    /// Accepted continuation steps (0: the direct solve answered).
+    pub steps: usize,
+}
+
+/// The loose integrator of a continuation's load steps: DOP853 at `max(tol, 1e-6)`, RK4 as
+/// given.
+pub(crate) fn loose(integration: &Integration) -> Integration {
+    match integration {
+        Integration::Dop853(d) => Integration::adaptive(d.rtol.max(1e-6)),
+        other => other.clone(),
+    }
+}
+
 /// Newton on the tip angle, on the branch connected to the unloaded whisker: a direct solve
 /// from the linear-theory tip angle ([`crate::linear`]) for mild loads, otherwise load
 /// continuation in a scale factor lambda in [0, 1] on f and q
 /// ([`Continuation::follow_from`]: the linear-theory slope on the first step, then the secant
-/// predictor, each corrector warm-started from the prediction, a corrector that lands far from its prediction has jumped branches and counts
-/// as a failure), stopped after `budget` right-hand-side evaluations.
-pub(crate) fn solve_tip_angle_within(
+/// predictor, each corrector warm-started from the prediction, a corrector that lands far
+/// from its prediction has jumped branches and counts as a failure), stopped after `budget`
+/// right-hand-side evaluations. Every solve runs to `search.target` (the caller refines the
+/// answer at its own tolerance).
+pub(crate) fn find_branch(
     whisker: &Whisker,
     loads: &Loads,
-    integration: &Integration,
-    guess: Option<f64>,
+    search: &Search<'_>,
     method: &'static str,
     budget: usize,
-) -> Result<(TipSolve, usize)> {
+) -> Result<Found> {
     let unloaded = whisker.phi_unloaded(loads.s1);
     let sev = severity(whisker, loads);
     // evaluations of attempts that did not give the answer
     let mut evaluations = 0;
-    if let Some(g) = guess {
-        let (t, spent) = newton_tip_angle(whisker, loads, integration, g, method);
-        if let Ok(t) = t {
-            return Ok((t, 0));
-        }
-        evaluations += spent;
-    } else if sev <= 1.0 {
+    if sev <= 1.0 {
         // From the linear-theory tip angle. A direct solve is kept only near the unloaded
         // shape (at most 0.5 rad of rotation at either end); otherwise it may have landed on
         // another branch and continuation decides.
         let linear = unloaded + crate::linear::tip_rotation(whisker, loads);
-        let (t, spent) = newton_tip_angle(whisker, loads, integration, linear, method);
+        let problem = TipProblem::new(whisker, loads, search.direct, method);
+        let t = newton_to(&problem, linear, &search.direct_target);
         match t {
             Ok(t)
                 if (t.phi1 - unloaded).abs() <= 0.5 && (t.values.phi0 - FRAC_PI_2).abs() <= 0.5 =>
             {
-                return Ok((t, 0));
+                return Ok(Found { tip: t, steps: 0 });
             }
-            _ => evaluations += spent,
+            _ => evaluations += problem.spent.get(),
         }
     }
     let first = (1.0 / sev.ceil()).clamp(1e-3, 1.0);
@@ -320,11 +379,9 @@ pub(crate) fn solve_tip_angle_within(
         min_step: 1e-8,
         max_step: (2.0 * first).min(1.0),
     };
-    let loose = match integration {
-        Integration::Dop853(d) => Integration::adaptive(d.rtol.max(1e-6)),
-        other => other.clone(),
-    };
-    let (phi1, stats) = cont
+    // the last corrector's solve: at lambda = 1 once the continuation has arrived
+    let mut last = None;
+    let (_, stats) = cont
         // the branch is followed in (phi1, phi0): under a strong force the tip aligns with
         // it on several branches (phi1 alike), the base angle tells them apart
         .follow_from(
@@ -343,18 +400,18 @@ pub(crate) fn solve_tip_angle_within(
                 }
                 // intermediate load steps only guide the branch: residual 1e-5 on DOP853 at
                 // 1e-6, far below the next step's prediction error (s18: 6104 -> 4376
-                // evaluations, tip unchanged to 1e-15); the full accuracy is restored by the
-                // final Newton at lambda = 1
+                // evaluations, tip unchanged to 1e-15); the full accuracy is restored at
+                // lambda = 1 by the caller
                 let scaled = loads.scaled(lambda);
-                let problem = TipProblem::new(whisker, &scaled, &loose, method);
+                let problem = TipProblem::new(whisker, &scaled, search.guide, method);
                 let target = TipTarget {
-                    tol: 1e-5,
-                    verify_last: false,
                     load_scale: lambda,
+                    ..search.guide_target
                 };
                 let t = newton_to(&problem, pred[0], &target);
                 evaluations += problem.spent.get();
                 let t = t?;
+                last = Some(t);
                 Ok(vec![t.phi1, t.values.phi0])
             },
         )
@@ -362,15 +419,136 @@ pub(crate) fn solve_tip_angle_within(
             // the budget stops the run at once, whatever the step size
             ModelError::from_continuation(method, e)
         })?;
-    let problem = TipProblem::new(whisker, loads, integration, method);
-    let target = TipTarget {
-        verify_last: true,
-        ..TipTarget::FINAL
+    let Some(mut tip) = last else {
+        unreachable!("a continuation that arrives has run its correctors")
     };
-    let mut t = newton_to(&problem, phi1[0], &target)?;
-    t.evaluations += evaluations;
-    t.branch_jumps = stats.jumps;
-    Ok((t, stats.steps))
+    tip.evaluations = evaluations;
+    tip.branch_jumps = stats.jumps;
+    Ok(Found {
+        tip,
+        steps: stats.steps,
+    })
+}
+
+/// How [`find_branch_by_rule`] polishes the search's answer before judging it: Newton at
+/// `integration` to `target`, also after a direct solve when `direct_too` (a search on
+/// loose shots).
+pub(crate) struct Polish<'a> {
+    pub integration: &'a Integration,
+    pub target: TipTarget,
+    pub direct_too: bool,
+}
+
+/// [`find_branch`] by the rule every method follows where loading from zero is not
+/// monotone, its answer polished ([`Polish`]): where the search stalled, its branch guard
+/// met other equilibria (a jump it let through would land on one unnoticed: two branches
+/// may share the tip angle and differ at the base), or its polished answer lies past a
+/// fold (`dR/dphi1 <= 0`: it is 1 on the unloaded whisker and vanishes only at folds),
+/// the load path is followed through its folds to its first arrival at full load
+/// ([`super::load_path::follow`], solved there at `path_integration`), and the answer is
+/// that arrival polished. A search out of its evaluation budget stays out of it; a path
+/// that cannot be followed gives its error (the caller's fallback follows the rule by its
+/// own method).
+pub(crate) fn find_branch_by_rule(
+    whisker: &Whisker,
+    loads: &Loads,
+    search: &Search<'_>,
+    polish: &Polish<'_>,
+    path_integration: &Integration,
+    method: &'static str,
+    budget: usize,
+) -> Result<(Found, Option<LoadPath>)> {
+    let support = &whisker.support;
+    let unfolded = |tip: &TipSolve| support.residual_rate(tip.sens.phi0, tip.sens.m0) > 0.0;
+    let polished = |phi1: f64| {
+        let (t, spent) = polish_tip_angle(
+            whisker,
+            loads,
+            polish.integration,
+            method,
+            phi1,
+            &polish.target,
+        );
+        t.map(|mut t| {
+            t.evaluations += spent;
+            t
+        })
+    };
+    let found = match find_branch(whisker, loads, search, method, budget) {
+        Ok(found) if found.steps == 0 && !polish.direct_too => Ok(found),
+        Ok(found) => polished(found.tip.phi1).map(|mut tip| {
+            tip.evaluations += found.tip.evaluations;
+            tip.branch_jumps = found.tip.branch_jumps;
+            Found {
+                tip,
+                steps: found.steps,
+            }
+        }),
+        Err(e) => Err(e),
+    };
+    match found {
+        Ok(found) if found.tip.branch_jumps == 0 && unfolded(&found.tip) => Ok((found, None)),
+        Err(e @ ModelError::Budget { .. }) => Err(e),
+        found => {
+            let (path, spent) =
+                super::load_path::follow(whisker, loads, path_integration, method, budget)?;
+            let mut tip = polished(path.arrival.phi1)?;
+            tip.evaluations += spent + found.as_ref().map_or(0, |f| f.tip.evaluations);
+            tip.branch_jumps = found.map_or(0, |f| f.tip.branch_jumps);
+            let steps = path.steps;
+            Ok((Found { tip, steps }, Some(path)))
+        }
+    }
+}
+
+/// [`find_branch_by_rule`] with the direct attempt at `integration` and the continuation's
+/// correctors on [`loose`], then (after a continuation) Newton at `integration` from its
+/// answer; returns the tip angle, the continuation steps and the load path where it
+/// decided.
+pub(crate) fn solve_tip_angle_within(
+    whisker: &Whisker,
+    loads: &Loads,
+    integration: &Integration,
+    method: &'static str,
+    budget: usize,
+) -> Result<(TipSolve, usize, Option<LoadPath>)> {
+    let loose = loose(integration);
+    let search = Search {
+        direct: integration,
+        direct_target: TipTarget::FINAL,
+        guide: &loose,
+        guide_target: TipTarget::GUIDE,
+    };
+    let polish = Polish {
+        integration,
+        target: TipTarget::POLISH,
+        direct_too: false,
+    };
+    let (found, path) = find_branch_by_rule(
+        whisker,
+        loads,
+        &search,
+        &polish,
+        integration,
+        method,
+        budget,
+    )?;
+    Ok((found.tip, found.steps, path))
+}
+
+/// Newton at `integration` from the tip angle `from` of a branch search to `target`
+/// (load scale 1); with its own evaluations, also of a failed iteration.
+pub(crate) fn polish_tip_angle(
+    whisker: &Whisker,
+    loads: &Loads,
+    integration: &Integration,
+    method: &'static str,
+    from: f64,
+    target: &TipTarget,
+) -> (Result<TipSolve>, usize) {
+    let problem = TipProblem::new(whisker, loads, integration, method);
+    let t = newton_to(&problem, from, target);
+    (t, problem.spent.get())
 }
 
 /// Solves a scene by shooting and samples the elastica; the continuation stops with
@@ -394,23 +572,41 @@ pub(crate) fn solve(
 
 /// How a shooting solve runs: its integrator, the elastica's samples, the method's name
 /// (in errors) and the evaluation budget of the load continuation.
-struct Run<'a> {
-    integration: &'a Integration,
-    samples: usize,
-    method: &'static str,
-    budget: usize,
+pub(crate) struct Run<'a> {
+    pub integration: &'a Integration,
+    pub samples: usize,
+    pub method: &'static str,
+    pub budget: usize,
 }
 
-/// The tip angle by Newton (with load continuation as needed), the elastica from a shot at
-/// it, and that final shot's verification of the base condition [3.21, 3.22] (one more
-/// Newton solve from it if its residual exceeds [`VERIFY_TOL`]); `stats` seeds the solution's
-/// statistics. Returns the solution and the derivatives `d(phi0, m0, dx, dy)/dphi1` of the
-/// last Newton shot.
+/// The tip angle by Newton (with load continuation as needed), then [`finished`].
 fn verified(scene: &Scene, run: &Run<'_>, stats: SolveStats) -> Result<(Solution, BaseValues)> {
+    let (tip, continuation_steps, path) = solve_tip_angle_within(
+        &scene.whisker,
+        &scene.loads,
+        run.integration,
+        run.method,
+        run.budget,
+    )?;
+    let (mut sol, sens) = finished(scene, run, &tip, continuation_steps, stats)?;
+    sol.load_path = path;
+    Ok((sol, sens))
+}
+
+/// The elastica from a shot at the solved tip angle `tip`, and that final shot's
+/// verification of the base condition [3.21, 3.22] (one more Newton solve from it if its
+/// residual exceeds [`VERIFY_TOL`]); `stats` seeds the solution's statistics. Returns the
+/// solution and the derivatives `d(phi0, m0, dx, dy)/dphi1` of the last Newton shot.
+pub(crate) fn finished(
+    scene: &Scene,
+    run: &Run<'_>,
+    tip: &TipSolve,
+    continuation_steps: usize,
+    stats: SolveStats,
+) -> Result<(Solution, BaseValues)> {
     let w = &scene.whisker;
     let loads = &scene.loads;
     let (integration, samples, method) = (run.integration, run.samples, run.method);
-    let (tip, continuation_steps, load_path) = tip_angle_from_zero(w, loads, run)?;
     let mut stats = SolveStats {
         iterations: tip.iterations,
         residual: tip.residual,
@@ -422,9 +618,8 @@ fn verified(scene: &Scene, run: &Run<'_>, stats: SolveStats) -> Result<(Solution
     let mut sens = tip.sens;
     let mut sol = shape(scene, tip.phi1, integration, samples, stats, method)?;
     // The final shot verifies the base condition [3.21, 3.22] of the last Newton step.
-    let scale = |sol: &Solution| 1.0 + sol.base.ma.abs() * w.support.compliance();
     let residual = |sol: &Solution| w.support.residual(sol.base.phi0, -sol.base.ma).abs();
-    if residual(&sol) > VERIFY_TOL * scale(&sol) {
+    if residual(&sol) > VERIFY_TOL * residual_scale(w, &sol) {
         let t = newton_tip_angle(w, loads, integration, tip.phi1, method).0?;
         stats.iterations += t.iterations;
         stats.evaluations += t.evaluations;
@@ -432,117 +627,56 @@ fn verified(scene: &Scene, run: &Run<'_>, stats: SolveStats) -> Result<(Solution
         sol = shape(scene, t.phi1, integration, samples, stats, method)?;
     }
     sol.stats.residual = residual(&sol);
-    sol.load_path = load_path;
     Ok((sol, sens))
 }
 
-/// The tip angle of the equilibrium reached by loading from zero: by load continuation
-/// ([`solve_tip_angle_within`]), or, where that stalled or ended past a fold
-/// (`dR/dphi1 <= 0`: an odd number of folds passed by jumps the branch guard let through),
-/// by following the load path through its folds to its first arrival at full load
-/// ([`super::load_path::follow`]). A run out of its evaluation budget stays out of it.
-fn tip_angle_from_zero(
-    w: &Whisker,
-    loads: &Loads,
-    run: &Run<'_>,
-) -> Result<(TipSolve, usize, Option<LoadPath>)> {
-    let (integration, method) = (run.integration, run.method);
-    let natural = solve_tip_angle_within(w, loads, integration, None, method, run.budget);
-    // dR/dphi1 = 1 on the unloaded whisker (m = 0, phi0 = phi1 - const) and it vanishes
-    // only at a fold: a solution where it is negative lies past an odd number of folds
-    let unfolded = |tip: &TipSolve| w.support.residual_rate(tip.sens.phi0, tip.sens.m0) > 0.0;
-    match natural {
-        Ok((tip, steps)) if unfolded(&tip) => Ok((tip, steps, None)),
-        Err(e @ ModelError::Budget { .. }) => Err(e),
-        natural => {
-            // a path that cannot be followed leaves no answer by the rule: the error (the
-            // caller's fallback follows the rule by its own method)
-            let (path, spent) =
-                super::load_path::follow(w, loads, integration, method, run.budget)?;
-            let (tip, more) = newton_tip_angle(w, loads, integration, path.arrival.phi1, method);
-            let mut tip = tip?;
-            tip.evaluations += spent + more;
-            tip.branch_jumps = natural.map_or(0, |(t, _)| t.branch_jumps);
-            Ok((tip, path.steps, Some(path)))
-        }
+/// The scale `1 + |m0|/k` of the base residual [3.21, 3.22] of a solution.
+pub(crate) fn residual_scale(w: &Whisker, sol: &Solution) -> f64 {
+    1.0 + sol.base.ma.abs() * w.support.compliance()
+}
+
+/// Base values `v` moved by the step `d` in the tip angle along `sens = dv/dphi1`.
+pub(crate) fn moved(v: BaseValues, sens: BaseValues, d: f64) -> BaseValues {
+    BaseValues {
+        phi0: v.phi0 + sens.phi0 * d,
+        m0: v.m0 + sens.m0 * d,
+        dx: v.dx + sens.dx * d,
+        dy: v.dy + sens.dy * d,
     }
 }
 
-/// `accurate`: Newton on the tip angle with DOP853 at `tol` and the elastica from a dense
-/// shot at `tol` (re-solved if that shot's base residual exceeds [`VERIFY_TOL`]), then an embedded
-/// second solution: one more shot from the same tip angle at the tighter tolerance
-/// `check_tol`, corrected by one Newton step `dphi1 = -R_check / R'` on the base condition
-/// [3.21, 3.22] (with the derivative `R'` of the last Newton shot). The error estimate is the
-/// largest difference of the corrected `(phi0, m0, x1, y1, phi1)` from the returned ones
-/// (plus the tip's and an AP force's dependence on phi1): independent of the solve's own
-/// residual.
-pub(crate) fn solve_accurate(
-    scene: &Scene,
-    tol: f64,
-    check_tol: f64,
-    samples: usize,
-    budget: usize,
-) -> Result<Solution> {
-    let w = &scene.whisker;
-    let loads = &scene.loads;
-    let integration = Integration::adaptive(tol);
-    let run = Run {
-        integration: &integration,
-        samples,
-        method: "accurate",
-        budget,
-    };
-    let stats = SolveStats {
-        method_used: crate::solution::MethodKind::Accurate,
-        ..SolveStats::default()
-    };
-    let (mut sol, sens) = verified(scene, &run, stats)?;
-    // the embedded second solution
-    let shot = shoot(
-        w,
-        loads,
-        sol.loaded_end.phi,
-        Sensitivities::None,
-        &Integration::adaptive(check_tol),
-    )?;
-    sol.stats.evaluations += shot.evaluations;
-    let r = w.support.residual(shot.phi0, shot.m0);
-    let dr = w.support.residual_rate(sens.phi0, sens.m0);
-    let d = if dr.is_finite() && dr != 0.0 {
-        -r / dr
-    } else {
-        f64::INFINITY
-    };
-    sol.stats.error_estimate = corrected_difference(&shot, sens, d, &sol, loads);
-    Ok(sol)
+/// The largest difference between `sol` and a second solution with base values `second`
+/// whose tip angle differs by `dphi1` (and `dphi1` itself), plus the tip's move beyond
+/// `s1`, `(1 - s1) |dphi1|`; an AP force's reactions move by `f |dphi1|`.
+pub(crate) fn difference(second: BaseValues, dphi1: f64, sol: &Solution, loads: &Loads) -> f64 {
+    let diffs = [
+        second.phi0 - sol.base.phi0,
+        second.m0 + sol.base.ma,
+        second.dx - sol.loaded_end.x,
+        second.dy - sol.loaded_end.y,
+        dphi1,
+    ];
+    let mut est = diffs.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+    if !est.is_finite() {
+        est = f64::INFINITY;
+    }
+    est += dphi1.abs() * (1.0 - loads.s1);
+    if loads.tip.kind == crate::loads::LoadKind::Ap {
+        est = est.max(dphi1.abs() * loads.tip.f);
+    }
+    est
 }
 
 /// The largest difference between `sol` and the second shot `shot` moved by the Newton step
-/// `d` in the tip angle along `sens = d(phi0, m0, x, y)/dphi1` (and `d` itself), plus the
-/// tip's move beyond `s1`, `(1 - s1) |d|`; an AP force's reactions move by `f |d|`.
-fn corrected_difference(
+/// `d` in the tip angle along `sens = d(phi0, m0, x, y)/dphi1` ([`difference`]).
+pub(crate) fn corrected_difference(
     shot: &crate::shot::Shot,
     sens: BaseValues,
     d: f64,
     sol: &Solution,
     loads: &Loads,
 ) -> f64 {
-    let diffs = [
-        shot.phi0 + sens.phi0 * d - sol.base.phi0,
-        shot.m0 + sens.m0 * d + sol.base.ma,
-        shot.dx + sens.dx * d - sol.loaded_end.x,
-        shot.dy + sens.dy * d - sol.loaded_end.y,
-        d,
-    ];
-    let mut est = diffs.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
-    if !est.is_finite() {
-        est = f64::INFINITY;
-    }
-    est += d.abs() * (1.0 - loads.s1);
-    if loads.tip.kind == crate::loads::LoadKind::Ap {
-        est = est.max(d.abs() * loads.tip.f);
-    }
-    est
+    difference(moved(shot.values(), sens, d), d, sol, loads)
 }
 
 /// A-posteriori error estimate of a shooting solution, independent of its residual: a
@@ -569,140 +703,4 @@ pub(crate) fn error_estimate(
     let d = -r / dr;
     let est = corrected_difference(&shot, shot.d_phi1, d, sol, loads);
     Ok((est, shot.evaluations))
-}
-
-/// The elastica, tip and observables for a known tip angle `phi1` (one integration from
-/// the loaded end, no iteration): used once the boundary conditions are solved, by this
-/// module and by the contact phases.
-pub(crate) fn shape(
-    scene: &Scene,
-    phi1: f64,
-    integration: &Integration,
-    samples: usize,
-    mut stats: SolveStats,
-    method: &'static str,
-) -> Result<Solution> {
-    let w = &scene.whisker;
-    let loads = &scene.loads;
-    let tip = TipSolve {
-        phi1,
-        iterations: stats.iterations,
-        residual: stats.residual,
-        evaluations: stats.evaluations,
-        values: BaseValues::default(),
-        sens: BaseValues::default(),
-        branch_jumps: 0,
-    };
-    let (shot, path) = shoot_path(w, loads, phi1, Sensitivities::None, integration, true)?;
-    stats.evaluations += shot.evaluations;
-    let s1 = loads.s1;
-    let mut el = Elastica::default();
-    let sample = |el: &mut Elastica, s: f64, u: &[f64]| {
-        let kappa = u[1] / w.stiffness(s) + w.kappa0(s);
-        el.push(s, u[2] + shot.dx, u[3] + shot.dy, u[0], kappa, u[1]);
-    };
-    match path {
-        Some(ShotPath::Dense(sol)) => {
-            let mut u = [0.0; 4];
-            for i in 0..=samples {
-                let s = (i as f64 / samples as f64).min(1.0);
-                if s > s1 {
-                    break;
-                }
-                if sol.eval_into(s, &mut u) {
-                    sample(&mut el, s, &u);
-                }
-            }
-            if el.s.last().is_none_or(|&l| l < s1) {
-                sample(&mut el, s1, &[tip.phi1, 0.0, 0.0, 0.0]);
-            }
-        }
-        Some(ShotPath::Fixed(traj)) => {
-            for i in (0..traj.len()).rev() {
-                sample(&mut el, traj.s[i], traj.state(i));
-            }
-        }
-        None => {}
-    }
-    let loaded_end = EndState {
-        x: shot.dx,
-        y: shot.dy,
-        phi: tip.phi1,
-    };
-    let tip_state = if s1 < 1.0 {
-        free_segment(w, s1, &loaded_end, integration, samples, &mut el, method)?
-    } else {
-        loaded_end
-    };
-    let (ax, ay) = scene.base_reactions(tip.phi1);
-    Ok(Solution {
-        elastica: el,
-        tip: tip_state,
-        loaded_end,
-        base: BaseObservables {
-            ax,
-            ay,
-            ma: -shot.m0,
-            phi0: shot.phi0,
-        },
-        stats,
-        load_path: None,
-    })
-}
-
-/// Integrates the load-free segment beyond `s1`, appending samples; returns the tip.
-fn free_segment(
-    w: &Whisker,
-    s1: f64,
-    start: &EndState,
-    integration: &Integration,
-    samples: usize,
-    el: &mut Elastica,
-    method: &'static str,
-) -> Result<EndState> {
-    let seg = FreeSegment {
-        whisker: *w,
-        s1,
-        phi1: start.phi,
-    };
-    let err = |source| ModelError::Solver { method, source };
-    let u0 = [start.x, start.y];
-    let push = |el: &mut Elastica, s: f64, x: f64, y: f64| {
-        el.push(s, x, y, seg.phi(s), w.kappa0(s), 0.0);
-    };
-    match integration {
-        Integration::Rk4 { n } => {
-            let steps = ((*n as f64) * (1.0 - s1)).ceil().max(1.0) as usize;
-            let traj = Rk4 { steps }.integrate(&seg, s1, 1.0, &u0).map_err(err)?;
-            for i in 1..traj.len() {
-                let u = traj.state(i);
-                push(el, traj.s[i], u[0], u[1]);
-            }
-            let u = traj.last();
-            Ok(EndState {
-                x: u[0],
-                y: u[1],
-                phi: seg.phi(1.0),
-            })
-        }
-        Integration::Dop853(d) => {
-            let sol = d
-                .clone()
-                .with_dense(true)
-                .integrate(&seg, s1, 1.0, &u0)
-                .map_err(err)?;
-            let mut u = [0.0; 2];
-            for i in 0..=samples {
-                let s = i as f64 / samples as f64;
-                if s > s1 && sol.eval_into(s, &mut u) {
-                    push(el, s, u[0], u[1]);
-                }
-            }
-            Ok(EndState {
-                x: sol.u_end[0],
-                y: sol.u_end[1],
-                phi: seg.phi(1.0),
-            })
-        }
-    }
 }

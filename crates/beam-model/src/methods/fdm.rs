@@ -193,35 +193,48 @@ fn from_zero(scene: &Scene, grid: &UniformGrid, unloaded: Vec<f64>, sev: f64) ->
 
 /// Whether the equilibrium with the loaded-end angle `phi1` lies past an odd number of folds
 /// of the load path: `dR/dphi1 <= 0` in a shot from there (it is 1 on the unloaded whisker
-/// and vanishes only at a fold, [`super::load_path`]).
+/// and vanishes only at a fold, [`super::load_path`]). Judged only where the shot resolves
+/// the equilibrium, landing within [`SHOT_RESOLVES`] of the base condition (thin tips make
+/// the shot so ill-conditioned that the grid's angle misses it by far: no judgement).
 fn past_fold(scene: &Scene, phi1: f64) -> bool {
     let (w, loads) = (&scene.whisker, &scene.loads);
     let integration = Integration::adaptive(1e-8);
     match shoot(w, loads, phi1, Sensitivities::TipAngle, &integration) {
-        Ok(shot) => w.support.residual_rate(shot.d_phi1.phi0, shot.d_phi1.m0) <= 0.0,
+        Ok(shot) => {
+            let r = w.support.residual(shot.phi0, shot.m0);
+            let scale = 1.0 + shot.m0.abs() * w.support.compliance();
+            r.abs() <= SHOT_RESOLVES * scale
+                && w.support.residual_rate(shot.d_phi1.phi0, shot.d_phi1.m0) <= 0.0
+        }
         Err(_) => false,
     }
 }
 
-/// Where shooting by the rule ([`super::shooting::solve_tip_angle_within`], DOP853 at
-/// 1e-10) reaches another equilibrium than a continuation on the grid with the end angles
-/// `(phi0, phi1)` (either more than [`BRANCH_APART`] away: two branches may share one of
-/// them): the nodal angles of the shooting's equilibrium on `grid`, with its load path where
-/// that decided. `None` when they agree or shooting has no answer.
+/// The base residual (relative to `1 + |m0|/k`) within which a shot from the grid's angle
+/// resolves the grid's equilibrium ([`past_fold`]).
+const SHOT_RESOLVES: f64 = 0.1;
+
+/// Where `accurate` shooting by the rule ([`super::accurate::solve_accurate`] at 1e-10,
+/// trusted only with an error estimate below 1e-6: thin tips make the shots
+/// ill-conditioned) reaches another equilibrium than a continuation on the grid with the
+/// end angles `(phi0, phi1)` (either more than [`BRANCH_APART`] away: two branches may share
+/// one of them): the nodal angles of the shooting's equilibrium on `grid`, with its load
+/// path where that decided. `None` when they agree or shooting has no trusted answer.
 fn shooting_start(
     scene: &Scene,
     grid: &UniformGrid,
     (phi0, phi1): (f64, f64),
 ) -> Option<(Vec<f64>, Option<LoadPath>)> {
-    let (w, loads) = (&scene.whisker, &scene.loads);
-    let integration = Integration::adaptive(1e-10);
     let budget = super::SHOOTING_BUDGET;
-    let (tip, _, path) =
-        super::shooting::solve_tip_angle_within(w, loads, &integration, METHOD, budget).ok()?;
-    if (tip.phi1 - phi1).abs().max((tip.values.phi0 - phi0).abs()) <= BRANCH_APART {
+    let sol = super::accurate::solve_accurate(scene, 1e-10, 1e-11, 16, budget).ok()?;
+    if sol.stats.error_estimate.is_nan() || sol.stats.error_estimate > 1e-6 {
         return None;
     }
-    Some((angles_on(scene, grid, tip.phi1)?, path))
+    let (s0, s1) = (sol.base.phi0, sol.loaded_end.phi);
+    if (s1 - phi1).abs().max((s0 - phi0).abs()) <= BRANCH_APART {
+        return None;
+    }
+    Some((angles_on(scene, grid, s1)?, sol.load_path))
 }
 
 /// Loaded-end angles farther apart than this are two equilibria, not one resolved on two

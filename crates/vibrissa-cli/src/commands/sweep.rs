@@ -318,6 +318,10 @@ pub fn write_sweep_outputs(
     ));
     let scene = output_scene(r, Some(spec), Some(points));
     write_scene_ron(&out.path_for("scene.ron"), &scene, &notes)?;
+    if crate::plot::figure_formats() == crate::plot::FigureFormats::None {
+        // no figure to draw: neither the shapes solved for them nor their threads
+        return Ok(());
+    }
     let ctx = FigureContext {
         units,
         scene: scene_title(r, &profile.spec),

@@ -19,6 +19,10 @@ pub(super) fn face() -> Option<&'static ttf_parser::Face<'static>> {
 /// The width in points of `text` set in the embedded font at `size` points; subscripts
 /// written `_x` or `_{..}` (see [`segments`]) count at their smaller size.
 pub fn text_width(text: &str, size: f64) -> f64 {
+    if !text.is_empty() && !text.contains('_') {
+        // one run of plain text: what `segments` would return, without its allocations
+        return plain_width(text, size);
+    }
     segments(text)
         .iter()
         .map(|(t, sub)| plain_width(t, if *sub { size * SUB_SCALE } else { size }))
@@ -549,6 +553,21 @@ mod tests {
             path_data(&[(0.0, -0.001), (12.345, 100.5), (-7.0, 3.10)]),
             "M0 0 L12.35 100.5 L-7 3.1"
         );
+        // plain text is measured as one run, as `segments` splits it
+        for t in [
+            "k\u{a0}=\u{a0}20, rigid",
+            "x",
+            "φ_0",
+            "M_A at x_{max}",
+            "file_name",
+            "_",
+        ] {
+            let by_runs: f64 = segments(t)
+                .iter()
+                .map(|(r, sub)| plain_width(r, if *sub { 7.0 * SUB_SCALE } else { 7.0 }))
+                .sum();
+            assert_eq!(text_width(t, 7.0).to_bits(), by_runs.to_bits(), "{t}");
+        }
         // the remembered advances are the font's
         let face = face().unwrap();
         for ch in ['a', 'W', ' ', 'φ', '−', '→', '\u{2fff}', '\u{10000}'] {

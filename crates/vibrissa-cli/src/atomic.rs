@@ -12,30 +12,37 @@
 //!   never a half-written file. A command that fails before [`OutputDir::commit`] leaves the
 //!   earlier folder untouched and removes its staging folder (a killed run's staging folder
 //!   is removed by the next run into the same place).
-//! - **Durability**: before that rename, [`OutputDir::commit`] flushes every file of the
-//!   staging folder to disk (`fdatasync`: contents and size) and every staging directory
-//!   (`fsync`, best effort), as one batch: the writeback of every file is started when it
-//!   is written and waited for at the commit, then all the flushes are issued at once (one
-//!   thread each) and waited for together; after the rename, the parent directory is synced
-//!   (best effort). So once the command has exited 0 the new folder is on disk, and a power
-//!   loss at any point leaves the old folder or the complete new one.
+//! - **Durability**: before that rename, every file of the staging folder is flushed to
+//!   disk (`fdatasync`: contents and size) and every staging directory too (`fsync`, best
+//!   effort); after it, the parent directory is synced (best effort). So once the command
+//!   has exited 0 the new folder is on disk, and a power loss at any point leaves the old
+//!   folder or the complete new one.
 //!
 //! Inside the staging folder [`write_atomic`] writes a file in place, without a temporary
-//! file or a sync of its own: the staging folder is already the temporary, seen by no one
-//! until the commit, and the commit syncs all its files at once (one batch instead of a
-//! file sync and a directory sync per file).
+//! file or a rename: the staging folder is already the temporary, seen by no one until the
+//! commit. Its flush starts at once on a thread of its own (a flush waits on the disk, not
+//! on the processor), while the command goes on writing the other files and drawing its
+//! figures; [`OutputDir::commit`] waits for these flushes, flushes the folder's other files
+//! and its directories (together, one thread each), and only then renames the folder into
+//! place. The flushes wait together instead of in turn (the block layer merges concurrent
+//! cache flushes), each no longer behind the others and the disk's other traffic.
 
 use std::fs;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
+use std::thread::JoinHandle;
 
 use crate::error::CliError;
 
-/// The staging folders of this process's uncommitted [`OutputDir`]s.
-static STAGING: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+/// A flush under way: the file and the thread that flushes it.
+type Flush = (PathBuf, JoinHandle<std::io::Result<()>>);
 
-fn staging_dirs() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
+/// The staging folders of this process's uncommitted [`OutputDir`]s, each with the flushes
+/// of its files started by [`write_atomic`].
+static STAGING: Mutex<Vec<(PathBuf, Vec<Flush>)>> = Mutex::new(Vec::new());
+
+fn staging_dirs() -> std::sync::MutexGuard<'static, Vec<(PathBuf, Vec<Flush>)>> {
     STAGING
         .lock()
         .unwrap_or_else(std::sync::PoisonError::into_inner)
@@ -43,7 +50,21 @@ fn staging_dirs() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
 
 /// Whether `path` lies in the staging folder of an uncommitted [`OutputDir`].
 fn is_staged(path: &Path) -> bool {
-    staging_dirs().iter().any(|s| path.starts_with(s))
+    staging_dirs().iter().any(|(s, _)| path.starts_with(s))
+}
+
+/// The flushes started in the staging folder `staging`, taken out of the registry (and
+/// the folder with them if `unregister`).
+fn take_flushes(staging: &Path, unregister: bool) -> Vec<Flush> {
+    let mut staged = staging_dirs();
+    let Some(i) = staged.iter().position(|(s, _)| s == staging) else {
+        return Vec::new();
+    };
+    if unregister {
+        staged.swap_remove(i).1
+    } else {
+        std::mem::take(&mut staged[i].1)
+    }
 }
 
 /// Writes `contents` to `path` atomically: the bytes go to `<name>.tmp-<pid>` in the same
@@ -51,9 +72,9 @@ fn is_staged(path: &Path) -> bool {
 /// On failure the temporary file is removed and `path` is untouched.
 ///
 /// A path in the staging folder of an [`OutputDir`] ([`OutputDir::path_for`],
-/// [`OutputDir::subdir`]) is written in place and synced by [`OutputDir::commit`] with the
-/// folder's other files (see the module's documentation); on failure the partial file is
-/// removed.
+/// [`OutputDir::subdir`]) is written in place, its flush started on a thread of its own
+/// and waited for by [`OutputDir::commit`] (see the module's documentation); on failure
+/// the partial file is removed.
 pub fn write_atomic(path: &Path, contents: &[u8]) -> Result<(), CliError> {
     if is_staged(path) {
         return write_staged(path, contents);
@@ -83,82 +104,56 @@ pub fn write_atomic(path: &Path, contents: &[u8]) -> Result<(), CliError> {
     result
 }
 
-/// Writes a file of a staging folder in place and starts its writeback (see
-/// [`write_atomic`]); on failure the partial file is removed.
+/// Writes a file of a staging folder in place and starts its flush (see [`write_atomic`]);
+/// on failure the partial file is removed. A flush that cannot be started on a thread is
+/// left to the commit.
 fn write_staged(path: &Path, contents: &[u8]) -> Result<(), CliError> {
     let written = fs::File::create(path).and_then(|mut f| {
         f.write_all(contents)?;
-        start_writeback(&f);
-        Ok(())
+        Ok(f)
     });
-    written.map_err(|e| {
+    let file = written.map_err(|e| {
         let _ = fs::remove_file(path);
         CliError::io(path, e)
-    })
-}
-
-/// Starts the writeback of `file`'s dirty pages without waiting for it (Linux
-/// `sync_file_range(SYNC_FILE_RANGE_WRITE)`; a no-op elsewhere), so that the data of
-/// several files is on its way to the disk before the first of them is waited for.
-fn start_writeback(file: &fs::File) {
-    file_range_sync(file, 2);
-}
-
-/// Waits for the writeback of `file`'s pages (started by [`start_writeback`]) to end
-/// (Linux `sync_file_range(WAIT_BEFORE | WRITE | WAIT_AFTER)`; a no-op elsewhere).
-fn wait_writeback(file: &fs::File) {
-    file_range_sync(file, 7);
-}
-
-fn file_range_sync(file: &fs::File, flags: u32) {
-    #[cfg(target_os = "linux")]
-    {
-        use std::os::fd::AsRawFd;
-        extern "C" {
-            fn sync_file_range(fd: i32, offset: i64, nbytes: i64, flags: u32) -> i32;
-        }
-        // SAFETY: a plain system call on an open descriptor that `file` owns for the whole
-        // call; it reads no memory of ours. A failure only means the later fdatasync does
-        // all the work, so its result is ignored.
-        unsafe {
-            sync_file_range(file.as_raw_fd(), 0, 0, flags);
+    })?;
+    let flush = std::thread::Builder::new()
+        .name("vibrissa-flush".to_string())
+        .spawn(move || file.sync_data());
+    if let Ok(handle) = flush {
+        let mut staged = staging_dirs();
+        if let Some((_, flushes)) = staged.iter_mut().find(|(s, _)| path.starts_with(s)) {
+            flushes.push((path.to_path_buf(), handle));
         }
     }
-    #[cfg(not(target_os = "linux"))]
-    let _ = (file, flags);
+    Ok(())
 }
 
-/// Flushes `files` (contents and size) and `dirs` (their entries) to disk as one batch:
-/// the writeback of every file is started before any is waited for, and the flushes are
-/// issued together.
+/// Waits for the flushes `started` and flushes `files` (contents and size) and `dirs`
+/// (their entries), all at once, one thread each.
 ///
 /// # Errors
-/// A file that cannot be opened or synced; directory syncs are best effort.
-fn sync_batch(files: &[PathBuf], dirs: &[PathBuf]) -> Result<(), CliError> {
-    let opened = files
-        .iter()
-        .map(|f| {
-            let file = fs::File::open(f).map_err(|e| CliError::io(f, e))?;
-            start_writeback(&file);
-            Ok((f, file))
-        })
-        .collect::<Result<Vec<_>, CliError>>()?;
-    for (_, file) in &opened {
-        wait_writeback(file);
-    }
-    // The flushes wait on the disk, not on the processor: they are issued all at once, one
-    // thread each, and wait together (the block layer merges concurrent cache flushes)
-    // instead of one after another, each behind the disk's other traffic.
-    let sync =
-        |(path, file): &(&PathBuf, fs::File)| file.sync_data().map_err(|e| CliError::io(*path, e));
+/// The first file (of `started`, then of `files`) that cannot be opened or flushed;
+/// directory syncs are best effort.
+fn sync_batch(started: Vec<Flush>, files: &[PathBuf], dirs: &[PathBuf]) -> Result<(), CliError> {
+    let sync = |f: &PathBuf| {
+        fs::File::open(f)
+            .and_then(|file| file.sync_data())
+            .map_err(|e| CliError::io(f, e))
+    };
     std::thread::scope(|s| {
-        let files: Vec<_> = opened.iter().map(|o| s.spawn(move || sync(o))).collect();
+        let files: Vec<_> = files.iter().map(|f| s.spawn(move || sync(f))).collect();
         for d in dirs {
             s.spawn(move || sync_dir(d));
         }
-        files
-            .into_iter()
-            .try_for_each(|h| h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)))
+        let mut result = Ok(());
+        for (path, h) in started {
+            let r = h.join().unwrap_or_else(|p| std::panic::resume_unwind(p));
+            result = result.and(r.map_err(|e| CliError::io(path, e)));
+        }
+        for h in files {
+            result = result.and(h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)));
+        }
+        result
     })
 }
 
@@ -390,15 +385,15 @@ impl OutputDir {
                 fs::remove_dir_all(&staging).map_err(|e| CliError::io(&staging, e))?;
             }
             fs::create_dir(&staging).map_err(|e| CliError::io(&staging, e))?;
-            fs::write(staging.join(MARKER), b"written by vibrissa\n")
-                .map_err(|e| CliError::io(&staging, e))
+            staging_dirs().push((staging.clone(), Vec::new()));
+            write_staged(&staging.join(MARKER), b"written by vibrissa\n")
         })();
         if let Err(e) = prepared {
+            drop(take_flushes(&staging, true));
             let _ = fs::remove_dir_all(&staging);
             let _ = fs::remove_file(&lock);
             return Err(e);
         }
-        staging_dirs().push(staging.clone());
         Ok(OutputDir {
             target: path.to_path_buf(),
             staging,
@@ -433,7 +428,13 @@ impl OutputDir {
         collect_files(&self.staging, &mut files, &mut dirs)?;
         files.sort();
         // every file and directory on disk before the rename publishes them
-        sync_batch(&files, &dirs)?;
+        let started = take_flushes(&self.staging, false);
+        let rest: Vec<PathBuf> = files
+            .iter()
+            .filter(|f| !started.iter().any(|(p, _)| p == *f))
+            .cloned()
+            .collect();
+        sync_batch(started, &rest, &dirs)?;
         let old = self.staging.with_file_name(format!(
             ".{}.old-{}",
             self.target_name(),
@@ -480,12 +481,9 @@ impl OutputDir {
 
 impl Drop for OutputDir {
     fn drop(&mut self) {
-        {
-            let mut staged = staging_dirs();
-            if let Some(i) = staged.iter().position(|s| *s == self.staging) {
-                staged.swap_remove(i);
-            }
-        }
+        // flushes still under way finish on their own (a failed command's staging
+        // folder is removed under them)
+        drop(take_flushes(&self.staging, true));
         if !self.committed {
             let _ = fs::remove_dir_all(&self.staging);
         }
@@ -532,6 +530,17 @@ mod tests {
         let err = write_atomic(&out.path_for("missing/b.csv"), b"1").unwrap_err();
         assert!(err.to_string().contains("missing/b.csv"), "{err}");
         assert!(!out.path_for("missing/b.csv").exists());
+        // the marker's, a.csv's and f.svg's flushes are under way, for the commit to wait for
+        let under_way = |dir: &Path| {
+            staging_dirs()
+                .iter()
+                .find(|(s, _)| s == dir)
+                .map(|(_, f)| f.iter().map(|(p, _)| p.clone()).collect::<Vec<_>>())
+        };
+        assert_eq!(
+            under_way(&out.path_for("")),
+            Some(vec![out.path_for(MARKER), staged.clone(), sub.join("f.svg")])
+        );
         let files = out.commit().unwrap();
         assert_eq!(
             files,
@@ -550,9 +559,16 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let a = dir.path().join("a");
         fs::write(&a, "1").unwrap();
-        sync_batch(std::slice::from_ref(&a), &[dir.path().to_path_buf()]).unwrap();
+        sync_batch(
+            Vec::new(),
+            std::slice::from_ref(&a),
+            &[dir.path().to_path_buf()],
+        )
+        .unwrap();
         let gone = dir.path().join("gone");
-        let err = sync_batch(&[a, gone], &[]).unwrap_err().to_string();
+        let err = sync_batch(Vec::new(), &[a, gone], &[])
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("gone"), "{err}");
     }
 

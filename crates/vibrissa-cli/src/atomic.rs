@@ -539,7 +539,11 @@ mod tests {
         };
         assert_eq!(
             under_way(&out.path_for("")),
-            Some(vec![out.path_for(MARKER), staged.clone(), sub.join("f.svg")])
+            Some(vec![
+                out.path_for(MARKER),
+                staged.clone(),
+                sub.join("f.svg")
+            ])
         );
         let files = out.commit().unwrap();
         assert_eq!(

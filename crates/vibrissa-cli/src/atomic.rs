@@ -35,6 +35,12 @@ use std::thread::JoinHandle;
 
 use crate::error::CliError;
 
+/// At most this many files of one staging folder are flushed at once (a command that
+/// writes hundreds of files, as `cargo xtask reproduce` does, does not start hundreds of
+/// threads): a file written while as many flushes are under way is left to the commit,
+/// which flushes the rest on as many threads.
+const MAX_FLUSHES: usize = 16;
+
 /// A flush under way: the file and the thread that flushes it.
 type Flush = (PathBuf, JoinHandle<std::io::Result<()>>);
 
@@ -116,20 +122,25 @@ fn write_staged(path: &Path, contents: &[u8]) -> Result<(), CliError> {
         let _ = fs::remove_file(path);
         CliError::io(path, e)
     })?;
+    let mut staged = staging_dirs();
+    let Some((_, flushes)) = staged.iter_mut().find(|(s, _)| path.starts_with(s)) else {
+        return Ok(());
+    };
+    if flushes.iter().filter(|(_, h)| !h.is_finished()).count() >= MAX_FLUSHES {
+        return Ok(());
+    }
     let flush = std::thread::Builder::new()
         .name("vibrissa-flush".to_string())
         .spawn(move || file.sync_data());
     if let Ok(handle) = flush {
-        let mut staged = staging_dirs();
-        if let Some((_, flushes)) = staged.iter_mut().find(|(s, _)| path.starts_with(s)) {
-            flushes.push((path.to_path_buf(), handle));
-        }
+        flushes.push((path.to_path_buf(), handle));
     }
     Ok(())
 }
 
 /// Waits for the flushes `started` and flushes `files` (contents and size) and `dirs`
-/// (their entries), all at once, one thread each.
+/// (their entries), all at once: the files shared out over at most [`MAX_FLUSHES`]
+/// threads, the directories on one more.
 ///
 /// # Errors
 /// The first file (of `started`, then of `files`) that cannot be opened or flushed;
@@ -140,11 +151,13 @@ fn sync_batch(started: Vec<Flush>, files: &[PathBuf], dirs: &[PathBuf]) -> Resul
             .and_then(|file| file.sync_data())
             .map_err(|e| CliError::io(f, e))
     };
+    let chunk = files.len().div_ceil(MAX_FLUSHES).max(1);
     std::thread::scope(|s| {
-        let files: Vec<_> = files.iter().map(|f| s.spawn(move || sync(f))).collect();
-        for d in dirs {
-            s.spawn(move || sync_dir(d));
-        }
+        let files: Vec<_> = files
+            .chunks(chunk)
+            .map(|c| s.spawn(move || c.iter().try_for_each(sync)))
+            .collect();
+        s.spawn(move || dirs.iter().for_each(|d| sync_dir(d)));
         let mut result = Ok(());
         for (path, h) in started {
             let r = h.join().unwrap_or_else(|p| std::panic::resume_unwind(p));
@@ -556,6 +569,25 @@ mod tests {
         // committed: the folder is no longer a staging folder
         assert!(!is_staged(&staged));
         assert_eq!(fs::read(dir.path().join("run/a.csv")).unwrap(), b"x,y\n");
+    }
+
+    /// Hundreds of files: never more than [`MAX_FLUSHES`] flushes under way; the commit
+    /// flushes the others and publishes them all.
+    #[test]
+    fn flushes_under_way_are_bounded() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = OutputDir::create(&dir.path().join("many")).unwrap();
+        for i in 0..200 {
+            write_atomic(&out.path_for(&format!("f{i}.csv")), b"1\n").unwrap();
+            let under_way = staging_dirs()
+                .iter()
+                .find(|(s, _)| *s == out.path_for(""))
+                .map_or(0, |(_, f)| {
+                    f.iter().filter(|(_, h)| !h.is_finished()).count()
+                });
+            assert!(under_way <= MAX_FLUSHES, "{under_way}");
+        }
+        assert_eq!(out.commit().unwrap().len(), 200);
     }
 
     #[test]

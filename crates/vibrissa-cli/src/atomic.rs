@@ -140,7 +140,7 @@ fn write_staged(path: &Path, contents: &[u8]) -> Result<(), CliError> {
 
 /// Waits for the flushes `started` and flushes `files` (contents and size) and `dirs`
 /// (their entries), all at once: the files shared out over at most [`MAX_FLUSHES`]
-/// threads, the directories on one more.
+/// threads, the directories on this one.
 ///
 /// # Errors
 /// The first file (of `started`, then of `files`) that cannot be opened or flushed;
@@ -157,7 +157,8 @@ fn sync_batch(started: Vec<Flush>, files: &[PathBuf], dirs: &[PathBuf]) -> Resul
             .chunks(chunk)
             .map(|c| s.spawn(move || c.iter().try_for_each(sync)))
             .collect();
-        s.spawn(move || dirs.iter().for_each(|d| sync_dir(d)));
+        // the directories on this thread, which would only wait otherwise
+        dirs.iter().for_each(|d| sync_dir(d));
         let mut result = Ok(());
         for (path, h) in started {
             let r = h.join().unwrap_or_else(|p| std::panic::resume_unwind(p));

@@ -96,9 +96,7 @@ pub fn observables_csv_in(
     units: &UnitSystem,
 ) -> Result<CsvWriter, CliError> {
     let mut w = CsvWriter::new(&OBSERVABLES_HEADER);
-    for p in points {
-        w.push_record(&ObservableRecord::of(p, units))?;
-    }
+    w.push_records(points.iter().map(|p| ObservableRecord::of(p, units)))?;
     Ok(w)
 }
 /// Writes `observables.csv` of a sweep in `units` and its units sidecar.

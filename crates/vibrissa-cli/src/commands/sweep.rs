@@ -286,6 +286,36 @@ pub fn write_sweep_outputs(
     points: usize,
     out: &OutputDir,
 ) -> Result<(), CliError> {
+    if crate::plot::figure_formats() == crate::plot::FigureFormats::None {
+        // no figure to draw: neither the shapes solved for them nor their threads
+        return write_sweep_data(r, res, profile, points, out);
+    }
+    let ctx = FigureContext {
+        units: r.units(),
+        scene: scene_title(r, &profile.spec),
+        rigid: r.scene.whisker.support.stiffness().is_infinite(),
+    };
+    // The shapes (eight whiskers solved, then drawn: the longest of the figures) on a
+    // thread of their own from the start; the data files, then the other two figures (on
+    // two threads) meanwhile.
+    crate::plot::both(
+        || write_shapes_svg(r, contour, res, &ctx, &out.path_for("shapes.svg")),
+        || {
+            write_sweep_data(r, res, profile, points, out)?;
+            write_sweep_figures(res, &ctx, |n| out.path_for(n)).map(|_| ())
+        },
+    )
+}
+
+/// Writes a sweep's data files into `out`: `observables.csv` with its units sidecar,
+/// `scene.ron` and, for a points profile, `profile.csv`.
+fn write_sweep_data(
+    r: &Resolved,
+    res: &SweepResult,
+    profile: &ProfileArg,
+    points: usize,
+    out: &OutputDir,
+) -> Result<(), CliError> {
     let units = r.units();
     write_observables_csv(res, &units, &out.path_for("observables.csv"))?;
     let spec = match profile.points_path() {
@@ -317,16 +347,7 @@ pub fn write_sweep_outputs(
         n.rows, n.pre_contact, n.contact, n.requested, n.event_rows
     ));
     let scene = output_scene(r, Some(spec), Some(points));
-    write_scene_ron(&out.path_for("scene.ron"), &scene, &notes)?;
-    let ctx = FigureContext {
-        units,
-        scene: scene_title(r, &profile.spec),
-        rigid: r.scene.whisker.support.stiffness().is_infinite(),
-    };
-    crate::plot::both(
-        || write_sweep_figures(res, &ctx, |n| out.path_for(n)).map(|_| ()),
-        || write_shapes_svg(r, contour, res, &ctx, &out.path_for("shapes.svg")),
-    )
+    write_scene_ron(&out.path_for("scene.ron"), &scene, &notes)
 }
 
 /// Names a sweep's scene in figure notes: `contour g1, q = 5, theta = 0.75, k = 20`.

@@ -1,6 +1,8 @@
 //! The SVG writer of the charts: the embedded font and text measurement, sizes, and a
 //! small SVG builder with 1/100 pixel coordinates.
 
+use std::sync::atomic::{AtomicU64, Ordering};
+
 use super::*;
 
 /// The embedded font (DejaVu Sans, free licence, shipped by the `dejavu` crate).
@@ -17,6 +19,10 @@ pub(super) fn face() -> Option<&'static ttf_parser::Face<'static>> {
 /// The width in points of `text` set in the embedded font at `size` points; subscripts
 /// written `_x` or `_{..}` (see [`segments`]) count at their smaller size.
 pub fn text_width(text: &str, size: f64) -> f64 {
+    if !text.is_empty() && !text.contains('_') {
+        // one run of plain text: what `segments` would return, without its allocations
+        return plain_width(text, size);
+    }
     segments(text)
         .iter()
         .map(|(t, sub)| plain_width(t, if *sub { size * SUB_SCALE } else { size }))
@@ -28,16 +34,39 @@ fn plain_width(text: &str, size: f64) -> f64 {
         return 0.6 * size * text.chars().count() as f64;
     };
     let upem = f64::from(face.units_per_em());
-    let units: f64 = text
-        .chars()
-        .map(|c| {
-            face.glyph_index(c)
-                .and_then(|g| face.glyph_hor_advance(g))
-                .map_or(0.6 * upem, f64::from)
-        })
-        .sum();
+    let units: f64 = text.chars().map(|c| advance(face, c)).sum();
     units / upem * size
 }
+
+/// The advance of `c` in font units (0.6 em for a character the font lacks); the first
+/// [`ADVANCES`] characters are looked up in the font once and then remembered (a figure
+/// measures its labels word by word: the font's tables were a tenth of its cost).
+fn advance(face: &ttf_parser::Face<'_>, c: char) -> f64 {
+    let lookup = || {
+        let upem = f64::from(face.units_per_em());
+        face.glyph_index(c)
+            .and_then(|g| face.glyph_hor_advance(g))
+            .map_or(0.6 * upem, f64::from)
+    };
+    // 0 = not looked up yet (an advance of 0.0 is looked up each time); zero-initialised,
+    // the table costs the binary nothing and the process only the pages it touches
+    static CACHE: [AtomicU64; ADVANCES] = [const { AtomicU64::new(0) }; ADVANCES];
+    let Some(slot) = CACHE.get(c as usize) else {
+        return lookup();
+    };
+    match slot.load(Ordering::Relaxed) {
+        0 => {
+            let a = lookup();
+            slot.store(a.to_bits(), Ordering::Relaxed);
+            a
+        }
+        bits => f64::from_bits(bits),
+    }
+}
+
+/// How many characters (from U+0000: Latin, Greek, the arrows and the minus sign of the
+/// labels) [`advance`] remembers.
+const ADVANCES: usize = 0x2300;
 
 /// The size of a subscript relative to its text.
 pub(super) const SUB_SCALE: f64 = 0.8;
@@ -118,26 +147,105 @@ pub(super) fn esc(s: &str) -> String {
 /// The `d` attribute of a path through `pts` (`M x y L x y ...`).
 pub(super) fn path_data(pts: &[(f64, f64)]) -> String {
     let mut d = String::new();
-    for (i, p) in pts.iter().enumerate() {
-        let _ = write!(
-            d,
-            "{}{} {}",
-            if i == 0 { "M" } else { " L" },
-            c(p.0),
-            c(p.1)
-        );
-    }
+    push_path_data(&mut d, pts);
     d
+}
+
+/// Appends [`path_data`] of `pts` to `out`.
+fn push_path_data(out: &mut String, pts: &[(f64, f64)]) {
+    out.reserve(pts.len() * 16);
+    for (i, p) in pts.iter().enumerate() {
+        out.push_str(if i == 0 { "M" } else { " L" });
+        push_c(out, p.0);
+        out.push(' ');
+        push_c(out, p.1);
+    }
 }
 
 /// A coordinate with 1/100 pixel resolution.
 pub(super) fn c(v: f64) -> String {
-    let s = format!("{v:.2}");
-    let s = s.trim_end_matches('0').trim_end_matches('.');
-    if s == "-0" {
-        "0".to_string()
+    let mut s = String::new();
+    push_c(&mut s, v);
+    s
+}
+
+/// Appends [`c`] of `v` to `out`: `v` rounded to two decimals as `format!("{v:.2}")` rounds
+/// it (the exact binary value, ties to even), trailing zeros and point dropped, `-0` as `0`.
+/// Done with integers (formatting a float with a precision was most of a figure's cost).
+fn push_c(out: &mut String, v: f64) {
+    let Some(hundredths) = hundredths(v.abs()) else {
+        let s = format!("{v:.2}");
+        let s = s.trim_end_matches('0').trim_end_matches('.');
+        out.push_str(if s == "-0" { "0" } else { s });
+        return;
+    };
+    if hundredths == 0 {
+        out.push('0');
+        return;
+    }
+    if v < 0.0 {
+        out.push('-');
+    }
+    push_u64(out, hundredths / 100);
+    let frac = hundredths % 100;
+    if frac != 0 {
+        out.push('.');
+        out.push(char::from(b'0' + (frac / 10) as u8));
+        if frac % 10 != 0 {
+            out.push(char::from(b'0' + (frac % 10) as u8));
+        }
+    }
+}
+
+/// `a * 100` (`a` >= 0) rounded to an integer exactly as `{:.2}` rounds (half to even);
+/// `None` for a non-finite or huge `a` (>= 1e15), left to the formatter.
+fn hundredths(a: f64) -> Option<u64> {
+    if !a.is_finite() || a >= 1e15 {
+        return None;
+    }
+    if a == 0.0 {
+        return Some(0);
+    }
+    let bits = a.to_bits();
+    let exp = ((bits >> 52) & 0x7ff) as i64;
+    let frac = bits & ((1u64 << 52) - 1);
+    // a = m * 2^e exactly
+    let (m, e) = if exp == 0 {
+        (frac, -1074)
     } else {
-        s.to_string()
+        (frac | (1u64 << 52), exp - 1075)
+    };
+    if e >= 0 {
+        // an integer below 1e15: times 100 fits
+        return Some((m << e) * 100);
+    }
+    let k = -e as u32;
+    let num = u128::from(m) * 100;
+    if k >= 100 {
+        // a * 100 < 2^60 / 2^100: rounds to 0
+        return Some(0);
+    }
+    let q = num >> k;
+    let r = num & ((1u128 << k) - 1);
+    let half = 1u128 << (k - 1);
+    let up = r > half || (r == half && q & 1 == 1);
+    Some((q + u128::from(up)) as u64)
+}
+
+/// Appends the decimal digits of `n`.
+fn push_u64(out: &mut String, mut n: u64) {
+    let mut buf = [0u8; 20];
+    let mut i = buf.len();
+    loop {
+        i -= 1;
+        buf[i] = b'0' + (n % 10) as u8;
+        n /= 10;
+        if n == 0 {
+            break;
+        }
+    }
+    for &b in &buf[i..] {
+        out.push(char::from(b));
     }
 }
 
@@ -256,11 +364,12 @@ impl Svg {
         if pts.len() < 2 {
             return;
         }
-        let d = path_data(pts);
         let dash = dash.map_or(String::new(), |d| format!(" stroke-dasharray=\"{d}\""));
+        self.out.push_str("<path d=\"");
+        push_path_data(&mut self.out, pts);
         let _ = writeln!(
             self.out,
-            "<path d=\"{d}\" fill=\"none\" stroke=\"{stroke}\" stroke-width=\"{width}\" \
+            "\" fill=\"none\" stroke=\"{stroke}\" stroke-width=\"{width}\" \
              stroke-linejoin=\"round\" stroke-linecap=\"round\"{dash} clip-path=\"url(#{clip})\"/>"
         );
     }
@@ -370,6 +479,105 @@ impl Svg {
                 c(r.w + 2.0 * m),
                 c(r.h + 2.0 * m)
             );
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// [`c`] as it was written with the formatter.
+    fn c_by_format(v: f64) -> String {
+        let s = format!("{v:.2}");
+        let s = s.trim_end_matches('0').trim_end_matches('.');
+        if s == "-0" {
+            "0".to_string()
+        } else {
+            s.to_string()
+        }
+    }
+
+    /// Coordinates rounded with integers read as the formatter rounds them: ties (to even),
+    /// values just beside a tie, negative values, zeros, tiny, subnormal, huge and
+    /// non-finite values, and a million pseudo-random coordinates of every magnitude.
+    #[test]
+    fn coordinates_round_as_the_formatter_rounds() {
+        let mut values = vec![
+            0.0,
+            -0.0,
+            0.004,
+            0.005,
+            -0.005,
+            0.015,
+            0.125,
+            0.375,
+            -0.625,
+            2.675,
+            1.0,
+            100.0,
+            -1500.0,
+            999.995,
+            5e-324,
+            f64::MIN_POSITIVE,
+            1e15,
+            -3e20,
+            f64::MAX,
+            f64::NAN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        ];
+        for k in 0..4096 {
+            // exact ties: odd multiples of 1/8 and 1/256 times 100
+            let t = f64::from(k) / 8.0 + 1.0 / 256.0;
+            values.extend([t, -t, t.next_up(), t.next_down(), f64::from(k) * 0.005]);
+        }
+        let mut x = 0x9e37_79b9_7f4a_7c15_u64;
+        for _ in 0..1_000_000 {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            let mantissa = (x >> 11) as f64 / (1u64 << 53) as f64;
+            let scale = 10f64.powi((x % 24) as i32 - 8);
+            let sign = if x & (1 << 5) == 0 { 1.0 } else { -1.0 };
+            values.push(sign * mantissa * scale);
+        }
+        for v in values {
+            assert_eq!(c(v), c_by_format(v), "{v:e}");
+        }
+    }
+
+    #[test]
+    fn path_data_and_widths_are_unchanged() {
+        assert_eq!(
+            path_data(&[(0.0, -0.001), (12.345, 100.5), (-7.0, 3.10)]),
+            "M0 0 L12.35 100.5 L-7 3.1"
+        );
+        // plain text is measured as one run, as `segments` splits it
+        for t in [
+            "k\u{a0}=\u{a0}20, rigid",
+            "x",
+            "φ_0",
+            "M_A at x_{max}",
+            "file_name",
+            "_",
+        ] {
+            let by_runs: f64 = segments(t)
+                .iter()
+                .map(|(r, sub)| plain_width(r, if *sub { 7.0 * SUB_SCALE } else { 7.0 }))
+                .sum();
+            assert_eq!(text_width(t, 7.0).to_bits(), by_runs.to_bits(), "{t}");
+        }
+        // the remembered advances are the font's
+        let face = face().unwrap();
+        for ch in ['a', 'W', ' ', 'φ', '−', '→', '\u{2fff}', '\u{10000}'] {
+            let upem = f64::from(face.units_per_em());
+            let direct = face
+                .glyph_index(ch)
+                .and_then(|g| face.glyph_hor_advance(g))
+                .map_or(0.6 * upem, f64::from);
+            assert_eq!(advance(face, ch), direct, "{ch}");
+            assert_eq!(advance(face, ch), direct, "{ch} (remembered)");
         }
     }
 }

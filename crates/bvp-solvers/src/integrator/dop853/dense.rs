@@ -372,9 +372,24 @@ pub(super) fn extend<S: OdeSystem + ?Sized>(
     tmp: &mut [f64],
     rc: &mut [f64],
 ) {
-    let n = y.len();
+    by_dim!(y.len(), extend_in(sys, (x, h), y, k, tmp, rc))
+}
+
+/// [`extend`] in the dimension `d` (the step `(x, h)`).
+#[inline(always)]
+fn extend_in<D: Dim, S: OdeSystem + ?Sized>(
+    d: D,
+    sys: &S,
+    (x, h): (f64, f64),
+    y: &[f64],
+    k: &mut [f64],
+    tmp: &mut [f64],
+    rc: &mut [f64],
+) {
+    let n = d.n();
+    let (y, k, tmp, rc) = (&y[..n], &mut k[..16 * n], &mut tmp[..n], &mut rc[..8 * n]);
     for &(terms, c, slot) in &EXTRA_STAGES {
-        for (i, o) in tmp.iter_mut().enumerate().take(n) {
+        for (i, o) in tmp.iter_mut().enumerate() {
             let mut acc = 0.0;
             for &(j, a) in terms {
                 acc += a * k[j * n + i];
@@ -386,6 +401,50 @@ pub(super) fn extend<S: OdeSystem + ?Sized>(
     for i in 0..n {
         for (b, terms) in DENSE_ROWS.iter().enumerate() {
             rc[(4 + b) * n + i] = h * lin(k, n, i, *terms);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `u_i' = -sin(u_{i+1}) + s u_i` (cyclic), any dimension.
+    struct Ring(usize);
+
+    impl OdeSystem for Ring {
+        fn dim(&self) -> usize {
+            self.0
+        }
+        fn rhs(&self, s: f64, u: &[f64], du: &mut [f64]) {
+            for i in 0..self.0 {
+                du[i] = -u[(i + 1) % self.0].sin() + s * u[i];
+            }
+        }
+    }
+
+    /// The extension unrolled for a fixed dimension gives the very numbers of the run-time
+    /// dimension's loops, for every dimension the dispatch fixes.
+    #[test]
+    fn fixed_dimensions_reproduce_the_dynamic_extension_bit_for_bit() {
+        for n in [2, 4, 8, 20] {
+            let sys = Ring(n);
+            let y: Vec<f64> = (0..n).map(|i| 0.1 * i as f64 - 0.3).collect();
+            let k1: Vec<f64> = (0..16 * n).map(|i| (0.37 * i as f64).cos()).collect();
+            let (mut k2, mut tmp1, mut tmp2) = (k1.clone(), vec![0.0; n], vec![0.0; n]);
+            let mut k1 = k1;
+            let (mut rc1, mut rc2) = (vec![0.5; 8 * n], vec![0.5; 8 * n]);
+            extend(&sys, 0.2, 0.05, &y, &mut k1, &mut tmp1, &mut rc1);
+            extend_in(
+                Dynamic(n),
+                &sys,
+                (0.2, 0.05),
+                &y,
+                &mut k2,
+                &mut tmp2,
+                &mut rc2,
+            );
+            assert_eq!((k1, rc1), (k2, rc2), "n = {n}");
         }
     }
 }

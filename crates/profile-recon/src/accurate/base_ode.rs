@@ -57,6 +57,23 @@ impl BaseOde {
         self.law.at(s, sp, cp)
     }
 
+    /// `1 / e(s)^4`, the compliance of the whisker at `s` [3.8].
+    #[inline]
+    pub(super) fn compliance(&self, s: f64) -> f64 {
+        let e = self.whisker.diameter(s);
+        let e2 = e * e;
+        1.0 / (e2 * e2)
+    }
+
+    /// `phi''` at `s` from the state `(phi, m)` and `m'` there: the derivative of
+    /// `phi' = m / e^4 + A s + B`, `m' / e^4 - 4 m e' / e^5 + A`.
+    #[inline]
+    pub(super) fn phi_curvature_rate(&self, s: f64, m: f64, dm: f64) -> f64 {
+        let w = &self.whisker;
+        let inv_e4 = self.compliance(s);
+        dm * inv_e4 - 4.0 * (w.theta - 1.0) * inv_e4 / w.diameter(s) * m + w.a
+    }
+
     /// Initial state for `row`.
     pub(super) fn initial(&self, row: &ObservableRow) -> Vec<f64> {
         let mut u = vec![0.0; self.dim()];
@@ -82,9 +99,7 @@ impl OdeSystem for BaseOde {
     fn rhs(&self, s: f64, u: &[f64], du: &mut [f64]) {
         let w = &self.whisker;
         let (phi, m) = (u[0], u[1]);
-        let e = w.diameter(s);
-        let e2 = e * e;
-        let inv_e4 = 1.0 / (e2 * e2);
+        let inv_e4 = self.compliance(s);
         let (sp, cp) = phi.sin_cos();
         let rate = self.law.at(s, sp, cp);
         du[0] = m * inv_e4 + w.a * s + w.b;

@@ -3,6 +3,7 @@
 //! from the base that every hypothesis of a row reads.
 
 use super::context::MAX_WINDING;
+use super::trig::sin_cos;
 use crate::error::Result;
 use crate::observables::ObservableRow;
 use beam_model::equations::{MomentLaw, MomentRate};
@@ -95,35 +96,41 @@ impl OdeSystem for BaseOde {
         }
     }
 
-    #[inline]
+    #[inline(always)]
     fn rhs(&self, s: f64, u: &[f64], du: &mut [f64]) {
         let w = &self.whisker;
         let (phi, m) = (u[0], u[1]);
         let inv_e4 = self.compliance(s);
-        let (sp, cp) = phi.sin_cos();
+        let (sp, cp) = sin_cos(phi);
         let rate = self.law.at(s, sp, cp);
         du[0] = m * inv_e4 + w.a * s + w.b;
         du[1] = rate.dm;
         du[2] = cp;
         du[3] = sp;
-        if !self.sens {
-            return;
+        if self.sens {
+            variational(u, du, (sp, cp), inv_e4, rate.dm_dphi);
         }
-        let jm = rate.dm_dphi;
-        for j in 0..4 {
-            let o = 4 * (j + 1);
-            let (dphi, dm) = (u[o], u[o + 1]);
-            // d(f cos beta)/dAx = -1, d(f sin beta)/dAy = 1
-            let explicit = match j {
-                0 => -sp,
-                1 => cp,
-                _ => 0.0,
-            };
-            du[o] = dm * inv_e4;
-            du[o + 1] = jm * dphi + explicit;
-            du[o + 2] = -sp * dphi;
-            du[o + 3] = cp * dphi;
-        }
+    }
+}
+
+/// The variational part of [`BaseOde`]'s right-hand side at a state with `(sin phi, cos phi)
+/// = (sp, cp)`, compliance `inv_e4` and `d m' / d phi = jm` (out of the state's hot path).
+#[cold]
+#[inline(never)]
+fn variational(u: &[f64], du: &mut [f64], (sp, cp): (f64, f64), inv_e4: f64, jm: f64) {
+    for j in 0..4 {
+        let o = 4 * (j + 1);
+        let (dphi, dm) = (u[o], u[o + 1]);
+        // d(f cos beta)/dAx = -1, d(f sin beta)/dAy = 1
+        let explicit = match j {
+            0 => -sp,
+            1 => cp,
+            _ => 0.0,
+        };
+        du[o] = dm * inv_e4;
+        du[o + 1] = jm * dphi + explicit;
+        du[o + 2] = -sp * dphi;
+        du[o + 3] = cp * dphi;
     }
 }
 

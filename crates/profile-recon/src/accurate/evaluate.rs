@@ -173,7 +173,8 @@ impl Local {
         ode.rhs(s, &u, &mut du);
         let (dphi_s, dm_s) = (du[0], du[1]);
         let (f, psi) = contact_force(row, flow, s);
-        let (sp, cp) = phi.sin_cos();
+        // x' = cos phi, y' = sin phi
+        let (sp, cp) = (du[3], du[2]);
         let (sa, ca) = flow.alpha.sin_cos();
         Some(Local {
             s,
@@ -218,8 +219,7 @@ impl Spread {
             if sc == 0.0 {
                 continue;
             }
-            let o = 4 * j;
-            let (dphi, dm, dx, dy) = (jv[o], jv[o + 1], jv[o + 2], jv[o + 3]);
+            let (dphi, dm, dx, dy) = (jv[0][j], jv[1][j], jv[2][j], jv[3][j]);
             let (dp, dq) = match j {
                 0 => (-1.0, 0.0),
                 1 => (0.0, 1.0),

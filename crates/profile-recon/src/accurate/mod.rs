@@ -45,6 +45,7 @@
 //! | `evaluate` | one row under one flow: every hypothesis with its `z`, Jacobian and linear projection |
 //! | `hypotheses` | the hypotheses of a row and the choice among them at a noise level |
 //! | `tip` | phase-B look-alikes just short of the tip of a phase-A row |
+//! | `trig` | `sin` and `cos` of the tangent angle for the base system, by table and series |
 //! | `project` | the most likely consistent observables of a noisy row (Gauss-Newton) |
 //! | `point` | the reconstructed point of a row with its error estimate |
 
@@ -57,6 +58,7 @@ mod point;
 mod project;
 mod scan;
 mod tip;
+mod trig;
 mod variational;
 
 pub(crate) use base_ode::base_ivp;

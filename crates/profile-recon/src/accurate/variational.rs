@@ -14,17 +14,18 @@
 
 use super::base_ode::BaseOde;
 use super::base_run::BaseRun;
+use super::trig::sin_cos;
 use bvp_solvers::integrator::{OdeSystem, StepInterpolant};
 
 /// The sensitivities of the state `(phi, m, x, y)` with respect to `(Ax, Ay, MA, phi0)`:
-/// column `j` (that observable) at `4 j..4 j + 4`.
-pub(super) type Sens = [f64; 16];
+/// `[c][j]` is that of component `c` with respect to observable `j`.
+pub(super) type Sens = [[f64; 4]; 4];
 
 /// The sensitivities at the base: `d m(0) / d MA = -1`, `d phi(0) / d phi0 = 1`.
 pub(super) fn initial_sens() -> Sens {
-    let mut y = [0.0; 16];
-    y[4 * 2 + 1] = -1.0;
-    y[4 * 3] = 1.0;
+    let mut y = [[0.0; 4]; 4];
+    y[1][2] = -1.0;
+    y[0][3] = 1.0;
     y
 }
 
@@ -54,20 +55,15 @@ impl Coef {
     /// `dx' = -sin phi dphi`, `dy' = cos phi dphi`.
     #[inline]
     fn rate(&self, y: &Sens) -> Sens {
-        let mut d = [0.0; 16];
+        let [dphi, dm, _, _] = y;
+        // d(f cos beta)/dAx = -1, d(f sin beta)/dAy = 1
+        let explicit = [-self.sp, self.cp, 0.0, 0.0];
+        let mut d = [[0.0; 4]; 4];
         for j in 0..4 {
-            let o = 4 * j;
-            let (dphi, dm) = (y[o], y[o + 1]);
-            // d(f cos beta)/dAx = -1, d(f sin beta)/dAy = 1
-            let explicit = match j {
-                0 => -self.sp,
-                1 => self.cp,
-                _ => 0.0,
-            };
-            d[o] = dm * self.inv_e4;
-            d[o + 1] = self.jm * dphi + explicit;
-            d[o + 2] = -self.sp * dphi;
-            d[o + 3] = self.cp * dphi;
+            d[0][j] = dm[j] * self.inv_e4;
+            d[1][j] = self.jm * dphi[j] + explicit[j];
+            d[2][j] = -self.sp * dphi[j];
+            d[3][j] = self.cp * dphi[j];
         }
         d
     }
@@ -77,7 +73,7 @@ impl Coef {
 #[inline]
 fn axpy(y: &Sens, a: f64, d: &Sens) -> Sens {
     let mut out = *y;
-    for (o, di) in out.iter_mut().zip(d) {
+    for (o, di) in out.as_flattened_mut().iter_mut().zip(d.as_flattened()) {
         *o += a * di;
     }
     out
@@ -131,15 +127,17 @@ fn advance(ode: &BaseOde, a: &Knot, b: &Knot, y: &Sens) -> Sens {
     let phi_mid = 0.5 * (a.phi + b.phi)
         + 5.0 / 32.0 * h * (a.dphi - b.dphi)
         + h * h / 64.0 * (a.ddphi + b.ddphi);
-    let (sp, cp) = phi_mid.sin_cos();
+    let (sp, cp) = sin_cos(phi_mid);
     let mid = Coef::at(ode, a.s + 0.5 * h, sp, cp);
     let k1 = a.coef.rate(y);
     let k2 = mid.rate(&axpy(y, 0.5 * h, &k1));
     let k3 = mid.rate(&axpy(y, 0.5 * h, &k2));
     let k4 = b.coef.rate(&axpy(y, h, &k3));
     let mut out = *y;
-    for i in 0..16 {
-        out[i] += h / 6.0 * (k1[i] + 2.0 * (k2[i] + k3[i]) + k4[i]);
+    for (c, row) in out.iter_mut().enumerate() {
+        for (j, o) in row.iter_mut().enumerate() {
+            *o += h / 6.0 * (k1[c][j] + 2.0 * (k2[c][j] + k3[c][j]) + k4[c][j]);
+        }
     }
     out
 }
@@ -155,9 +153,14 @@ pub(super) fn sensitivities(run: &BaseRun, ode: &BaseOde, at: &[f64]) -> Vec<Opt
     let mut pending = order.into_iter().peekable();
     let mut y = initial_sens();
     let mut steps = run.steps().peekable();
+    // the end of a step is the start of the next
+    let mut next_left = None;
     while let Some(step) = steps.next() {
         let last = steps.peek().is_none();
-        let Some(left) = Knot::of_step(ode, step.interp, 0.0, step.start) else {
+        let Some(left) = next_left
+            .take()
+            .or_else(|| Knot::of_step(ode, step.interp, 0.0, step.start))
+        else {
             break;
         };
         // the arcs on this step (its end belongs to the next one, but for the last step)
@@ -180,6 +183,7 @@ pub(super) fn sensitivities(run: &BaseRun, ode: &BaseOde, at: &[f64]) -> Vec<Opt
             break;
         };
         y = advance(ode, &left, &right, &y);
+        next_left = Some(right);
     }
     out
 }
@@ -211,7 +215,7 @@ mod tests {
                 let col = &e[4 * (j + 1)..4 * (j + 2)];
                 let size = col.iter().fold(1e-3f64, |a, v| a.max(v.abs()));
                 for c in 0..4 {
-                    worst = worst.max((g[4 * j + c] - col[c]).abs() / size);
+                    worst = worst.max((g[c][j] - col[c]).abs() / size);
                 }
             }
         }
@@ -243,9 +247,14 @@ mod tests {
         let old: Vec<Sens> = arcs
             .iter()
             .map(|&s| {
-                let mut v = [0.0; 16];
-                v.copy_from_slice(&loose.eval(s).unwrap()[4..]);
-                v
+                let v = loose.eval(s).unwrap();
+                let mut out = [[0.0; 4]; 4];
+                for (c, row) in out.iter_mut().enumerate() {
+                    for (j, o) in row.iter_mut().enumerate() {
+                        *o = v[4 * (j + 1) + c];
+                    }
+                }
+                out
             })
             .collect();
         (error_of(&arcs, &got, &exact), error_of(&arcs, &old, &exact))
@@ -288,6 +297,6 @@ mod tests {
         let got = sensitivities(&run, &ode, &[0.9, 0.1, -0.1]);
         assert!(got[0].is_none() && got[1].is_some() && got[2].is_none());
         // the unloaded arc: phi = phi0 - MA s, so d phi / d phi0 = 1 everywhere
-        assert!((got[1].unwrap()[12] - 1.0).abs() < 1e-12);
+        assert!((got[1].unwrap()[0][3] - 1.0).abs() < 1e-12);
     }
 }

@@ -168,15 +168,13 @@ pub(crate) fn smoothness_noise(rows: &[ObservableRow], scales: &NoiseScales) -> 
         let mut d: Vec<f64> = order
             .windows(4)
             .map(|q| {
-                let x: Vec<f64> = q.iter().map(|&i| rows[i].x0).collect();
-                let w: Vec<f64> = (0..4)
-                    .map(|i| {
-                        1.0 / (0..4)
-                            .filter(|&k| k != i)
-                            .map(|k| x[i] - x[k])
-                            .product::<f64>()
-                    })
-                    .collect();
+                let x: [f64; 4] = std::array::from_fn(|i| rows[q[i]].x0);
+                let w: [f64; 4] = std::array::from_fn(|i| {
+                    1.0 / (0..4)
+                        .filter(|&k| k != i)
+                        .map(|k| x[i] - x[k])
+                        .product::<f64>()
+                });
                 let norm = w.iter().map(|v| v * v).sum::<f64>().sqrt();
                 let v: f64 = q.iter().zip(&w).map(|(&i, wi)| wi * col(&rows[i], j)).sum();
                 (v / norm).abs()

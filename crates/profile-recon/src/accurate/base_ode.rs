@@ -3,7 +3,7 @@
 //! from the base that every hypothesis of a row reads.
 
 use super::context::MAX_WINDING;
-use super::trig::sin_cos;
+use super::trig::SinCos;
 use crate::error::Result;
 use crate::observables::ObservableRow;
 use beam_model::equations::{MomentLaw, MomentRate};
@@ -30,6 +30,7 @@ pub(crate) struct BaseOde {
     whisker: Whisker,
     law: MomentLaw,
     sens: bool,
+    trig: SinCos,
 }
 
 impl BaseOde {
@@ -48,6 +49,7 @@ impl BaseOde {
             whisker: *whisker,
             law: MomentLaw::new(&loads, 0.0),
             sens,
+            trig: SinCos::new(),
         }
     }
 
@@ -56,6 +58,12 @@ impl BaseOde {
     #[inline]
     pub(super) fn rate(&self, s: f64, sp: f64, cp: f64) -> MomentRate {
         self.law.at(s, sp, cp)
+    }
+
+    /// `(sin x, cos x)` ([`SinCos`]).
+    #[inline(always)]
+    pub(super) fn sin_cos(&self, x: f64) -> (f64, f64) {
+        self.trig.at(x)
     }
 
     /// `1 / e(s)^4`, the compliance of the whisker at `s` [3.8].
@@ -101,7 +109,7 @@ impl OdeSystem for BaseOde {
         let w = &self.whisker;
         let (phi, m) = (u[0], u[1]);
         let inv_e4 = self.compliance(s);
-        let (sp, cp) = sin_cos(phi);
+        let (sp, cp) = self.trig.at(phi);
         let rate = self.law.at(s, sp, cp);
         du[0] = m * inv_e4 + w.a * s + w.b;
         du[1] = rate.dm;

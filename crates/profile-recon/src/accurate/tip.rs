@@ -5,7 +5,6 @@
 use super::base_ode::BaseOde;
 use super::base_run::BaseRun;
 use super::context::{K_SIGMA, TIP_GRID};
-use super::trig::sin_cos;
 
 /// The first arc back from the tip checked for a look-alike.
 const TIP_FIRST: f64 = 1e-5;
@@ -27,7 +26,7 @@ pub(super) fn tip_levels(run: &BaseRun, ode: &BaseOde, sd_m: f64, sd_g: f64) -> 
         if !run.cubic_at(s, &mut u, &mut du) {
             return None;
         }
-        let (sp, cp) = sin_cos(u[0]);
+        let (sp, cp) = ode.sin_cos(u[0]);
         Some((u[1], -ode.rate(s, sp, cp).dm_dphi))
     };
     let need = |m: f64, g: f64| (m.abs() / sd_m.max(tiny)).max(g.abs() / sd_g.max(tiny)) / K_SIGMA;

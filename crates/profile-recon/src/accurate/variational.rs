@@ -14,7 +14,6 @@
 
 use super::base_ode::BaseOde;
 use super::base_run::BaseRun;
-use super::trig::sin_cos;
 use bvp_solvers::integrator::{OdeSystem, StepInterpolant};
 
 /// The sensitivities of the state `(phi, m, x, y)` with respect to `(Ax, Ay, MA, phi0)`:
@@ -127,7 +126,7 @@ fn advance(ode: &BaseOde, a: &Knot, b: &Knot, y: &Sens) -> Sens {
     let phi_mid = 0.5 * (a.phi + b.phi)
         + 5.0 / 32.0 * h * (a.dphi - b.dphi)
         + h * h / 64.0 * (a.ddphi + b.ddphi);
-    let (sp, cp) = sin_cos(phi_mid);
+    let (sp, cp) = ode.sin_cos(phi_mid);
     let mid = Coef::at(ode, a.s + 0.5 * h, sp, cp);
     let k1 = a.coef.rate(y);
     let k2 = mid.rate(&axpy(y, 0.5 * h, &k1));

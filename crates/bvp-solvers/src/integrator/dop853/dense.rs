@@ -253,12 +253,12 @@ pub(super) fn hermite(h: f64, y: &[f64], ynew: &[f64], k: &[f64], rc: &mut [f64]
 }
 
 /// A stage: the combination of earlier stages (slot, coefficient), its node `C`, its slot.
-type Stage = (&'static [(usize, f64)], f64, usize);
+type Stage = ([(usize, f64); 8], f64, usize);
 
 /// The extra stages `k14..k16` of the dense output.
 const EXTRA_STAGES: [Stage; 3] = [
     (
-        &[
+        [
             (0, A141),
             (6, A147),
             (7, A148),
@@ -272,7 +272,7 @@ const EXTRA_STAGES: [Stage; 3] = [
         13,
     ),
     (
-        &[
+        [
             (0, A151),
             (5, A156),
             (6, A157),
@@ -286,7 +286,7 @@ const EXTRA_STAGES: [Stage; 3] = [
         14,
     ),
     (
-        &[
+        [
             (0, A161),
             (5, A166),
             (6, A167),
@@ -388,14 +388,8 @@ fn extend_in<D: Dim, S: OdeSystem + ?Sized>(
 ) {
     let n = d.n();
     let (y, k, tmp, rc) = (&y[..n], &mut k[..16 * n], &mut tmp[..n], &mut rc[..8 * n]);
-    for &(terms, c, slot) in &EXTRA_STAGES {
-        for (i, o) in tmp.iter_mut().enumerate() {
-            let mut acc = 0.0;
-            for &(j, a) in terms {
-                acc += a * k[j * n + i];
-            }
-            *o = y[i] + h * acc;
-        }
+    for (terms, c, slot) in EXTRA_STAGES {
+        combo(n, y, h, k, terms, tmp);
         sys.rhs(x + c * h, tmp, &mut k[slot * n..(slot + 1) * n]);
     }
     for i in 0..n {

@@ -43,7 +43,7 @@ impl SinCos {
         let u = x * (1.0 / SPACING) + ROUND;
         // the table point's multiple of SPACING, exact (NaN, infinite or far: the library)
         let k = u - ROUND;
-        if !(k.abs() <= HALF as f64) {
+        if k.is_nan() || k.abs() > HALF as f64 {
             return x.sin_cos();
         }
         let (sa, ca) = self.table[(u.to_bits() & 0x3ff) as usize];

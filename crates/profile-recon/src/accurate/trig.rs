@@ -43,16 +43,17 @@ impl SinCos {
         let u = x * (1.0 / SPACING) + ROUND;
         // the table point's multiple of SPACING, exact (NaN, infinite or far: the library)
         let k = u - ROUND;
-        if k.is_nan() || k.abs() > HALF as f64 {
-            return x.sin_cos();
+        if k.abs() <= HALF as f64 {
+            let (sa, ca) = self.table[(u.to_bits() & 0x3ff) as usize];
+            // exact: the table point is within a factor 2 of x, or 0
+            let d = x - k * SPACING;
+            let d2 = d * d;
+            let sd = d + d * d2 * (-1.0 / 6.0 + d2 * (1.0 / 120.0 + d2 * (-1.0 / 5040.0)));
+            let cd1 = d2 * (-0.5 + d2 * (1.0 / 24.0 + d2 * (-1.0 / 720.0 + d2 * (1.0 / 40320.0))));
+            (sa + (sa * cd1 + ca * sd), ca + (ca * cd1 - sa * sd))
+        } else {
+            x.sin_cos()
         }
-        let (sa, ca) = self.table[(u.to_bits() & 0x3ff) as usize];
-        // exact: the table point is within a factor 2 of x, or 0
-        let d = x - k * SPACING;
-        let d2 = d * d;
-        let sd = d + d * d2 * (-1.0 / 6.0 + d2 * (1.0 / 120.0 + d2 * (-1.0 / 5040.0)));
-        let cd1 = d2 * (-0.5 + d2 * (1.0 / 24.0 + d2 * (-1.0 / 720.0 + d2 * (1.0 / 40320.0))));
-        (sa + (sa * cd1 + ca * sd), ca + (ca * cd1 - sa * sd))
     }
 }
 

@@ -142,8 +142,10 @@ fn estimate_noise(evals: &[RowEval]) -> f64 {
     if z.is_empty() {
         return NOISE_FLOOR;
     }
-    z.sort_by(f64::total_cmp);
-    (z[z.len() / 2] / 0.6745).max(NOISE_FLOOR)
+    // the median: the element a sort would put in the middle
+    let mid = z.len() / 2;
+    let (_, median, _) = z.select_nth_unstable_by(mid, f64::total_cmp);
+    (*median / 0.6745).max(NOISE_FLOOR)
 }
 
 /// Model-free noise level of a log: rows sorted by `x0`, the third divided difference of each
@@ -184,8 +186,9 @@ pub(crate) fn smoothness_noise(rows: &[ObservableRow], scales: &NoiseScales) -> 
         if d.is_empty() {
             continue;
         }
-        d.sort_by(f64::total_cmp);
-        worst = worst.max(d[d.len() / 2] / 0.6745 / scales.0[j]);
+        let mid = d.len() / 2;
+        let (_, median, _) = d.select_nth_unstable_by(mid, f64::total_cmp);
+        worst = worst.max(*median / 0.6745 / scales.0[j]);
     }
     worst.max(NOISE_FLOOR)
 }

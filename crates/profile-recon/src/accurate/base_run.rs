@@ -27,11 +27,27 @@ pub(super) struct BaseRun {
 }
 
 /// One step of a [`BaseRun`]: `[start, end]`, whether it is close, and its interpolant.
+#[derive(Clone, Copy, Debug)]
 pub(super) struct RunStep<'a> {
     pub start: f64,
     pub end: f64,
     pub close: bool,
     pub interp: &'a StepInterpolant<4>,
+}
+
+impl RunStep<'_> {
+    /// The state at `s` in `[start, end)` into `out`, as [`BaseRun::eval_into`] gives it there
+    /// (the 7th-order interpolant; a step that is not close has none inside: `false`),
+    /// without looking for the step.
+    pub(super) fn eval_inside(&self, s: f64, out: &mut [f64; 4]) -> bool {
+        debug_assert!(self.start <= s && s < self.end);
+        let p = self.interp;
+        if p.level() != Interpolant::Full {
+            let mut d = [0.0; 4];
+            return s == p.start() && p.eval_cubic(0.0, out, &mut d);
+        }
+        p.eval((s - p.start()) / p.h(), out)
+    }
 }
 
 impl BaseRun {

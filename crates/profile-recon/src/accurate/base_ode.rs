@@ -29,6 +29,11 @@ use bvp_solvers::integrator::{Dop853, OdeSolution, OdeSystem};
 pub(crate) struct BaseOde {
     whisker: Whisker,
     law: MomentLaw,
+    /// `m'` as `sin phi (fc + (1 - s) qc) + cos phi (fs + (1 - s) qs)` in the state's rate (the
+    /// law's sum regrouped: fewer operations after `sin_cos`): the force
+    /// `(f cos beta, f sin beta)` and `q (cos alpha, sin alpha)`.
+    force: (f64, f64),
+    flow: (f64, f64),
     sens: bool,
     trig: SinCos,
 }
@@ -45,9 +50,12 @@ impl BaseOde {
             fluid: flow,
             s1: 1.0,
         };
+        let (sa, ca) = flow.alpha.sin_cos();
         BaseOde {
             whisker: *whisker,
             law: MomentLaw::new(&loads, 0.0),
+            force: (fc, fs),
+            flow: (flow.q * ca, flow.q * sa),
             sens,
             trig: SinCos::new(),
         }
@@ -110,13 +118,15 @@ impl OdeSystem for BaseOde {
         let (phi, m) = (u[0], u[1]);
         let inv_e4 = self.compliance(s);
         let (sp, cp) = self.trig.at(phi);
-        let rate = self.law.at(s, sp, cp);
+        let arm = 1.0 - s;
+        let (fc, fs) = self.force;
+        let (qc, qs) = self.flow;
         du[0] = m * inv_e4 + w.a * s + w.b;
-        du[1] = rate.dm;
+        du[1] = sp * (fc + arm * qc) + cp * (fs + arm * qs);
         du[2] = cp;
         du[3] = sp;
         if self.sens {
-            variational(u, du, (sp, cp), inv_e4, rate.dm_dphi);
+            variational(u, du, (sp, cp), inv_e4, self.law.at(s, sp, cp).dm_dphi);
         }
     }
 }

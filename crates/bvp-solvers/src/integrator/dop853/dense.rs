@@ -98,6 +98,17 @@ impl<const N: usize> StepInterpolant<N> {
         true
     }
 
+    /// The coefficient blocks `r0..r3` of the cubic Hermite part (module docs of
+    /// [`StepInterpolant`]): `u(theta) = r0 + theta (r1 + (1 - theta) (r2 + theta r3))`,
+    /// `h u'(theta) = r1 + (1 - 2 theta) r2 + theta (2 - 3 theta) r3`; `None` if no
+    /// interpolant was computed.
+    pub fn cubic_coefficients(&self) -> Option<&[[f64; N]; 4]> {
+        if self.level == Interpolant::None {
+            return None;
+        }
+        self.rc.first_chunk::<4>()
+    }
+
     /// The cubic Hermite part at `theta` into `out` and its derivative `du/ds` into `dout`;
     /// `false` (outputs untouched) if no interpolant was computed.
     pub fn eval_cubic(&self, theta: f64, out: &mut [f64; N], dout: &mut [f64; N]) -> bool {

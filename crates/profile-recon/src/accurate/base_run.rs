@@ -164,30 +164,36 @@ impl BaseRun {
 /// sign and its direction with a margin that the cubic's error cannot close on an accepted
 /// step, and the scan of [`candidates`](super::scan::candidates) has nothing to find.
 pub(super) fn close_step(cubic: &StepInterpolant<4>, span: f64) -> bool {
-    let h = span.abs();
-    let (mut u, mut du) = ([0.0; 4], [0.0; 4]);
-    let (mut lo, mut hi, mut amin, mut dmax) =
+    // m and h m' of the cubic from its coefficients (no division per sample)
+    let Some([r0, r1, r2, r3]) = cubic.cubic_coefficients() else {
+        return true;
+    };
+    let (r0, r1, r2, r3) = (r0[1], r1[1], r2[1], r3[1]);
+    let dir = cubic.h().signum();
+    let (mut lo, mut hi, mut amin, mut hdmax) =
         (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, 0.0f64);
     let mut dsign = 0.0f64;
     let mut turns = false;
     for k in 0..=SAMPLES {
-        if !cubic.eval_cubic(k as f64 / SAMPLES as f64, &mut u, &mut du) {
-            return true;
-        }
-        let (m, d) = (u[1], du[1]);
-        if !(m.is_finite() && d.is_finite()) {
+        let th = k as f64 / SAMPLES as f64;
+        let m = r0 + th * (r1 + (1.0 - th) * (r2 + th * r3));
+        let hd = r1 + (1.0 - 2.0 * th) * r2 + th * (2.0 - 3.0 * th) * r3;
+        if !(m.is_finite() && hd.is_finite()) {
             return true;
         }
         lo = lo.min(m);
         hi = hi.max(m);
         amin = amin.min(m.abs());
-        dmax = dmax.max(d.abs());
+        hdmax = hdmax.max(hd.abs());
+        // the sign of m'
+        let d = hd * dir;
         if d == 0.0 || (dsign != 0.0 && d.signum() != dsign) {
             turns = true;
         }
         dsign = d.signum();
     }
-    turns || amin <= 2.0 * (hi - lo).max(h * dmax)
+    // the variation over the step as integrated: span |m'| = (span / h) |h m'|
+    turns || amin <= 2.0 * (hi - lo).max(span.abs() / cubic.h().abs() * hdmax)
 }
 
 #[cfg(test)]

@@ -77,6 +77,10 @@ impl BaseOde {
     /// `1 / e(s)^4`, the compliance of the whisker at `s` [3.8].
     #[inline]
     pub(super) fn compliance(&self, s: f64) -> f64 {
+        if self.whisker.theta == 1.0 {
+            // a cylinder (e = 1: the division's own value, without the division)
+            return 1.0;
+        }
         let e = self.whisker.diameter(s);
         let e2 = e * e;
         1.0 / (e2 * e2)

@@ -29,13 +29,17 @@ use bvp_solvers::integrator::{Dop853, OdeSolution, OdeSystem};
 pub(crate) struct BaseOde {
     whisker: Whisker,
     law: MomentLaw,
-    /// `m'` as `sin phi (fc + (1 - s) qc) + cos phi (fs + (1 - s) qs)` in the state's rate (the
-    /// law's sum regrouped: fewer operations after `sin_cos`): the force
-    /// `(f cos beta, f sin beta)` and `q (cos alpha, sin alpha)`.
+    /// With the table ([`BaseOde::with_table`]), `m'` as
+    /// `sin phi (fc + (1 - s) qc) + cos phi (fs + (1 - s) qs)` in the state's rate (the law's
+    /// sum regrouped: fewer operations after `sin_cos`): the force `(f cos beta, f sin beta)`
+    /// and `q (cos alpha, sin alpha)`.
     force: (f64, f64),
     flow: (f64, f64),
     sens: bool,
-    trig: SinCos,
+    /// `sin` and `cos` of `phi` by table and series (the reconstruction's evaluations), or
+    /// `None`: the library's, and `m'` from the law, as the beam model computes them (the
+    /// calibration, whose finite-difference Jacobians see the last bits).
+    table: Option<SinCos>,
 }
 
 impl BaseOde {
@@ -57,7 +61,16 @@ impl BaseOde {
             force: (fc, fs),
             flow: (flow.q * ca, flow.q * sa),
             sens,
-            trig: SinCos::new(),
+            table: None,
+        }
+    }
+
+    /// The system with `sin`, `cos` by table and series ([`SinCos`], within 2 ulps of the
+    /// library's) and the regrouped `m'`: the reconstruction's evaluations.
+    pub(crate) fn with_table(self) -> Self {
+        BaseOde {
+            table: Some(SinCos::new()),
+            ..self
         }
     }
 
@@ -71,7 +84,10 @@ impl BaseOde {
     /// `(sin x, cos x)` ([`SinCos`]).
     #[inline(always)]
     pub(super) fn sin_cos(&self, x: f64) -> (f64, f64) {
-        self.trig.at(x)
+        match &self.table {
+            Some(t) => t.at(x),
+            None => x.sin_cos(),
+        }
     }
 
     /// `1 / e(s)^4`, the compliance of the whisker at `s` [3.8].
@@ -121,12 +137,20 @@ impl OdeSystem for BaseOde {
         let w = &self.whisker;
         let (phi, m) = (u[0], u[1]);
         let inv_e4 = self.compliance(s);
-        let (sp, cp) = self.trig.at(phi);
-        let arm = 1.0 - s;
-        let (fc, fs) = self.force;
-        let (qc, qs) = self.flow;
+        let (sp, cp, dm) = match &self.table {
+            Some(t) => {
+                let (sp, cp) = t.at(phi);
+                let arm = 1.0 - s;
+                let ((fc, fs), (qc, qs)) = (self.force, self.flow);
+                (sp, cp, sp * (fc + arm * qc) + cp * (fs + arm * qs))
+            }
+            None => {
+                let (sp, cp) = phi.sin_cos();
+                (sp, cp, self.law.at(s, sp, cp).dm)
+            }
+        };
         du[0] = m * inv_e4 + w.a * s + w.b;
-        du[1] = sp * (fc + arm * qc) + cp * (fs + arm * qs);
+        du[1] = dm;
         du[2] = cp;
         du[3] = sp;
         if self.sens {

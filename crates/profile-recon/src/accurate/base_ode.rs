@@ -188,12 +188,29 @@ pub(crate) fn base_ivp(
     row: &ObservableRow,
     integrator: &Dop853,
 ) -> Result<OdeSolution> {
-    let ode = BaseOde::new(whisker, flow, row, false);
+    integrate(&BaseOde::new(whisker, flow, row, false), row, integrator)
+}
+
+/// As [`base_ivp`], the system [`with_table`](BaseOde::with_table) (the reconstruction's).
+pub(crate) fn base_ivp_table(
+    whisker: &Whisker,
+    flow: FluidLoad,
+    row: &ObservableRow,
+    integrator: &Dop853,
+) -> Result<OdeSolution> {
+    integrate(
+        &BaseOde::new(whisker, flow, row, false).with_table(),
+        row,
+        integrator,
+    )
+}
+
+/// [`base_ivp`] of the system `ode`.
+fn integrate(ode: &BaseOde, row: &ObservableRow, integrator: &Dop853) -> Result<OdeSolution> {
     let u0 = ode.initial(row);
     let phi0 = row.phi0;
-    let (sol, _) = integrator.integrate_until(&ode, 0.0, 1.0, &u0, |_, u| {
-        MAX_WINDING - (u[0] - phi0).abs()
-    })?;
+    let (sol, _) =
+        integrator.integrate_until(ode, 0.0, 1.0, &u0, |_, u| MAX_WINDING - (u[0] - phi0).abs())?;
     Ok(sol)
 }
 

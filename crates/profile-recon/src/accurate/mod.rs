@@ -61,7 +61,7 @@ mod tip;
 mod trig;
 mod variational;
 
-pub(crate) use base_ode::base_ivp;
+pub(crate) use base_ode::{base_ivp, base_ivp_table};
 pub(crate) use evaluate::evaluate;
 #[cfg(test)]
 pub(crate) use evaluate::tests;

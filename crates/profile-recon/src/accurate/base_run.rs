@@ -155,6 +155,23 @@ impl BaseRun {
         let p = &self.steps[k];
         p.eval_cubic((s - p.start()) / p.h(), out, dout)
     }
+
+    /// The cubic Hermite part of the interpolant at `s` into `out`, as
+    /// [`cubic_at`](Self::cubic_at) gives it, without the derivative (and its divisions).
+    pub(super) fn cubic_value_at(&self, s: f64, out: &mut [f64; 4]) -> bool {
+        let Some(k) = self.step_index(s) else {
+            return false;
+        };
+        let p = &self.steps[k];
+        let Some([r0, r1, r2, r3]) = p.cubic_coefficients() else {
+            return false;
+        };
+        let th = (s - p.start()) / p.h();
+        for i in 0..4 {
+            out[i] = r0[i] + th * (r1[i] + (1.0 - th) * (r2[i] + th * r3[i]));
+        }
+        true
+    }
 }
 
 /// Whether `m` may have a root or an extremum on a step (`span` its length as integrated):
@@ -232,6 +249,8 @@ mod tests {
             }
             // the cubic everywhere, close to the truth
             assert!(run.cubic_at(mid, &mut u, &mut du));
+            let mut v = [0.0; 4];
+            assert!(run.cubic_value_at(mid, &mut v) && v == u);
             let exact = full.eval(mid).unwrap();
             assert!((u[1] - exact[1]).abs() < 1e-4, "{} vs {}", u[1], exact[1]);
         }

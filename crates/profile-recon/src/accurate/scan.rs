@@ -159,13 +159,17 @@ pub(super) fn candidates(
         scan.out.roots.push((Phase::A, 1.0));
     }
     scan.prev_slope = scan.slope(0.0, &[row.phi0, -row.ma, row.x0, 0.0]);
-    let (mut u, mut du_c) = ([0.0; 4], [0.0; 4]);
+    let mut u = [0.0; 4];
     for step in run.steps() {
         if !step.close {
             // m keeps its sign and its direction on this step: only its end is carried
-            if step.interp.eval_cubic(1.0, &mut u, &mut du_c) {
-                scan.prev = (step.end, u[1]);
-                scan.prev_slope = du_c[1];
+            if let Some([r0, r1, r2, r3]) = step.interp.cubic_coefficients() {
+                // the cubic's m and m' at theta = 1 as eval_cubic gives them (m alone)
+                let (th, i) = (1.0f64, 1);
+                let m = r0[i] + th * (r1[i] + (1.0 - th) * (r2[i] + th * r3[i]));
+                let hd = r1[i] + (1.0 - 2.0 * th) * r2[i] + th * (2.0 - 3.0 * th) * r3[i];
+                scan.prev = (step.end, m);
+                scan.prev_slope = hd / step.interp.h();
             }
             continue;
         }

@@ -100,11 +100,18 @@ impl Knot {
         }
     }
 
-    /// An end of a step (`theta` 0 or 1, at arc `s`): the step's state and slope there.
+    /// An end of a step (`theta` 0 or 1, at arc `s`): the step's state and slope there (from
+    /// the cubic part's coefficients, one division).
     fn of_step(ode: &BaseOde, p: &StepInterpolant<4>, theta: f64, s: f64) -> Option<Self> {
+        let [r0, r1, r2, r3] = p.cubic_coefficients()?;
+        let inv_h = 1.0 / p.h();
         let (mut u, mut du) = ([0.0; 4], [0.0; 4]);
-        p.eval_cubic(theta, &mut u, &mut du)
-            .then(|| Knot::new(ode, s, &u, &du))
+        for i in 0..4 {
+            u[i] = r0[i] + theta * (r1[i] + (1.0 - theta) * (r2[i] + theta * r3[i]));
+            du[i] =
+                (r1[i] + (1.0 - 2.0 * theta) * r2[i] + theta * (2.0 - 3.0 * theta) * r3[i]) * inv_h;
+        }
+        Some(Knot::new(ode, s, &u, &du))
     }
 
     /// Any arc of the run: the 7th-order interpolant where the run has it (the cubic

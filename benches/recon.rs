@@ -3,6 +3,12 @@
 //! the 5.5 ms of the neighbour-seeded version it replaced; 4.7 ms measured). And the latency
 //! of the stream mode: one row in, its contact point out (`Streamer::push`, flow known), the
 //! time a robot waits per sensor row.
+//!
+//! Issue #21 (targets 2 ms and 8 us a row): on the shared 2-core machine, side by side with
+//! the version before it, 2.85-2.94 ms -> 1.95-2.09 ms, phase A 11.4-11.9 -> 6.8-7.9 us,
+//! phase B 9.9-10.7 -> 6.3-7.1 us (callgrind: 39.5M -> 24.8M instructions a reconstruction,
+//! 152k/138k -> 85k/79k a stream row): the Jacobian carried along the base run's steps,
+//! sin/cos of phi by table, fewer divisions off the stepper.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use vibrissa::beam_model::Whisker;

@@ -19,7 +19,7 @@
 //! given, a log without any pre-contact row is accepted. Nothing depends on the order or the
 //! spacing of the rows.
 
-use crate::accurate::{base_ivp, evaluate, RowCtx, RowEval, K_SIGMA};
+use crate::accurate::{base_ivp_table, evaluate, RowCtx, RowEval, K_SIGMA};
 use crate::common::{free_flow, KnownFlow, NoiseScales, ReconSettings};
 pub use crate::common::{Identification, NOISE_FLOOR};
 use crate::error::{ReconError, Result};
@@ -116,7 +116,7 @@ fn free_fit(
     let (f, _) = crate::common::contact_force(row, flow, 1.0);
     let fu = scales.0[0].max(scales.0[1]).max(1e-300);
     let mu = (scales.0[2] + fu).max(1e-300);
-    let fit = match base_ivp(whisker, flow, row, integrator) {
+    let fit = match base_ivp_table(whisker, flow, row, integrator) {
         Ok(sol) if sol.s_end >= 1.0 => f / fu + sol.u_end[1].abs() / mu,
         _ => f64::INFINITY,
     };
@@ -142,8 +142,10 @@ fn estimate_noise(evals: &[RowEval]) -> f64 {
     if z.is_empty() {
         return NOISE_FLOOR;
     }
-    z.sort_by(f64::total_cmp);
-    (z[z.len() / 2] / 0.6745).max(NOISE_FLOOR)
+    // the median: the element a sort would put in the middle
+    let mid = z.len() / 2;
+    let (_, median, _) = z.select_nth_unstable_by(mid, f64::total_cmp);
+    (*median / 0.6745).max(NOISE_FLOOR)
 }
 
 /// Model-free noise level of a log: rows sorted by `x0`, the third divided difference of each
@@ -168,15 +170,13 @@ pub(crate) fn smoothness_noise(rows: &[ObservableRow], scales: &NoiseScales) -> 
         let mut d: Vec<f64> = order
             .windows(4)
             .map(|q| {
-                let x: Vec<f64> = q.iter().map(|&i| rows[i].x0).collect();
-                let w: Vec<f64> = (0..4)
-                    .map(|i| {
-                        1.0 / (0..4)
-                            .filter(|&k| k != i)
-                            .map(|k| x[i] - x[k])
-                            .product::<f64>()
-                    })
-                    .collect();
+                let x: [f64; 4] = std::array::from_fn(|i| rows[q[i]].x0);
+                let w: [f64; 4] = std::array::from_fn(|i| {
+                    1.0 / (0..4)
+                        .filter(|&k| k != i)
+                        .map(|k| x[i] - x[k])
+                        .product::<f64>()
+                });
                 let norm = w.iter().map(|v| v * v).sum::<f64>().sqrt();
                 let v: f64 = q.iter().zip(&w).map(|(&i, wi)| wi * col(&rows[i], j)).sum();
                 (v / norm).abs()
@@ -186,8 +186,9 @@ pub(crate) fn smoothness_noise(rows: &[ObservableRow], scales: &NoiseScales) -> 
         if d.is_empty() {
             continue;
         }
-        d.sort_by(f64::total_cmp);
-        worst = worst.max(d[d.len() / 2] / 0.6745 / scales.0[j]);
+        let mid = d.len() / 2;
+        let (_, median, _) = d.select_nth_unstable_by(mid, f64::total_cmp);
+        worst = worst.max(*median / 0.6745 / scales.0[j]);
     }
     worst.max(NOISE_FLOOR)
 }

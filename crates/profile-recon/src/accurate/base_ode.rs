@@ -3,6 +3,7 @@
 //! from the base that every hypothesis of a row reads.
 
 use super::context::MAX_WINDING;
+use super::trig::SinCos;
 use crate::error::Result;
 use crate::observables::ObservableRow;
 use beam_model::equations::{MomentLaw, MomentRate};
@@ -28,7 +29,17 @@ use bvp_solvers::integrator::{Dop853, OdeSolution, OdeSystem};
 pub(crate) struct BaseOde {
     whisker: Whisker,
     law: MomentLaw,
+    /// With the table ([`BaseOde::with_table`]), `m'` as
+    /// `sin phi (fc + (1 - s) qc) + cos phi (fs + (1 - s) qs)` in the state's rate (the law's
+    /// sum regrouped: fewer operations after `sin_cos`): the force `(f cos beta, f sin beta)`
+    /// and `q (cos alpha, sin alpha)`.
+    force: (f64, f64),
+    flow: (f64, f64),
     sens: bool,
+    /// `sin` and `cos` of `phi` by table and series (the reconstruction's evaluations), or
+    /// `None`: the library's, and `m'` from the law, as the beam model computes them (the
+    /// calibration, whose finite-difference Jacobians see the last bits).
+    table: Option<SinCos>,
 }
 
 impl BaseOde {
@@ -43,10 +54,23 @@ impl BaseOde {
             fluid: flow,
             s1: 1.0,
         };
+        let (sa, ca) = flow.alpha.sin_cos();
         BaseOde {
             whisker: *whisker,
             law: MomentLaw::new(&loads, 0.0),
+            force: (fc, fs),
+            flow: (flow.q * ca, flow.q * sa),
             sens,
+            table: None,
+        }
+    }
+
+    /// The system with `sin`, `cos` by table and series ([`SinCos`], within 2 ulps of the
+    /// library's) and the regrouped `m'`: the reconstruction's evaluations.
+    pub(crate) fn with_table(self) -> Self {
+        BaseOde {
+            table: Some(SinCos::new()),
+            ..self
         }
     }
 
@@ -55,6 +79,36 @@ impl BaseOde {
     #[inline]
     pub(super) fn rate(&self, s: f64, sp: f64, cp: f64) -> MomentRate {
         self.law.at(s, sp, cp)
+    }
+
+    /// `(sin x, cos x)` ([`SinCos`]).
+    #[inline(always)]
+    pub(super) fn sin_cos(&self, x: f64) -> (f64, f64) {
+        match &self.table {
+            Some(t) => t.at(x),
+            None => x.sin_cos(),
+        }
+    }
+
+    /// `1 / e(s)^4`, the compliance of the whisker at `s` [3.8].
+    #[inline]
+    pub(super) fn compliance(&self, s: f64) -> f64 {
+        if self.whisker.theta == 1.0 {
+            // a cylinder (e = 1: the division's own value, without the division)
+            return 1.0;
+        }
+        let e = self.whisker.diameter(s);
+        let e2 = e * e;
+        1.0 / (e2 * e2)
+    }
+
+    /// `phi''` at `s` from the state `(phi, m)` and `m'` there: the derivative of
+    /// `phi' = m / e^4 + A s + B`, `m' / e^4 - 4 m e' / e^5 + A`.
+    #[inline]
+    pub(super) fn phi_curvature_rate(&self, s: f64, m: f64, dm: f64) -> f64 {
+        let w = &self.whisker;
+        let inv_e4 = self.compliance(s);
+        dm * inv_e4 - 4.0 * (w.theta - 1.0) * inv_e4 / w.diameter(s) * m + w.a
     }
 
     /// Initial state for `row`.
@@ -78,37 +132,51 @@ impl OdeSystem for BaseOde {
         }
     }
 
-    #[inline]
+    #[inline(always)]
     fn rhs(&self, s: f64, u: &[f64], du: &mut [f64]) {
         let w = &self.whisker;
         let (phi, m) = (u[0], u[1]);
-        let e = w.diameter(s);
-        let e2 = e * e;
-        let inv_e4 = 1.0 / (e2 * e2);
-        let (sp, cp) = phi.sin_cos();
-        let rate = self.law.at(s, sp, cp);
+        let inv_e4 = self.compliance(s);
+        let (sp, cp, dm) = match &self.table {
+            Some(t) => {
+                let (sp, cp) = t.at(phi);
+                let arm = 1.0 - s;
+                let ((fc, fs), (qc, qs)) = (self.force, self.flow);
+                (sp, cp, sp * (fc + arm * qc) + cp * (fs + arm * qs))
+            }
+            None => {
+                let (sp, cp) = phi.sin_cos();
+                (sp, cp, self.law.at(s, sp, cp).dm)
+            }
+        };
         du[0] = m * inv_e4 + w.a * s + w.b;
-        du[1] = rate.dm;
+        du[1] = dm;
         du[2] = cp;
         du[3] = sp;
-        if !self.sens {
-            return;
+        if self.sens {
+            variational(u, du, (sp, cp), inv_e4, self.law.at(s, sp, cp).dm_dphi);
         }
-        let jm = rate.dm_dphi;
-        for j in 0..4 {
-            let o = 4 * (j + 1);
-            let (dphi, dm) = (u[o], u[o + 1]);
-            // d(f cos beta)/dAx = -1, d(f sin beta)/dAy = 1
-            let explicit = match j {
-                0 => -sp,
-                1 => cp,
-                _ => 0.0,
-            };
-            du[o] = dm * inv_e4;
-            du[o + 1] = jm * dphi + explicit;
-            du[o + 2] = -sp * dphi;
-            du[o + 3] = cp * dphi;
-        }
+    }
+}
+
+/// The variational part of [`BaseOde`]'s right-hand side at a state with `(sin phi, cos phi)
+/// = (sp, cp)`, compliance `inv_e4` and `d m' / d phi = jm` (out of the state's hot path).
+#[cold]
+#[inline(never)]
+fn variational(u: &[f64], du: &mut [f64], (sp, cp): (f64, f64), inv_e4: f64, jm: f64) {
+    for j in 0..4 {
+        let o = 4 * (j + 1);
+        let (dphi, dm) = (u[o], u[o + 1]);
+        // d(f cos beta)/dAx = -1, d(f sin beta)/dAy = 1
+        let explicit = match j {
+            0 => -sp,
+            1 => cp,
+            _ => 0.0,
+        };
+        du[o] = dm * inv_e4;
+        du[o + 1] = jm * dphi + explicit;
+        du[o + 2] = -sp * dphi;
+        du[o + 3] = cp * dphi;
     }
 }
 
@@ -120,12 +188,29 @@ pub(crate) fn base_ivp(
     row: &ObservableRow,
     integrator: &Dop853,
 ) -> Result<OdeSolution> {
-    let ode = BaseOde::new(whisker, flow, row, false);
+    integrate(&BaseOde::new(whisker, flow, row, false), row, integrator)
+}
+
+/// As [`base_ivp`], the system [`with_table`](BaseOde::with_table) (the reconstruction's).
+pub(crate) fn base_ivp_table(
+    whisker: &Whisker,
+    flow: FluidLoad,
+    row: &ObservableRow,
+    integrator: &Dop853,
+) -> Result<OdeSolution> {
+    integrate(
+        &BaseOde::new(whisker, flow, row, false).with_table(),
+        row,
+        integrator,
+    )
+}
+
+/// [`base_ivp`] of the system `ode`.
+fn integrate(ode: &BaseOde, row: &ObservableRow, integrator: &Dop853) -> Result<OdeSolution> {
     let u0 = ode.initial(row);
     let phi0 = row.phi0;
-    let (sol, _) = integrator.integrate_until(&ode, 0.0, 1.0, &u0, |_, u| {
-        MAX_WINDING - (u[0] - phi0).abs()
-    })?;
+    let (sol, _) =
+        integrator.integrate_until(ode, 0.0, 1.0, &u0, |_, u| MAX_WINDING - (u[0] - phi0).abs())?;
     Ok(sol)
 }
 

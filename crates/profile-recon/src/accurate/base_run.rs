@@ -27,11 +27,27 @@ pub(super) struct BaseRun {
 }
 
 /// One step of a [`BaseRun`]: `[start, end]`, whether it is close, and its interpolant.
+#[derive(Clone, Copy, Debug)]
 pub(super) struct RunStep<'a> {
     pub start: f64,
     pub end: f64,
     pub close: bool,
     pub interp: &'a StepInterpolant<4>,
+}
+
+impl RunStep<'_> {
+    /// The state at `s` in `[start, end)` into `out`, as [`BaseRun::eval_into`] gives it there
+    /// (the 7th-order interpolant; a step that is not close has none inside: `false`),
+    /// without looking for the step.
+    pub(super) fn eval_inside(&self, s: f64, out: &mut [f64; 4]) -> bool {
+        debug_assert!(self.start <= s && s < self.end);
+        let p = self.interp;
+        if p.level() != Interpolant::Full {
+            let mut d = [0.0; 4];
+            return s == p.start() && p.eval_cubic(0.0, out, &mut d);
+        }
+        p.eval((s - p.start()) / p.h(), out)
+    }
 }
 
 impl BaseRun {
@@ -139,6 +155,23 @@ impl BaseRun {
         let p = &self.steps[k];
         p.eval_cubic((s - p.start()) / p.h(), out, dout)
     }
+
+    /// The cubic Hermite part of the interpolant at `s` into `out`, as
+    /// [`cubic_at`](Self::cubic_at) gives it, without the derivative (and its divisions).
+    pub(super) fn cubic_value_at(&self, s: f64, out: &mut [f64; 4]) -> bool {
+        let Some(k) = self.step_index(s) else {
+            return false;
+        };
+        let p = &self.steps[k];
+        let Some([r0, r1, r2, r3]) = p.cubic_coefficients() else {
+            return false;
+        };
+        let th = (s - p.start()) / p.h();
+        for i in 0..4 {
+            out[i] = r0[i] + th * (r1[i] + (1.0 - th) * (r2[i] + th * r3[i]));
+        }
+        true
+    }
 }
 
 /// Whether `m` may have a root or an extremum on a step (`span` its length as integrated):
@@ -148,30 +181,36 @@ impl BaseRun {
 /// sign and its direction with a margin that the cubic's error cannot close on an accepted
 /// step, and the scan of [`candidates`](super::scan::candidates) has nothing to find.
 pub(super) fn close_step(cubic: &StepInterpolant<4>, span: f64) -> bool {
-    let h = span.abs();
-    let (mut u, mut du) = ([0.0; 4], [0.0; 4]);
-    let (mut lo, mut hi, mut amin, mut dmax) =
+    // m and h m' of the cubic from its coefficients (no division per sample)
+    let Some([r0, r1, r2, r3]) = cubic.cubic_coefficients() else {
+        return true;
+    };
+    let (r0, r1, r2, r3) = (r0[1], r1[1], r2[1], r3[1]);
+    let dir = cubic.h().signum();
+    let (mut lo, mut hi, mut amin, mut hdmax) =
         (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, 0.0f64);
     let mut dsign = 0.0f64;
     let mut turns = false;
     for k in 0..=SAMPLES {
-        if !cubic.eval_cubic(k as f64 / SAMPLES as f64, &mut u, &mut du) {
-            return true;
-        }
-        let (m, d) = (u[1], du[1]);
-        if !(m.is_finite() && d.is_finite()) {
+        let th = k as f64 / SAMPLES as f64;
+        let m = r0 + th * (r1 + (1.0 - th) * (r2 + th * r3));
+        let hd = r1 + (1.0 - 2.0 * th) * r2 + th * (2.0 - 3.0 * th) * r3;
+        if !(m.is_finite() && hd.is_finite()) {
             return true;
         }
         lo = lo.min(m);
         hi = hi.max(m);
         amin = amin.min(m.abs());
-        dmax = dmax.max(d.abs());
+        hdmax = hdmax.max(hd.abs());
+        // the sign of m'
+        let d = hd * dir;
         if d == 0.0 || (dsign != 0.0 && d.signum() != dsign) {
             turns = true;
         }
         dsign = d.signum();
     }
-    turns || amin <= 2.0 * (hi - lo).max(h * dmax)
+    // the variation over the step as integrated: span |m'| = (span / h) |h m'|
+    turns || amin <= 2.0 * (hi - lo).max(span.abs() / cubic.h().abs() * hdmax)
 }
 
 #[cfg(test)]
@@ -210,6 +249,8 @@ mod tests {
             }
             // the cubic everywhere, close to the truth
             assert!(run.cubic_at(mid, &mut u, &mut du));
+            let mut v = [0.0; 4];
+            assert!(run.cubic_value_at(mid, &mut v) && v == u);
             let exact = full.eval(mid).unwrap();
             assert!((u[1] - exact[1]).abs() < 1e-4, "{} vs {}", u[1], exact[1]);
         }

@@ -16,8 +16,6 @@ pub const K_SIGMA: f64 = 6.0;
 /// `TIP_FIRST * TIP_RATIO^k`, `k < TIP_GRID`, from 1e-5 to 0.5 of the whisker (and the
 /// zeros of the tangency residual between them).
 pub const TIP_GRID: usize = 16;
-/// Integrator tolerance of the variational equations (the Jacobian of the error estimate).
-pub const JACOBIAN_TOL: f64 = 1e-3;
 /// Linear projection moves larger than this (whisker lengths) are iterated to the manifold of
 /// consistent observables (`project`); exact logs move by ~1e-12 and are left as they are.
 pub const PROJECT_MIN: f64 = 1e-9;

@@ -5,15 +5,16 @@
 
 use super::base_ode::BaseOde;
 use super::base_run::BaseRun;
-use super::context::{RowCtx, JACOBIAN_TOL};
+use super::context::RowCtx;
 use super::hypotheses::{Hypothesis, RowEval};
 use super::scan::{candidates, Candidates};
 use super::tip::tip_levels;
+use super::variational::{sensitivities, Sens};
 use crate::common::{contact_force, force_components, NoiseScales};
 use crate::error::Result;
 use crate::observables::ObservableRow;
 use beam_model::FluidLoad;
-use bvp_solvers::integrator::{Dop853, OdeSystem};
+use bvp_solvers::integrator::OdeSystem;
 use contact_sim::Phase;
 
 /// Evaluates every phase hypothesis of `row` under `ctx.flow`, with the Jacobian of each with
@@ -27,24 +28,20 @@ pub(crate) fn evaluate(ctx: &RowCtx<'_>, row: &ObservableRow) -> Result<RowEval>
     } = *ctx;
     // the cubic part of every step scans for roots and extrema of m, the complete 7th-order
     // interpolant is made only on the steps that may hold one
-    let ode = BaseOde::new(whisker, flow, row, false);
+    let ode = BaseOde::new(whisker, flow, row, false).with_table();
     let run = BaseRun::new(&ode, row, integrator)?;
     let reached = run.s_end >= 1.0;
-    let mut evaluations = 1;
+    let evaluations = 1;
     // hypotheses: A (if s = 1 was reached) and every root of m on (0, s_end)
     let Candidates {
         roots: mut hyp_s,
         touching,
     } = candidates(&run, &ode, row, reached);
     hyp_s.extend(touching.iter().map(|&t| (Phase::B, t)));
-    // the Jacobian: variational equations up to the last hypothesis
-    let s_jac = hyp_s.iter().map(|h| h.1).fold(0.0, f64::max);
-    let jac = if s_jac > 0.0 {
-        evaluations += 1;
-        jacobian(ctx, row, s_jac, &hyp_s)
-    } else {
-        None
-    };
+    // the Jacobian: the variational equations carried along the base run's steps up to the
+    // last hypothesis (no further integration)
+    let arcs: Vec<f64> = hyp_s.iter().map(|h| h.1).collect();
+    let jac = sensitivities(&run, &ode, &arcs);
     let mut hyps = Vec::with_capacity(hyp_s.len());
     let mut tip_table = Vec::new();
     let first_touch = hyp_s.len() - touching.len();
@@ -53,7 +50,7 @@ pub(crate) fn evaluate(ctx: &RowCtx<'_>, row: &ObservableRow) -> Result<RowEval>
         let Some(at) = Local::at(&run, &ode, row, flow, s) else {
             continue;
         };
-        let jv = jac.as_ref().and_then(|j| j[k]);
+        let jv = jac[k];
         let spread = jv.map(|jv| Spread::of(&at, kind, &jv, scales));
         if let (Kind::Tip, Some(v)) = (kind, &spread) {
             tip_table = tip_levels(&run, &ode, v.var_r.sqrt(), v.var_v.sqrt());
@@ -67,40 +64,6 @@ pub(crate) fn evaluate(ctx: &RowCtx<'_>, row: &ObservableRow) -> Result<RowEval>
         &run,
         (hyps, tip_table, evaluations),
     ))
-}
-
-/// The variational equations of the row up to `s_jac` at [`JACOBIAN_TOL`], read at the
-/// hypotheses `hyp_s` (the stepper driven here: the 7th-order interpolant only on the steps
-/// that hold one); `None` if the integration fails.
-fn jacobian(
-    ctx: &RowCtx<'_>,
-    row: &ObservableRow,
-    s_jac: f64,
-    hyp_s: &[(Phase, f64)],
-) -> Option<Vec<Option<[f64; 20]>>> {
-    let sode = BaseOde::new(ctx.whisker, ctx.flow, row, true);
-    let opts = Dop853::new(JACOBIAN_TOL, JACOBIAN_TOL);
-    let mut st = opts.stepper(&sode, 0.0, s_jac, &sode.initial(row)).ok()?;
-    let mut out = vec![None; hyp_s.len()];
-    while st.step().ok()? {
-        // the step holds [start, end) (the end itself is the next step's start, or s_jac)
-        let (a, b) = (st.start(), if st.is_last() { s_jac } else { st.end() });
-        for (o, &(_, s)) in out.iter_mut().zip(hyp_s) {
-            if a <= s && s < b {
-                let mut v = [0.0; 20];
-                st.interpolate((s - a) / st.h(), &mut v);
-                *o = Some(v);
-            }
-        }
-    }
-    for (o, &(_, s)) in out.iter_mut().zip(hyp_s) {
-        if s == s_jac {
-            let mut v = [0.0; 20];
-            v.copy_from_slice(st.state());
-            *o = Some(v);
-        }
-    }
-    Some(out)
 }
 
 /// The row's phase-A force over its scale, `|m(1)|` and the tip state (NaN if the
@@ -210,7 +173,8 @@ impl Local {
         ode.rhs(s, &u, &mut du);
         let (dphi_s, dm_s) = (du[0], du[1]);
         let (f, psi) = contact_force(row, flow, s);
-        let (sp, cp) = phi.sin_cos();
+        // x' = cos phi, y' = sin phi
+        let (sp, cp) = (du[3], du[2]);
         let (sa, ca) = flow.alpha.sin_cos();
         Some(Local {
             s,
@@ -247,7 +211,7 @@ struct Spread {
 impl Spread {
     /// From the variational state `jv` at the hypothesis (columns scaled by `scales`); a
     /// simple root moves with the observables by `ds1 = -dm / m'(s1)`.
-    fn of(at: &Local, kind: Kind, jv: &[f64; 20], scales: &NoiseScales) -> Spread {
+    fn of(at: &Local, kind: Kind, jv: &Sens, scales: &NoiseScales) -> Spread {
         let (sp, cp, dm_s, g_s) = (at.sp, at.cp, at.dm_s, at.g_s);
         let mut v = Spread::default();
         // j indexes the columns of the Jacobian, the scales and the residual's gradient
@@ -255,8 +219,7 @@ impl Spread {
             if sc == 0.0 {
                 continue;
             }
-            let o = 4 * (j + 1);
-            let (dphi, dm, dx, dy) = (jv[o], jv[o + 1], jv[o + 2], jv[o + 3]);
+            let (dphi, dm, dx, dy) = (jv[0][j], jv[1][j], jv[2][j], jv[3][j]);
             let (dp, dq) = match j {
                 0 => (-1.0, 0.0),
                 1 => (0.0, 1.0),
@@ -396,6 +359,7 @@ fn linear_projection(
 pub(crate) mod tests {
     use super::*;
     use beam_model::Whisker;
+    use bvp_solvers::integrator::Dop853;
     use contact_sim::{sweep, Profile, SweepResult, SweepSettings};
     use std::f64::consts::PI;
 

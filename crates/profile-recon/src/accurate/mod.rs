@@ -19,9 +19,10 @@
 //! sensitivity (`z = |residual| / sigma_unit`), not the slope-jump rule [6.10] and not a
 //! neighbouring row: every row is reconstructed on its own. The Jacobian of the residuals and of
 //! the contact point with respect to `(Ax, Ay, MA, phi0)` comes from the variational equations
-//! of the same system, integrated once more at a loose tolerance ([`JACOBIAN_TOL`]: an error
-//! estimate needs a few digits); it gives both the `z` of each hypothesis and the error
-//! estimate of the point (the noise level propagated through it, roots moved by
+//! of the same system, carried along the steps of the same base integration (`variational`:
+//! one Runge-Kutta step of order 4 per step of the base run, its coefficients from the run's
+//! own slopes; an error estimate needs a few digits); it gives both the `z` of each hypothesis
+//! and the error estimate of the point (the noise level propagated through it, roots moved by
 //! `ds1 = -dm / m'(s1)`).
 //!
 //! Under noise the measured observables are not exactly consistent with any hypothesis; the
@@ -33,17 +34,18 @@
 //!
 //! The base integration drives the DOP853 stepper itself (`base_run`): the cubic Hermite part
 //! of each step's interpolant (free) judges the step, the 7th-order interpolant (three more
-//! evaluations) is made only on the steps that may hold a root or an extremum of `m`; the
-//! variational equations get it only on the steps that hold a hypothesis.
+//! evaluations) is made only on the steps that may hold a root or an extremum of `m`.
 //!
 //! | file | concept |
 //! |---|---|
 //! | `base_ode` | the system integrated from the base [3.25, 6.8, 6.9] and its variational equations |
 //! | `base_run` | the stepper-driven integration of a row, its interpolants where they are needed |
+//! | `variational` | the variational equations carried along the base run's steps: the Jacobian of a row |
 //! | `scan` | the phase-B roots and extrema of `m`, bracketed on the dense output |
 //! | `evaluate` | one row under one flow: every hypothesis with its `z`, Jacobian and linear projection |
 //! | `hypotheses` | the hypotheses of a row and the choice among them at a noise level |
 //! | `tip` | phase-B look-alikes just short of the tip of a phase-A row |
+//! | `trig` | `sin` and `cos` of the tangent angle for the base system, by table and series |
 //! | `project` | the most likely consistent observables of a noisy row (Gauss-Newton) |
 //! | `point` | the reconstructed point of a row with its error estimate |
 
@@ -56,8 +58,10 @@ mod point;
 mod project;
 mod scan;
 mod tip;
+mod trig;
+mod variational;
 
-pub(crate) use base_ode::base_ivp;
+pub(crate) use base_ode::{base_ivp, base_ivp_table};
 pub(crate) use evaluate::evaluate;
 #[cfg(test)]
 pub(crate) use evaluate::tests;
@@ -65,4 +69,4 @@ pub(crate) use hypotheses::RowEval;
 pub(crate) use point::RowAt;
 
 pub(crate) use context::RowCtx;
-pub use context::{JACOBIAN_TOL, K_SIGMA, MAX_WINDING, PROJECT_MIN, SAMPLES, TIP_GRID};
+pub use context::{K_SIGMA, MAX_WINDING, PROJECT_MIN, SAMPLES, TIP_GRID};

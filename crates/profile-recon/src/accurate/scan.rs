@@ -5,7 +5,7 @@
 //! ([`close_step`](super::base_run::close_step)); [`candidates`] scans them.
 
 use super::base_ode::BaseOde;
-use super::base_run::BaseRun;
+use super::base_run::{BaseRun, RunStep};
 use super::context::SAMPLES;
 use crate::error::Result;
 use crate::observables::ObservableRow;
@@ -32,6 +32,8 @@ struct Scan<'a> {
     prev: (f64, f64),
     /// `m'` at the last sample.
     prev_slope: f64,
+    /// The step being scanned (the brackets of its roots and extrema lie on it).
+    step: Option<RunStep<'a>>,
     out: Candidates,
 }
 
@@ -43,10 +45,19 @@ impl Scan<'_> {
         du[1]
     }
 
+    /// The state at `t` into `buf` as [`BaseRun::eval_into`] gives it, inside the step being
+    /// scanned from its interpolant directly (no search for the step).
+    fn state_at(&self, t: f64, buf: &mut [f64; 4]) -> bool {
+        match &self.step {
+            Some(p) if p.start <= t && t < p.end => p.eval_inside(t, buf),
+            _ => self.run.eval_into(t, buf),
+        }
+    }
+
     /// `m` on the interpolant (NaN outside).
     fn m_at(&self, t: f64) -> Result<f64> {
         let mut buf = [0.0; 4];
-        Ok(if self.run.eval_into(t, &mut buf) {
+        Ok(if self.state_at(t, &mut buf) {
             buf[1]
         } else {
             f64::NAN
@@ -56,7 +67,7 @@ impl Scan<'_> {
     /// `m'` on the interpolant (NaN outside).
     fn d_at(&self, t: f64) -> Result<f64> {
         let mut buf = [0.0; 4];
-        Ok(if self.run.eval_into(t, &mut buf) {
+        Ok(if self.state_at(t, &mut buf) {
             self.slope(t, &buf)
         } else {
             f64::NAN
@@ -141,22 +152,28 @@ pub(super) fn candidates(
         },
         prev: (0.0, -row.ma),
         prev_slope: 0.0,
+        step: None,
         out: Candidates::default(),
     };
     if reached {
         scan.out.roots.push((Phase::A, 1.0));
     }
     scan.prev_slope = scan.slope(0.0, &[row.phi0, -row.ma, row.x0, 0.0]);
-    let (mut u, mut du_c) = ([0.0; 4], [0.0; 4]);
+    let mut u = [0.0; 4];
     for step in run.steps() {
         if !step.close {
             // m keeps its sign and its direction on this step: only its end is carried
-            if step.interp.eval_cubic(1.0, &mut u, &mut du_c) {
-                scan.prev = (step.end, u[1]);
-                scan.prev_slope = du_c[1];
+            if let Some([r0, r1, r2, r3]) = step.interp.cubic_coefficients() {
+                // the cubic's m and m' at theta = 1 as eval_cubic gives them (m alone)
+                let (th, i) = (1.0f64, 1);
+                let m = r0[i] + th * (r1[i] + (1.0 - th) * (r2[i] + th * r3[i]));
+                let hd = r1[i] + (1.0 - 2.0 * th) * r2[i] + th * (2.0 - 3.0 * th) * r3[i];
+                scan.prev = (step.end, m);
+                scan.prev_slope = hd / step.interp.h();
             }
             continue;
         }
+        scan.step = Some(step);
         for k in 0..SAMPLES {
             // the last sample exactly at the step's end (its state exactly)
             let s = if k + 1 == SAMPLES {
@@ -164,7 +181,7 @@ pub(super) fn candidates(
             } else {
                 step.start + (step.end - step.start) * (k + 1) as f64 / SAMPLES as f64
             };
-            if run.eval_into(s, &mut u) {
+            if scan.state_at(s, &mut u) {
                 scan.sample(s, &u);
             }
         }

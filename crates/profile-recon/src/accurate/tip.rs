@@ -18,15 +18,15 @@ const TIP_RATIO: f64 = 2.057_143_874_950_285;
 /// accurate enough for a level).
 pub(super) fn tip_levels(run: &BaseRun, ode: &BaseOde, sd_m: f64, sd_g: f64) -> Vec<(f64, f64)> {
     let mut out = vec![(0.0, f64::INFINITY); TIP_GRID];
-    let (mut u, mut du) = ([0.0; 4], [0.0; 4]);
+    let mut u = [0.0; 4];
     let tiny = f64::MIN_POSITIVE;
     // (m, g) at 1 - d
     let mut at = |d: f64| -> Option<(f64, f64)> {
         let s = 1.0 - d;
-        if !run.cubic_at(s, &mut u, &mut du) {
+        if !run.cubic_value_at(s, &mut u) {
             return None;
         }
-        let (sp, cp) = u[0].sin_cos();
+        let (sp, cp) = ode.sin_cos(u[0]);
         Some((u[1], -ode.rate(s, sp, cp).dm_dphi))
     };
     let need = |m: f64, g: f64| (m.abs() / sd_m.max(tiny)).max(g.abs() / sd_g.max(tiny)) / K_SIGMA;

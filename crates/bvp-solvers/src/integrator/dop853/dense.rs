@@ -98,6 +98,17 @@ impl<const N: usize> StepInterpolant<N> {
         true
     }
 
+    /// The coefficient blocks `r0..r3` of the cubic Hermite part (module docs of
+    /// [`StepInterpolant`]): `u(theta) = r0 + theta (r1 + (1 - theta) (r2 + theta r3))`,
+    /// `h u'(theta) = r1 + (1 - 2 theta) r2 + theta (2 - 3 theta) r3`; `None` if no
+    /// interpolant was computed.
+    pub fn cubic_coefficients(&self) -> Option<&[[f64; N]; 4]> {
+        if self.level == Interpolant::None {
+            return None;
+        }
+        self.rc.first_chunk::<4>()
+    }
+
     /// The cubic Hermite part at `theta` into `out` and its derivative `du/ds` into `dout`;
     /// `false` (outputs untouched) if no interpolant was computed.
     pub fn eval_cubic(&self, theta: f64, out: &mut [f64; N], dout: &mut [f64; N]) -> bool {
@@ -400,6 +411,50 @@ fn extend_in<D: Dim, S: OdeSystem + ?Sized>(
     for i in 0..n {
         for (b, terms) in DENSE_ROWS.iter().enumerate() {
             rc[(4 + b) * n + i] = h * lin(k, n, i, *terms);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `u_i' = -sin(u_{i+1}) + s u_i` (cyclic), any dimension.
+    struct Ring(usize);
+
+    impl OdeSystem for Ring {
+        fn dim(&self) -> usize {
+            self.0
+        }
+        fn rhs(&self, s: f64, u: &[f64], du: &mut [f64]) {
+            for i in 0..self.0 {
+                du[i] = -u[(i + 1) % self.0].sin() + s * u[i];
+            }
+        }
+    }
+
+    /// The extension unrolled for a fixed dimension gives the very numbers of the run-time
+    /// dimension's loops, for every dimension the dispatch fixes.
+    #[test]
+    fn fixed_dimensions_reproduce_the_dynamic_extension_bit_for_bit() {
+        for n in [2, 4, 8, 20] {
+            let sys = Ring(n);
+            let y: Vec<f64> = (0..n).map(|i| 0.1 * i as f64 - 0.3).collect();
+            let k1: Vec<f64> = (0..16 * n).map(|i| (0.37 * i as f64).cos()).collect();
+            let (mut k2, mut tmp1, mut tmp2) = (k1.clone(), vec![0.0; n], vec![0.0; n]);
+            let mut k1 = k1;
+            let (mut rc1, mut rc2) = (vec![0.5; 8 * n], vec![0.5; 8 * n]);
+            extend(&sys, 0.2, 0.05, &y, &mut k1, &mut tmp1, &mut rc1);
+            extend_in(
+                Dynamic(n),
+                &sys,
+                (0.2, 0.05),
+                &y,
+                &mut k2,
+                &mut tmp2,
+                &mut rc2,
+            );
+            assert_eq!((k1, rc1), (k2, rc2), "n = {n}");
         }
     }
 }

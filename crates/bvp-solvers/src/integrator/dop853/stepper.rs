@@ -475,6 +475,11 @@ mod tests {
         assert!(st.interpolant::<2>().is_none(), "no step held yet");
         assert!(st.step().unwrap());
         assert_eq!(st.interpolant::<2>().unwrap().level(), Interpolant::None);
+        assert!(st
+            .interpolant::<2>()
+            .unwrap()
+            .cubic_coefficients()
+            .is_none());
         st.prepare(Interpolant::Full);
         let copy = st.interpolant::<2>().unwrap();
         assert_eq!((copy.start(), copy.h()), (st.start(), st.h()));
@@ -490,6 +495,18 @@ mod tests {
                 assert!((b[0] - s.sin()).abs() < 1e-12 && (b[1] - s.cos()).abs() < 1e-12);
                 assert!((db[0] - s.cos()).abs() < 1e-12 && (db[1] + s.sin()).abs() < 1e-12);
             }
+        }
+        // the cubic's coefficients give the cubic part's values and h times its slopes
+        let [r0, r1, r2, r3] = *copy.cubic_coefficients().unwrap();
+        let th: f64 = 0.3;
+        assert!(copy.eval_cubic(th, &mut b, &mut db));
+        for i in 0..2 {
+            assert_eq!(
+                b[i],
+                r0[i] + th * (r1[i] + (1.0 - th) * (r2[i] + th * r3[i]))
+            );
+            let hd = r1[i] + (1.0 - 2.0 * th) * r2[i] + th * (2.0 - 3.0 * th) * r3[i];
+            assert_eq!(db[i], hd / copy.h());
         }
         // the copy outlives the step
         assert!(st.step().unwrap());

@@ -37,7 +37,7 @@ pub mod scene;
 pub mod shot;
 pub mod solution;
 pub mod support;
-mod trig;
+pub mod trig;
 pub mod units;
 pub mod whisker;
 

@@ -37,7 +37,7 @@ const C6: f64 = f64::from_bits(0xBDA8_FAE9_BE88_38D4);
 
 /// `(sin x, cos x)` (module docs).
 #[inline]
-pub(crate) fn sin_cos(x: f64) -> (f64, f64) {
+pub fn sin_cos(x: f64) -> (f64, f64) {
     if x.is_nan() || x.abs() > REDUCED {
         return x.sin_cos();
     }

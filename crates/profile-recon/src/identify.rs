@@ -19,7 +19,7 @@
 //! given, a log without any pre-contact row is accepted. Nothing depends on the order or the
 //! spacing of the rows.
 
-use crate::accurate::{base_ivp_table, evaluate, RowCtx, RowEval, K_SIGMA};
+use crate::accurate::{base_ivp_fast, evaluate, RowCtx, RowEval, K_SIGMA};
 use crate::common::{free_flow, KnownFlow, NoiseScales, ReconSettings};
 pub use crate::common::{Identification, NOISE_FLOOR};
 use crate::error::{ReconError, Result};
@@ -116,7 +116,7 @@ fn free_fit(
     let (f, _) = crate::common::contact_force(row, flow, 1.0);
     let fu = scales.0[0].max(scales.0[1]).max(1e-300);
     let mu = (scales.0[2] + fu).max(1e-300);
-    let fit = match base_ivp_table(whisker, flow, row, integrator) {
+    let fit = match base_ivp_fast(whisker, flow, row, integrator) {
         Ok(sol) if sol.s_end >= 1.0 => f / fu + sol.u_end[1].abs() / mu,
         _ => f64::INFINITY,
     };

@@ -3,7 +3,6 @@
 //! from the base that every hypothesis of a row reads.
 
 use super::context::MAX_WINDING;
-use super::trig::SinCos;
 use crate::error::Result;
 use crate::observables::ObservableRow;
 use beam_model::equations::{MomentLaw, MomentRate};
@@ -29,17 +28,18 @@ use bvp_solvers::integrator::{Dop853, OdeSolution, OdeSystem};
 pub(crate) struct BaseOde {
     whisker: Whisker,
     law: MomentLaw,
-    /// With the table ([`BaseOde::with_table`]), `m'` as
+    /// With [`BaseOde::fast`], `m'` as
     /// `sin phi (fc + (1 - s) qc) + cos phi (fs + (1 - s) qs)` in the state's rate (the law's
     /// sum regrouped: fewer operations after `sin_cos`): the force `(f cos beta, f sin beta)`
     /// and `q (cos alpha, sin alpha)`.
     force: (f64, f64),
     flow: (f64, f64),
     sens: bool,
-    /// `sin` and `cos` of `phi` by table and series (the reconstruction's evaluations), or
-    /// `None`: the library's, and `m'` from the law, as the beam model computes them (the
-    /// calibration, whose finite-difference Jacobians see the last bits).
-    table: Option<SinCos>,
+    /// `sin` and `cos` of `phi` by [`beam_model::trig::sin_cos`] and the regrouped `m'` (the
+    /// reconstruction's evaluations), or the library's and `m'` from the law, as the beam
+    /// model's FDM computes them (the calibration, whose finite-difference Jacobians see the
+    /// last bits).
+    fast: bool,
 }
 
 impl BaseOde {
@@ -61,17 +61,14 @@ impl BaseOde {
             force: (fc, fs),
             flow: (flow.q * ca, flow.q * sa),
             sens,
-            table: None,
+            fast: false,
         }
     }
 
-    /// The system with `sin`, `cos` by table and series ([`SinCos`], within 2 ulps of the
-    /// library's) and the regrouped `m'`: the reconstruction's evaluations.
-    pub(crate) fn with_table(self) -> Self {
-        BaseOde {
-            table: Some(SinCos::new()),
-            ..self
-        }
+    /// The system with `sin`, `cos` by [`beam_model::trig::sin_cos`] (the shots' own, within
+    /// 2e-16 of the library's) and the regrouped `m'`: the reconstruction's evaluations.
+    pub(crate) fn fast(self) -> Self {
+        BaseOde { fast: true, ..self }
     }
 
     /// The moment law at `s` where `(sin phi, cos phi) = (sp, cp)`: `m'`, `dm'/dphi` (the
@@ -81,12 +78,13 @@ impl BaseOde {
         self.law.at(s, sp, cp)
     }
 
-    /// `(sin x, cos x)` ([`SinCos`]).
+    /// `(sin x, cos x)`, by [`beam_model::trig::sin_cos`] in the [`BaseOde::fast`] system.
     #[inline(always)]
     pub(super) fn sin_cos(&self, x: f64) -> (f64, f64) {
-        match &self.table {
-            Some(t) => t.at(x),
-            None => x.sin_cos(),
+        if self.fast {
+            beam_model::trig::sin_cos(x)
+        } else {
+            x.sin_cos()
         }
     }
 
@@ -137,14 +135,14 @@ impl OdeSystem for BaseOde {
         let w = &self.whisker;
         let (phi, m) = (u[0], u[1]);
         let inv_e4 = self.compliance(s);
-        let (sp, cp, dm) = match &self.table {
-            Some(t) => {
-                let (sp, cp) = t.at(phi);
+        let (sp, cp, dm) = match self.fast {
+            true => {
+                let (sp, cp) = beam_model::trig::sin_cos(phi);
                 let arm = 1.0 - s;
                 let ((fc, fs), (qc, qs)) = (self.force, self.flow);
                 (sp, cp, sp * (fc + arm * qc) + cp * (fs + arm * qs))
             }
-            None => {
+            false => {
                 let (sp, cp) = phi.sin_cos();
                 (sp, cp, self.law.at(s, sp, cp).dm)
             }
@@ -191,15 +189,15 @@ pub(crate) fn base_ivp(
     integrate(&BaseOde::new(whisker, flow, row, false), row, integrator)
 }
 
-/// As [`base_ivp`], the system [`with_table`](BaseOde::with_table) (the reconstruction's).
-pub(crate) fn base_ivp_table(
+/// As [`base_ivp`], the system [`fast`](BaseOde::fast) (the reconstruction's).
+pub(crate) fn base_ivp_fast(
     whisker: &Whisker,
     flow: FluidLoad,
     row: &ObservableRow,
     integrator: &Dop853,
 ) -> Result<OdeSolution> {
     integrate(
-        &BaseOde::new(whisker, flow, row, false).with_table(),
+        &BaseOde::new(whisker, flow, row, false).fast(),
         row,
         integrator,
     )

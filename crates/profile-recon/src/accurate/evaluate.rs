@@ -28,7 +28,7 @@ pub(crate) fn evaluate(ctx: &RowCtx<'_>, row: &ObservableRow) -> Result<RowEval>
     } = *ctx;
     // the cubic part of every step scans for roots and extrema of m, the complete 7th-order
     // interpolant is made only on the steps that may hold one
-    let ode = BaseOde::new(whisker, flow, row, false).with_table();
+    let ode = BaseOde::new(whisker, flow, row, false).fast();
     let run = BaseRun::new(&ode, row, integrator)?;
     let reached = run.s_end >= 1.0;
     let evaluations = 1;

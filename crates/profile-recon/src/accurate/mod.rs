@@ -58,10 +58,9 @@ mod point;
 mod project;
 mod scan;
 mod tip;
-mod trig;
 mod variational;
 
-pub(crate) use base_ode::{base_ivp, base_ivp_table};
+pub(crate) use base_ode::{base_ivp, base_ivp_fast};
 pub(crate) use evaluate::evaluate;
 #[cfg(test)]
 pub(crate) use evaluate::tests;

@@ -236,7 +236,7 @@ mod tests {
             h_init: Some(0.05),
             ..Dop853::new(1e-12, 1e-12)
         };
-        let ode = BaseOde::new(w, flow, r, false).with_table();
+        let ode = BaseOde::new(w, flow, r, false).fast();
         let run = BaseRun::new(&ode, r, &opts).unwrap();
         let arcs = [0.0, 0.137, 0.5, 0.77, 0.999, 1.0];
         let got: Vec<Sens> = sensitivities(&run, &ode, &arcs)

@@ -22,10 +22,11 @@
 //! the former scheme answers: Newton at `tol` from stage 2, the elastica shot at its root,
 //! the check shot there.
 
+use super::elastica::Run;
 use super::elastica::{linearised_shape, Linearised};
+use super::load_path::{find_branch_by_rule, Polish};
 use super::shooting::{
-    corrected_difference, find_branch_by_rule, finished, polish_tip_angle, Polish, Run, Search,
-    TipSolve, TipTarget,
+    corrected_difference, finished, polish_tip_angle, Search, TipSolve, TipTarget,
 };
 use crate::equations::Sensitivities;
 use crate::error::Result;

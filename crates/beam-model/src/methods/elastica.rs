@@ -4,7 +4,6 @@
 //! shot's own Newton step ([`linearised_shape`]); the other methods and the contact phases
 //! take the plain shot ([`shape`]).
 
-use super::shooting::Run;
 use crate::equations::{FreeSegment, Sensitivities};
 use crate::error::{ModelError, Result};
 use crate::scene::Scene;
@@ -109,7 +108,7 @@ impl Moved {
         if d == 0.0 {
             return v;
         }
-        super::shooting::moved(v, s, d)
+        moved(v, s, d)
     }
 }
 
@@ -244,6 +243,25 @@ fn free_segment(
                 phi: seg.phi(1.0),
             })
         }
+    }
+}
+
+/// How a shooting solve runs: its integrator, the elastica's samples, the method's name
+/// (in errors) and the evaluation budget of the load continuation.
+pub(crate) struct Run<'a> {
+    pub integration: &'a Integration,
+    pub samples: usize,
+    pub method: &'static str,
+    pub budget: usize,
+}
+
+/// Base values `v` moved by the step `d` in the tip angle along `sens = dv/dphi1`.
+pub(crate) fn moved(v: BaseValues, sens: BaseValues, d: f64) -> BaseValues {
+    BaseValues {
+        phi0: v.phi0 + sens.phi0 * d,
+        m0: v.m0 + sens.m0 * d,
+        dx: v.dx + sens.dx * d,
+        dy: v.dy + sens.dy * d,
     }
 }
 

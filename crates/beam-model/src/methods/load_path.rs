@@ -24,7 +24,9 @@
 //! difference in `lambda` (one more shot; the corrector only needs it approximately, and the
 //! final Newton at `lambda = 1` uses the exact derivative).
 
-use super::shooting::newton_tip_angle;
+use super::shooting::{
+    find_branch, newton_tip_angle, polish_tip_angle, Found, Search, TipSolve, TipTarget,
+};
 use crate::equations::Sensitivities;
 use crate::error::{ModelError, Result};
 use crate::loads::Loads;
@@ -165,6 +167,37 @@ impl Curve<2> for LoadCurve<'_> {
     }
 }
 
+/// The equilibrium at full load between the path points `a` and `b` (on either side):
+/// located on the path, then solved by Newton at full accuracy (`integration`) where that
+/// resolves it, else kept at the path's own (the caller's solve polishes it at its
+/// tolerance).
+fn full_load(
+    curve: &LoadCurve<'_>,
+    (a, b): (&PathPoint, &PathPoint),
+    integration: &Integration,
+) -> Result<PathEquilibrium> {
+    let side = (1.0 - a.u[1]).signum();
+    let g = |q: &PathPoint| Ok::<f64, ModelError>((1.0 - q.u[1]) * side);
+    let at = locate(curve, a, b, &g, EVENT_TOL)?;
+    let (t, _) = newton_tip_angle(
+        curve.whisker,
+        curve.loads,
+        integration,
+        at.u[0],
+        curve.method,
+    );
+    Ok(t.map_or(
+        PathEquilibrium {
+            phi1: at.u[0],
+            phi0: at.phi0,
+        },
+        |t| PathEquilibrium {
+            phi1: t.phi1,
+            phi0: t.values.phi0,
+        },
+    ))
+}
+
 /// Follows the load path of `whisker` under `loads` from zero load through its folds to the
 /// first arrival at full load, solved there by Newton on the tip angle at `integration`'s
 /// accuracy; lists the folds passed and the other equilibria at full load further along.
@@ -253,22 +286,7 @@ pub(crate) fn follow(
         }
         // a crossing of full load (either way)
         if (cur.u[1] - 1.0) * (p.u[1] - 1.0) <= 0.0 && p.u[1] != cur.u[1] {
-            let side = (1.0 - cur.u[1]).signum();
-            let g = |q: &PathPoint| Ok::<f64, ModelError>((1.0 - q.u[1]) * side);
-            let at = locate(&curve, &cur, &p, &g, EVENT_TOL)?;
-            // at full accuracy where the integration resolves it, else at the path's own
-            // (the caller's solve polishes it at its tolerance)
-            let (t, _) = newton_tip_angle(whisker, loads, integration, at.u[0], method);
-            let eq = t.map_or(
-                PathEquilibrium {
-                    phi1: at.u[0],
-                    phi0: at.phi0,
-                },
-                |t| PathEquilibrium {
-                    phi1: t.phi1,
-                    phi0: t.values.phi0,
-                },
-            );
+            let eq = full_load(&curve, (&cur, &p), integration)?;
             match &arrival {
                 None => arrival = Some(eq),
                 Some(a) if (eq.phi1 - a.phi1).abs() > 1e-6 => others.push(eq),
@@ -296,6 +314,76 @@ pub(crate) fn follow(
         steps,
     };
     Ok((path, curve.spent.get()))
+}
+
+/// How [`find_branch_by_rule`] polishes the search's answer before judging it: Newton at
+/// `integration` to `target`, also after a direct solve when `direct_too` (a search on
+/// loose shots).
+pub(crate) struct Polish<'a> {
+    pub integration: &'a Integration,
+    pub target: TipTarget,
+    pub direct_too: bool,
+}
+
+/// [`find_branch`] by the rule every method follows where loading from zero is not
+/// monotone, its answer polished ([`Polish`]): where the search stalled, its branch guard
+/// met other equilibria (a jump it let through would land on one unnoticed: two branches
+/// may share the tip angle and differ at the base), or its polished answer lies past a
+/// fold (`dR/dphi1 <= 0`: it is 1 on the unloaded whisker and vanishes only at folds),
+/// the load path is followed through its folds to its first arrival at full load
+/// ([`super::load_path::follow`], solved there at `path_integration`), and the answer is
+/// that arrival polished. A search out of its evaluation budget stays out of it; a path
+/// that cannot be followed gives its error (the caller's fallback follows the rule by its
+/// own method).
+pub(crate) fn find_branch_by_rule(
+    whisker: &Whisker,
+    loads: &Loads,
+    search: &Search<'_>,
+    polish: &Polish<'_>,
+    path_integration: &Integration,
+    method: &'static str,
+    budget: usize,
+) -> Result<(Found, Option<LoadPath>)> {
+    let support = &whisker.support;
+    let unfolded = |tip: &TipSolve| support.residual_rate(tip.sens.phi0, tip.sens.m0) > 0.0;
+    let polished = |phi1: f64| {
+        let (t, spent) = polish_tip_angle(
+            whisker,
+            loads,
+            polish.integration,
+            method,
+            phi1,
+            &polish.target,
+        );
+        t.map(|mut t| {
+            t.evaluations += spent;
+            t
+        })
+    };
+    let found = match find_branch(whisker, loads, search, method, budget) {
+        Ok(found) if found.steps == 0 && !polish.direct_too => Ok(found),
+        Ok(found) => polished(found.tip.phi1).map(|mut tip| {
+            tip.evaluations += found.tip.evaluations;
+            tip.branch_jumps = found.tip.branch_jumps;
+            Found {
+                tip,
+                steps: found.steps,
+            }
+        }),
+        Err(e) => Err(e),
+    };
+    match found {
+        Ok(found) if found.tip.branch_jumps == 0 && unfolded(&found.tip) => Ok((found, None)),
+        Err(e @ ModelError::Budget { .. }) => Err(e),
+        found => {
+            let (path, spent) = follow(whisker, loads, path_integration, method, budget)?;
+            let mut tip = polished(path.arrival.phi1)?;
+            tip.evaluations += spent + found.as_ref().map_or(0, |f| f.tip.evaluations);
+            tip.branch_jumps = found.map_or(0, |f| f.tip.branch_jumps);
+            let steps = path.steps;
+            Ok((Found { tip, steps }, Some(path)))
+        }
+    }
 }
 
 #[cfg(test)]

@@ -10,6 +10,7 @@
 pub(crate) mod accurate;
 pub(crate) mod elastica;
 pub(crate) mod fdm;
+pub(crate) mod fixed;
 pub(crate) mod load_path;
 pub(crate) mod picard;
 pub(crate) mod shooting;
@@ -244,7 +245,7 @@ pub fn solve(scene: &Scene, method: &Method) -> Result<Solution> {
     let mut sol = match *method {
         Method::Accurate { tol, samples } => accurate(scene, tol, samples, tolerance)?,
         Method::Rk4 { n } => {
-            let mut sol = shooting::solve(scene, &Integration::Rk4 { n }, n, "rk4", RK4_BUDGET)?;
+            let mut sol = fixed::solve(scene, &Integration::Rk4 { n }, n, "rk4", RK4_BUDGET)?;
             let fine = Integration::Rk4 {
                 n: n.saturating_mul(2),
             };

@@ -2,13 +2,13 @@
 //! the tip angle `phi1` with the exact derivative from the variational equations, load
 //! continuation when the direct iteration fails, then the elastica from the final shot.
 
-use super::elastica::shape;
+use super::elastica::{moved, shape, Run};
 use crate::equations::Sensitivities;
 use crate::error::{ModelError, Result};
 use crate::loads::Loads;
 use crate::scene::Scene;
 use crate::shot::{shoot, BaseValues, Integration};
-use crate::solution::{LoadPath, Solution, SolveStats};
+use crate::solution::{Solution, SolveStats};
 use crate::whisker::Whisker;
 use bvp_solvers::continuation::{BranchGuard, Continuation};
 use bvp_solvers::newton::{
@@ -168,7 +168,7 @@ pub(crate) struct TipTarget {
 
 impl TipTarget {
     /// The final solve at full load.
-    const FINAL: TipTarget = TipTarget {
+    pub(crate) const FINAL: TipTarget = TipTarget {
         tol: 1e-13,
         predict_below: None,
         load_scale: 1.0,
@@ -183,7 +183,7 @@ impl TipTarget {
 
     /// A continuation corrector: residual 1e-5, every shot verified (the load steps only
     /// guide the branch; the final Newton at full load restores the accuracy).
-    const GUIDE: TipTarget = TipTarget {
+    pub(crate) const GUIDE: TipTarget = TipTarget {
         tol: 1e-5,
         predict_below: None,
         load_scale: 1.0,
@@ -430,112 +430,6 @@ pub(crate) fn find_branch(
     })
 }
 
-/// How [`find_branch_by_rule`] polishes the search's answer before judging it: Newton at
-/// `integration` to `target`, also after a direct solve when `direct_too` (a search on
-/// loose shots).
-pub(crate) struct Polish<'a> {
-    pub integration: &'a Integration,
-    pub target: TipTarget,
-    pub direct_too: bool,
-}
-
-/// [`find_branch`] by the rule every method follows where loading from zero is not
-/// monotone, its answer polished ([`Polish`]): where the search stalled, its branch guard
-/// met other equilibria (a jump it let through would land on one unnoticed: two branches
-/// may share the tip angle and differ at the base), or its polished answer lies past a
-/// fold (`dR/dphi1 <= 0`: it is 1 on the unloaded whisker and vanishes only at folds),
-/// the load path is followed through its folds to its first arrival at full load
-/// ([`super::load_path::follow`], solved there at `path_integration`), and the answer is
-/// that arrival polished. A search out of its evaluation budget stays out of it; a path
-/// that cannot be followed gives its error (the caller's fallback follows the rule by its
-/// own method).
-pub(crate) fn find_branch_by_rule(
-    whisker: &Whisker,
-    loads: &Loads,
-    search: &Search<'_>,
-    polish: &Polish<'_>,
-    path_integration: &Integration,
-    method: &'static str,
-    budget: usize,
-) -> Result<(Found, Option<LoadPath>)> {
-    let support = &whisker.support;
-    let unfolded = |tip: &TipSolve| support.residual_rate(tip.sens.phi0, tip.sens.m0) > 0.0;
-    let polished = |phi1: f64| {
-        let (t, spent) = polish_tip_angle(
-            whisker,
-            loads,
-            polish.integration,
-            method,
-            phi1,
-            &polish.target,
-        );
-        t.map(|mut t| {
-            t.evaluations += spent;
-            t
-        })
-    };
-    let found = match find_branch(whisker, loads, search, method, budget) {
-        Ok(found) if found.steps == 0 && !polish.direct_too => Ok(found),
-        Ok(found) => polished(found.tip.phi1).map(|mut tip| {
-            tip.evaluations += found.tip.evaluations;
-            tip.branch_jumps = found.tip.branch_jumps;
-            Found {
-                tip,
-                steps: found.steps,
-            }
-        }),
-        Err(e) => Err(e),
-    };
-    match found {
-        Ok(found) if found.tip.branch_jumps == 0 && unfolded(&found.tip) => Ok((found, None)),
-        Err(e @ ModelError::Budget { .. }) => Err(e),
-        found => {
-            let (path, spent) =
-                super::load_path::follow(whisker, loads, path_integration, method, budget)?;
-            let mut tip = polished(path.arrival.phi1)?;
-            tip.evaluations += spent + found.as_ref().map_or(0, |f| f.tip.evaluations);
-            tip.branch_jumps = found.map_or(0, |f| f.tip.branch_jumps);
-            let steps = path.steps;
-            Ok((Found { tip, steps }, Some(path)))
-        }
-    }
-}
-
-/// [`find_branch_by_rule`] with the direct attempt at `integration` and the continuation's
-/// correctors on [`loose`], then (after a continuation) Newton at `integration` from its
-/// answer; returns the tip angle, the continuation steps and the load path where it
-/// decided.
-pub(crate) fn solve_tip_angle_within(
-    whisker: &Whisker,
-    loads: &Loads,
-    integration: &Integration,
-    method: &'static str,
-    budget: usize,
-) -> Result<(TipSolve, usize, Option<LoadPath>)> {
-    let loose = loose(integration);
-    let search = Search {
-        direct: integration,
-        direct_target: TipTarget::FINAL,
-        guide: &loose,
-        guide_target: TipTarget::GUIDE,
-    };
-    let polish = Polish {
-        integration,
-        target: TipTarget::POLISH,
-        direct_too: false,
-    };
-    let (found, path) = find_branch_by_rule(
-        whisker,
-        loads,
-        &search,
-        &polish,
-        integration,
-        method,
-        budget,
-    )?;
-    Ok((found.tip, found.steps, path))
-}
-
 /// Newton at `integration` from the tip angle `from` of a branch search to `target`
 /// (load scale 1); with its own evaluations, also of a failed iteration.
 pub(crate) fn polish_tip_angle(
@@ -549,48 +443,6 @@ pub(crate) fn polish_tip_angle(
     let problem = TipProblem::new(whisker, loads, integration, method);
     let t = newton_to(&problem, from, target);
     (t, problem.spent.get())
-}
-
-/// Solves a scene by shooting and samples the elastica; the continuation stops with
-/// [`ModelError::Budget`] after `budget` right-hand-side evaluations. `stats.residual` is
-/// the base residual [3.21, 3.22] of the returned (final) shot.
-pub(crate) fn solve(
-    scene: &Scene,
-    integration: &Integration,
-    samples: usize,
-    method: &'static str,
-    budget: usize,
-) -> Result<Solution> {
-    let run = Run {
-        integration,
-        samples,
-        method,
-        budget,
-    };
-    verified(scene, &run, SolveStats::default()).map(|(sol, _)| sol)
-}
-
-/// How a shooting solve runs: its integrator, the elastica's samples, the method's name
-/// (in errors) and the evaluation budget of the load continuation.
-pub(crate) struct Run<'a> {
-    pub integration: &'a Integration,
-    pub samples: usize,
-    pub method: &'static str,
-    pub budget: usize,
-}
-
-/// The tip angle by Newton (with load continuation as needed), then [`finished`].
-fn verified(scene: &Scene, run: &Run<'_>, stats: SolveStats) -> Result<(Solution, BaseValues)> {
-    let (tip, continuation_steps, path) = solve_tip_angle_within(
-        &scene.whisker,
-        &scene.loads,
-        run.integration,
-        run.method,
-        run.budget,
-    )?;
-    let (mut sol, sens) = finished(scene, run, &tip, continuation_steps, stats)?;
-    sol.load_path = path;
-    Ok((sol, sens))
 }
 
 /// The elastica from a shot at the solved tip angle `tip`, and that final shot's
@@ -633,16 +485,6 @@ pub(crate) fn finished(
 /// The scale `1 + |m0|/k` of the base residual [3.21, 3.22] of a solution.
 pub(crate) fn residual_scale(w: &Whisker, sol: &Solution) -> f64 {
     1.0 + sol.base.ma.abs() * w.support.compliance()
-}
-
-/// Base values `v` moved by the step `d` in the tip angle along `sens = dv/dphi1`.
-pub(crate) fn moved(v: BaseValues, sens: BaseValues, d: f64) -> BaseValues {
-    BaseValues {
-        phi0: v.phi0 + sens.phi0 * d,
-        m0: v.m0 + sens.m0 * d,
-        dx: v.dx + sens.dx * d,
-        dy: v.dy + sens.dy * d,
-    }
 }
 
 /// The largest difference between `sol` and a second solution with base values `second`

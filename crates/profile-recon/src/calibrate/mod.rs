@@ -358,6 +358,7 @@ pub fn calibrate(
     logs: &[CalibLog],
     settings: &CalibSettings,
 ) -> crate::error::Result<Calibration> {
-    let (mut prob, fit, costs) = run::fit(start, logs, settings)?;
+    let (mut prob, mut fit, costs) = run::fit(start, logs, settings)?;
+    polish::polish(&mut prob, &mut fit, settings)?;
     result::summarize(&mut prob, &fit, &costs, start)
 }

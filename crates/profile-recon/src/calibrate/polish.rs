@@ -6,7 +6,7 @@
 use super::fit::{cost, levenberg_marquardt, LmSettings, Problem};
 use super::problem::{CalibProblem, Kinds};
 use super::residual::RowKind;
-use super::run::{start_failure, Rounds};
+use super::run::{start_failure, Rounds, OUTLIER, OUTLIER_SHARE};
 use super::CalibSettings;
 use crate::error::Result;
 use bvp_solvers::integrator::Dop853;
@@ -72,16 +72,6 @@ pub(crate) fn polish(
 
 /// Passes of the polish at most (each a fit of the rows still in).
 const POLISH_PASSES: usize = 3;
-
-/// A contact row whose whitened residual norm exceeds this multiple of the logs' noise
-/// level is one the model does not describe at that noise (four residuals of unit variance:
-/// a chi-square of 4 degrees of freedom beyond 36 has probability 1e-6): a row on the border
-/// of two phases, where neither fits, or at a fold.
-pub(crate) const OUTLIER: f64 = 6.0;
-
-/// Outliers beyond this share of the contact rows are not left out: the fit as a whole is
-/// wrong, which the residual check reports.
-pub(crate) const OUTLIER_SHARE: f64 = 0.1;
 
 /// Which rows are skipped.
 fn skipped(kinds: &Kinds) -> Vec<bool> {

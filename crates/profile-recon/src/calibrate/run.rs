@@ -13,6 +13,16 @@ use beam_model::Whisker;
 use bvp_solvers::integrator::Dop853;
 use std::f64::consts::FRAC_PI_2;
 
+/// A contact row whose whitened residual norm exceeds this multiple of the logs' noise
+/// level is one the model does not describe at that noise (four residuals of unit variance:
+/// a chi-square of 4 degrees of freedom beyond 36 has probability 1e-6): a row on the border
+/// of two phases, where neither fits, or at a fold.
+pub(crate) const OUTLIER: f64 = 6.0;
+
+/// Outliers beyond this share of the contact rows are not left out: the fit as a whole is
+/// wrong, which the residual check reports.
+pub(crate) const OUTLIER_SHARE: f64 = 0.1;
+
 /// The fit's noise level beyond this multiple of the logs' model-free level is reported.
 pub(crate) const NOISE_CHECK: f64 = 3.0;
 
@@ -342,12 +352,12 @@ pub(crate) fn fit_rounds(
 }
 
 /// The residual beyond which a row is an outlier of a fit of cost `cost` with the rows
-/// `state`: [`OUTLIER`](super::polish::OUTLIER) times the fit's own level (or the logs' noise,
+/// `state`: [`OUTLIER`] times the fit's own level (or the logs' noise,
 /// if larger).
 fn outlier_limit(prob: &CalibProblem<'_>, state: &Kinds, cost: f64) -> f64 {
     let n = prob.residual_count(state).saturating_sub(prob.dim()).max(1);
     let level = (2.0 * cost / n as f64).sqrt();
-    super::polish::OUTLIER * level.max(prob.log_noise).max(1e-9)
+    OUTLIER * level.max(prob.log_noise).max(1e-9)
 }
 
 /// The rounds' answer at `p`: the whiteners frozen there, its cost and the rows it lost
@@ -374,7 +384,7 @@ fn final_rounds(
 }
 
 /// The contact rows lost at `p`: `judged_lost` (those without any hypothesis), or, if the
-/// fit left out more than [`OUTLIER_SHARE`](super::polish::OUTLIER_SHARE) of the contact
+/// fit left out more than [`OUTLIER_SHARE`] of the contact
 /// rows whose force the data show (at least two) for whatever reason (no hypothesis, not
 /// evaluable, degenerate, outliers), all of those: such a fit does not explain its log,
 /// however small its cost.
@@ -393,7 +403,7 @@ fn contact_lost(
         .zip(kinds.iter().flatten())
         .filter(|(u, k)| **u && **k == RowKind::Skipped)
         .count();
-    if out as f64 > (super::polish::OUTLIER_SHARE * total as f64).max(2.0) {
+    if out as f64 > (OUTLIER_SHARE * total as f64).max(2.0) {
         out.max(judged_lost)
     } else {
         judged_lost
@@ -636,7 +646,6 @@ fn search(
         (None, None) => return Err(start_failure(prob, p0, &prob.judge_all(p0, pre).0)),
     };
     best.evaluations = evaluations;
-    super::polish::polish(prob, &mut best, settings)?;
     Ok((best, costs))
 }
 

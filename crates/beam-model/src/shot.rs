@@ -105,6 +105,35 @@ pub(crate) enum ShotPath {
     Dense(OdeSolution),
 }
 
+/// The base condition [3.21, 3.22] `R = phi(0) - pi/2 - m(0)/k` of a DOP853 shot at
+/// tolerance `tol` from the tip angle `phi1` under `loads` scaled by `lambda`
+/// ([`Loads::scaled`]), with its slope `dR/dphi1` from the variational equations: zero at
+/// an equilibrium; the slope is 1 on the unloaded whisker and zero at a fold of the load
+/// path (an independent check of an answer's branch and of a reported fold).
+///
+/// # Errors
+/// The shot's.
+pub fn base_residual(
+    whisker: &Whisker,
+    loads: &Loads,
+    phi1: f64,
+    lambda: f64,
+    tol: f64,
+) -> Result<(f64, f64)> {
+    let shot = shoot(
+        whisker,
+        &loads.scaled(lambda),
+        phi1,
+        Sensitivities::TipAngle,
+        &Integration::adaptive(tol),
+    )?;
+    let support = &whisker.support;
+    Ok((
+        support.residual(shot.phi0, shot.m0),
+        support.residual_rate(shot.d_phi1.phi0, shot.d_phi1.m0),
+    ))
+}
+
 /// Integrates from `(s1, phi1, m = 0, x = 0, y = 0)` to `s = 0`.
 pub fn shoot(
     whisker: &Whisker,

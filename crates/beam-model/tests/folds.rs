@@ -15,8 +15,7 @@
 //! `folds_subset` (60 scenes) runs in CI; `folds_full` (300 scenes, ~10 s in release) with
 //! `cargo test --release -p beam-model --test folds -- --ignored --nocapture`.
 
-use beam_model::equations::Sensitivities;
-use beam_model::shot::{shoot, Integration};
+use beam_model::shot::base_residual;
 use beam_model::{solve, Loads, Method, Scene, TipForce, Whisker};
 
 /// xorshift64: a seeded uniform stream in [0, 1).
@@ -53,19 +52,7 @@ fn scene(r: &mut Rng) -> Scene {
 
 /// `(R, dR/dphi1)` at `(phi1, lambda)` by a shot at 1e-12 from the loaded end.
 fn residual_at(scene: &Scene, phi1: f64, lambda: f64) -> (f64, f64) {
-    let w = &scene.whisker;
-    let shot = shoot(
-        w,
-        &scene.loads.scaled(lambda),
-        phi1,
-        Sensitivities::TipAngle,
-        &Integration::adaptive(1e-12),
-    )
-    .expect("a shot");
-    (
-        w.support.residual(shot.phi0, shot.m0),
-        w.support.residual_rate(shot.d_phi1.phi0, shot.d_phi1.m0),
-    )
+    base_residual(&scene.whisker, &scene.loads, phi1, lambda, 1e-12).expect("a shot")
 }
 
 #[derive(Debug, Default)]

@@ -412,19 +412,7 @@ mod tests {
 
     /// `(R, dR/dphi1)` of a shot at `(phi1, lambda)` at tolerance 1e-12.
     fn residual_at(scene: &Scene, phi1: f64, lambda: f64) -> (f64, f64) {
-        let w = &scene.whisker;
-        let shot = shoot(
-            w,
-            &scene.loads.scaled(lambda),
-            phi1,
-            Sensitivities::TipAngle,
-            &Integration::adaptive(1e-12),
-        )
-        .unwrap();
-        (
-            w.support.residual(shot.phi0, shot.m0),
-            w.support.residual_rate(shot.d_phi1.phi0, shot.d_phi1.m0),
-        )
+        crate::shot::base_residual(&scene.whisker, &scene.loads, phi1, lambda, 1e-12).unwrap()
     }
 
     /// Every method follows the same path to the same equilibrium and says where it folded:

@@ -21,14 +21,56 @@ pub(crate) fn rows(
 ) -> Result<Vec<ContactState>> {
     let first = nodes[0];
     let (x_start, x_end) = (first.x0(), last.x0());
+    let span = x_start - x_end;
+    let targets: Vec<f64> = (1..points.saturating_sub(1))
+        .map(|k| x_start - span * k as f64 / (points - 1) as f64)
+        .collect();
+    // two fixed halves, each its own chain of predictions: the numbers do not depend on
+    // whether the second half runs on a thread of its own (where a second core exists)
+    let (near, far) = targets.split_at(targets.len() / 2);
+    let parallel = std::thread::available_parallelism().is_ok_and(|n| n.get() > 1);
+    let (a, b) = if parallel && !far.is_empty() {
+        std::thread::scope(|scope| {
+            let far_half = scope.spawn(|| chain(branch, nodes, &[], far, &mut |_| {}));
+            let near_half = chain(branch, nodes, &[first], near, &mut |k| progress(k, points));
+            let far_half = far_half
+                .join()
+                .unwrap_or_else(|e| std::panic::resume_unwind(e));
+            (near_half, far_half)
+        })
+    } else {
+        let near_half = chain(branch, nodes, &[first], near, &mut |k| progress(k, points));
+        (near_half, chain(branch, nodes, &[], far, &mut |_| {}))
+    };
     let mut out: Vec<ContactState> = Vec::with_capacity(points + switches.len());
     out.push(first.state);
+    out.extend(a?);
+    out.extend(b?);
+    if span > 0.0 {
+        out.push(last.state);
+    }
+    out.extend(switches.iter().map(|n| n.state));
+    out.sort_by(|a, b| b.x0.total_cmp(&a.x0));
+    out.dedup_by(|a, b| a.x0 == b.x0);
+    progress(points, points);
+    Ok(out)
+}
+
+/// The rows at the base positions `targets` (falling), each predicted from the bracketing
+/// nodes and the rows of this chain before it (after `start`), then solved; stops at the
+/// end of the traced nodes. `done(k)` is told of the `k`-th row.
+fn chain(
+    branch: &Branch,
+    nodes: &[Node],
+    start: &[Node],
+    targets: &[f64],
+    done: &mut dyn FnMut(usize),
+) -> Result<Vec<ContactState>> {
+    let mut out = Vec::with_capacity(targets.len());
     let mut seg = 0;
-    let span = x_start - x_end;
-    let mut recent: Vec<Node> = vec![first];
-    for k in 1..points.saturating_sub(1) {
-        progress(k, points);
-        let target = x_start - span * k as f64 / (points - 1) as f64;
+    let mut recent: Vec<Node> = start.to_vec();
+    for (k, &target) in targets.iter().enumerate() {
+        done(k + 1);
         while seg + 1 < nodes.len() && nodes[seg + 1].x0() > target {
             seg += 1;
         }
@@ -41,13 +83,6 @@ pub(crate) fn rows(
         recent.push(node);
         out.push(node.state);
     }
-    if span > 0.0 {
-        out.push(last.state);
-    }
-    out.extend(switches.iter().map(|n| n.state));
-    out.sort_by(|a, b| b.x0.total_cmp(&a.x0));
-    out.dedup_by(|a, b| a.x0 == b.x0);
-    progress(points, points);
     Ok(out)
 }
 

@@ -289,7 +289,7 @@ impl Passes<'_> {
             scales: self.scales,
             integrator: self.integrator,
         };
-        self.rows.iter().map(|r| evaluate(&ctx, r)).collect()
+        crate::halves::in_halves(self.rows.len(), |i| evaluate(&ctx, &self.rows[i]))
     }
 
     /// Step (3): the given noise level, else the estimate capped by the reference.

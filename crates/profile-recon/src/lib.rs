@@ -34,6 +34,7 @@ pub mod accurate;
 pub mod calibrate;
 pub mod common;
 pub mod error;
+mod halves;
 pub mod identify;
 mod judge;
 pub mod noise;

@@ -91,13 +91,10 @@ fn accurate_points(
         flow_sd: flow_sd(known, level, &ided.scales, id.pre_contact.len()),
         settings,
     };
-    let mut points = Vec::new();
-    for (i, row) in rows.iter().enumerate() {
-        if let Some(p) = judge.judge(i, row, &ided.evals[i])? {
-            points.push(p);
-        }
-    }
-    Ok(points)
+    // each row on its own ([`crate::halves`])
+    let judged =
+        crate::halves::in_halves(rows.len(), |i| judge.judge(i, &rows[i], &ided.evals[i]))?;
+    Ok(judged.into_iter().flatten().collect())
 }
 
 /// Method `thesis` on the contact rows (in the order of `x0`, as its rule [6.10] reads them),

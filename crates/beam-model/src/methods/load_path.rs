@@ -332,9 +332,10 @@ pub(crate) struct Polish<'a> {
 /// fold (`dR/dphi1 <= 0`: it is 1 on the unloaded whisker and vanishes only at folds),
 /// the load path is followed through its folds to its first arrival at full load
 /// ([`super::load_path::follow`], solved there at `path_integration`), and the answer is
-/// that arrival polished. A search out of its evaluation budget stays out of it; a path
-/// that cannot be followed gives its error (the caller's fallback follows the rule by its
-/// own method).
+/// that arrival polished. A search out of its evaluation budget stays out of it. Where the
+/// path cannot be followed, an unfolded answer of a search that only met other equilibria
+/// stands (flagged by its branch jumps); otherwise the path's error (the caller's fallback
+/// follows the rule by its own method).
 pub(crate) fn find_branch_by_rule(
     whisker: &Whisker,
     loads: &Loads,
@@ -376,7 +377,16 @@ pub(crate) fn find_branch_by_rule(
         Ok(found) if found.tip.branch_jumps == 0 && unfolded(&found.tip) => Ok((found, None)),
         Err(e @ ModelError::Budget { .. }) => Err(e),
         found => {
-            let (path, spent) = follow(whisker, loads, path_integration, method, budget)?;
+            let (path, spent) = match follow(whisker, loads, path_integration, method, budget) {
+                Ok(p) => p,
+                // an unfolded answer of a search that only met other equilibria stands
+                // where the path cannot be followed (thin tips: shots too ill-conditioned
+                // for the path's corrector); its branch jumps say so
+                Err(_) if found.as_ref().is_ok_and(|f| unfolded(&f.tip)) => {
+                    return found.map(|f| (f, None));
+                }
+                Err(e) => return Err(e),
+            };
             let mut tip = polished(path.arrival.phi1)?;
             tip.evaluations += spent + found.as_ref().map_or(0, |f| f.tip.evaluations);
             tip.branch_jumps = found.map_or(0, |f| f.tip.branch_jumps);

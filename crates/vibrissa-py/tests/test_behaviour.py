@@ -1,4 +1,4 @@
-"""Pickling, threads in parallel (the GIL released), studies split any way give the same
+"""Pickling, the GIL released during computations, studies split any way give the same
 rows, on threads and on a Dask LocalCluster."""
 
 import math
@@ -38,33 +38,35 @@ def test_reprs_say_what_a_result_is():
     assert len(sw) == 32 and len(sw.to_pandas()) == 32 and list(sw.to_pandas().columns) == sw.keys()
 
 
-def _sweeps(n: int) -> None:
-    for i in range(n):
-        vibrissa.sweep(profile="g1", q=4.0 + 0.01 * i, points=100)
+def test_computation_releases_the_gil():
+    """While one thread is inside a long computation, another thread keeps running Python:
+    the computation releases the GIL. Measured by the longest pause of a second thread's
+    loop inside each call (a held GIL pauses it for the whole call, ~50 ms here; released,
+    it pauses only when the OS schedules something else). No throughput ratio: the sweep
+    itself may use a second core, and a shared machine makes ratios noisy."""
+    calls = []
+    done = threading.Event()
 
+    def work():
+        for i in range(3):
+            t0 = time.perf_counter()
+            vibrissa.sweep(profile="g1", q=4.0 + 0.01 * i, points=4000)
+            calls.append((t0, time.perf_counter()))
+        done.set()
 
-@pytest.mark.skipif((os.cpu_count() or 1) < 2, reason="needs two cores")
-def test_two_threads_run_in_parallel():
-    """Two threads on two cores do twice the work in about the time of one (>= 1.6x the
-    throughput): the computation releases the GIL. Best of five tries (a shared machine:
-    another process on a core lowers one try, not all)."""
-    n = 12
-    best = 0.0
-    for _ in range(5):
-        t0 = time.perf_counter()
-        _sweeps(2 * n)
-        serial = time.perf_counter() - t0
-        threads = [threading.Thread(target=_sweeps, args=(n,)) for _ in range(2)]
-        t0 = time.perf_counter()
-        for t in threads:
-            t.start()
-        for t in threads:
-            t.join()
-        parallel = time.perf_counter() - t0
-        best = max(best, serial / parallel)
-        if best >= 1.6:
-            break
-    assert best >= 1.6, f"two threads only {best:.2f}x one"
+    ticks = []
+    worker = threading.Thread(target=work)
+    worker.start()
+    while not done.is_set():
+        ticks.append(time.perf_counter())
+    worker.join()
+    ticks.append(time.perf_counter())
+    for t0, t1 in calls:
+        inside = [t for t in ticks if t0 <= t <= t1]
+        edges = [t0, *inside, t1]
+        pause = max(b - a for a, b in zip(edges, edges[1:]))
+        assert t1 - t0 > 0.02, "the call is too short to tell"
+        assert pause < 0.5 * (t1 - t0), f"the other thread paused {pause * 1e3:.1f} ms of a {(t1 - t0) * 1e3:.1f} ms call"
 
 
 def study_scenes(n: int = 24):

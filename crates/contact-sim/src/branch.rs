@@ -235,6 +235,26 @@ impl Branch<'_> {
     /// corrector that stalls just above the tolerance but within [`NOISE_FLOOR`] is accepted,
     /// its residual recorded in the state. Fails with the last residual.
     pub fn correct(&self, phase: Phase, u: [f64; 3], constraint: Constraint) -> Result<Node> {
+        self.correct_near(phase, u, constraint, None)
+    }
+
+    /// [`Branch::correct`] started with the branch Jacobian `near` of a nearby node (rows
+    /// `dR0, dR1, dx0`) in place of one evaluated at `u`, where the constraint's gradient
+    /// does not depend on the point (a hyperplane, a base position): the first shot then
+    /// carries no sensitivities, and the policy evaluates a Jacobian where that one
+    /// contracts too slowly and at the solution.
+    pub fn correct_near(
+        &self,
+        phase: Phase,
+        u: [f64; 3],
+        constraint: Constraint,
+        near: Option<&[[f64; 3]; 3]>,
+    ) -> Result<Node> {
+        let jac0 = near.and_then(|j| match constraint {
+            Constraint::Hyperplane { n, .. } => Some([j[0], j[1], n]),
+            Constraint::BasePosition(_) => Some(*j),
+            _ => None,
+        });
         let sys = Corrector {
             branch: self,
             phase,
@@ -249,7 +269,27 @@ impl Branch<'_> {
             jacobian_at_solution: true,
             noise_floor: NOISE_FLOOR,
         };
-        let ans = newton(&sys, u, None, &policy)?;
+        // From a nearby node's Jacobian: Broyden's method, full steps, the Jacobian
+        // evaluated only with the trial predicted to converge; Newton from `u` if it fails.
+        let broyden = jac0.and_then(|j| {
+            let fast = NewtonPolicy {
+                halvings: 0,
+                update: JacobianUpdate::Broyden {
+                    min_contraction: 0.5,
+                },
+                ..policy
+            };
+            newton(&sys, u, Some(j), &fast).ok().filter(|a| {
+                matches!(
+                    a.termination,
+                    Termination::Converged | Termination::NoiseFloor
+                )
+            })
+        });
+        let ans = match broyden {
+            Some(a) => a,
+            None => newton(&sys, u, None, &policy)?,
+        };
         let mut node = sys.node(ans.point);
         match ans.termination {
             Termination::Converged => {

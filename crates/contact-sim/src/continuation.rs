@@ -188,6 +188,36 @@ fn depth(branch: &Branch, n: &Node) -> Result<f64> {
 pub(crate) struct PhaseCurve<'b, 'a> {
     pub branch: &'b Branch<'a>,
     pub phase: Phase,
+    /// The nodes the corrections start from (the current one, and the one before it on
+    /// this branch): their branch Jacobians, extrapolated to the prediction, start each
+    /// corrector in place of one evaluated there ([`PhaseCurve::jacobian_at`]).
+    pub near: Option<(Node, Option<Node>)>,
+}
+
+impl PhaseCurve<'_, '_> {
+    /// The branch Jacobian at `p` predicted from the current node `a` and the one before,
+    /// `b`: linear extrapolation along the chord `b -> a` (an error `O(h^2)` for a step `h`,
+    /// against `O(h)` of `a`'s own, so Broyden's method starts from a contraction of ~1e-3
+    /// rather than ~1e-2); `a`'s own without `b`.
+    fn jacobian_at(&self, p: &[f64; 3]) -> Option<[[f64; 3]; 3]> {
+        let (a, b) = self.near.as_ref()?;
+        let Some(b) = b else {
+            return Some(a.jac);
+        };
+        let chord = crate::branch::sub(&a.u, &b.u);
+        let len2 = dot(&chord, &chord);
+        if len2 <= 0.0 || len2.is_nan() {
+            return Some(a.jac);
+        }
+        let w = dot(&crate::branch::sub(p, &a.u), &chord) / len2;
+        let mut j = a.jac;
+        for (row, (ra, rb)) in j.iter_mut().zip(a.jac.iter().zip(&b.jac)) {
+            for k in 0..3 {
+                row[k] = ra[k] + w * (ra[k] - rb[k]);
+            }
+        }
+        Some(j)
+    }
 }
 
 impl Curve<3> for PhaseCurve<'_, '_> {
@@ -199,8 +229,10 @@ impl Curve<3> for PhaseCurve<'_, '_> {
     }
 
     fn correct(&self, p: [f64; 3], n: [f64; 3], radius: f64) -> Result<Node> {
+        let plane = Constraint::Hyperplane { n, p, radius };
+        let near = self.jacobian_at(&p);
         self.branch
-            .correct(self.phase, p, Constraint::Hyperplane { n, p, radius })
+            .correct_near(self.phase, p, plane, near.as_ref())
     }
 
     fn tangent(&self, p: &Node, dir: &[f64; 3]) -> [f64; 3] {
@@ -225,10 +257,80 @@ struct Tracer<'b, 'a> {
     nodes: Vec<Node>,
     switches: Vec<Node>,
     arc: Arclength<Node, 3>,
+    /// Where a second core checks each accepted node for a second contact while the trace
+    /// goes on ([`Speculation`]); `None`: checked before the node is accepted.
+    ahead: Option<Speculation>,
 }
 
-/// Traces the branch from `first` until it separates.
+/// The second-contact check of an accepted node run on another thread while the trace
+/// attempts the next step: the node is accepted provisionally, and the state before its
+/// acceptance is kept. The check is collected after the next attempt; a node that
+/// penetrates is taken back (the trace returns to the state kept) and handled as the
+/// check before acceptance would have, so the trace is the same either way, step for step.
+struct Speculation {
+    to_check: std::sync::mpsc::Sender<Node>,
+    depths: std::sync::mpsc::Receiver<Result<f64>>,
+    /// The provisionally accepted node and the trace's state before it was accepted.
+    pending: Option<(Node, Arclength<Node, 3>, usize)>,
+}
+
+/// Traces the branch from `first` until it separates. Where a second core exists the
+/// second-contact checks run on it, one node behind the trace ([`Speculation`]).
 pub(crate) fn trace(branch: &Branch, first: Node, ctl: &StepControl) -> Result<Trace> {
+    let parallel = std::thread::available_parallelism().is_ok_and(|n| n.get() > 1);
+    if !(ctl.check_penetration && parallel) {
+        return trace_with(branch, first, ctl, None);
+    }
+    let (to_check, nodes) = std::sync::mpsc::channel::<Node>();
+    let (found, depths) = std::sync::mpsc::channel();
+    std::thread::scope(|scope| {
+        scope.spawn(move || {
+            while let Ok(n) = receive(&nodes) {
+                if found.send(depth(branch, &n)).is_err() {
+                    break;
+                }
+            }
+        });
+        let ahead = Speculation {
+            to_check,
+            depths,
+            pending: None,
+        };
+        trace_with(branch, first, ctl, Some(ahead))
+    })
+}
+
+/// How long a thread of [`trace`] polls for a message before it blocks: a blocked thread is
+/// woken late (tens of microseconds where an idle virtual CPU must be woken), longer than
+/// a second-contact check takes; the nodes come every few tens of microseconds.
+const POLL: std::time::Duration = std::time::Duration::from_micros(500);
+
+/// The next message of `rx`: polled for up to [`POLL`], then waited for.
+fn receive<T>(
+    rx: &std::sync::mpsc::Receiver<T>,
+) -> std::result::Result<T, std::sync::mpsc::RecvError> {
+    let start = std::time::Instant::now();
+    loop {
+        match rx.try_recv() {
+            Ok(v) => return Ok(v),
+            Err(std::sync::mpsc::TryRecvError::Disconnected) => {
+                return Err(std::sync::mpsc::RecvError)
+            }
+            Err(std::sync::mpsc::TryRecvError::Empty) if start.elapsed() > POLL => {
+                return rx.recv()
+            }
+            Err(std::sync::mpsc::TryRecvError::Empty) => std::hint::spin_loop(),
+        }
+    }
+}
+
+/// [`trace`], the second-contact checks ahead on another thread where `ahead` is given.
+fn trace_with(
+    branch: &Branch,
+    first: Node,
+    ctl: &StepControl,
+    ahead: Option<Speculation>,
+) -> Result<Trace> {
     let down = [-first.jac[2][0], -first.jac[2][1], -first.jac[2][2]];
     if ctl.check_penetration {
         let depth = depth(branch, &first)?;
@@ -245,6 +347,7 @@ pub(crate) fn trace(branch: &Branch, first: Node, ctl: &StepControl) -> Result<T
     let curve = PhaseCurve {
         branch,
         phase: first.phase,
+        near: None,
     };
     let arc_ctl = ArcControl {
         initial: ctl.initial,
@@ -259,12 +362,21 @@ pub(crate) fn trace(branch: &Branch, first: Node, ctl: &StepControl) -> Result<T
         nodes: vec![first],
         switches: Vec::new(),
         arc: Arclength::new(&curve, first, down, arc_ctl),
+        ahead,
     };
     if x0_rate(&first, tr.arc.tangent()) >= 0.0 {
         return Ok(tr.finish(End::Snap(first)));
     }
     for _ in 0..ctl.max_steps {
-        let (node, tn) = match tr.arc.attempt(&tr.curve()) {
+        let attempt = tr.arc.attempt(&tr.curve());
+        if let Some(node) = tr.take_back()? {
+            // the last node accepted penetrates: as if checked before its acceptance
+            match tr.handle(&[Event::SecondContact], &node)? {
+                Some(end) => return Ok(tr.finish(end)),
+                None => continue,
+            }
+        }
+        let (node, tn) = match attempt {
             Attempt::Point(node, tn) => (node, tn),
             Attempt::Retry => continue,
             Attempt::Failed(ContactError::LeftContour { .. }) => {
@@ -274,23 +386,18 @@ pub(crate) fn trace(branch: &Branch, first: Node, ctl: &StepControl) -> Result<T
             Attempt::Failed(e) => return Err(tr.stalled(e.to_string())),
         };
         let events = tr.events(&node, &tn)?;
-        if events.is_empty() {
-            if let Some(end) = tr.advance(node, tn)? {
-                return Ok(tr.finish(end));
-            }
-            continue;
-        }
-        let Some((ev, at)) = tr.earliest(&events, &node)? else {
-            continue;
+        let end = if events.is_empty() {
+            tr.advance(node, tn)?
+        } else {
+            tr.handle(&events, &node)?
         };
-        let cur = tr.cur();
-        if at.u != cur.u && at.x0() < cur.x0() {
-            tr.nodes.push(at);
-        }
-        if let Some(end) = ev.end(at) {
+        if let Some(end) = end {
+            // (no node is pending here: one accepted provisionally ends nothing)
             return Ok(tr.finish(end));
         }
-        if let Some(end) = tr.switch(at)? {
+    }
+    if let Some(node) = tr.take_back()? {
+        if let Some(end) = tr.handle(&[Event::SecondContact], &node)? {
             return Ok(tr.finish(end));
         }
     }
@@ -313,7 +420,17 @@ impl<'b, 'a> Tracer<'b, 'a> {
         PhaseCurve {
             branch: self.branch,
             phase: self.cur().phase,
+            near: Some((*self.cur(), self.previous())),
         }
+    }
+
+    /// The node before the current one, if it lies on the same phase's branch.
+    fn previous(&self) -> Option<Node> {
+        let cur = self.cur();
+        let n = self.nodes.len();
+        (n >= 2 && self.nodes[n - 1].u == cur.u)
+            .then(|| self.nodes[n - 2])
+            .filter(|b| b.phase == cur.phase && b.u != cur.u)
     }
 
     /// The current node.
@@ -334,7 +451,8 @@ impl<'b, 'a> Tracer<'b, 'a> {
     }
 
     /// The events passed between the current node and `node` (the second contact checked,
-    /// at the cost of a shot, only for a step that is otherwise accepted).
+    /// at the cost of a shot, only for a step that is otherwise accepted, and then on the
+    /// other thread where the checks run ahead).
     fn events(&self, node: &Node, tn: &[f64; 3]) -> Result<Vec<Event>> {
         let mut events: Vec<Event> = [Event::Switch, Event::Release, Event::Snap, Event::AtBase]
             .into_iter()
@@ -342,6 +460,7 @@ impl<'b, 'a> Tracer<'b, 'a> {
             .collect();
         if events.is_empty()
             && self.ctl.check_penetration
+            && self.ahead.is_none()
             && depth(self.branch, node)? > PENETRATION_MARGIN
         {
             events.push(Event::SecondContact);
@@ -366,9 +485,56 @@ impl<'b, 'a> Tracer<'b, 'a> {
             }
             return Ok(None);
         }
+        if let Some(ahead) = &mut self.ahead {
+            ahead.pending = Some((node, self.arc.clone(), self.nodes.len()));
+            // a closed channel (the checking thread gone) shows when the check is collected
+            let _ = ahead.to_check.send(node);
+        }
         self.arc.accept(&self.curve(), node, tn);
         self.nodes.push(node);
         Ok(None)
+    }
+
+    /// Collects the second-contact check of the node accepted provisionally, if any: a node
+    /// that penetrates is taken back (the trace returns to its state before the node was
+    /// accepted) and returned, to be handled as the event it is.
+    ///
+    /// # Errors
+    /// The check's error, or [`ContactError::BranchStalled`] if the checking thread is gone.
+    fn take_back(&mut self) -> Result<Option<Node>> {
+        let Some(ahead) = &mut self.ahead else {
+            return Ok(None);
+        };
+        let Some((node, before, len)) = ahead.pending.take() else {
+            return Ok(None);
+        };
+        let depth = match receive(&ahead.depths) {
+            Ok(d) => d?,
+            Err(_) => return Err(self.stalled("the second-contact check ended early".into())),
+        };
+        if depth <= PENETRATION_MARGIN {
+            return Ok(None);
+        }
+        self.arc = before;
+        self.nodes.truncate(len);
+        Ok(Some(node))
+    }
+
+    /// Handles the `events` passed between the current node and `node`: the earliest is
+    /// located; a phase switch continues on the other branch, any other event ends the trace
+    /// (`Some`). `None` also when the step was shrunk first.
+    fn handle(&mut self, events: &[Event], node: &Node) -> Result<Option<End>> {
+        let Some((ev, at)) = self.earliest(events, node)? else {
+            return Ok(None);
+        };
+        let cur = self.cur();
+        if at.u != cur.u && at.x0() < cur.x0() {
+            self.nodes.push(at);
+        }
+        if let Some(end) = ev.end(at) {
+            return Ok(Some(end));
+        }
+        self.switch(at)
     }
 
     /// The earliest of `events` between the current node and `node`, located; `None` when
@@ -453,6 +619,7 @@ impl<'b, 'a> Tracer<'b, 'a> {
         let curve = PhaseCurve {
             branch: self.branch,
             phase: next.phase,
+            near: None,
         };
         self.arc.restart(&curve, next, tn, self.ctl.initial);
         Ok(None)

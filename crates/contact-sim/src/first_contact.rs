@@ -168,9 +168,12 @@ pub(crate) fn first_touch(
     let base = (sol.u_end[2], sol.u_end[3]);
     let shape = FreeShape { sol, base };
     // D(s) and the sign of D'(s) = sin(phi - psi)/sin(psi) where the contour is defined.
+    // consecutive probes are close: each contour search starts at the last one's answer
+    let last_t = Cell::new(f64::NAN);
     let probe = |s: f64| -> Option<(f64, f64, f64)> {
         let (x, y, phi) = shape.at(s)?;
-        let t = profile.param_right_at(y)?;
+        let t = profile.param_right_near(y, last_t.get())?;
+        last_t.set(t);
         let g = profile.at(t);
         Some((g.x - x, phi - g.psi, t))
     };

@@ -465,9 +465,18 @@ impl Profile {
 
     /// The parameter of the contour point right of the lowest point at height `y`, on the
     /// whole parameter range (a circle's arc up to its vertical end): `None` below the lowest
-    /// point or above the contour's range. Bisection to machine precision on the monotone
-    /// right flank.
+    /// point or above the contour's range. Brent's method to adjacent floats on the monotone
+    /// right flank (bisection if it fails).
     pub fn param_right_at(&self, y: f64) -> Option<f64> {
+        self.param_right_near(y, f64::NAN)
+    }
+
+    /// [`Profile::param_right_at`] searched first around `hint` (the answer for a nearby
+    /// height): the bracket grows from `hint` by steps of 1e-3, x4, to the first sign change
+    /// of `y(t) - y`, so a sequence of close heights costs a few evaluations each instead of
+    /// a search of the whole flank; the same root to adjacent floats either way. A `hint`
+    /// off the flank (or NaN) searches the whole flank.
+    pub fn param_right_near(&self, y: f64, hint: f64) -> Option<f64> {
         let (t_lo, t_hi) = self.param_range();
         let tv = match *self {
             Profile::Circle { .. } => 0.0,
@@ -476,33 +485,65 @@ impl Profile {
         if y.is_nan() || y < self.y_at(tv) {
             return None;
         }
+        let lo = tv.max(t_lo);
         let hi = if t_hi.is_finite() {
             if self.y_at(t_hi) < y {
                 return None;
             }
             t_hi
         } else {
-            let mut w = 1.0;
-            while self.y_at(tv + w) < y {
-                w *= 2.0;
-                if w > 1e6 {
-                    return None;
-                }
-            }
-            tv + w
+            f64::INFINITY
         };
-        let lo = tv.max(t_lo);
-        // Brent to adjacent floats (y(t) rises on the right flank), bisection if it fails
+        let (a, b) = match self.bracket_near(y, hint, lo, hi) {
+            Some(ab) => ab,
+            None if hi.is_finite() => (lo, hi),
+            None => {
+                let mut w = 1.0;
+                while self.y_at(tv + w) < y {
+                    w *= 2.0;
+                    if w > 1e6 {
+                        return None;
+                    }
+                }
+                (lo, tv + w)
+            }
+        };
         let opts = RootOptions {
             xtol: 0.0,
             ftol: 0.0,
             max_iter: 200,
         };
         let f = |m: f64| -> std::result::Result<f64, BvpError> { Ok(self.y_at(m) - y) };
-        Some(match brent(f, lo, hi, &opts) {
+        Some(match brent(f, a, b, &opts) {
             Ok(root) => root.x,
-            Err(_) => bisect(|m| Some(self.y_at(m) < y), lo, hi, 200),
+            Err(_) => bisect(|m| Some(self.y_at(m) < y), a, b, 200),
         })
+    }
+
+    /// A bracket `[a, b]` within `[lo, hi]` of the height `y` on the rising right flank,
+    /// grown from `hint` (see [`Profile::param_right_near`]); `None` if `hint` is not in
+    /// `[lo, hi]` or 30 growths do not bracket it.
+    fn bracket_near(&self, y: f64, hint: f64, lo: f64, hi: f64) -> Option<(f64, f64)> {
+        if !(hint >= lo && hint <= hi) {
+            return None;
+        }
+        let below = self.y_at(hint) < y;
+        let (mut a, mut w) = (hint, 1e-3);
+        for _ in 0..30 {
+            let b = if below {
+                (a + w).min(hi)
+            } else {
+                (a - w).max(lo)
+            };
+            if (self.y_at(b) < y) != below {
+                return Some(if below { (a, b) } else { (b, a) });
+            }
+            if b == hi || b == lo {
+                return None;
+            }
+            (a, w) = (b, 4.0 * w);
+        }
+        None
     }
 
     /// Checks strict convexity where a whisker of unit length with its base on `y = 0` can

@@ -43,7 +43,10 @@ pub struct SweepSettings {
     pub check_penetration: bool,
     /// Step budget of the continuation along the contact branch.
     pub max_steps: usize,
-    /// Largest continuation step (in the branch state).
+    /// Largest continuation step (in the branch state). The default, 0.2, keeps the traced
+    /// nodes close enough for the rows' predictions to converge in two or three shots
+    /// (measured on seven CLI scenes: 1.0 left fewer, costlier nodes and more expensive rows,
+    /// with the same answers).
     pub max_step: f64,
 }
 
@@ -58,7 +61,7 @@ impl Default for SweepSettings {
             event_tol: 1e-10,
             check_penetration: true,
             max_steps: 20_000,
-            max_step: 1.0,
+            max_step: 0.2,
         }
     }
 }

@@ -33,7 +33,7 @@ use crate::loads::Loads;
 use crate::shot::{shoot, Integration};
 use crate::solution::{LoadFold, LoadPath, PathEquilibrium};
 use crate::whisker::Whisker;
-use bvp_solvers::arclength::{locate, ArcControl, Arclength, Attempt, Curve};
+use bvp_solvers::arclength::{locate, ArcControl, Arclength, Attempt, Curve, Predictor};
 use std::cell::Cell;
 use std::f64::consts::FRAC_PI_2;
 
@@ -237,6 +237,9 @@ pub(crate) fn follow(
         initial: 0.05,
         max: 0.2,
         min: 1e-8,
+        // the tangent predictor: the Hermite one's longer steps were measured to jump to
+        // another equilibrium in one of the 300 scenes of the fold battery
+        predictor: Predictor::Tangent,
         ..ArcControl::default()
     };
     let mut arc = Arclength::new(&curve, start, [0.0, 1.0], ctl);

@@ -23,6 +23,7 @@
 
 pub mod arclength;
 pub mod continuation;
+pub mod cores;
 pub mod error;
 pub mod fdm;
 pub mod grid;

@@ -12,6 +12,7 @@
 //! Every loop has a budget: a trace that does not separate within `max_steps` steps ends as
 //! [`End::NotReached`].
 
+use crate::ahead::{with_checks, Ahead};
 use crate::branch::{dot, Branch, Constraint, Node};
 use crate::error::{ContactError, Result};
 use crate::events::{penetration, phase_margin, x0_rate};
@@ -257,71 +258,25 @@ struct Tracer<'b, 'a> {
     nodes: Vec<Node>,
     switches: Vec<Node>,
     arc: Arclength<Node, 3>,
-    /// Where a second core checks each accepted node for a second contact while the trace
-    /// goes on ([`Speculation`]); `None`: checked before the node is accepted.
-    ahead: Option<Speculation>,
+    /// Where a second core checks the accepted nodes for a second contact while the trace
+    /// goes on ([`crate::ahead`]; each with the trace's state before it); `None`: each is
+    /// checked before it is accepted.
+    ahead: Option<Ahead<Node, Before>>,
 }
 
-/// The second-contact check of an accepted node run on another thread while the trace
-/// attempts the next step: the node is accepted provisionally, and the state before its
-/// acceptance is kept. The check is collected after the next attempt; a node that
-/// penetrates is taken back (the trace returns to the state kept) and handled as the
-/// check before acceptance would have, so the trace is the same either way, step for step.
-struct Speculation {
-    to_check: std::sync::mpsc::Sender<Node>,
-    depths: std::sync::mpsc::Receiver<Result<f64>>,
-    /// The provisionally accepted node and the trace's state before it was accepted.
-    pending: Option<(Node, Arclength<Node, 3>, usize)>,
-}
+/// The trace's state before a node was accepted: the driver, the counts of nodes and
+/// switches.
+type Before = (Arclength<Node, 3>, usize, usize);
 
 /// Traces the branch from `first` until it separates. Where a second core exists the
-/// second-contact checks run on it, one node behind the trace ([`Speculation`]).
+/// second-contact checks run on it while the trace goes on ([`crate::ahead`]); the trace is
+/// step for step the same either way.
 pub(crate) fn trace(branch: &Branch, first: Node, ctl: &StepControl) -> Result<Trace> {
-    let parallel = std::thread::available_parallelism().is_ok_and(|n| n.get() > 1);
-    if !(ctl.check_penetration && parallel) {
+    if !ctl.check_penetration {
         return trace_with(branch, first, ctl, None);
     }
-    let (to_check, nodes) = std::sync::mpsc::channel::<Node>();
-    let (found, depths) = std::sync::mpsc::channel();
-    std::thread::scope(|scope| {
-        scope.spawn(move || {
-            while let Ok(n) = receive(&nodes) {
-                if found.send(depth(branch, &n)).is_err() {
-                    break;
-                }
-            }
-        });
-        let ahead = Speculation {
-            to_check,
-            depths,
-            pending: None,
-        };
-        trace_with(branch, first, ctl, Some(ahead))
-    })
-}
-
-/// How long a thread of [`trace`] polls for a message before it blocks: a blocked thread is
-/// woken late (tens of microseconds where an idle virtual CPU must be woken), longer than
-/// a second-contact check takes; the nodes come every few tens of microseconds.
-const POLL: std::time::Duration = std::time::Duration::from_micros(500);
-
-/// The next message of `rx`: polled for up to [`POLL`], then waited for.
-fn receive<T>(
-    rx: &std::sync::mpsc::Receiver<T>,
-) -> std::result::Result<T, std::sync::mpsc::RecvError> {
-    let start = std::time::Instant::now();
-    loop {
-        match rx.try_recv() {
-            Ok(v) => return Ok(v),
-            Err(std::sync::mpsc::TryRecvError::Disconnected) => {
-                return Err(std::sync::mpsc::RecvError)
-            }
-            Err(std::sync::mpsc::TryRecvError::Empty) if start.elapsed() > POLL => {
-                return rx.recv()
-            }
-            Err(std::sync::mpsc::TryRecvError::Empty) => std::hint::spin_loop(),
-        }
-    }
+    let check = |n: &Node| Ok(depth(branch, n)? > PENETRATION_MARGIN);
+    with_checks(check, |ahead| trace_with(branch, first, ctl, ahead))
 }
 
 /// [`trace`], the second-contact checks ahead on another thread where `ahead` is given.
@@ -329,7 +284,7 @@ fn trace_with(
     branch: &Branch,
     first: Node,
     ctl: &StepControl,
-    ahead: Option<Speculation>,
+    ahead: Option<Ahead<Node, Before>>,
 ) -> Result<Trace> {
     let down = [-first.jac[2][0], -first.jac[2][1], -first.jac[2][2]];
     if ctl.check_penetration {
@@ -369,34 +324,22 @@ fn trace_with(
     }
     for _ in 0..ctl.max_steps {
         let attempt = tr.arc.attempt(&tr.curve());
-        if let Some(node) = tr.take_back()? {
-            // the last node accepted penetrates: as if checked before its acceptance
+        let next = tr.step(attempt);
+        // the checks of the nodes accepted ahead of them: those that have come, and all
+        // before the trace ends or fails; a node that penetrates takes the trace back to
+        // its acceptance, where it is the second-contact event
+        let decides = !matches!(next, Ok(None));
+        if let Some(node) = tr.take_back(decides)? {
             match tr.handle(&[Event::SecondContact], &node)? {
                 Some(end) => return Ok(tr.finish(end)),
                 None => continue,
             }
         }
-        let (node, tn) = match attempt {
-            Attempt::Point(node, tn) => (node, tn),
-            Attempt::Retry => continue,
-            Attempt::Failed(ContactError::LeftContour { .. }) => {
-                let end = End::OffContour(*tr.cur());
-                return Ok(tr.finish(end));
-            }
-            Attempt::Failed(e) => return Err(tr.stalled(e.to_string())),
-        };
-        let events = tr.events(&node, &tn)?;
-        let end = if events.is_empty() {
-            tr.advance(node, tn)?
-        } else {
-            tr.handle(&events, &node)?
-        };
-        if let Some(end) = end {
-            // (no node is pending here: one accepted provisionally ends nothing)
+        if let Some(end) = next? {
             return Ok(tr.finish(end));
         }
     }
-    if let Some(node) = tr.take_back()? {
+    if let Some(node) = tr.take_back(true)? {
         if let Some(end) = tr.handle(&[Event::SecondContact], &node)? {
             return Ok(tr.finish(end));
         }
@@ -486,38 +429,52 @@ impl<'b, 'a> Tracer<'b, 'a> {
             return Ok(None);
         }
         if let Some(ahead) = &mut self.ahead {
-            ahead.pending = Some((node, self.arc.clone(), self.nodes.len()));
-            // a closed channel (the checking thread gone) shows when the check is collected
-            let _ = ahead.to_check.send(node);
+            let before = (self.arc.clone(), self.nodes.len(), self.switches.len());
+            ahead.submit(node, before);
         }
         self.arc.accept(&self.curve(), node, tn);
         self.nodes.push(node);
         Ok(None)
     }
 
-    /// Collects the second-contact check of the node accepted provisionally, if any: a node
-    /// that penetrates is taken back (the trace returns to its state before the node was
-    /// accepted) and returned, to be handled as the event it is.
+    /// Collects the second-contact checks of the nodes accepted ahead of them: those that
+    /// have come, or (`wait`) all. A node that penetrates is taken back with the nodes after
+    /// it (the trace returns to its state before the node was accepted) and returned, to be
+    /// handled as the event it is.
     ///
     /// # Errors
-    /// The check's error, or [`ContactError::BranchStalled`] if the checking thread is gone.
-    fn take_back(&mut self) -> Result<Option<Node>> {
+    /// The first check's error.
+    fn take_back(&mut self, wait: bool) -> Result<Option<Node>> {
         let Some(ahead) = &mut self.ahead else {
             return Ok(None);
         };
-        let Some((node, before, len)) = ahead.pending.take() else {
+        let Some((node, (arc, nodes, switches))) = ahead.collect(wait)? else {
             return Ok(None);
         };
-        let depth = match receive(&ahead.depths) {
-            Ok(d) => d?,
-            Err(_) => return Err(self.stalled("the second-contact check ended early".into())),
-        };
-        if depth <= PENETRATION_MARGIN {
-            return Ok(None);
-        }
-        self.arc = before;
-        self.nodes.truncate(len);
+        self.arc = arc;
+        self.nodes.truncate(nodes);
+        self.switches.truncate(switches);
         Ok(Some(node))
+    }
+
+    /// One step from the attempt's outcome: a node without events is accepted, the
+    /// earliest event is handled; a failure below the smallest step stalls the trace
+    /// (leaving the contour ends it). `Some`: the trace ends.
+    fn step(&mut self, attempt: Attempt<Node, ContactError, 3>) -> Result<Option<End>> {
+        let (node, tn) = match attempt {
+            Attempt::Point(node, tn) => (node, tn),
+            Attempt::Retry => return Ok(None),
+            Attempt::Failed(ContactError::LeftContour { .. }) => {
+                return Ok(Some(End::OffContour(*self.cur())))
+            }
+            Attempt::Failed(e) => return Err(self.stalled(e.to_string())),
+        };
+        let events = self.events(&node, &tn)?;
+        if events.is_empty() {
+            self.advance(node, tn)
+        } else {
+            self.handle(&events, &node)
+        }
     }
 
     /// Handles the `events` passed between the current node and `node`: the earliest is

@@ -32,6 +32,7 @@
 //! assert!(r.points.windows(2).all(|w| w[1].x0 < w[0].x0));
 //! ```
 
+mod ahead;
 mod branch;
 pub mod cases;
 mod continuation;

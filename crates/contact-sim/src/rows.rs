@@ -28,7 +28,7 @@ pub(crate) fn rows(
     // two fixed halves, each its own chain of predictions: the numbers do not depend on
     // whether the second half runs on a thread of its own (where a second core exists)
     let (near, far) = targets.split_at(targets.len() / 2);
-    let parallel = std::thread::available_parallelism().is_ok_and(|n| n.get() > 1);
+    let parallel = bvp_solvers::cores::second_core();
     let (a, b) = if parallel && !far.is_empty() {
         std::thread::scope(|scope| {
             let far_half = scope.spawn(|| chain(branch, nodes, &[], far, &mut |_| {}));

@@ -5,7 +5,7 @@
 use std::ops::Range;
 
 /// `f(i)` for `i` in `0..n`, in order: the halves `0..n/2` and `n/2..n` (the second on a
-/// scoped thread where [`std::thread::available_parallelism`] exceeds 1). The first error
+/// scoped thread where [`bvp_solvers::cores::second_core`] says so). The first error
 /// in row order is returned, as one pass in order would return it.
 ///
 /// # Errors
@@ -18,7 +18,7 @@ where
 {
     let run = |range: Range<usize>| range.map(&f).collect::<Result<Vec<T>, E>>();
     let mid = n / 2;
-    let parallel = std::thread::available_parallelism().is_ok_and(|p| p.get() > 1);
+    let parallel = bvp_solvers::cores::second_core();
     let (first, second) = if parallel && mid > 0 {
         std::thread::scope(|scope| {
             let second = scope.spawn(|| run(mid..n));

@@ -264,6 +264,16 @@ fn iterate<const N: usize, const M: usize, S: NewtonSystem<N, M>>(
     let (mut ans, mut jac_fresh) = start(sys, u0, jac0, policy)?;
     let mut scale = sys.scale(&ans.point);
     if ans.norm <= policy.tol * scale {
+        // converged at the start: the Jacobian at the solution, if asked for and not there
+        if policy.jacobian_at_solution && !jac_fresh {
+            let e = sys.eval(&ans.u, true)?;
+            ans.r = e.r;
+            ans.norm = norm(&e.r);
+            ans.point = e.point;
+            if let Some(j) = e.jac {
+                ans.jac = j;
+            }
+        }
         return Ok(ans);
     }
     if ans.norm.is_nan() {
@@ -590,6 +600,34 @@ mod tests {
         assert_eq!(out.termination, Termination::Converged);
         assert_eq!(sys.jacs.get(), 0);
         assert!((out.u[0] - s2).abs() < 1e-12);
+    }
+
+    /// A start that already meets the tolerance, given a Jacobian from elsewhere: with a
+    /// Jacobian wanted at the solution, the answer carries the one evaluated there, not the
+    /// one given (a continuation's tangent is taken from it).
+    #[test]
+    fn a_converged_start_still_brings_the_jacobian_at_the_solution() {
+        let s2 = 2f64.sqrt();
+        let root = [s2, 2.0 * s2];
+        let far = [[1.0, 0.0], [0.0, 1.0]];
+        for update in [
+            JacobianUpdate::Broyden {
+                min_contraction: 0.5,
+            },
+            JacobianUpdate::Reevaluate { keep_below: 0.05 },
+        ] {
+            let sys = cubic(0.0);
+            let policy = NewtonPolicy {
+                update,
+                ..NewtonPolicy::new(1e-12)
+            };
+            let out = newton(&sys, root, Some(far), &policy).unwrap();
+            assert_eq!(out.termination, Termination::Converged);
+            assert_eq!(out.iterations, 0);
+            assert!((out.jac[0][0] - 2.0 * s2).abs() < 1e-12, "{:?}", out.jac);
+            assert!((out.jac[1][0] + 6.0).abs() < 1e-12, "{:?}", out.jac);
+            assert_eq!(sys.jacs.get(), 1);
+        }
     }
 
     /// With a Jacobian wanted at the solution, the trial the last contraction predicts to

@@ -46,6 +46,8 @@ pub fn reconstruct_with(
     known: KnownFlow,
     settings: &ReconSettings,
 ) -> Result<Reconstruction> {
+    // one computation that may split over two cores (bvp_solvers::cores)
+    let _claim = bvp_solvers::cores::Claim::new();
     let ided = identify_rows(whisker, rows, known, settings)?;
     let id = &ided.id;
     let contact: Vec<usize> = (0..rows.len())

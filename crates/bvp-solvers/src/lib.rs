@@ -28,6 +28,7 @@ pub mod error;
 pub mod fdm;
 pub mod grid;
 pub mod integrator;
+pub mod interp;
 pub mod newton;
 pub mod nonlinear;
 pub mod richardson;

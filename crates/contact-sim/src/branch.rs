@@ -454,14 +454,7 @@ pub(crate) fn hermite(
     let (xa, ua, da) = a;
     let (xb, ub, db) = b;
     let h = xb - xa;
-    let s = (x - xa) / h;
-    let (s2, s3) = (s * s, s * s * s);
-    let (h00, h10, h01, h11) = (
-        2.0 * s3 - 3.0 * s2 + 1.0,
-        s3 - 2.0 * s2 + s,
-        -2.0 * s3 + 3.0 * s2,
-        s3 - s2,
-    );
+    let [h00, h10, h01, h11] = bvp_solvers::interp::hermite_basis((x - xa) / h);
     let mut out = [0.0; 3];
     for i in 0..3 {
         out[i] = h00 * ua[i] + h10 * h * da[i] + h01 * ub[i] + h11 * h * db[i];

@@ -294,14 +294,7 @@ impl<P: Clone, const N: usize> Arclength<P, N> {
             chord
         };
         // on [u0 (s = 0), u (s = 1)], evaluated at s = 1 + hs/d
-        let s = 1.0 + hs / d;
-        let (s2, s3) = (s * s, s * s * s);
-        let (h00, h10, h01, h11) = (
-            2.0 * s3 - 3.0 * s2 + 1.0,
-            s3 - 2.0 * s2 + s,
-            -2.0 * s3 + 3.0 * s2,
-            s3 - s2,
-        );
+        let [h00, h10, h01, h11] = crate::interp::hermite_basis(1.0 + hs / d);
         for i in 0..N {
             p[i] = h00 * u0[i] + h10 * d * t0[i] + h01 * self.u[i] + h11 * d * self.t[i];
         }

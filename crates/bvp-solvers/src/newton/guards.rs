@@ -3,7 +3,7 @@
 
 #[cfg(doc)]
 use super::{newton, newton_guarded, NewtonPolicy};
-use super::{norm, NewtonAnswer, NewtonSystem, Termination};
+use super::{NewtonAnswer, NewtonSystem, Termination};
 
 /// Safeguards of [`newton_guarded`] beyond the [`NewtonPolicy`]: a largest step, stall
 /// detection and two early exits that save the evaluation of a step predicted to converge.
@@ -158,13 +158,7 @@ pub(super) fn early_exit<const N: usize, const M: usize, S: NewtonSystem<N, M>>(
         }) if !predicted => bound,
         _ => return Ok(Some(Termination::Predicted)),
     };
-    let e = sys.eval(&ans.u, false)?;
-    ans.r = e.r;
-    ans.norm = norm(&e.r);
-    ans.point = e.point;
-    if let Some(j) = e.jac {
-        ans.jac = j;
-    }
+    super::evaluate_again(sys, ans, false)?;
     Ok(Some(if ans.norm <= check * scale {
         Termination::Converged
     } else {

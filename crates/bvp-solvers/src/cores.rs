@@ -53,6 +53,31 @@ pub fn second_core() -> bool {
     available() > 1 && 2 * claims <= available()
 }
 
+/// `(a(), b())`: `b` on a scoped thread of its own where [`second_core`] offers one and a
+/// thread can be started, in line after `a` otherwise (a thread that cannot be started is no
+/// error: the work is the same, only slower). A panic in `b` resumes in the caller.
+pub fn both<RA, RB>(a: impl FnOnce() -> RA, b: impl FnOnce() -> RB + Send) -> (RA, RB)
+where
+    RB: Send,
+{
+    if !second_core() {
+        let ra = a();
+        return (ra, b());
+    }
+    // `b` waits in a slot: taken by the thread, or back by the caller if none starts
+    let slot = std::sync::Mutex::new(Some(b));
+    let take = || slot.lock().map_or(None, |mut s| s.take());
+    std::thread::scope(|scope| {
+        let started = std::thread::Builder::new().spawn_scoped(scope, || take().map(|b| b()));
+        let ra = a();
+        let rb = match started {
+            Ok(h) => h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)),
+            Err(_) => take().map(|b| b()),
+        };
+        (ra, rb.expect("b runs once, on the thread or in line"))
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -76,5 +101,11 @@ mod tests {
         assert_eq!(second_core(), n >= 2);
         drop(one);
         assert_eq!(CLAIMS.load(Ordering::Relaxed), 0);
+        // both halves run, once each, whether on two threads or in line
+        let (x, y) = both(
+            || (0..1000u64).sum::<u64>(),
+            || (1000..2000u64).sum::<u64>(),
+        );
+        assert_eq!(x + y, (0..2000u64).sum::<u64>());
     }
 }

@@ -29,7 +29,8 @@ pub(crate) struct Ahead<T, S> {
 }
 
 /// Runs `body` with checks by `check` (`true`: the item fails) on a thread of their own
-/// where a second core exists (`Some`), in line otherwise (`None`: the caller checks).
+/// where a second core is offered and a thread can be started (`Some`), in line otherwise
+/// (`None`: the caller checks).
 pub(crate) fn with_checks<T, S, R>(
     check: impl Fn(&T) -> Result<bool> + Send,
     body: impl FnOnce(Option<Ahead<T, S>>) -> R,
@@ -43,14 +44,15 @@ where
     let (to_check, items) = channel::<T>();
     let (found, results) = channel();
     std::thread::scope(|scope| {
-        scope.spawn(move || {
+        let started = std::thread::Builder::new().spawn_scoped(scope, move || {
             while let Ok(item) = receive(&items) {
                 if found.send(check(&item)).is_err() {
                     break;
                 }
             }
         });
-        body(Some(Ahead {
+        // a thread that cannot be started is no error: the caller checks in line
+        body(started.is_ok().then(|| Ahead {
             to_check,
             results,
             pending: VecDeque::new(),

@@ -28,19 +28,14 @@ pub(crate) fn rows(
     // two fixed halves, each its own chain of predictions: the numbers do not depend on
     // whether the second half runs on a thread of its own (where a second core exists)
     let (near, far) = targets.split_at(targets.len() / 2);
-    let parallel = bvp_solvers::cores::second_core();
-    let (a, b) = if parallel && !far.is_empty() {
-        std::thread::scope(|scope| {
-            let far_half = scope.spawn(|| chain(branch, nodes, &[], far, &mut |_| {}));
-            let near_half = chain(branch, nodes, &[first], near, &mut |k| progress(k, points));
-            let far_half = far_half
-                .join()
-                .unwrap_or_else(|e| std::panic::resume_unwind(e));
-            (near_half, far_half)
-        })
-    } else {
+    let (a, b) = if far.is_empty() {
         let near_half = chain(branch, nodes, &[first], near, &mut |k| progress(k, points));
-        (near_half, chain(branch, nodes, &[], far, &mut |_| {}))
+        (near_half, Ok(Vec::new()))
+    } else {
+        bvp_solvers::cores::both(
+            || chain(branch, nodes, &[first], near, &mut |k| progress(k, points)),
+            || chain(branch, nodes, &[], far, &mut |_| {}),
+        )
     };
     let mut out: Vec<ContactState> = Vec::with_capacity(points + switches.len());
     out.push(first.state);

@@ -18,16 +18,8 @@ where
 {
     let run = |range: Range<usize>| range.map(&f).collect::<Result<Vec<T>, E>>();
     let mid = n / 2;
-    let parallel = bvp_solvers::cores::second_core();
-    let (first, second) = if parallel && mid > 0 {
-        std::thread::scope(|scope| {
-            let second = scope.spawn(|| run(mid..n));
-            let first = run(0..mid);
-            let second = second
-                .join()
-                .unwrap_or_else(|e| std::panic::resume_unwind(e));
-            (first, second)
-        })
+    let (first, second) = if mid > 0 {
+        bvp_solvers::cores::both(|| run(0..mid), || run(mid..n))
     } else {
         (run(0..mid), run(mid..n))
     };

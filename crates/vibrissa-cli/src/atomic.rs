@@ -153,9 +153,14 @@ fn sync_batch(started: Vec<Flush>, files: &[PathBuf], dirs: &[PathBuf]) -> Resul
     };
     let chunk = files.len().div_ceil(MAX_FLUSHES).max(1);
     std::thread::scope(|s| {
+        // a chunk whose thread cannot be started is flushed on this one
         let files: Vec<_> = files
             .chunks(chunk)
-            .map(|c| s.spawn(move || c.iter().try_for_each(sync)))
+            .map(|c| {
+                std::thread::Builder::new()
+                    .spawn_scoped(s, move || c.iter().try_for_each(sync))
+                    .map_err(|_| c)
+            })
             .collect();
         // the directories on this thread, which would only wait otherwise
         dirs.iter().for_each(|d| sync_dir(d));
@@ -165,7 +170,10 @@ fn sync_batch(started: Vec<Flush>, files: &[PathBuf], dirs: &[PathBuf]) -> Resul
             result = result.and(r.map_err(|e| CliError::io(path, e)));
         }
         for h in files {
-            result = result.and(h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)));
+            result = result.and(match h {
+                Ok(h) => h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)),
+                Err(c) => c.iter().try_for_each(sync),
+            });
         }
         result
     })

@@ -563,3 +563,36 @@ fn the_elastica_figure_draws_its_loads() {
     let heads = svg.matches(" Z\" fill=\"#").count();
     assert!(heads >= 7, "{heads} arrow heads");
 }
+
+/// Where no thread can be started (every stack refused: `RUST_MIN_STACK` of 1 TiB), the
+/// commands still answer, in line, with the same files: the helper threads of the sweep
+/// (second-contact checks, half the rows), of the figures and of the flushes are an
+/// optimisation, not a requirement (this panicked before: "failed to spawn thread").
+#[test]
+fn no_thread_to_start_is_no_error() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let sweep = [
+        "sweep",
+        "--profile",
+        "g1",
+        "--q",
+        "5",
+        "--points",
+        "40",
+        "--out",
+    ];
+    let plain = run(&[&sweep[..], &["plain"]].concat(), dir);
+    assert!(plain.status.success(), "{}", stderr(&plain));
+    let lone = Command::new(env!("CARGO_BIN_EXE_vibrissa"))
+        .args([&sweep[..], &["lone"]].concat())
+        .current_dir(dir)
+        .env("RUST_MIN_STACK", "1099511627776")
+        .output()
+        .expect("the binary runs");
+    assert!(lone.status.success(), "{}", stderr(&lone));
+    for name in ["observables.csv", "shapes.svg", "observables.svg"] {
+        let (a, b) = (dir.join("plain").join(name), dir.join("lone").join(name));
+        assert_eq!(fs::read(&a).unwrap(), fs::read(&b).unwrap(), "{name}");
+    }
+}

@@ -106,19 +106,17 @@ fn write_rendered(svg: &str, path: &Path) -> Result<(), CliError> {
     }
 }
 
-/// Runs two figure writers at once (on two threads; rasterising a PNG is the costly
-/// part) and returns the first error; a panic in either is passed on.
+/// Runs two figure writers at once (`a` on a second thread where a second core is offered
+/// and a thread can be started, [`bvp_solvers::cores::both`]; rasterising a PNG is the
+/// costly part) and returns the first error (`a`'s before `b`'s); a panic in either is
+/// passed on.
 pub fn both<A, B>(a: A, b: B) -> Result<(), CliError>
 where
     A: FnOnce() -> Result<(), CliError> + Send,
     B: FnOnce() -> Result<(), CliError>,
 {
-    std::thread::scope(|s| {
-        let h = s.spawn(a);
-        let rb = b();
-        let ra = h.join().unwrap_or_else(|p| std::panic::resume_unwind(p));
-        ra.and(rb)
-    })
+    let (rb, ra) = bvp_solvers::cores::both(b, a);
+    ra.and(rb)
 }
 
 /// The PNG written beside the SVG `svg`: same name, extension `png`.

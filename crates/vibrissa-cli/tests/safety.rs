@@ -572,16 +572,9 @@ fn the_elastica_figure_draws_its_loads() {
 fn no_thread_to_start_is_no_error() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
-    let sweep = [
-        "sweep",
-        "--profile",
-        "g1",
-        "--q",
-        "5",
-        "--points",
-        "40",
-        "--out",
-    ];
+    let sweep: Vec<&str> = "sweep --profile g1 --q 5 --points 40 --out"
+        .split(' ')
+        .collect();
     let plain = run(&[&sweep[..], &["plain"]].concat(), dir);
     assert!(plain.status.success(), "{}", stderr(&plain));
     let lone = Command::new(env!("CARGO_BIN_EXE_vibrissa"))

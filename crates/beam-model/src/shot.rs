@@ -28,6 +28,31 @@ impl Integration {
     pub fn adaptive(tol: f64) -> Self {
         Integration::Dop853(Dop853::new(tol, tol))
     }
+
+    /// This integration starting with the natural first step `start` of an earlier shot
+    /// from the same end, scaled to this tolerance by `(rtol / start.rtol)^(1/8)` (DOP853 is
+    /// of order 8); unchanged for RK4 or without a start.
+    pub fn started(&self, start: Option<StartStep>) -> Integration {
+        match (self, start) {
+            (Integration::Dop853(d), Some(st)) => {
+                let mut d = d.clone();
+                d.h_init = Some(st.h * (d.rtol / st.rtol).powf(0.125));
+                Integration::Dop853(d)
+            }
+            _ => self.clone(),
+        }
+    }
+}
+
+/// The natural first step `h` of a DOP853 shot at tolerance `rtol`
+/// ([`bvp_solvers::integrator::Stepper::start_step`]): a start for the next shot of a
+/// nearby problem ([`Integration::started`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StartStep {
+    /// The step size.
+    pub h: f64,
+    /// The tolerance it was found at.
+    pub rtol: f64,
 }
 
 /// The base values of a shot, `(phi(0), m(0), x(s1) - x(0), y(s1) - y(0))`, or their
@@ -48,6 +73,11 @@ impl BaseValues {
     /// `[phi0, m0, dx, dy]`.
     pub fn to_array(&self) -> [f64; 4] {
         [self.phi0, self.m0, self.dx, self.dy]
+    }
+
+    /// From `[phi0, m0, dx, dy]`.
+    pub fn from_array([phi0, m0, dx, dy]: [f64; 4]) -> Self {
+        BaseValues { phi0, m0, dx, dy }
     }
 
     /// From the end state `u` of an integration from `s1` to 0 whose block starts at `o`:
@@ -85,6 +115,8 @@ pub struct Shot {
     pub d_beta: BaseValues,
     /// Right-hand-side evaluations spent.
     pub evaluations: usize,
+    /// The shot's natural first step (DOP853 only).
+    pub start: Option<StartStep>,
 }
 
 impl Shot {
@@ -173,6 +205,7 @@ pub(crate) fn shoot_path(
         }
     }
     let u0 = &u0[..dim];
+    let mut start = None;
     let (end, evaluations, path): (Vec<f64>, usize, Option<ShotPath>) = match integration {
         Integration::Rk4 { n } => {
             let steps = ((*n as f64) * s1).ceil().max(1.0) as usize;
@@ -195,6 +228,7 @@ pub(crate) fn shoot_path(
                 })?;
             let end = sol.u_end.clone();
             let ev = sol.stats.rhs_evals;
+            start = sol.start_step.map(|h| StartStep { h, rtol: d.rtol });
             (end, ev, keep_path.then_some(ShotPath::Dense(sol)))
         }
     };
@@ -205,6 +239,7 @@ pub(crate) fn shoot_path(
         dx: base.dx,
         dy: base.dy,
         evaluations,
+        start,
         ..Shot::default()
     };
     // the variational blocks follow the state in the order of `Sensitivities`

@@ -147,7 +147,7 @@ fn battery(seed: u64, n: usize, theta_min: f64, f_max: f64, q_max: f64) -> (usiz
             // The estimate is honest: it bounds the actual error.
             assert!(
                 err <= sol.stats.error_estimate + reference.stats.error_estimate + 1e-14,
-                "case {case} at tol {tol:e}: error {err:e} > estimate {:e} ({})",
+                "case {case} ({scene:?}) at tol {tol:e}: error {err:e} > estimate {:e} ({})",
                 sol.stats.error_estimate,
                 sol.stats.method_used.name()
             );

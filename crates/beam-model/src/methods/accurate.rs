@@ -1,6 +1,6 @@
 //! `accurate`: the equilibrium branch found by shooting at loose tolerances, then the answer
 //! at the asked tolerance from one dense shot, and its error estimate from a second
-//! integration at a tighter tolerance.
+//! solution at another tolerance.
 //!
 //! Each stage is a Newton iteration on the tip angle `phi1` (the base condition
 //! [3.21, 3.22], exact derivatives from the variational equations) started from the
@@ -8,39 +8,56 @@
 //!
 //! 1. the branch search ([`find_branch`]: the direct solve from linear theory, or load
 //!    continuation) on DOP853 at [`GUIDE_TOL`]: it decides the branch;
-//! 2. Newton at [`SEARCH_TOL`] from there ([`TipTarget::SEARCH`]): `phi1` within the
-//!    search integration's error of the root (~1e-8);
+//! 2. Newton from there at the estimate's tolerance `e = min(tolerance / 100, SEARCH_TOL)`
+//!    ([`TipTarget::SEARCH`]): `phi1` within that integration's error of the root;
 //! 3. one dense shot at `tol` with the tip-angle sensitivities, moved by its own Newton step
 //!    `d = -R / R'` to its root ([`linearised_shape`]: the base values, the loaded end and
 //!    the elastica along their sensitivities, an error `O(d^2)`); the returned solution;
-//! 4. the check shot at `check_tol` at that root, moved to its own root by one Newton step
-//!    with the dense shot's derivative: the second solution. The error estimate is the
-//!    largest difference of the two (base values, loaded end, tip angle; as the former
-//!    scheme's, [`corrected_difference`]).
+//! 4. the second solution, where `e >= 100 tol`: stage 2's last shot (at `e`) moved to its
+//!    own root by the trapezoidal step
+//!
+//!    ```text
+//!    D = -2 R / (R'_2 + R'_3),   V(phi1 + D) = V + D (V'_2 + V'_3) / 2
+//!    ```
+//!
+//!    with the derivatives of both shots (error `O(D^3)`: stage 2 lands within ~1e-5 of the
+//!    root, so `D^3 ~ 1e-15`). Its error is that of the looser integration, a hundred
+//!    times the answer's at least: the estimate (the largest difference of the two: base
+//!    values, loaded end, tip angle; [`difference`]) bounds the answer's error with that
+//!    margin, at no extra shot. Where `e < 100 tol`, or that estimate exceeds the
+//!    tolerance, the check shot at `check_tol` at the answer's root, moved to its own root
+//!    by one Newton step with the dense shot's derivative, is the second solution
+//!    ([`corrected_difference`]).
 //!
 //! Where stage 3 does not come within [`root_step`] of its root in [`ROOT_SHOTS`] shots,
 //! the former scheme answers: Newton at `tol` from stage 2, the elastica shot at its root,
 //! the check shot there.
 
+use super::elastica::moved;
 use super::elastica::Run;
 use super::elastica::{linearised_shape, Linearised};
 use super::load_path::{find_branch_by_rule, Polish};
 use super::shooting::{
-    corrected_difference, finished, polish_tip_angle, Search, TipSolve, TipTarget,
+    corrected_difference, difference, finished, polish_tip_angle, Search, TipSolve, TipTarget,
 };
 use crate::equations::Sensitivities;
 use crate::error::Result;
 use crate::scene::Scene;
-use crate::shot::{shoot, Integration};
+use crate::shot::{shoot, BaseValues, Integration};
 use crate::solution::{MethodKind, Solution, SolveStats};
 
 /// The guiding tolerance of the branch search: the load steps only guide the branch (to
 /// within far less than the jump guard's 0.2 rad).
 pub(crate) const GUIDE_TOL: f64 = 1e-3;
 
-/// The search tolerance of stage 2: it puts `phi1` within ~1e-8 of the root at `tol`, so
-/// that stage 3's Newton step is small enough to be taken linearised.
+/// The loosest search tolerance of stage 2: it puts `phi1` within ~1e-8 of the root at
+/// `tol`, so that stage 3's Newton step is small enough to be taken linearised.
 pub(crate) const SEARCH_TOL: f64 = 1e-7;
+
+/// Stage 2 runs at `tolerance / ESTIMATE_MARGIN` (at most [`SEARCH_TOL`]) and gives the
+/// second solution where that is at least `ESTIMATE_MARGIN` times the dense shot's
+/// tolerance (module docs, stage 4).
+pub(crate) const ESTIMATE_MARGIN: f64 = 100.0;
 
 /// Most dense shots (Newton steps at the tolerance) before the former scheme answers.
 pub(crate) const ROOT_SHOTS: usize = 3;
@@ -53,21 +70,39 @@ pub(crate) fn root_step(tol: f64) -> f64 {
     0.1 * tol.sqrt()
 }
 
-/// `accurate` (module docs): DOP853 shooting at `tol` with the error estimate from a second
-/// integration at `check_tol`; the continuation stops with
-/// [`ModelError::Budget`](crate::ModelError) after `budget` right-hand-side evaluations.
-pub(crate) fn solve_accurate(
-    scene: &Scene,
-    tol: f64,
-    check_tol: f64,
-    samples: usize,
-    budget: usize,
-) -> Result<Solution> {
+/// How `accurate` (module docs) shoots: the dense shot's tolerance `tol`, the check shot's
+/// `check_tol`, the `tolerance` its estimate must meet, the elastica's `samples` and the
+/// continuation's `budget` of right-hand-side evaluations (beyond it,
+/// [`ModelError::Budget`](crate::ModelError)).
+pub(crate) struct Accurate {
+    pub tol: f64,
+    pub check_tol: f64,
+    pub tolerance: f64,
+    pub samples: usize,
+    pub budget: usize,
+}
+
+impl Accurate {
+    /// The tolerance of stage 2, and whether its shot gives the second solution.
+    fn estimate_tol(&self) -> (f64, bool) {
+        let e = (self.tolerance / ESTIMATE_MARGIN).min(SEARCH_TOL);
+        if e >= ESTIMATE_MARGIN * self.tol {
+            (e, true)
+        } else {
+            (SEARCH_TOL.max(self.tol), false)
+        }
+    }
+}
+
+/// `accurate` (module docs): DOP853 shooting at `a.tol` with an error estimate.
+pub(crate) fn solve_accurate(scene: &Scene, a: &Accurate) -> Result<Solution> {
     let w = &scene.whisker;
     let loads = &scene.loads;
+    let (tol, samples, budget) = (a.tol, a.samples, a.budget);
     let integration = Integration::adaptive(tol);
-    let check = Integration::adaptive(check_tol);
-    let search_integration = Integration::adaptive(SEARCH_TOL.max(tol));
+    let check = Integration::adaptive(a.check_tol);
+    let (search_tol, second) = a.estimate_tol();
+    let search_integration = Integration::adaptive(search_tol);
     let guide_integration = Integration::adaptive(GUIDE_TOL.max(tol));
     let search = Search {
         direct: &guide_integration,
@@ -96,7 +131,12 @@ pub(crate) fn solve_accurate(
         method: "accurate",
         budget,
     };
-    let spent = match refine(scene, &found.tip, &run, &check, stats)? {
+    let estimate = Estimate {
+        check: &check,
+        second: second.then_some(&found.tip),
+        tolerance: a.tolerance,
+    };
+    let spent = match refine(scene, &found.tip, &run, &estimate, stats)? {
         Ok(mut sol) => {
             sol.load_path = path;
             return Ok(sol);
@@ -131,14 +171,54 @@ pub(crate) fn solve_accurate(
     Ok(sol)
 }
 
-/// Steps 1 and 2 of the module docs from the search's answer `tip`: the solution with its
+/// Where the second solution of stage 4 comes from.
+struct Estimate<'a> {
+    /// The check shot's integration.
+    check: &'a Integration,
+    /// Stage 2's answer, where its shot gives the second solution.
+    second: Option<&'a TipSolve>,
+    /// The tolerance that estimate must meet (else the check shot gives it).
+    tolerance: f64,
+}
+
+/// The largest second derivative `|V''|` of the base values `V = (phi0, m0, dx, dy)` in the
+/// tip angle: the difference quotient of two shots' derivatives `(phi1, V')`; infinite
+/// where the quotient is not defined (one angle, or derivatives not finite).
+fn curvature((p, a): (f64, BaseValues), (q, b): (f64, BaseValues)) -> f64 {
+    let (a, b) = (a.to_array(), b.to_array());
+    (0..4)
+        .map(|i| ((b[i] - a[i]) / (q - p)).abs())
+        .try_fold(0.0_f64, |m, c| (!c.is_nan()).then_some(m.max(c)))
+        .unwrap_or(f64::INFINITY)
+}
+
+/// The second solution of stage 4 from stage 2's answer `tip` (its last shot at
+/// `tip.phi1 - tip.step`): that shot moved to its own root by the trapezoidal step with its
+/// derivatives and the dense shot's, `sens`; its difference from the answer `sol`.
+fn trapezoidal_difference(scene: &Scene, tip: &TipSolve, sens: BaseValues, sol: &Solution) -> f64 {
+    let support = &scene.whisker.support;
+    let last = moved(tip.values, tip.sens, -tip.step);
+    let r = support.residual(last.phi0, last.m0);
+    let rate = support.residual_rate(tip.sens.phi0, tip.sens.m0)
+        + support.residual_rate(sens.phi0, sens.m0);
+    let step = -2.0 * r / rate;
+    let (a, b) = (tip.sens.to_array(), sens.to_array());
+    let mean = BaseValues::from_array(std::array::from_fn(|i| 0.5 * (a[i] + b[i])));
+    let second = moved(last, mean, step);
+    let phi1 = tip.phi1 - tip.step + step;
+    difference(second, phi1 - sol.loaded_end.phi, sol, &scene.loads)
+}
+
+/// Steps 3 and 4 of the module docs from the search's answer `tip`: the solution with its
 /// error estimate, or (`Err`) the evaluations spent when the dense shots' Newton steps do
-/// not come within [`root_step`] of their root.
+/// not come within reach of their root: `|d| <= root_step(tol)` and, where two shots give
+/// the curvature `|V''|`, a linearisation error `|V''| d^2 / 2` below
+/// `tolerance / ESTIMATE_MARGIN` (that bound is added to the estimate).
 fn refine(
     scene: &Scene,
     tip: &TipSolve,
     run: &Run<'_>,
-    check: &Integration,
+    estimate: &Estimate<'_>,
     mut stats: SolveStats,
 ) -> Result<std::result::Result<Solution, usize>> {
     let w = &scene.whisker;
@@ -148,15 +228,42 @@ fn refine(
         return Ok(Err(0));
     };
     let bound = root_step(d853.rtol);
+    let linear_error = estimate.tolerance / ESTIMATE_MARGIN;
+    // the last shot with sensitivities before the dense one: stage 2's, where it was not
+    // at the dense shot's angle
+    let mut prev = Some((tip.phi1 - tip.step, tip.sens)).filter(|_| tip.step != 0.0);
     let mut phi1 = tip.phi1;
     let mut spent = 0;
     for _ in 0..ROOT_SHOTS {
         stats.iterations += 1;
-        match linearised_shape(scene, phi1, run, stats, bound)? {
+        // the linearisation error |V''| d^2 / 2 (none without a move)
+        let linearisation = |sens: &BaseValues, d: f64| match prev {
+            Some(p) if d != 0.0 => 0.5 * curvature(p, (phi1, *sens)) * d * d,
+            _ => 0.0,
+        };
+        let accept =
+            |d: f64, sens: &BaseValues| d.abs() <= bound && linearisation(sens, d) <= linear_error;
+        match linearised_shape(scene, phi1, run, stats, accept)? {
             Linearised::Root { mut sol, sens } => {
-                // the second solution: the check integration at the root, moved to its own
-                // root by one Newton step with the dense shot's derivative
-                let shot = shoot(w, loads, sol.loaded_end.phi, Sensitivities::None, check)?;
+                sol.stats.residual = support.residual(sol.base.phi0, -sol.base.ma).abs();
+                let linearisation = linearisation(&sens, sol.loaded_end.phi - phi1);
+                // the second solution: stage 2's shot, where it was not at this angle ...
+                if let Some(second) = estimate.second.filter(|t| t.step != 0.0) {
+                    let est = trapezoidal_difference(scene, second, sens, &sol) + linearisation;
+                    if est <= estimate.tolerance {
+                        sol.stats.error_estimate = est;
+                        return Ok(Ok(*sol));
+                    }
+                }
+                // ... else the check integration at the root, moved to its own root by one
+                // Newton step with the dense shot's derivative
+                let shot = shoot(
+                    w,
+                    loads,
+                    sol.loaded_end.phi,
+                    Sensitivities::None,
+                    estimate.check,
+                )?;
                 sol.stats.evaluations += shot.evaluations;
                 let r = support.residual(shot.phi0, shot.m0);
                 let dr = support.residual_rate(sens.phi0, sens.m0);
@@ -165,19 +272,79 @@ fn refine(
                 } else {
                     f64::INFINITY
                 };
-                sol.stats.error_estimate = corrected_difference(&shot, sens, d, &sol, loads);
-                sol.stats.residual = support.residual(sol.base.phi0, -sol.base.ma).abs();
+                sol.stats.error_estimate =
+                    corrected_difference(&shot, sens, d, &sol, loads) + linearisation;
                 return Ok(Ok(*sol));
             }
-            Linearised::Far { d, evaluations } => {
+            Linearised::Far {
+                d,
+                sens,
+                evaluations,
+            } => {
                 spent += evaluations;
                 stats.evaluations += evaluations;
                 if !d.is_finite() {
                     break;
                 }
+                prev = Some((phi1, sens));
                 phi1 += d;
             }
         }
     }
     Ok(Err(spent))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::methods::{CHECK_TOL_RATIO, SHOOTING_BUDGET};
+
+    /// `V = (phi^2, 2 phi^2, -phi^2 / 2, 0)`: the difference quotient of `V'` is `V''`,
+    /// whose largest component is 4, wherever the two shots lie.
+    #[test]
+    fn curvature_of_a_parabola() {
+        let sens = |p: f64| BaseValues::from_array([2.0 * p, 4.0 * p, -p, 0.0]);
+        for (p, q) in [(1.0, 1.5), (-0.3, 0.2), (2.0, 2.0 + 1e-6)] {
+            let c = curvature((p, sens(p)), (q, sens(q)));
+            assert!((c - 4.0).abs() < 1e-9, "{p} {q}: {c}");
+        }
+        // no quotient from one angle: infinite, never zero
+        assert_eq!(curvature((1.0, sens(1.0)), (1.0, sens(1.0))), f64::INFINITY);
+    }
+
+    /// The second solution from stage 2's shot (no extra shot) bounds the answer's error
+    /// (against a solve at 1e-14), and the answer agrees with the one whose estimate comes
+    /// from the check shot (a tolerance too tight for stage 2 to give it).
+    #[test]
+    fn the_estimate_from_stage_two_bounds_the_error_at_no_extra_shot() {
+        for (name, scene) in crate::scenarios::reference_scenes() {
+            let scene = scene.normalised();
+            let run = |tol: f64, tolerance: f64| {
+                let a = Accurate {
+                    tol,
+                    check_tol: tol * CHECK_TOL_RATIO,
+                    tolerance,
+                    samples: 20,
+                    budget: SHOOTING_BUDGET,
+                };
+                solve_accurate(&scene, &a).unwrap()
+            };
+            let truth = run(1e-14, 1e-10);
+            let sol = run(1e-12, 1e-8);
+            let checked = run(1e-12, 1e-11);
+            let err = sol.difference(&truth);
+            let est = sol.stats.error_estimate;
+            assert!(
+                err <= est && est <= 1e-9,
+                "{name}: error {err:e}, estimate {est:e}"
+            );
+            assert!(sol.difference(&checked) < 1e-12, "{name}");
+            assert!(
+                sol.stats.evaluations < checked.stats.evaluations,
+                "{name}: {} vs {}",
+                sol.stats.evaluations,
+                checked.stats.evaluations
+            );
+        }
+    }
 }

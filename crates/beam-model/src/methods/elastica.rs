@@ -38,22 +38,23 @@ pub(crate) fn shape(
 /// shot's Newton step `d = -R / R'` on the base condition [3.21, 3.22] to its own root
 /// `phi1 + d` (the base values, the loaded end and every sample of the elastica along their
 /// sensitivities: exact to first order, an error `O(d^2)`), unless the step is not finite
-/// or exceeds `bound`.
+/// or `accept(d, sens)` refuses it.
 pub(crate) fn linearised_shape(
     scene: &Scene,
     phi1: f64,
     run: &Run<'_>,
     stats: SolveStats,
-    bound: f64,
+    accept: impl Fn(f64, &BaseValues) -> bool,
 ) -> Result<Linearised> {
     let (w, loads) = (&scene.whisker, &scene.loads);
     let sens = Sensitivities::TipAngle;
     let (shot, path) = shoot_path(w, loads, phi1, sens, run.integration, true)?;
     let d = -w.support.residual(shot.phi0, shot.m0)
         / w.support.residual_rate(shot.d_phi1.phi0, shot.d_phi1.m0);
-    if !(d.is_finite() && d.abs() <= bound) {
+    if !(d.is_finite() && accept(d, &shot.d_phi1)) {
         return Ok(Linearised::Far {
             d,
+            sens: shot.d_phi1,
             evaluations: shot.evaluations,
         });
     }
@@ -79,8 +80,13 @@ pub(crate) enum Linearised {
         sol: Box<Solution>,
         sens: BaseValues,
     },
-    /// The step `d` to the root was not finite or too long; the evaluations spent.
-    Far { d: f64, evaluations: usize },
+    /// The step `d` to the root was not finite or refused; the shot's sensitivities and the
+    /// evaluations spent.
+    Far {
+        d: f64,
+        sens: BaseValues,
+        evaluations: usize,
+    },
 }
 
 /// A dense shot at `phi1` and the step `d` its values are moved by along their tip-angle
@@ -287,7 +293,10 @@ mod tests {
             };
             let off = phi1 + 1e-7;
             let Linearised::Root { sol, sens } =
-                linearised_shape(&scene, off, &run, SolveStats::default(), 1e-6).unwrap()
+                linearised_shape(&scene, off, &run, SolveStats::default(), |d, _| {
+                    d.abs() <= 1e-6
+                })
+                .unwrap()
             else {
                 panic!("{name}: a step of 1e-7 is within the bound");
             };
@@ -303,7 +312,8 @@ mod tests {
                 assert!((a - b).abs() < 1e-10, "{name}: {a} {b}");
             }
             // beyond the bound: the step is reported, nothing is assembled
-            let far = linearised_shape(&scene, phi1 + 1e-3, &run, SolveStats::default(), 1e-6);
+            let within = |d: f64, _: &BaseValues| d.abs() <= 1e-6;
+            let far = linearised_shape(&scene, phi1 + 1e-3, &run, SolveStats::default(), within);
             assert!(matches!(far, Ok(Linearised::Far { d, .. }) if (d + 1e-3).abs() < 1e-4));
         }
     }

@@ -165,8 +165,7 @@ fn from_zero(scene: &Scene, grid: &UniformGrid, unloaded: Vec<f64>, sev: f64) ->
             if stats.jumps > 0 {
                 // the branch guard met other equilibria: a jump it let through would land
                 // on one of them unnoticed; shooting by the rule settles the branch
-                let ends = (y.first().copied().unwrap_or(FRAC_PI_2), last_or(&y));
-                if let Some((guess, path)) = shooting_start(scene, grid, ends) {
+                if let Some((guess, path)) = shooting_start(scene, grid, &y) {
                     let (sol, it) = solve_fixed(w, loads, grid, &guess)?;
                     return Ok((sol, it, stats.steps, stats.jumps, path));
                 }
@@ -217,27 +216,36 @@ const SHOT_RESOLVES: f64 = 0.1;
 /// Where `accurate` shooting by the rule ([`super::accurate::solve_accurate`] at 1e-10,
 /// trusted only with an error estimate below 1e-6: thin tips make the shots
 /// ill-conditioned) reaches another equilibrium than a continuation on the grid with the
-/// end angles `(phi0, phi1)` (either more than [`BRANCH_APART`] away: two branches may share
-/// one of them): the nodal angles of the shooting's equilibrium on `grid`, with its load
-/// path where that decided. `None` when they agree or shooting has no trusted answer.
+/// nodal angles `y` (some node more than [`BRANCH_APART`] away: two branches may share
+/// both end angles, a rigid base's and a tip aligned with a strong force): the nodal angles
+/// of the shooting's equilibrium on `grid`, with its load path where that decided. `None`
+/// when they agree or shooting has no trusted answer.
 fn shooting_start(
     scene: &Scene,
     grid: &UniformGrid,
-    (phi0, phi1): (f64, f64),
+    y: &[f64],
 ) -> Option<(Vec<f64>, Option<LoadPath>)> {
     let budget = super::SHOOTING_BUDGET;
-    let sol = super::accurate::solve_accurate(scene, 1e-10, 1e-11, 16, budget).ok()?;
+    let shooting = super::accurate::Accurate {
+        tol: 1e-10,
+        check_tol: 1e-11,
+        tolerance: 1e-6,
+        samples: 16,
+        budget,
+    };
+    let sol = super::accurate::solve_accurate(scene, &shooting).ok()?;
     if sol.stats.error_estimate.is_nan() || sol.stats.error_estimate > 1e-6 {
         return None;
     }
-    let (s0, s1) = (sol.base.phi0, sol.loaded_end.phi);
-    if (s1 - phi1).abs().max((s0 - phi0).abs()) <= BRANCH_APART {
-        return None;
-    }
-    Some((angles_on(scene, grid, s1)?, sol.load_path))
+    let angles = angles_on(scene, grid, sol.loaded_end.phi)?;
+    let apart = angles
+        .iter()
+        .zip(y)
+        .fold(0.0_f64, |m, (a, b)| m.max((a - b).abs()));
+    (apart > BRANCH_APART).then_some((angles, sol.load_path))
 }
 
-/// Loaded-end angles farther apart than this are two equilibria, not one resolved on two
+/// Nodal angles farther apart than this are two equilibria, not one resolved on two
 /// grids (the FDM's own error on a grid it resolves is far below it).
 const BRANCH_APART: f64 = 0.05;
 

@@ -82,8 +82,9 @@ pub const MIN_TOL: f64 = 1e-14;
 /// Tolerance floor of the check integration of `accurate`'s error estimate.
 pub const MIN_CHECK_TOL: f64 = 2.5e-15;
 
-/// `accurate` estimates its error by an embedded second solution: one more shot at
-/// `tol * CHECK_TOL_RATIO`.
+/// `accurate` estimates its error by a second solution: its search shot at
+/// `tolerance / 100` where that is at least 100 times `tol` (no extra shot), else one more
+/// shot at `tol * CHECK_TOL_RATIO` (module `accurate`).
 pub const CHECK_TOL_RATIO: f64 = 0.1;
 
 /// The bound on the error estimate of the fixed-grid methods (`fdm`, `rk4`,
@@ -294,12 +295,21 @@ fn check_estimate(scene: &Scene, sol: &Solution) -> Result<()> {
     })
 }
 
-/// `accurate`: DOP853 shooting with an independent estimate (a second shot at
-/// `tol * CHECK_TOL_RATIO`);
+/// `accurate`: DOP853 shooting with an independent estimate (a second solution at
+/// `tolerance / 100`, or a second shot at `tol * CHECK_TOL_RATIO`);
 /// the FDM + Richardson fallback where shooting fails or does not meet `tolerance`.
 fn accurate(scene: &Scene, tol: f64, samples: usize, tolerance: f64) -> Result<Solution> {
     let check_tol = (tol * CHECK_TOL_RATIO).max(MIN_CHECK_TOL);
-    let shot = accurate::solve_accurate(scene, tol, check_tol, samples, SHOOTING_BUDGET);
+    let shot = accurate::solve_accurate(
+        scene,
+        &accurate::Accurate {
+            tol,
+            check_tol,
+            tolerance,
+            samples,
+            budget: SHOOTING_BUDGET,
+        },
+    );
     let shooting_evaluations = match &shot {
         Ok(sol) if sol.stats.error_estimate <= tolerance => return shot,
         Ok(sol) => sol.stats.evaluations,
@@ -343,7 +353,8 @@ fn auto(scene: &Scene, tol: f64, samples: usize) -> Result<Solution> {
     // tolerance) is trustworthy at tight integrator tolerances only: at 1e-8 it was
     // measured to miss the error by 2x (DOP853's global error is not proportional to its
     // tolerance there). And DOP853 is of order 8: 1e-12 costs ~2x the steps of 1e-8. So
-    // shooting runs at `accurate`'s default 1e-12 (tighter for accuracies below 1e-8).
+    // shooting runs at `accurate`'s default 1e-12 (tighter for accuracies below 1e-8),
+    // which also leaves the estimate from the search shot at `tol / 100` its margin of 100.
     let itol = (tol * 1e-4).clamp(MIN_TOL, 1e-12);
     let tolerance = tol.max(1e-10);
     let mut sol = accurate(scene, itol, samples, tolerance)?;

@@ -32,6 +32,9 @@ pub(crate) struct TipSolve {
     pub sens: BaseValues,
     /// Continuation steps rejected as branch jumps.
     pub branch_jumps: usize,
+    /// The Newton step from the last shot's angle to `phi1` when that step was not shot
+    /// (`values` are the last shot's moved along it), else 0.
+    pub step: f64,
 }
 
 const MAX_NEWTON: usize = 40;
@@ -272,18 +275,14 @@ fn newton_to(problem: &TipProblem<'_>, guess: f64, target: &TipTarget) -> Result
         values: ans.point.values,
         sens,
         branch_jumps: 0,
+        step: 0.0,
     };
     match ans.termination {
         Termination::Converged => Ok(t),
         Termination::Predicted => {
             // the base values moved along the step by their sensitivities
-            let (v, step) = (t.values, ans.step[0]);
-            t.values = BaseValues {
-                phi0: v.phi0 + sens.phi0 * step,
-                m0: v.m0 + sens.m0 * step,
-                dx: v.dx + sens.dx * step,
-                dy: v.dy + sens.dy * step,
-            };
+            t.step = ans.step[0];
+            t.values = moved(t.values, sens, t.step);
             t.residual = f64::NAN;
             Ok(t)
         }

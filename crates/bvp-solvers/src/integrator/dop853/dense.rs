@@ -16,6 +16,9 @@ pub struct OdeSolution {
     pub u_end: Vec<f64>,
     /// Work counters.
     pub stats: super::IntegrationStats,
+    /// The step the controller proposed after the first accepted step
+    /// ([`Stepper::start_step`](super::Stepper::start_step)).
+    pub start_step: Option<f64>,
     pub(super) dim: usize,
     pub(super) s_start: f64,
     pub(super) u_start: Vec<f64>,
@@ -205,6 +208,7 @@ impl OdeSolution {
             s_end: s0,
             u_end: u0.to_vec(),
             stats: super::IntegrationStats::default(),
+            start_step: None,
             dim: n,
             s_start: s0,
             u_start: if dense { u0.to_vec() } else { Vec::new() },

@@ -185,6 +185,7 @@ impl Dop853 {
                     sol.s_end = e.s;
                     sol.u_end.copy_from_slice(&e.u);
                     sol.stats = st.stats();
+                    sol.start_step = st.start_step();
                     return Ok((sol, Some(e)));
                 }
                 g_old = g_new;
@@ -196,6 +197,7 @@ impl Dop853 {
         sol.s_end = s1;
         sol.u_end.copy_from_slice(st.state());
         sol.stats = st.stats();
+        sol.start_step = st.start_step();
         Ok((sol, None))
     }
 }

@@ -54,6 +54,8 @@ pub struct Stepper<'a, S: OdeSystem + ?Sized> {
     h: f64,
     /// The controller's proposal for the step after the current one.
     h_next: f64,
+    /// Its proposal after the first accepted step ([`Stepper::start_step`]).
+    start_step: Option<f64>,
     /// All work space in one allocation ([`Parts`]): the stages `k1..k16` (16 blocks of
     /// `n`), the state at `x`, the state at the end of the current step, a scratch vector
     /// and the interpolation coefficients of the current step (8 blocks of `n`).
@@ -98,6 +100,7 @@ impl Dop853 {
             x: s0,
             h: 0.0,
             h_next: 0.0,
+            start_step: None,
             buf: vec![0.0; (super::coef::NSTAGE + 11) * n],
             control: StepControl::new(hmax, posneg),
             stats: IntegrationStats::default(),
@@ -289,6 +292,9 @@ impl<S: OdeSystem + ?Sized> Stepper<'_, S> {
                 }
                 Verdict::Accept { h_next } => {
                     self.h_next = h_next;
+                    if self.start_step.is_none() {
+                        self.start_step = Some(h_next.abs());
+                    }
                     break;
                 }
             }
@@ -444,6 +450,15 @@ impl<S: OdeSystem + ?Sized> Stepper<'_, S> {
             dense_eval(rc, n, (s - self.x) / self.h, &mut u);
         }
         Ok((g_new, Some(Event { s, u })))
+    }
+
+    /// The step size the controller proposed after the first accepted step (`None` before
+    /// it): the natural step at the start, whatever the initial guess was. An integration
+    /// of a nearby problem from the same point at tolerance `tol'` starts well with it
+    /// scaled by `(tol' / tol)^(1/8)` ([`Dop853::h_init`]; the initial guess otherwise
+    /// costs an evaluation and, being cautious, often a short first step).
+    pub fn start_step(&self) -> Option<f64> {
+        self.start_step
     }
 
     /// Work counters so far.

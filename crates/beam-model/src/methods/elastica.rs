@@ -231,11 +231,10 @@ fn free_segment(
             })
         }
         Integration::Dop853(d) => {
-            let sol = d
-                .clone()
-                .with_dense(true)
-                .integrate(&seg, s1, 1.0, &u0)
-                .map_err(err)?;
+            // from the loaded end outwards: not the shots' problem, nor their first step
+            let mut d = d.clone().with_dense(true);
+            d.h_init = None;
+            let sol = d.integrate(&seg, s1, 1.0, &u0).map_err(err)?;
             let mut u = [0.0; 2];
             for i in 0..=samples {
                 let s = i as f64 / samples as f64;

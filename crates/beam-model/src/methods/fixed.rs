@@ -28,6 +28,7 @@ pub(crate) fn solve_tip_angle_within(
         direct: integration,
         direct_target: TipTarget::FINAL,
         guide: &loose,
+        step_target: TipTarget::GUIDE,
         guide_target: TipTarget::GUIDE,
     };
     let polish = Polish {

@@ -350,13 +350,13 @@ pub(crate) fn find_branch_by_rule(
 ) -> Result<(Found, Option<LoadPath>)> {
     let support = &whisker.support;
     let unfolded = |tip: &TipSolve| support.residual_rate(tip.sens.phi0, tip.sens.m0) > 0.0;
-    let polished = |phi1: f64| {
+    let polished = |phi1: f64, start| {
         let (t, spent) = polish_tip_angle(
             whisker,
             loads,
             polish.integration,
             method,
-            phi1,
+            (phi1, start),
             &polish.target,
         );
         t.map(|mut t| {
@@ -366,7 +366,7 @@ pub(crate) fn find_branch_by_rule(
     };
     let found = match find_branch(whisker, loads, search, method, budget) {
         Ok(found) if found.steps == 0 && !polish.direct_too => Ok(found),
-        Ok(found) => polished(found.tip.phi1).map(|mut tip| {
+        Ok(found) => polished(found.tip.phi1, found.tip.start).map(|mut tip| {
             tip.evaluations += found.tip.evaluations;
             tip.branch_jumps = found.tip.branch_jumps;
             Found {
@@ -390,7 +390,7 @@ pub(crate) fn find_branch_by_rule(
                 }
                 Err(e) => return Err(e),
             };
-            let mut tip = polished(path.arrival.phi1)?;
+            let mut tip = polished(path.arrival.phi1, None)?;
             tip.evaluations += spent + found.as_ref().map_or(0, |f| f.tip.evaluations);
             tip.branch_jumps = found.map_or(0, |f| f.tip.branch_jumps);
             let steps = path.steps;

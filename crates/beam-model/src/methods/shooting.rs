@@ -7,7 +7,7 @@ use crate::equations::Sensitivities;
 use crate::error::{ModelError, Result};
 use crate::loads::Loads;
 use crate::scene::Scene;
-use crate::shot::{shoot, BaseValues, Integration};
+use crate::shot::{shoot, BaseValues, Integration, StartStep};
 use crate::solution::{Solution, SolveStats};
 use crate::whisker::Whisker;
 use bvp_solvers::continuation::{BranchGuard, Continuation};
@@ -35,6 +35,8 @@ pub(crate) struct TipSolve {
     /// The Newton step from the last shot's angle to `phi1` when that step was not shot
     /// (`values` are the last shot's moved along it), else 0.
     pub step: f64,
+    /// The last shot's natural first step: the next shots of the solve start with it.
+    pub start: Option<StartStep>,
 }
 
 const MAX_NEWTON: usize = 40;
@@ -79,6 +81,9 @@ struct TipProblem<'a> {
     sens: Cell<BaseValues>,
     /// The error of a shot that failed (the iteration stops there).
     error: Cell<Option<ModelError>>,
+    /// The last shot's natural first step: each shot starts with it
+    /// ([`Integration::started`]).
+    start: Cell<Option<StartStep>>,
 }
 
 impl<'a> TipProblem<'a> {
@@ -96,7 +101,14 @@ impl<'a> TipProblem<'a> {
             spent: Cell::new(0),
             sens: Cell::new(BaseValues::default()),
             error: Cell::new(None),
+            start: Cell::new(None),
         }
+    }
+
+    /// The problem with its shots starting with `start`.
+    fn starting(self, start: Option<StartStep>) -> Self {
+        self.start.set(start);
+        self
     }
 }
 
@@ -120,9 +132,13 @@ impl ShotProblem<1> for TipProblem<'_> {
         } else {
             Sensitivities::None
         };
-        match shoot(self.whisker, self.loads, p[0], sens, self.integration) {
+        let integration = self.integration.started(self.start.get());
+        match shoot(self.whisker, self.loads, p[0], sens, &integration) {
             Ok(shot) => {
                 self.spent.set(self.spent.get() + shot.evaluations);
+                if shot.start.is_some() {
+                    self.start.set(shot.start);
+                }
                 if sensitivities {
                     self.sens.set(shot.d_phi1);
                 }
@@ -202,6 +218,16 @@ impl TipTarget {
         load_scale: 1.0,
     };
 
+    /// A corrector of a load step below full load of `accurate`'s branch search: as
+    /// [`TipTarget::GUIDE_LOOSE`], but the Newton step from a residual of 0.2 is returned
+    /// unshot (quadratic convergence puts it within a few 1e-2 rad of the equilibrium, far
+    /// inside the jump guard's 0.2 rad; the next step's prediction only needs the branch).
+    /// Measured: 3-7 % fewer instructions on the reference scenes and s18.
+    pub(crate) const GUIDE_STEP: TipTarget = TipTarget {
+        predict_below: Some(0.2),
+        ..TipTarget::GUIDE_LOOSE
+    };
+
     /// The Newton solve at the search tolerance that starts `accurate`'s answer: residual
     /// 1e-8, or the Newton step from a residual of 1e-4 returned unshot (quadratic
     /// convergence lands it near 1e-8, within the search integration's own error).
@@ -276,6 +302,7 @@ fn newton_to(problem: &TipProblem<'_>, guess: f64, target: &TipTarget) -> Result
         sens,
         branch_jumps: 0,
         step: 0.0,
+        start: problem.start.get(),
     };
     match ans.termination {
         Termination::Converged => Ok(t),
@@ -303,12 +330,13 @@ pub(crate) fn severity(whisker: &Whisker, loads: &Loads) -> f64 {
 }
 
 /// How the branch search of [`find_branch`] runs: the integrator and target of the direct
-/// attempt, and those of the continuation's correctors (`guide`; the target's load scale is
-/// set per step).
+/// attempt, and those of the continuation's correctors (`guide`; `step_target` below full
+/// load, `guide_target` at it; the target's load scale is set per step).
 pub(crate) struct Search<'a> {
     pub direct: &'a Integration,
     pub direct_target: TipTarget,
     pub guide: &'a Integration,
+    pub step_target: TipTarget,
     pub guide_target: TipTarget,
 }
 
@@ -348,6 +376,8 @@ pub(crate) fn find_branch(
     let sev = severity(whisker, loads);
     // evaluations of attempts that did not give the answer
     let mut evaluations = 0;
+    // the natural first step of the last shot: the next one starts with it
+    let mut start = None;
     if sev <= 1.0 {
         // From the linear-theory tip angle. A direct solve is kept only near the unloaded
         // shape (at most 0.5 rad of rotation at either end); otherwise it may have landed on
@@ -361,7 +391,10 @@ pub(crate) fn find_branch(
             {
                 return Ok(Found { tip: t, steps: 0 });
             }
-            _ => evaluations += problem.spent.get(),
+            _ => {
+                evaluations += problem.spent.get();
+                start = problem.start.get();
+            }
         }
     }
     let first = (1.0 / sev.ceil()).clamp(1e-3, 1.0);
@@ -402,13 +435,19 @@ pub(crate) fn find_branch(
                 // evaluations, tip unchanged to 1e-15); the full accuracy is restored at
                 // lambda = 1 by the caller
                 let scaled = loads.scaled(lambda);
-                let problem = TipProblem::new(whisker, &scaled, search.guide, method);
+                let problem =
+                    TipProblem::new(whisker, &scaled, search.guide, method).starting(start);
                 let target = TipTarget {
                     load_scale: lambda,
-                    ..search.guide_target
+                    ..if lambda < 1.0 {
+                        search.step_target
+                    } else {
+                        search.guide_target
+                    }
                 };
                 let t = newton_to(&problem, pred[0], &target);
                 evaluations += problem.spent.get();
+                start = problem.start.get();
                 let t = t?;
                 last = Some(t);
                 Ok(vec![t.phi1, t.values.phi0])
@@ -430,16 +469,17 @@ pub(crate) fn find_branch(
 }
 
 /// Newton at `integration` from the tip angle `from` of a branch search to `target`
-/// (load scale 1); with its own evaluations, also of a failed iteration.
+/// (load scale 1), its first shot starting with `start` (the search's last natural first
+/// step); with its own evaluations, also of a failed iteration.
 pub(crate) fn polish_tip_angle(
     whisker: &Whisker,
     loads: &Loads,
     integration: &Integration,
     method: &'static str,
-    from: f64,
+    (from, start): (f64, Option<StartStep>),
     target: &TipTarget,
 ) -> (Result<TipSolve>, usize) {
-    let problem = TipProblem::new(whisker, loads, integration, method);
+    let problem = TipProblem::new(whisker, loads, integration, method).starting(start);
     let t = newton_to(&problem, from, target);
     (t, problem.spent.get())
 }

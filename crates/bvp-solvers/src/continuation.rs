@@ -551,33 +551,30 @@ mod tests {
         assert_eq!(stats.steps, calls);
     }
 
+    /// [`Continuation::follow`] from `(0, [0])` to 1 with steps in `[0.01, 0.25]`: its failure.
+    fn failure_to_one(
+        guard: &BranchGuard,
+        correct: impl FnMut(f64, &[f64]) -> Result<Vec<f64>, BvpError>,
+    ) -> ContinuationFailure<BvpError> {
+        cont(0.25, 0.01, 0.25)
+            .follow(0.0, 1.0, vec![0.0], guard, correct)
+            .unwrap_err()
+    }
+
     #[test]
     fn follow_fails_with_the_last_inner_error_or_the_jump() {
-        let cont = Continuation {
-            initial_step: 0.25,
-            min_step: 0.01,
-            max_step: 0.25,
-        };
         // a corrector that fails beyond lambda = 0.5 with its own error
-        let fail = cont
-            .follow(
-                0.0,
-                1.0,
-                vec![0.0],
-                &BranchGuard::default(),
-                |l, _p: &[f64]| {
-                    if l > 0.5 {
-                        Err(BvpError::NoConvergence {
-                            method: "inner",
-                            iterations: 7,
-                            residual: l,
-                        })
-                    } else {
-                        Ok(vec![l])
-                    }
-                },
-            )
-            .unwrap_err();
+        let fail = failure_to_one(&BranchGuard::default(), |l, _p| {
+            if l > 0.5 {
+                Err(BvpError::NoConvergence {
+                    method: "inner",
+                    iterations: 7,
+                    residual: l,
+                })
+            } else {
+                Ok(vec![l])
+            }
+        });
         assert_eq!(fail.reached, 0.5);
         assert!(fail.step < 0.02 && fail.step >= 0.01, "{}", fail.step);
         match fail.cause {
@@ -594,17 +591,7 @@ mod tests {
             relative: 0.5,
             max_attempts: 1000,
         };
-        let fail = cont
-            .follow(
-                0.0,
-                1.0,
-                vec![0.0],
-                &guard,
-                |l, _p: &[f64]| -> Result<Vec<f64>, BvpError> {
-                    Ok(vec![if l > 0.5 { l + 1.0 } else { l }])
-                },
-            )
-            .unwrap_err();
+        let fail = failure_to_one(&guard, |l, _p| Ok(vec![if l > 0.5 { l + 1.0 } else { l }]));
         assert_eq!(fail.reached, 0.5);
         match fail.cause {
             StallCause::Jump { distance, .. } => assert!(distance > 0.9, "{distance}"),
@@ -616,15 +603,7 @@ mod tests {
             relative: 0.5,
             max_attempts: 3,
         };
-        let fail = cont
-            .follow(
-                0.0,
-                1.0,
-                vec![0.0],
-                &guard,
-                |l, _p: &[f64]| -> Result<Vec<f64>, BvpError> { Ok(vec![l]) },
-            )
-            .unwrap_err();
+        let fail = failure_to_one(&guard, |l, _p| Ok(vec![l]));
         assert_eq!(fail.cause, StallCause::Budget { max_attempts: 3 });
         assert_eq!(fail.steps, 3);
     }

@@ -96,17 +96,7 @@ pub fn richardson(values: &[f64], base_order: u32, order_step: u32) -> Result<Ex
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn loglog_slope(h: &[f64], err: &[f64]) -> f64 {
-        let xs: Vec<f64> = h.iter().map(|v| v.ln()).collect();
-        let ys: Vec<f64> = err.iter().map(|v| v.ln()).collect();
-        let m = xs.len() as f64;
-        let mx = xs.iter().sum::<f64>() / m;
-        let my = ys.iter().sum::<f64>() / m;
-        let sxy: f64 = xs.iter().zip(&ys).map(|(x, y)| (x - mx) * (y - my)).sum();
-        let sxx: f64 = xs.iter().map(|x| (x - mx).powi(2)).sum();
-        sxy / sxx
-    }
+    use crate::testing::loglog_slope;
 
     /// Composite trapezoid rule for the integral of e^x over [0, 1] with n panels.
     fn trapezoid_exp(n: usize) -> f64 {

@@ -23,55 +23,6 @@ fn dop(tol: f64) -> Shooting {
     }
 }
 
-/// y'' = -y, y(0) = 1, y(1) = 2; unknown p = y'(0). Exact: y = cos x + B sin x,
-/// B = (2 - cos 1)/sin 1.
-struct LinearBvp;
-struct Osc;
-impl OdeSystem for Osc {
-    fn dim(&self) -> usize {
-        2
-    }
-    fn rhs(&self, _s: f64, u: &[f64], du: &mut [f64]) {
-        du[0] = u[1];
-        du[1] = -u[0];
-    }
-}
-impl ShootingProblem for LinearBvp {
-    type System = Osc;
-    fn n_params(&self) -> usize {
-        1
-    }
-    fn system(&self, _p: &[f64]) -> Osc {
-        Osc
-    }
-    fn span(&self, _p: &[f64]) -> (f64, f64) {
-        (0.0, 1.0)
-    }
-    fn initial_state(&self, p: &[f64], u0: &mut [f64]) {
-        u0[0] = 1.0;
-        u0[1] = p[0];
-    }
-    fn residual(&self, _p: &[f64], u_end: &[f64], r: &mut [f64]) {
-        r[0] = u_end[0] - 2.0;
-    }
-}
-
-#[test]
-fn linear_bvp_closed_form() {
-    let b = (2.0 - 1f64.cos()) / 1f64.sin();
-    let sol = dop(1e-13).solve(&LinearBvp, &[0.0]).unwrap();
-    assert!((sol.params[0] - b).abs() < 1e-10, "{}", sol.params[0] - b);
-    assert!((sol.u_end[1] - (-1f64.sin() + b * 1f64.cos())).abs() < 1e-10);
-    // RK4 with 100 steps: O(h^4) ~ 1e-9
-    let rk = Shooting {
-        integrator: ShootingIntegrator::Rk4 { steps: 100 },
-        options: tr(1e-12),
-    };
-    let sol = rk.solve(&LinearBvp, &[0.0]).unwrap();
-    assert!((sol.params[0] - b).abs() < 1e-8, "{}", sol.params[0] - b);
-    assert!((sol.params[0] - b).abs() > 1e-14); // really the RK4 discretisation
-}
-
 /// Bratu: y'' + lambda e^y = 0, y(0) = y(1) = 0; unknown p = y'(0).
 pub struct Bratu {
     pub lambda: f64,
@@ -214,14 +165,6 @@ fn elastica_load_matches_elliptic_integral() {
         .solve(&Elastica { theta_tip: 1e-4 }, &[2.0])
         .unwrap();
     assert!((sol.params[0] - std::f64::consts::PI.powi(2) / 4.0).abs() < 1e-8);
-}
-
-#[test]
-fn shooting_dimension_error() {
-    assert!(matches!(
-        dop(1e-10).solve(&LinearBvp, &[0.0, 1.0]),
-        Err(BvpError::DimensionMismatch { .. })
-    ));
 }
 
 /// Bratu with its variational equation `v'' = -lambda e^y v`, `v(0) = 0`, `v'(0) = 1`

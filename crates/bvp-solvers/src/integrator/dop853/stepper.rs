@@ -448,18 +448,7 @@ impl<S: OdeSystem + ?Sized> Stepper<'_, S> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// `u' = (u1, -u0)`: `u = (sin s, cos s)` from `(0, 1)`.
-    struct Harmonic;
-    impl OdeSystem for Harmonic {
-        fn dim(&self) -> usize {
-            2
-        }
-        fn rhs(&self, _s: f64, u: &[f64], du: &mut [f64]) {
-            du[0] = u[1];
-            du[1] = -u[0];
-        }
-    }
+    use crate::testing::Harmonic;
 
     #[test]
     fn a_copied_interpolant_is_the_held_steps() {

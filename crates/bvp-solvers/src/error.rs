@@ -80,14 +80,4 @@ pub enum BvpError {
         /// Independent variable (or iteration index) where it appeared.
         s: f64,
     },
-    /// Load continuation had to halve its step below the minimum.
-    #[error("continuation stalled at parameter {reached} (target {target}, step {step:.3e})")]
-    ContinuationStalled {
-        /// Last parameter value that solved.
-        reached: f64,
-        /// The target value.
-        target: f64,
-        /// The step that failed last.
-        step: f64,
-    },
 }

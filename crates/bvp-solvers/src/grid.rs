@@ -117,3 +117,30 @@ impl UniformGrid {
         Self::new(self.a, self.b, n)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn grid_basics() {
+        let g = UniformGrid::new(-1.0, 0.1, 3).unwrap();
+        assert_eq!(g.len(), 4);
+        assert_eq!(g.intervals(), 3);
+        assert_eq!(g.x(3), 0.1);
+        assert!((g.h() - 1.1 / 3.0).abs() < 1e-16);
+        let nodes = g.nodes();
+        assert_eq!(nodes.len(), 4);
+        assert_eq!(nodes[0], -1.0);
+        assert!((nodes[1] - (-1.0 + 1.1 / 3.0)).abs() < 1e-15);
+        let r = g.refined().unwrap();
+        assert_eq!(r.intervals(), 6);
+        for i in 0..4 {
+            assert!((r.x(2 * i) - g.x(i)).abs() < 1e-15);
+        }
+        assert!(UniformGrid::new(0.0, 1.0, 1).is_err());
+        assert!(UniformGrid::new(1.0, 1.0, 4).is_err());
+        assert!(UniformGrid::new(0.0, f64::NAN, 4).is_err());
+        assert!(UniformGrid::new(f64::NEG_INFINITY, 0.0, 4).is_err());
+    }
+}

@@ -34,6 +34,8 @@ pub mod nonlinear;
 pub mod richardson;
 pub mod roots;
 pub mod shooting;
+#[cfg(test)]
+mod testing;
 pub mod tridiag;
 pub mod trust_region;
 

@@ -92,95 +92,97 @@ pub fn richardson(values: &[f64], base_order: u32, order_step: u32) -> Result<Ex
     })
 }
 
-/// One Richardson step on grid functions: `coarse` on `n` intervals (`n + 1` values) and
-/// `fine` on `2n` intervals (`2n + 1` values) of a method of order `order`; returns at the
-/// coarse nodes `fine[2i] + (fine[2i] - coarse[i]) / (2^order - 1)`, i.e.
-/// `(4 fine[2i] - coarse[i]) / 3` for `order = 2`.
-///
-/// # Errors
-/// - [`BvpError::DimensionMismatch`] unless `fine.len() == 2 coarse.len() - 1`;
-/// - [`BvpError::InvalidInput`] for `coarse.len() < 2` or `order` outside `1..=1000`.
-pub fn richardson_grid(coarse: &[f64], fine: &[f64], order: u32) -> Result<Vec<f64>> {
-    if coarse.len() < 2 {
-        return Err(BvpError::InvalidInput {
-            name: "coarse.len()",
-            value: coarse.len() as f64,
-            reason: "a grid function needs at least two nodes",
-        });
-    }
-    let expected = 2 * coarse.len() - 1;
-    if fine.len() != expected {
-        return Err(BvpError::DimensionMismatch {
-            name: "fine",
-            expected,
-            found: fine.len(),
-        });
-    }
-    let denom = validate_order("order", u64::from(order))?;
-    Ok(coarse
-        .iter()
-        .enumerate()
-        .map(|(i, &c)| {
-            let f = fine[2 * i];
-            f + (f - c) / denom
-        })
-        .collect())
-}
+/// Richardson extrapolation on sequences with known asymptotic expansions.
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testing::loglog_slope;
 
-/// Several Richardson levels on grid functions: `levels[j]` is the solution on
-/// `n 2^j` intervals (`n 2^j + 1` values); every level is restricted to the coarsest
-/// nodes and the table of [`richardson`] is applied node by node, giving values of order
-/// `base_order + (m-1) order_step` at the `n + 1` coarsest nodes.
-///
-/// # Errors
-/// - [`BvpError::InvalidInput`] for fewer than two levels, a coarsest level with fewer
-///   than two values, or invalid orders (as [`richardson`]);
-/// - [`BvpError::DimensionMismatch`] if `levels[j].len() != n 2^j + 1`.
-pub fn richardson_grid_levels(
-    levels: &[&[f64]],
-    base_order: u32,
-    order_step: u32,
-) -> Result<Vec<f64>> {
-    if levels.len() < 2 {
-        return Err(BvpError::InvalidInput {
-            name: "levels.len()",
-            value: levels.len() as f64,
-            reason: "Richardson extrapolation needs at least two levels",
-        });
+    /// Composite trapezoid rule for the integral of e^x over [0, 1] with n panels.
+    fn trapezoid_exp(n: usize) -> f64 {
+        let h = 1.0 / n as f64;
+        let inner: f64 = (1..n).map(|i| (i as f64 * h).exp()).sum();
+        h * (0.5 + 0.5 * 1f64.exp() + inner)
     }
-    let nc = levels[0].len();
-    if nc < 2 {
-        return Err(BvpError::InvalidInput {
-            name: "levels[0].len()",
-            value: nc as f64,
-            reason: "a grid function needs at least two nodes",
-        });
+
+    #[test]
+    fn polynomial_expansion_eliminated_exactly() {
+        // A(h) = 3 + 5 h^2 - 7 h^4: two levels (three values) remove both terms exactly.
+        let a = |h: f64| 3.0 + 5.0 * h * h - 7.0 * h.powi(4);
+        let vals = [a(0.5), a(0.25), a(0.125)];
+        let ex = richardson(&vals, 2, 2).unwrap();
+        assert!((ex.value - 3.0).abs() < 1e-14, "{}", ex.value);
+        assert_eq!(ex.table.len(), 3);
+        assert_eq!(
+            ex.table.iter().map(Vec::len).collect::<Vec<_>>(),
+            vec![3, 2, 1]
+        );
+        // First column: A + c h^4 terms only; T[1][j] = 3 - 7 h_j^4 (1 - 4)/... checked in closed
+        // form: T[1][j] = (4 A(h/2) - A(h)) / 3 = 3 + (-7)(4 h^4/16 - h^4)/3 = 3 + 7 h^4 / 4.
+        for (j, h) in [0.5f64, 0.25].iter().enumerate() {
+            let expect = 3.0 + 7.0 * h.powi(4) / 4.0;
+            assert!((ex.table[1][j] - expect).abs() < 1e-14);
+        }
+        // The estimate is |T[2][0] - T[1][1]| = 7 (0.25)^4 / 4.
+        assert!((ex.error_estimate - 7.0 * 0.25f64.powi(4) / 4.0).abs() < 1e-14);
     }
-    let n = nc - 1;
-    for (j, lev) in levels.iter().enumerate() {
-        let expected = n
-            .checked_shl(j as u32)
-            .and_then(|v| v.checked_add(1))
-            .ok_or(BvpError::InvalidInput {
-                name: "levels.len()",
-                value: levels.len() as f64,
-                reason: "too many levels",
-            })?;
-        if lev.len() != expected {
-            return Err(BvpError::DimensionMismatch {
-                name: "levels[j]",
-                expected,
-                found: lev.len(),
-            });
+
+    #[test]
+    fn romberg_integration_of_exp() {
+        // Trapezoid error expands in h^2, h^4, ...: Romberg = Richardson(2, 2).
+        let vals: Vec<f64> = (0..6).map(|k| trapezoid_exp(1 << k)).collect();
+        let ex = richardson(&vals, 2, 2).unwrap();
+        let exact = 1f64.exp() - 1.0;
+        let err = (ex.value - exact).abs();
+        assert!(err < 1e-14, "{err:e}");
+        assert!(ex.error_estimate >= err);
+        assert!(ex.error_estimate < 1e-11, "{:e}", ex.error_estimate);
+    }
+
+    #[test]
+    fn measured_orders_of_each_column() {
+        // Forward difference (e^h - 1)/h -> 1 has a full expansion h, h^2, h^3...: column k
+        // of the table with (base 1, step 1) is of order k + 1.
+        let d = |h: f64| h.exp_m1() / h;
+        for (levels, order) in [(1usize, 1.0), (2, 2.0), (3, 3.0)] {
+            let (mut hs, mut es) = (vec![], vec![]);
+            for k in 2..7 {
+                let h0 = 0.5f64.powi(k);
+                let vals: Vec<f64> = (0..levels).map(|j| d(h0 / f64::from(1 << j))).collect();
+                let v = if levels == 1 {
+                    vals[0]
+                } else {
+                    richardson(&vals, 1, 1).unwrap().value
+                };
+                hs.push(h0);
+                es.push((v - 1.0).abs());
+            }
+            let s = loglog_slope(&hs, &es);
+            assert!((s - order).abs() < 0.15, "{levels} levels: order {s}");
         }
     }
-    let mut column = vec![0.0; levels.len()];
-    let mut out = Vec::with_capacity(nc);
-    for i in 0..nc {
-        for (j, lev) in levels.iter().enumerate() {
-            column[j] = lev[i << j];
-        }
-        out.push(richardson(&column, base_order, order_step)?.value);
+
+    #[test]
+    fn invalid_inputs() {
+        assert!(matches!(
+            richardson(&[1.0], 2, 2),
+            Err(BvpError::InvalidInput { .. })
+        ));
+        assert!(matches!(
+            richardson(&[1.0, f64::NAN], 2, 2),
+            Err(BvpError::InvalidInput { name: "values", .. })
+        ));
+        assert!(matches!(
+            richardson(&[1.0, 2.0], 0, 2),
+            Err(BvpError::InvalidInput { .. })
+        ));
+        assert!(matches!(
+            richardson(&[1.0, 2.0], 2, 0),
+            Err(BvpError::InvalidInput { .. })
+        ));
+        assert!(matches!(
+            richardson(&[1.0, 2.0, 3.0], 999, 5),
+            Err(BvpError::InvalidInput { .. })
+        ));
     }
-    Ok(out)
 }

@@ -207,6 +207,49 @@ pub enum ShootingIntegrator {
 }
 
 /// Shooting solver: integrator + trust-region options.
+///
+/// A free parameter in the equation: the first eigenvalue of `y'' + lambda y = 0`,
+/// `y(0) = y(1) = 0`, normalised by `y'(0) = 1`, is `lambda = pi^2` (`y = sin(pi s) / pi`);
+/// the unknown `lambda` enters the right-hand side, the residual is `y(1)`.
+///
+/// ```
+/// use bvp_solvers::integrator::{Dop853, OdeSystem};
+/// use bvp_solvers::shooting::{Shooting, ShootingIntegrator, ShootingProblem};
+/// use bvp_solvers::trust_region::TrustRegionOptions;
+///
+/// struct Mode(f64);
+/// impl OdeSystem for Mode {
+///     fn dim(&self) -> usize { 2 }
+///     fn rhs(&self, _s: f64, u: &[f64], du: &mut [f64]) {
+///         du[0] = u[1];
+///         du[1] = -self.0 * u[0];
+///     }
+/// }
+/// struct Eigen;
+/// impl ShootingProblem for Eigen {
+///     type System = Mode;
+///     fn n_params(&self) -> usize { 1 }
+///     fn system(&self, p: &[f64]) -> Mode { Mode(p[0]) }
+///     fn span(&self, _p: &[f64]) -> (f64, f64) { (0.0, 1.0) }
+///     fn initial_state(&self, _p: &[f64], u0: &mut [f64]) {
+///         u0[0] = 0.0;
+///         u0[1] = 1.0;
+///     }
+///     fn residual(&self, _p: &[f64], u_end: &[f64], r: &mut [f64]) {
+///         r[0] = u_end[0];
+///     }
+/// }
+///
+/// let shooting = Shooting {
+///     integrator: ShootingIntegrator::Dop853(Dop853::new(1e-13, 1e-13)),
+///     options: TrustRegionOptions { tol: 1e-12, ..TrustRegionOptions::default() },
+/// };
+/// let sol = shooting.solve(&Eigen, &[8.0]).unwrap();
+/// let pi2 = std::f64::consts::PI.powi(2);
+/// assert!((sol.params[0] - pi2).abs() < 1e-8, "{}", sol.params[0]);
+/// // y'(1) = cos(pi) = -1
+/// assert!((sol.u_end[1] + 1.0).abs() < 1e-9);
+/// ```
 #[derive(Clone, Debug)]
 pub struct Shooting {
     /// Integrator of each shot.
@@ -296,5 +339,107 @@ impl Shooting {
             residual_norm: sol.residual_norm,
             iterations: sol.iterations,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::newton::Termination;
+    use crate::testing::Harmonic;
+
+    /// `y'' = -y`, `y(0) = 1`, `y(1) = 2`; unknown `p = y'(0)`. Exact: `y = cos x + B sin x`,
+    /// `B = (2 - cos 1) / sin 1`.
+    struct LinearBvp;
+
+    impl ShootingProblem for LinearBvp {
+        type System = Harmonic;
+        fn n_params(&self) -> usize {
+            1
+        }
+        fn system(&self, _p: &[f64]) -> Harmonic {
+            Harmonic
+        }
+        fn span(&self, _p: &[f64]) -> (f64, f64) {
+            (0.0, 1.0)
+        }
+        fn initial_state(&self, p: &[f64], u0: &mut [f64]) {
+            u0[0] = 1.0;
+            u0[1] = p[0];
+        }
+        fn residual(&self, _p: &[f64], u_end: &[f64], r: &mut [f64]) {
+            r[0] = u_end[0] - 2.0;
+        }
+    }
+
+    fn b() -> f64 {
+        (2.0 - 1f64.cos()) / 1f64.sin()
+    }
+
+    fn shooting(integrator: ShootingIntegrator) -> Shooting {
+        let options = TrustRegionOptions {
+            tol: 1e-12,
+            max_iters: 100,
+            ..TrustRegionOptions::default()
+        };
+        Shooting {
+            integrator,
+            options,
+        }
+    }
+
+    #[test]
+    fn linear_bvp_closed_form() {
+        let b = b();
+        let dop = shooting(ShootingIntegrator::Dop853(Dop853::new(1e-13, 1e-13)));
+        let sol = dop.solve(&LinearBvp, &[0.0]).unwrap();
+        assert!((sol.params[0] - b).abs() < 1e-10, "{}", sol.params[0] - b);
+        assert!((sol.u_end[1] - (-1f64.sin() + b * 1f64.cos())).abs() < 1e-10);
+        // RK4 with 100 steps: O(h^4) ~ 1e-9
+        let rk = shooting(ShootingIntegrator::Rk4 { steps: 100 });
+        let sol = rk.solve(&LinearBvp, &[0.0]).unwrap();
+        assert!((sol.params[0] - b).abs() < 1e-8, "{}", sol.params[0] - b);
+        assert!((sol.params[0] - b).abs() > 1e-14); // really the RK4 discretisation
+                                                    // one parameter, two given
+        assert!(matches!(
+            dop.solve(&LinearBvp, &[0.0, 1.0]),
+            Err(BvpError::DimensionMismatch { .. })
+        ));
+    }
+
+    /// The same problem with its sensitivity `v = dy/dp` (`v'' = -v`, `v(0) = 0`,
+    /// `v'(0) = 1`: `v(1) = sin 1`) for [`solve_shooting`]: the residual is linear in `p`,
+    /// so one Newton step lands on `B`.
+    struct LinearShot;
+
+    impl ShotProblem<1> for LinearShot {
+        type End = [f64; 2];
+        type Error = BvpError;
+        fn shoot(&self, p: &[f64; 1], _sensitivities: bool) -> Result<[f64; 2]> {
+            // (y, y') and (v, v') are both solutions of the harmonic system: closed forms
+            let y1 = 1f64.cos() + p[0] * 1f64.sin();
+            Ok([y1, 1f64.sin()])
+        }
+        fn residual(&self, _p: &[f64; 1], end: &[f64; 2]) -> [f64; 1] {
+            [end[0] - 2.0]
+        }
+        fn residual_jacobian(&self, _p: &[f64; 1], end: &[f64; 2]) -> Option<[[f64; 1]; 1]> {
+            Some([[end[1]]])
+        }
+    }
+
+    #[test]
+    fn newton_with_exact_sensitivities_solves_a_linear_shot_in_one_step() {
+        let out = solve_shooting(
+            &LinearShot,
+            [0.0],
+            &NewtonPolicy::new(1e-12),
+            &Safeguards::NONE,
+        )
+        .unwrap();
+        assert_eq!(out.termination, Termination::Converged);
+        assert_eq!(out.iterations, 1);
+        assert!((out.u[0] - b()).abs() < 1e-14, "{}", out.u[0] - b());
+        assert!((out.point[0] - 2.0).abs() < 1e-14);
     }
 }

@@ -81,43 +81,6 @@ fn loglog_slope(x: &[f64], y: &[f64]) -> f64 {
 }
 
 #[test]
-fn rk4_is_fourth_order() {
-    let mut hs = Vec::new();
-    let mut errs = Vec::new();
-    for steps in [10, 20, 40, 80, 160] {
-        let tr = Rk4 { steps }
-            .integrate(&Harmonic, 0.0, 2.0, &[0.0, 1.0])
-            .unwrap();
-        assert_eq!(tr.len(), steps + 1);
-        assert_eq!(tr.s[steps], 2.0);
-        let u = tr.last();
-        let e = (u[0] - 2f64.sin()).abs().max((u[1] - 2f64.cos()).abs());
-        hs.push(2.0 / steps as f64);
-        errs.push(e);
-        // interior node too
-        let i = steps / 2;
-        assert!((tr.state(i)[0] - tr.s[i].sin()).abs() < 1e-3);
-    }
-    let p = loglog_slope(&hs, &errs);
-    println!("RK4 errors {errs:?}, order {p}");
-    assert!((3.9..=4.1).contains(&p), "RK4 order {p}");
-}
-
-#[test]
-fn rk4_backward_and_final_only() {
-    let rk = Rk4 { steps: 200 };
-    let e1 = 1f64.sin().exp();
-    let tr = rk
-        .integrate(&ExpSin, 2.0, 1.0, &[2f64.sin().exp()])
-        .unwrap();
-    assert!((tr.last()[0] - e1).abs() < 1e-9, "{}", tr.last()[0] - e1);
-    let mut out = [0.0];
-    rk.integrate_final(&ExpSin, 2.0, 1.0, &[2f64.sin().exp()], &mut out)
-        .unwrap();
-    assert_eq!(out[0], tr.last()[0]);
-}
-
-#[test]
 fn dop853_harmonic_reaches_1e12() {
     let sol = Dop853::new(1e-13, 1e-13)
         .integrate(&Harmonic, 0.0, 10.0, &[0.0, 1.0])

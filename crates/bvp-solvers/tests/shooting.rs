@@ -8,6 +8,9 @@ use bvp_solvers::shooting::{
 use bvp_solvers::trust_region::TrustRegionOptions;
 use bvp_solvers::BvpError;
 
+mod bratu;
+use bratu::{bratu_theta, slope_at_zero, Bratu};
+
 fn tr(tol: f64) -> TrustRegionOptions {
     TrustRegionOptions {
         tol,
@@ -23,116 +26,13 @@ fn dop(tol: f64) -> Shooting {
     }
 }
 
-/// y'' = -y, y(0) = 1, y(1) = 2; unknown p = y'(0). Exact: y = cos x + B sin x,
-/// B = (2 - cos 1)/sin 1.
-struct LinearBvp;
-struct Osc;
-impl OdeSystem for Osc {
-    fn dim(&self) -> usize {
-        2
-    }
-    fn rhs(&self, _s: f64, u: &[f64], du: &mut [f64]) {
-        du[0] = u[1];
-        du[1] = -u[0];
-    }
-}
-impl ShootingProblem for LinearBvp {
-    type System = Osc;
-    fn n_params(&self) -> usize {
-        1
-    }
-    fn system(&self, _p: &[f64]) -> Osc {
-        Osc
-    }
-    fn span(&self, _p: &[f64]) -> (f64, f64) {
-        (0.0, 1.0)
-    }
-    fn initial_state(&self, p: &[f64], u0: &mut [f64]) {
-        u0[0] = 1.0;
-        u0[1] = p[0];
-    }
-    fn residual(&self, _p: &[f64], u_end: &[f64], r: &mut [f64]) {
-        r[0] = u_end[0] - 2.0;
-    }
-}
-
-#[test]
-fn linear_bvp_closed_form() {
-    let b = (2.0 - 1f64.cos()) / 1f64.sin();
-    let sol = dop(1e-13).solve(&LinearBvp, &[0.0]).unwrap();
-    assert!((sol.params[0] - b).abs() < 1e-10, "{}", sol.params[0] - b);
-    assert!((sol.u_end[1] - (-1f64.sin() + b * 1f64.cos())).abs() < 1e-10);
-    // RK4 with 100 steps: O(h^4) ~ 1e-9
-    let rk = Shooting {
-        integrator: ShootingIntegrator::Rk4 { steps: 100 },
-        options: tr(1e-12),
-    };
-    let sol = rk.solve(&LinearBvp, &[0.0]).unwrap();
-    assert!((sol.params[0] - b).abs() < 1e-8, "{}", sol.params[0] - b);
-    assert!((sol.params[0] - b).abs() > 1e-14); // really the RK4 discretisation
-}
-
-/// Bratu: y'' + lambda e^y = 0, y(0) = y(1) = 0; unknown p = y'(0).
-pub struct Bratu {
-    pub lambda: f64,
-}
-pub struct BratuOde {
-    lambda: f64,
-}
-impl OdeSystem for BratuOde {
-    fn dim(&self) -> usize {
-        2
-    }
-    fn rhs(&self, _s: f64, u: &[f64], du: &mut [f64]) {
-        du[0] = u[1];
-        du[1] = -self.lambda * u[0].exp();
-    }
-}
-impl ShootingProblem for Bratu {
-    type System = BratuOde;
-    fn n_params(&self) -> usize {
-        1
-    }
-    fn system(&self, _p: &[f64]) -> BratuOde {
-        BratuOde {
-            lambda: self.lambda,
-        }
-    }
-    fn span(&self, _p: &[f64]) -> (f64, f64) {
-        (0.0, 1.0)
-    }
-    fn initial_state(&self, p: &[f64], u0: &mut [f64]) {
-        u0[0] = 0.0;
-        u0[1] = p[0];
-    }
-    fn residual(&self, _p: &[f64], u_end: &[f64], r: &mut [f64]) {
-        r[0] = u_end[0];
-    }
-}
-
-/// Roots of theta = sqrt(2 lambda) cosh(theta/4) by bisection on [lo, hi] (independent of the
-/// crate's root finders).
-fn bratu_theta(lambda: f64, mut lo: f64, mut hi: f64) -> f64 {
-    let f = |t: f64| t - (2.0 * lambda).sqrt() * (t / 4.0).cosh();
-    assert!(f(lo) * f(hi) < 0.0);
-    for _ in 0..200 {
-        let m = 0.5 * (lo + hi);
-        if f(m) * f(lo) > 0.0 {
-            lo = m;
-        } else {
-            hi = m;
-        }
-    }
-    0.5 * (lo + hi)
-}
-
 #[test]
 fn bratu_both_branches_lambda_1() {
     let lambda = 1.0;
     // f(theta) = theta - sqrt2 cosh(theta/4): f(0) < 0, f(4) > 0, f(20) < 0
     for (lo, hi, guess) in [(0.0, 4.0, 0.5), (4.0, 20.0, 10.0)] {
         let theta = bratu_theta(lambda, lo, hi);
-        let p_exact = theta * (theta / 4.0).tanh(); // y'(0)
+        let p_exact = slope_at_zero(theta);
         let sol = dop(1e-13).solve(&Bratu { lambda }, &[guess]).unwrap();
         println!(
             "Bratu theta {theta}: y'(0) = {} (exact {p_exact}), {} its",
@@ -216,14 +116,6 @@ fn elastica_load_matches_elliptic_integral() {
     assert!((sol.params[0] - std::f64::consts::PI.powi(2) / 4.0).abs() < 1e-8);
 }
 
-#[test]
-fn shooting_dimension_error() {
-    assert!(matches!(
-        dop(1e-10).solve(&LinearBvp, &[0.0, 1.0]),
-        Err(BvpError::DimensionMismatch { .. })
-    ));
-}
-
 /// Bratu with its variational equation `v'' = -lambda e^y v`, `v(0) = 0`, `v'(0) = 1`
 /// (`v = dy/dp`): shot with the exact sensitivity for [`solve_shooting`].
 struct BratuSensitive {
@@ -269,7 +161,7 @@ fn bratu_both_branches_with_exact_sensitivities() {
     let lambda = 1.0;
     for (lo, hi, guess) in [(0.0, 4.0, 0.5), (4.0, 20.0, 10.0)] {
         let theta = bratu_theta(lambda, lo, hi);
-        let p_exact = theta * (theta / 4.0).tanh();
+        let p_exact = slope_at_zero(theta);
         let problem = BratuSensitive {
             lambda,
             shots: std::cell::Cell::new(0),

@@ -186,3 +186,96 @@ impl Rk4 {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testing::{loglog_slope, Harmonic};
+
+    /// Non-autonomous: `y' = cos(s) y`, `y(0) = 1`: `y = exp(sin s)`.
+    struct ExpSin;
+    impl OdeSystem for ExpSin {
+        fn dim(&self) -> usize {
+            1
+        }
+        fn rhs(&self, s: f64, u: &[f64], du: &mut [f64]) {
+            du[0] = s.cos() * u[0];
+        }
+    }
+
+    /// `y' = y`, `y(0) = 1`: `y = e^s`.
+    struct Growth;
+    impl OdeSystem for Growth {
+        fn dim(&self) -> usize {
+            1
+        }
+        fn rhs(&self, _s: f64, u: &[f64], du: &mut [f64]) {
+            du[0] = u[0];
+        }
+    }
+
+    /// On `y' = y` one step is the Taylor polynomial of `e^h` to fourth order, and the global
+    /// error at `s = 1` falls as `h^4`.
+    #[test]
+    fn one_step_is_the_fourth_order_taylor_polynomial_and_the_order_is_four() {
+        let mut u = [1.0];
+        Rk4Work::new(1).step(&Growth, 0.0, 0.1, &mut u);
+        let h: f64 = 0.1;
+        let taylor = 1.0 + h + h * h / 2.0 + h.powi(3) / 6.0 + h.powi(4) / 24.0;
+        assert!((u[0] - taylor).abs() < 1e-15, "{} vs {taylor}", u[0]);
+        let (mut hs, mut errs) = (vec![], vec![]);
+        for steps in [8, 16, 32, 64, 128] {
+            let mut end = [0.0];
+            Rk4 { steps }
+                .integrate_final(&Growth, 0.0, 1.0, &[1.0], &mut end)
+                .unwrap();
+            hs.push(1.0 / steps as f64);
+            errs.push((end[0] - 1f64.exp()).abs());
+        }
+        let p = loglog_slope(&hs, &errs);
+        assert!((3.95..=4.05).contains(&p), "order {p}, errors {errs:?}");
+        // the leading error constant: e h^4 / 120 per unit length (measured at h = 1/128)
+        let c = errs[4] / hs[4].powi(4);
+        assert!(
+            c > 0.5 * 1f64.exp() / 120.0 && c < 2.0 * 1f64.exp() / 120.0,
+            "{c}"
+        );
+    }
+
+    #[test]
+    fn rk4_is_fourth_order() {
+        let mut hs = Vec::new();
+        let mut errs = Vec::new();
+        for steps in [10, 20, 40, 80, 160] {
+            let tr = Rk4 { steps }
+                .integrate(&Harmonic, 0.0, 2.0, &[0.0, 1.0])
+                .unwrap();
+            assert_eq!(tr.len(), steps + 1);
+            assert_eq!(tr.s[steps], 2.0);
+            let u = tr.last();
+            let e = (u[0] - 2f64.sin()).abs().max((u[1] - 2f64.cos()).abs());
+            hs.push(2.0 / steps as f64);
+            errs.push(e);
+            // interior node too
+            let i = steps / 2;
+            assert!((tr.state(i)[0] - tr.s[i].sin()).abs() < 1e-3);
+        }
+        let p = loglog_slope(&hs, &errs);
+        println!("RK4 errors {errs:?}, order {p}");
+        assert!((3.9..=4.1).contains(&p), "RK4 order {p}");
+    }
+
+    #[test]
+    fn rk4_backward_and_final_only() {
+        let rk = Rk4 { steps: 200 };
+        let e1 = 1f64.sin().exp();
+        let tr = rk
+            .integrate(&ExpSin, 2.0, 1.0, &[2f64.sin().exp()])
+            .unwrap();
+        assert!((tr.last()[0] - e1).abs() < 1e-9, "{}", tr.last()[0] - e1);
+        let mut out = [0.0];
+        rk.integrate_final(&ExpSin, 2.0, 1.0, &[2f64.sin().exp()], &mut out)
+            .unwrap();
+        assert_eq!(out[0], tr.last()[0]);
+    }
+}

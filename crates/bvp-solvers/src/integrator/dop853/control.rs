@@ -92,3 +92,56 @@ impl StepControl {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn accepted(v: Verdict) -> f64 {
+        match v {
+            Verdict::Accept { h_next } => h_next,
+            other => panic!("{other:?}"),
+        }
+    }
+
+    /// Hairer's rule `h_new = h / max(1/6, min(1/0.333, err^(1/8) / 0.9))`: with
+    /// `err = 2^-8` (`err^(1/8) = 1/2`) the step grows by `0.9 / 0.5 = 1.8`; a tiny error
+    /// grows it by the cap 6, bounded by `hmax`; backwards the same with the sign.
+    #[test]
+    fn an_accepted_step_grows_by_hairers_factor() {
+        let mut c = StepControl::new(10.0, 1.0);
+        let h = accepted(c.judge(1.0 / 256.0, 0.1));
+        assert!((h - 0.1 / (0.5 / 0.9)).abs() < 1e-16, "{h}");
+        assert_eq!(accepted(c.judge(1e-40, 0.1)), 0.1 * 6.0);
+        assert_eq!(accepted(c.judge(1e-40, 5.0)), 10.0);
+        let mut back = StepControl::new(10.0, -1.0);
+        assert_eq!(accepted(back.judge(1e-40, -0.1)), -0.1 * 6.0);
+        assert_eq!(accepted(back.judge(1e-40, -5.0)), -10.0);
+        // err = 1 is still accepted: the step shrinks by 0.9
+        assert!((accepted(c.judge(1.0, 0.1)) - 0.09).abs() < 1e-16);
+    }
+
+    /// A rejected step retries with `h / min(1/0.333, err^(1/8) / 0.9)`, and the step after
+    /// a rejection does not grow; a retreat divides by 3 (`fac1 = 0.333`) and counts as one.
+    #[test]
+    fn a_rejection_shrinks_the_step_and_stops_the_next_growth() {
+        let mut c = StepControl::new(10.0, 1.0);
+        // err = 2^8: err^(1/8) = 2, h / (2 / 0.9) = 0.45 h
+        match c.judge(256.0, 0.1) {
+            Verdict::Reject { h_retry } => assert!((h_retry - 0.045).abs() < 1e-16, "{h_retry}"),
+            other => panic!("{other:?}"),
+        }
+        assert!(c.reject);
+        // a huge error: the retry is capped at h * 0.333
+        match c.judge(1e30, 0.1) {
+            Verdict::Reject { h_retry } => assert!((h_retry - 0.0333).abs() < 1e-16),
+            other => panic!("{other:?}"),
+        }
+        // accepted right after: no growth beyond the step taken
+        assert_eq!(accepted(c.judge(1e-40, 0.0333)), 0.0333);
+        assert!(!c.reject);
+        assert_eq!(accepted(c.judge(1e-40, 0.0333)), 0.0333 * 6.0);
+        assert_eq!(c.retreat(0.3), 0.3 * 0.333);
+        assert_eq!(accepted(c.judge(1e-40, 0.0999)), 0.0999);
+    }
+}

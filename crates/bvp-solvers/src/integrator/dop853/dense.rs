@@ -422,28 +422,13 @@ fn extend_in<D: Dim, S: OdeSystem + ?Sized>(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// `u_i' = -sin(u_{i+1}) + s u_i` (cyclic), any dimension.
-    struct Ring(usize);
-
-    impl OdeSystem for Ring {
-        fn dim(&self) -> usize {
-            self.0
-        }
-        fn rhs(&self, s: f64, u: &[f64], du: &mut [f64]) {
-            for i in 0..self.0 {
-                du[i] = -u[(i + 1) % self.0].sin() + s * u[i];
-            }
-        }
-    }
+    use crate::testing::ring_cases;
 
     /// The extension unrolled for a fixed dimension gives the very numbers of the run-time
     /// dimension's loops, for every dimension the dispatch fixes.
     #[test]
     fn fixed_dimensions_reproduce_the_dynamic_extension_bit_for_bit() {
-        for n in [2, 4, 8, 20] {
-            let sys = Ring(n);
-            let y: Vec<f64> = (0..n).map(|i| 0.1 * i as f64 - 0.3).collect();
+        for (n, sys, y) in ring_cases() {
             let k1: Vec<f64> = (0..16 * n).map(|i| (0.37 * i as f64).cos()).collect();
             let (mut k2, mut tmp1, mut tmp2) = (k1.clone(), vec![0.0; n], vec![0.0; n]);
             let mut k1 = k1;

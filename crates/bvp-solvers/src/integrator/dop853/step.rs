@@ -195,30 +195,13 @@ fn update_and_error_in<D: Dim>(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// A pendulum-like system of any even dimension: pairs `(a, b)` with
-    /// `a' = b, b' = -sin(a) + s`.
-    struct Pairs(usize);
-
-    impl OdeSystem for Pairs {
-        fn dim(&self) -> usize {
-            self.0
-        }
-        fn rhs(&self, s: f64, u: &[f64], du: &mut [f64]) {
-            for i in (0..self.0).step_by(2) {
-                du[i] = u[i + 1];
-                du[i + 1] = -u[i].sin() + s;
-            }
-        }
-    }
+    use crate::testing::ring_cases;
 
     /// The stage loops unrolled for a fixed dimension give the very numbers of the run-time
     /// dimension's loops, for every dimension the dispatch fixes.
     #[test]
     fn fixed_dimensions_reproduce_the_dynamic_step_bit_for_bit() {
-        for n in [2, 4, 8, 20] {
-            let sys = Pairs(n);
-            let y: Vec<f64> = (0..n).map(|i| 0.1 * i as f64 - 0.3).collect();
+        for (n, sys, y) in ring_cases() {
             let mut k1 = vec![0.0; 16 * n];
             sys.rhs(0.2, &y, &mut k1[..n]);
             let (mut k2, mut tmp1, mut tmp2) = (k1.clone(), vec![0.0; n], vec![0.0; n]);

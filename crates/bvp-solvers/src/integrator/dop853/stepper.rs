@@ -24,7 +24,7 @@ pub enum Interpolant {
 /// A DOP853 integration advanced one accepted step at a time (module docs).
 ///
 /// ```
-/// use bvp_solvers::integrator::{Dop853, OdeSystem};
+/// use bvp_solvers::integrator::{Dop853, Interpolant, OdeSystem};
 ///
 /// struct Decay;
 /// impl OdeSystem for Decay {
@@ -36,7 +36,8 @@ pub enum Interpolant {
 /// let mut mid = [0.0];
 /// while st.step().unwrap() {
 ///     // the middle of every step, from its 7th-order interpolant
-///     st.interpolate(0.5, &mut mid);
+///     st.prepare(Interpolant::Full);
+///     assert!(st.interpolant::<1>().unwrap().eval(0.5, &mut mid));
 ///     let s = st.start() + 0.5 * st.h();
 ///     assert!((mid[0] - (-s).exp()).abs() < 1e-11);
 /// }
@@ -232,7 +233,7 @@ impl<S: OdeSystem + ?Sized> Stepper<'_, S> {
 
     /// Takes the next accepted step (retrying rejected attempts with smaller steps): `true`
     /// with the step held ([`Stepper::start`], [`Stepper::h`], [`Stepper::end_state`],
-    /// [`Stepper::interpolate`]), `false` once the end `s1` was reached.
+    /// [`Stepper::interpolant`]), `false` once the end `s1` was reached.
     ///
     /// # Errors
     /// `StepSizeUnderflow`, `TooManySteps`, `NonFinite` (the right-hand side returned NaN/inf
@@ -335,14 +336,6 @@ impl<S: OdeSystem + ?Sized> Stepper<'_, S> {
             self.stats.rhs_evals += 3;
             self.interp = Interpolant::Full;
         }
-    }
-
-    /// The held step's 7th-order interpolant at `theta = (s - start) / h` into `out`
-    /// (computed first if need be).
-    pub fn interpolate(&mut self, theta: f64, out: &mut [f64]) {
-        self.prepare(Interpolant::Full);
-        let [_, _, _, _, rc] = self.offsets();
-        dense_eval(&self.buf[rc..], self.n, theta, out);
     }
 
     /// Start of the held step (the current point otherwise).
@@ -470,18 +463,7 @@ impl<S: OdeSystem + ?Sized> Stepper<'_, S> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// `u' = (u1, -u0)`: `u = (sin s, cos s)` from `(0, 1)`.
-    struct Harmonic;
-    impl OdeSystem for Harmonic {
-        fn dim(&self) -> usize {
-            2
-        }
-        fn rhs(&self, _s: f64, u: &[f64], du: &mut [f64]) {
-            du[0] = u[1];
-            du[1] = -u[0];
-        }
-    }
+    use crate::testing::Harmonic;
 
     #[test]
     fn a_copied_interpolant_is_the_held_steps() {
@@ -500,7 +482,8 @@ mod tests {
         assert_eq!((copy.start(), copy.h()), (st.start(), st.h()));
         let (mut a, mut b, mut db) = ([0.0; 2], [0.0; 2], [0.0; 2]);
         for theta in [0.0, 0.3, 1.0] {
-            st.interpolate(theta, &mut a);
+            // the held step's own coefficients
+            dense_eval(st.coefficients().0, 2, theta, &mut a);
             assert!(copy.eval(theta, &mut b));
             assert_eq!(a, b);
             // the cubic part: at the ends the step's values and slopes

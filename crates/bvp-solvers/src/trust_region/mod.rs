@@ -647,3 +647,6 @@ fn take_user_error<S: NonlinearSystem>(w: &Shared<'_, S>, _e: ArgminError) -> S:
         .into(),
     }
 }
+
+#[cfg(test)]
+mod tests;

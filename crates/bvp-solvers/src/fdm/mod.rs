@@ -691,3 +691,6 @@ fn derivative(grid: &UniformGrid, y: &[f64], left: Bc, right: Bc) -> Vec<f64> {
     };
     yp
 }
+
+#[cfg(test)]
+mod tests;

@@ -1,7 +1,7 @@
 //! The trust-region system solver on classical test problems (Moré, Garbow & Hillstrom 1981).
 
-use bvp_solvers::trust_region::{solve, NonlinearSystem, TrustRegionOptions};
-use bvp_solvers::BvpError;
+use super::{solve, NonlinearSystem, TrustRegionOptions};
+use crate::BvpError;
 
 #[derive(Debug, PartialEq)]
 enum MyError {

@@ -177,30 +177,47 @@ pub(super) fn chart_points(chart: &Chart) -> Vec<(f64, f64)> {
     pts
 }
 
-/// The axis ranges of a chart in the plot rectangle `rect`: padded, widened to the
-/// ticks (so that ticks cover the data), 0 included if asked, or equal scales.
-pub(super) fn chart_ranges(
-    chart: &Chart,
-    pts: &[(f64, f64)],
-    rect: Rect,
-) -> ((f64, f64), (f64, f64)) {
-    let (xl, yl) = (chart.x_log, chart.y_log);
-    let xs = pts.iter().map(|p| p.0);
-    let zero = chart.y_zero && !yl;
-    let ys = pts.iter().map(|p| p.1).chain(zero.then_some(0.0));
-    let (xr, yr) = (axis_range(xs.clone(), xl), axis_range(ys.clone(), yl));
-    if chart.aspect_equal && !xl && !yl {
-        let u = ((xr.1 - xr.0) / rect.w).max((yr.1 - yr.0) / rect.h);
-        let (cx, cy) = ((xr.0 + xr.1) / 2.0, (yr.0 + yr.1) / 2.0);
-        return (
-            (cx - u * rect.w / 2.0, cx + u * rect.w / 2.0),
-            (cy - u * rect.h / 2.0, cy + u * rect.h / 2.0),
-        );
+/// The ranges of a chart's points (padded and tight, per axis): computed once per chart,
+/// fitted to each trial plot rectangle of the layout ([`DataRanges::fit`]: padded, widened
+/// to the ticks so that ticks cover the data, 0 included if asked, or equal scales).
+pub(super) struct DataRanges {
+    x: (f64, f64),
+    y: (f64, f64),
+    x_tight: (f64, f64),
+    y_tight: (f64, f64),
+}
+
+impl DataRanges {
+    pub(super) fn of(chart: &Chart, pts: &[(f64, f64)]) -> Self {
+        let (xl, yl) = (chart.x_log, chart.y_log);
+        let xs = pts.iter().map(|p| p.0);
+        let zero = chart.y_zero && !yl;
+        let ys = pts.iter().map(|p| p.1).chain(zero.then_some(0.0));
+        DataRanges {
+            x: axis_range(xs.clone(), xl),
+            y: axis_range(ys.clone(), yl),
+            x_tight: tight_range(xs, xl),
+            y_tight: tight_range(ys, yl),
+        }
     }
-    (
-        to_ticks(xr, tight_range(xs, xl), xl, rect.w),
-        to_ticks(yr, tight_range(ys, yl), yl, rect.h),
-    )
+
+    /// The axis ranges in the plot rectangle `rect`: equal aspect, or widened to ticks.
+    pub(super) fn fit(&self, chart: &Chart, rect: Rect) -> ((f64, f64), (f64, f64)) {
+        let (xl, yl) = (chart.x_log, chart.y_log);
+        let (xr, yr) = (self.x, self.y);
+        if chart.aspect_equal && !xl && !yl {
+            let u = ((xr.1 - xr.0) / rect.w).max((yr.1 - yr.0) / rect.h);
+            let (cx, cy) = ((xr.0 + xr.1) / 2.0, (yr.0 + yr.1) / 2.0);
+            return (
+                (cx - u * rect.w / 2.0, cx + u * rect.w / 2.0),
+                (cy - u * rect.h / 2.0, cy + u * rect.h / 2.0),
+            );
+        }
+        (
+            to_ticks(xr, self.x_tight, xl, rect.w),
+            to_ticks(yr, self.y_tight, yl, rect.h),
+        )
+    }
 }
 
 /// The unpadded range of `values` (on a log axis, of the positive ones).
@@ -331,10 +348,11 @@ pub(super) fn draw_chart(
     // the plot, or in a key above it (and lay out once more).
     let mut key_h = 0.0;
     let mut ytick_w = 18.0;
+    let ranges = DataRanges::of(chart, &pts);
     let layout = |key_h: f64, ytick_w: &mut f64| {
         let mut rect = plot_rect(area, head_h, key_h, *ytick_w);
         for _ in 0..2 {
-            let (_, yr) = chart_ranges(chart, &pts, rect);
+            let (_, yr) = ranges.fit(chart, rect);
             let ya = Axis::up(yr, yl, rect);
             *ytick_w = ya
                 .ticks(tick_target(rect.h))
@@ -343,7 +361,7 @@ pub(super) fn draw_chart(
                 .fold(0.0, f64::max);
             rect = plot_rect(area, head_h, key_h, *ytick_w);
         }
-        let (xr, yr) = chart_ranges(chart, &pts, rect);
+        let (xr, yr) = ranges.fit(chart, rect);
         (rect, Axis::across(xr, xl, rect), Axis::up(yr, yl, rect))
     };
     let (mut rect, mut xa, mut ya) = layout(key_h, &mut ytick_w);

@@ -555,7 +555,7 @@ mod tests {
             w: 220.0,
             h: 70.0,
         };
-        let (xr, yr) = chart_ranges(&chart, &chart_points(&chart), rect);
+        let (xr, yr) = DataRanges::of(&chart, &chart_points(&chart)).fit(&chart, rect);
         let (kx, ky) = ((xr.1 - xr.0) / rect.w, (yr.1 - yr.0) / rect.h);
         assert!((kx / ky - 1.0).abs() < 1e-12, "{kx} vs {ky}");
         assert!(xr.0 <= -3.0 && xr.1 >= 2.0 && yr.0 <= 0.0 && yr.1 >= 1.2);

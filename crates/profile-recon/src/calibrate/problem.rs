@@ -403,7 +403,7 @@ impl<'a> CalibProblem<'a> {
                         let mut h = 0.0;
                         for _ in 0..super::residual::RESIDUALS_PER_ROW {
                             let ji: Vec<f64> = cols.iter().map(|c| c[idx]).collect();
-                            if let Some(x) = super::fit::solve_spd(&reg, &ji) {
+                            if let Some(x) = bvp_solvers::dense::solve_spd(&reg, &ji) {
                                 h += super::fit::dot(&ji, &x);
                             }
                             idx += 1;

@@ -221,8 +221,8 @@ mod tests {
             for j in 0..4 {
                 let col = sens_block(&e, j);
                 let size = col.iter().fold(1e-3f64, |a, v| a.max(v.abs()));
-                for c in 0..4 {
-                    worst = worst.max((g[c][j] - col[c]).abs() / size);
+                for (gc, v) in g.iter().zip(col) {
+                    worst = worst.max((gc[j] - v).abs() / size);
                 }
             }
         }

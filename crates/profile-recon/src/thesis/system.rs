@@ -202,7 +202,8 @@ impl<'a> RowSystem<'a> {
         };
         let (u, residual, iterations) = match nonlinear::solve::<5, 6, _>(&self, start, &opts) {
             Ok(sol) => (sol.x, sol.residual_norm, sol.iterations),
-            // The least-squares minimum above the tolerance (the FDM level): the best point found.
+            // The least-squares minimum above the tolerance (the FDM level), or a run stalled
+            // on the way ([`STALL_TRIALS`]): the best point found.
             Err(ReconError::Bvp(BvpError::NoConvergence { .. }))
                 if self.track.borrow().best.is_finite() =>
             {
@@ -232,16 +233,21 @@ impl NonlinearSystem for RowSystem<'_> {
         6
     }
 
-    /// The residuals [6.5-6.9]; after [`STALL_TRIALS`] trial points without progress every
-    /// further trial point is rejected (NaN) without an FDM solve, which ends the run cheaply.
+    /// The residuals [6.5-6.9]; after [`STALL_TRIALS`] trial points without progress the
+    /// next trial point ends the run without an FDM solve: `NoConvergence` with the best
+    /// residual, the error that [`RowSystem::run`] answers with the best point ([`Track`]).
     fn residual(&self, x: &[f64], r: &mut [f64]) -> Result<()> {
         let trial = !self.in_jacobian.get();
         if trial {
             let mut t = self.track.borrow_mut();
             t.trials += 1;
             if t.trials - t.trial_at_best > STALL_TRIALS {
-                r.iter_mut().for_each(|v| *v = f64::NAN);
-                return Ok(());
+                return Err(BvpError::NoConvergence {
+                    method: "trust region (stalled)",
+                    iterations: t.trials,
+                    residual: t.best,
+                }
+                .into());
             }
         }
         self.eval(x, r);

@@ -110,6 +110,49 @@ impl MomentLaw {
     }
 }
 
+/// The rates of the state `(phi, m, x, y)` of the first-order system [3.25] at `s`
+/// (`inv_e4 = 1 / e(s)^4`, `(sin phi, cos phi) = (sp, cp)`, `dm = m'` from the
+/// [`MomentLaw`]) written into `du[..4]`:
+/// `phi' = m / e^4 + A s + B`, `m'`, `x' = cos phi`, `y' = sin phi`. Shared by
+/// [`WhiskerOde`] and the integrations from the base of the reconstruction.
+#[inline(always)]
+pub fn state_rate(
+    w: &Whisker,
+    s: f64,
+    m: f64,
+    inv_e4: f64,
+    (sp, cp): (f64, f64),
+    dm: f64,
+    du: &mut [f64],
+) {
+    du[0] = m * inv_e4 + w.a * s + w.b;
+    du[1] = dm;
+    du[2] = cp;
+    du[3] = sp;
+}
+
+/// The rates of one block of variational equations of [3.25], the derivatives
+/// `(dphi, dm, dx, dy) = u[o..o + 4]` of the state by one parameter, written into
+/// `du[o..o + 4]`: `dphi' = dm / e^4`, `dm' = jm dphi + explicit`, `dx' = -sin phi dphi`,
+/// `dy' = cos phi dphi` (`jm = d m' / d phi`, `explicit` the parameter's own derivative of
+/// `m'`).
+#[inline(always)]
+pub fn variational_rate(
+    u: &[f64],
+    du: &mut [f64],
+    o: usize,
+    inv_e4: f64,
+    (sp, cp): (f64, f64),
+    jm: f64,
+    explicit: f64,
+) {
+    let (dphi, dm) = (u[o], u[o + 1]);
+    du[o] = dm * inv_e4;
+    du[o + 1] = jm * dphi + explicit;
+    du[o + 2] = -sp * dphi;
+    du[o + 3] = cp * dphi;
+}
+
 /// The first-order system of the elastica, written for integration from the loaded end
 /// `s1` towards the base (any direction works):
 ///
@@ -159,10 +202,7 @@ impl OdeSystem for WhiskerOde {
         let inv_e4 = 1.0 / (e2 * e2);
         let (sp, cp) = crate::trig::sin_cos(phi);
         let rate = self.law.at(s, sp, cp);
-        du[0] = m * inv_e4 + w.a * s + w.b;
-        du[1] = rate.dm;
-        du[2] = cp;
-        du[3] = sp;
+        state_rate(w, s, m, inv_e4, (sp, cp), rate.dm, du);
         let jm = rate.dm_dphi;
         let (sc, cc) = rate.force;
         // phi1 enters AP loads only: d/dphi1 f sin(c) = -f cos(c)
@@ -173,12 +213,8 @@ impl OdeSystem for WhiskerOde {
         match self.sens {
             Sensitivities::None => return,
             Sensitivities::TipAngle => {
-                // the one block of the Newton shots, written out
-                let (dphi, dm) = (u[4], u[5]);
-                du[4] = dm * inv_e4;
-                du[5] = jm * dphi + explicit_phi1;
-                du[6] = -sp * dphi;
-                du[7] = cp * dphi;
+                // the one block of the Newton shots
+                variational_rate(u, du, 4, inv_e4, (sp, cp), jm, explicit_phi1);
                 return;
             }
             Sensitivities::All => {}
@@ -186,8 +222,6 @@ impl OdeSystem for WhiskerOde {
         let sa = rate.flow_sin;
         let n = self.sens.count();
         for j in 0..n {
-            let o = 4 * (j + 1);
-            let (dphi, dm) = (u[o], u[o + 1]);
             let explicit = match j {
                 0 => explicit_phi1,
                 1 => sc,
@@ -195,10 +229,7 @@ impl OdeSystem for WhiskerOde {
                 // the force angle c moves with beta for DP and AP alike
                 _ => l.tip.f * cc,
             };
-            du[o] = dm * inv_e4;
-            du[o + 1] = jm * dphi + explicit;
-            du[o + 2] = -sp * dphi;
-            du[o + 3] = cp * dphi;
+            variational_rate(u, du, 4 * (j + 1), inv_e4, (sp, cp), jm, explicit);
         }
     }
 }

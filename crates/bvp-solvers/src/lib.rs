@@ -6,6 +6,7 @@
 //! | module | concept |
 //! |---|---|
 //! | [`grid`] | uniform grids on `[a, b]` |
+//! | [`dense`] | small dense linear algebra: pivoted Gaussian elimination (any `N x N`, 2x2 included), the inverse, Cholesky factor and solves of symmetric positive definite systems |
 //! | [`tridiag`] | the Thomas algorithm for tridiagonal systems |
 //! | [`fdm`] | finite differences for `y'' = F(x, y, y')` with Newton on the tridiagonal Jacobian |
 //! | [`richardson`] | Richardson extrapolation of FDM results on `h, h/2, ...` |
@@ -24,6 +25,7 @@
 pub mod arclength;
 pub mod continuation;
 pub mod cores;
+pub mod dense;
 pub mod error;
 pub mod fdm;
 pub mod grid;

@@ -334,3 +334,22 @@ where
     }
     .into())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bisect_halves_a_given_number_of_times_and_stops_where_undefined() {
+        // x < 0.3 on [0, 1]: after 12 halvings the midpoint is within 2^-13 of 0.3
+        let x = bisect(|t| Some(t < 0.3), 0.0, 1.0, 12);
+        assert!((x - 0.3).abs() <= 0.5f64.powi(13), "{x}");
+        // the bracket stops shrinking where the predicate is not known: [0, 1] -> [0, 0.5],
+        // then 0.25 is undefined
+        let x = bisect(|t| (t > 0.4).then_some(t < 0.3), 0.0, 1.0, 12);
+        assert_eq!(x, 0.25);
+        // without a budget the bracket shrinks to adjacent floats
+        let x = bisect(|t| Some(t * t < 2.0), 1.0, 2.0, 1000);
+        assert!((x - 2f64.sqrt()).abs() <= 2.0 * f64::EPSILON);
+    }
+}

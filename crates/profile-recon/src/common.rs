@@ -210,3 +210,67 @@ impl NoiseScales {
         NoiseScales(s)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn contact_force_inverts_the_force_balance() {
+        // the reactions to the contact force f (sin psi, -cos psi) at s1 with the flow on
+        // [0, s1]: the point force (f sin psi, f cos psi) of [6.8, 6.9]
+        let flow = FluidLoad { q: 1.5, alpha: 0.3 };
+        let (f, psi, s1) = (2.5, -0.4f64, 0.7);
+        let reactions = Reactions::balancing((f * psi.sin(), f * psi.cos()), flow, s1);
+        let row = ObservableRow {
+            x0: 0.1,
+            ax: reactions.ax,
+            ay: reactions.ay,
+            ma: 0.3,
+            phi0: 1.5,
+        };
+        let (fr, psir) = contact_force(&row, flow, s1);
+        assert!(
+            (fr - f).abs() < 1e-14 && (psir - psi).abs() < 1e-14,
+            "{fr} {psir}"
+        );
+        // Ax = -(f sin psi + q s1 cos alpha) by hand
+        let ax = -(f * psi.sin() + flow.q * s1 * flow.alpha.cos());
+        assert!((row.ax - ax).abs() < 1e-15);
+        // a free whisker's reactions are the flow's [6.1]
+        let free = Reactions::balancing((0.0, 0.0), flow, 1.0);
+        let back = free_flow(free.ax, free.ay);
+        assert!((back.q - flow.q).abs() < 1e-15 && (back.alpha - flow.alpha).abs() < 1e-15);
+    }
+
+    #[test]
+    fn noise_scales_and_contour_errors() {
+        let row = |ax: f64, ay: f64, ma: f64, phi0: f64| ObservableRow {
+            x0: 0.0,
+            ax,
+            ay,
+            ma,
+            phi0,
+        };
+        let s = NoiseScales::of(&[row(-3.0, 1.0, 0.0, 1.5), row(2.0, -4.0, 0.0, 1.6)]);
+        assert_eq!(s.0, [3.0, 4.0, 0.0, 1.6]);
+        // g1 at two points: one on the contour, one 0.01 above it
+        let g1 = contact_sim::Profile::g1();
+        let point = |x: f64, dy: f64| ReconPoint {
+            row: 0,
+            x0: 0.0,
+            x,
+            y: g1.y(x) + dy,
+            s1: 1.0,
+            f: 1.0,
+            psi: 0.0,
+            phase: Phase::A,
+            residual: 0.0,
+            sigma: 0.0,
+            alternatives: 0,
+            evaluations: 0,
+        };
+        let e = contour_error(&[point(0.2, 0.0), point(-0.1, 0.01)], &g1);
+        assert!(e[0] == 0.0 && (e[1] - 0.01).abs() < 1e-15, "{e:?}");
+    }
+}

@@ -2,9 +2,10 @@
 //! [`newton`](super)): Gauss-Newton through the normal equations for least squares, and the
 //! Gauss-Newton projection onto the solutions of an underdetermined system.
 
-use super::{iterate, solve, NewtonAnswer, NewtonPolicy, NewtonSystem, Safeguards};
+use super::{iterate, NewtonAnswer, NewtonPolicy, NewtonSystem, Safeguards};
 #[cfg(doc)]
 use super::{newton, Termination};
+use crate::dense::solve;
 
 /// Gauss-Newton on an overdetermined system (`M >= N`): steps through the normal equations
 /// `J^T J du = J^T R` of `min |R(u)|^2`, under `policy` as [`newton`] (which it is for

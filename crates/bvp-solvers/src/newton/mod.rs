@@ -41,6 +41,7 @@
 
 mod guards;
 mod least_squares;
+use crate::dense::solve;
 use guards::{early_exit, limit, StallWatch};
 pub use guards::{Safeguards, SmallStep, Stall};
 pub use least_squares::{gauss_newton, projection};
@@ -482,34 +483,6 @@ fn finish<const N: usize, const M: usize, S: NewtonSystem<N, M>>(
         }
     }
     Ok(ans)
-}
-
-/// Solves `m x = b` by Gaussian elimination with partial pivoting; `None` if `m` is singular
-/// (a zero or non-finite pivot) or the solution is not finite.
-pub fn solve<const N: usize>(m: &[[f64; N]; N], b: &[f64; N]) -> Option<[f64; N]> {
-    let mut a = *m;
-    let mut x = *b;
-    for k in 0..N {
-        let p = (k..N).max_by(|&i, &j| a[i][k].abs().total_cmp(&a[j][k].abs()))?;
-        a.swap(k, p);
-        x.swap(k, p);
-        if !(a[k][k].abs() > 0.0 && a[k][k].is_finite()) {
-            return None;
-        }
-        for i in k + 1..N {
-            let l = a[i][k] / a[k][k];
-            let pivot = a[k];
-            for (aij, pkj) in a[i][k..].iter_mut().zip(&pivot[k..]) {
-                *aij -= l * pkj;
-            }
-            x[i] -= l * x[k];
-        }
-    }
-    for k in (0..N).rev() {
-        let s: f64 = (k + 1..N).map(|j| a[k][j] * x[j]).sum();
-        x[k] = (x[k] - s) / a[k][k];
-    }
-    x.iter().all(|v| v.is_finite()).then_some(x)
 }
 
 #[cfg(test)]

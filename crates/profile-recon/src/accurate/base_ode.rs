@@ -3,11 +3,48 @@
 //! from the base that every hypothesis of a row reads.
 
 use super::context::MAX_WINDING;
+use crate::common::force_components;
 use crate::error::Result;
 use crate::observables::ObservableRow;
-use beam_model::equations::{MomentLaw, MomentRate};
-use beam_model::{FluidLoad, Loads, Reactions, TipForce, Whisker};
+use beam_model::equations::{state_rate, variational_rate, MomentLaw, MomentRate};
+use beam_model::{FluidLoad, Loads, TipForce, Whisker};
 use bvp_solvers::integrator::{Dop853, OdeSolution, OdeSystem};
+
+/// The observables `(Ax, Ay, MA, phi0)` by which [`BaseOde`]'s variational equations
+/// differentiate, as indices of [`sens_offset`] (and of the columns of the carried
+/// sensitivities).
+pub(crate) mod by {
+    /// The horizontal base reaction `Ax`.
+    pub const AX: usize = 0;
+    /// The vertical base reaction `Ay`.
+    pub const AY: usize = 1;
+    /// The base moment `MA`.
+    pub const MA: usize = 2;
+    /// The base angle `phi0`.
+    pub const PHI0: usize = 3;
+}
+
+/// The components of the state `(phi, m, x, y)` of [`BaseOde`] (and of each block of its
+/// variational equations).
+pub(crate) mod comp {
+    /// The angle `phi`.
+    pub const PHI: usize = 0;
+    /// The internal moment `m`.
+    pub const M: usize = 1;
+}
+
+/// Where the derivatives of the state `(phi, m, x, y)` by observable `j` ([`by`]) begin in
+/// the state of [`BaseOde`] with sensitivities (after the state itself).
+pub(crate) const fn sens_offset(j: usize) -> usize {
+    4 * (j + 1)
+}
+
+/// The derivatives of the state `(phi, m, x, y)` by observable `j` ([`by`]) in the state `u`
+/// of [`BaseOde`] with sensitivities.
+#[cfg(test)]
+pub(crate) fn sens_block(u: &[f64], j: usize) -> &[f64] {
+    &u[sens_offset(j)..sens_offset(j) + 4]
+}
 
 /// The first-order system [3.25] integrated from the base with the base reaction of a row.
 /// For a contact at `s1 >= s` the internal force at `s` is fixed by the base reaction and the
@@ -21,52 +58,39 @@ use bvp_solvers::integrator::{Dop853, OdeSolution, OdeSystem};
 /// x' = cos phi,  y' = sin phi,
 /// ```
 ///
-/// with `(phi, m, x, y)(0) = (phi0, -MA, x0, 0)`; optionally followed by the variational
-/// equations with respect to `(Ax, Ay, MA, phi0)` (4 components each; `Ax`, `Ay` enter the
-/// law through the force `(f cos beta, f sin beta) = (-Ax - q cos alpha, Ay - q sin alpha)`).
+/// with `(phi, m, x, y)(0) = (phi0, -MA, x0, 0)` ([`state_rate`] with the law's `m'`);
+/// optionally followed by the variational equations with respect to `(Ax, Ay, MA, phi0)`
+/// ([`variational_rate`], blocks at [`sens_offset`]; `Ax`, `Ay` enter the law through the force
+/// `(f cos beta, f sin beta) = (-Ax - q cos alpha, Ay - q sin alpha)`).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct BaseOde {
     whisker: Whisker,
     law: MomentLaw,
-    /// With [`BaseOde::fast`], `m'` as
-    /// `sin phi (fc + (1 - s) qc) + cos phi (fs + (1 - s) qs)` in the state's rate (the law's
-    /// sum regrouped: fewer operations after `sin_cos`): the force `(f cos beta, f sin beta)`
-    /// and `q (cos alpha, sin alpha)`.
-    force: (f64, f64),
-    flow: (f64, f64),
     sens: bool,
-    /// `sin` and `cos` of `phi` by [`beam_model::trig::sin_cos`] and the regrouped `m'` (the
-    /// reconstruction's evaluations), or the library's and `m'` from the law, as the beam
-    /// model's FDM computes them (the calibration, whose finite-difference Jacobians see the
-    /// last bits).
+    /// `sin` and `cos` of `phi` by [`beam_model::trig::sin_cos`] (the reconstruction's
+    /// evaluations), or the library's, as the beam model's FDM computes them (the
+    /// calibration, whose finite-difference Jacobians see the last bits).
     fast: bool,
 }
 
 impl BaseOde {
     pub(crate) fn new(whisker: &Whisker, flow: FluidLoad, row: &ObservableRow, sens: bool) -> Self {
-        let reactions = Reactions {
-            ax: row.ax,
-            ay: row.ay,
-        };
-        let (fc, fs) = reactions.point_force(flow, 1.0);
+        let (fc, fs) = force_components(row, flow, 1.0);
         let loads = Loads {
             tip: TipForce::dp(fc.hypot(fs), fs.atan2(fc)),
             fluid: flow,
             s1: 1.0,
         };
-        let (sa, ca) = flow.alpha.sin_cos();
         BaseOde {
             whisker: *whisker,
             law: MomentLaw::new(&loads, 0.0),
-            force: (fc, fs),
-            flow: (flow.q * ca, flow.q * sa),
             sens,
             fast: false,
         }
     }
 
     /// The system with `sin`, `cos` by [`beam_model::trig::sin_cos`] (the shots' own, within
-    /// 2e-16 of the library's) and the regrouped `m'`: the reconstruction's evaluations.
+    /// 2e-16 of the library's): the reconstruction's evaluations.
     pub(crate) fn fast(self) -> Self {
         BaseOde { fast: true, ..self }
     }
@@ -114,8 +138,8 @@ impl BaseOde {
         let mut u = vec![0.0; self.dim()];
         u[..4].copy_from_slice(&[row.phi0, -row.ma, row.x0, 0.0]);
         if self.sens {
-            u[4 * 3 + 1] = -1.0; // d m(0) / d MA
-            u[4 * 4] = 1.0; // d phi(0) / d phi0
+            u[sens_offset(by::MA) + comp::M] = -1.0;
+            u[sens_offset(by::PHI0) + comp::PHI] = 1.0;
         }
         u
     }
@@ -132,27 +156,12 @@ impl OdeSystem for BaseOde {
 
     #[inline(always)]
     fn rhs(&self, s: f64, u: &[f64], du: &mut [f64]) {
-        let w = &self.whisker;
-        let (phi, m) = (u[0], u[1]);
         let inv_e4 = self.compliance(s);
-        let (sp, cp, dm) = match self.fast {
-            true => {
-                let (sp, cp) = beam_model::trig::sin_cos(phi);
-                let arm = 1.0 - s;
-                let ((fc, fs), (qc, qs)) = (self.force, self.flow);
-                (sp, cp, sp * (fc + arm * qc) + cp * (fs + arm * qs))
-            }
-            false => {
-                let (sp, cp) = phi.sin_cos();
-                (sp, cp, self.law.at(s, sp, cp).dm)
-            }
-        };
-        du[0] = m * inv_e4 + w.a * s + w.b;
-        du[1] = dm;
-        du[2] = cp;
-        du[3] = sp;
+        let (sp, cp) = self.sin_cos(u[comp::PHI]);
+        let rate = self.rate(s, sp, cp);
+        state_rate(&self.whisker, s, u[comp::M], inv_e4, (sp, cp), rate.dm, du);
         if self.sens {
-            variational(u, du, (sp, cp), inv_e4, self.law.at(s, sp, cp).dm_dphi);
+            variational(u, du, (sp, cp), inv_e4, rate.dm_dphi);
         }
     }
 }
@@ -162,19 +171,14 @@ impl OdeSystem for BaseOde {
 #[cold]
 #[inline(never)]
 fn variational(u: &[f64], du: &mut [f64], (sp, cp): (f64, f64), inv_e4: f64, jm: f64) {
-    for j in 0..4 {
-        let o = 4 * (j + 1);
-        let (dphi, dm) = (u[o], u[o + 1]);
+    for j in [by::AX, by::AY, by::MA, by::PHI0] {
         // d(f cos beta)/dAx = -1, d(f sin beta)/dAy = 1
         let explicit = match j {
-            0 => -sp,
-            1 => cp,
+            by::AX => -sp,
+            by::AY => cp,
             _ => 0.0,
         };
-        du[o] = dm * inv_e4;
-        du[o + 1] = jm * dphi + explicit;
-        du[o + 2] = -sp * dphi;
-        du[o + 3] = cp * dphi;
+        variational_rate(u, du, sens_offset(j), inv_e4, (sp, cp), jm, explicit);
     }
 }
 
@@ -283,7 +287,7 @@ pub(crate) mod tests {
             let (up, um) = (at(h), at(-h));
             for c in 0..4 {
                 let fd = (up[c] - um[c]) / (2.0 * h);
-                let v = jac.u_end[4 * (j + 1) + c];
+                let v = sens_block(&jac.u_end, j)[c];
                 assert!(
                     (fd - v).abs() < 1e-6 * (1.0 + v.abs()),
                     "d{c}/d{j}: {fd} vs {v}"

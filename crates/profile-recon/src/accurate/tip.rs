@@ -5,6 +5,7 @@
 use super::base_ode::BaseOde;
 use super::base_run::BaseRun;
 use super::context::{K_SIGMA, TIP_GRID};
+use bvp_solvers::roots::bisect;
 
 /// The first arc back from the tip checked for a look-alike.
 const TIP_FIRST: f64 = 1e-5;
@@ -40,7 +41,8 @@ pub(super) fn tip_levels(run: &BaseRun, ode: &BaseOde, sd_m: f64, sd_g: f64) -> 
         // g changes sign between grid points: the phase-B look-alike is where g = 0
         if let Some((d0, _, g0)) = prev {
             if g0 != 0.0 && g0.signum() != g.signum() {
-                let c = bisect_sign(&mut |t| at(t).map(|v| v.1), (d0, g0), d, 12);
+                // 12 halvings on the sign of g, ended where g cannot be evaluated
+                let c = bisect(|t| at(t).map(|v| v.1.signum() == g0.signum()), d0, d, 12);
                 if let Some((mc, gc)) = at(c) {
                     let nc = need(mc, gc);
                     if nc < o.1 {
@@ -54,27 +56,6 @@ pub(super) fn tip_levels(run: &BaseRun, ode: &BaseOde, sd_m: f64, sd_g: f64) -> 
     out
 }
 
-/// `steps` bisections of `[a, b]` on the sign of `g` (`ga = g(a)`, `g(b)` of the other
-/// sign), ended early where `g` cannot be evaluated; the midpoint of the last bracket.
-fn bisect_sign(
-    g: &mut impl FnMut(f64) -> Option<f64>,
-    (a, ga): (f64, f64),
-    b: f64,
-    steps: usize,
-) -> f64 {
-    let (mut a, mut b, mut ga) = (a, b, ga);
-    for _ in 0..steps {
-        let c = 0.5 * (a + b);
-        let Some(gc) = g(c) else { break };
-        if gc.signum() == ga.signum() {
-            (a, ga) = (c, gc);
-        } else {
-            b = c;
-        }
-    }
-    0.5 * (a + b)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -83,16 +64,5 @@ mod tests {
     fn the_grid_spans_1e_5_to_one_half() {
         let last = TIP_FIRST * TIP_RATIO.powi(TIP_GRID as i32 - 1);
         assert!((last - 0.5).abs() < 1e-13, "{last}");
-    }
-
-    #[test]
-    fn bisection_brackets_the_sign_change() {
-        // g = t - 0.3 on [0, 1]: after 12 halvings the midpoint is within 2^-13 of 0.3
-        let c = bisect_sign(&mut |t| Some(t - 0.3), (0.0, -0.3), 1.0, 12);
-        assert!((c - 0.3).abs() <= 0.5f64.powi(13), "{c}");
-        // the bracket stops shrinking where g is not known: [0, 1] -> [0, 0.5], then g(0.25)
-        // is missing
-        let c = bisect_sign(&mut |t| (t > 0.4).then_some(t - 0.3), (0.0, -0.3), 1.0, 12);
-        assert_eq!(c, 0.25);
     }
 }

@@ -12,7 +12,7 @@
 //! 4th-order step on them is accurate to several digits (the error estimate needs a few;
 //! unit test against the variational equations integrated with the state at 1e-12).
 
-use super::base_ode::BaseOde;
+use super::base_ode::{by, comp, BaseOde};
 use super::base_run::BaseRun;
 use bvp_solvers::integrator::{OdeSystem, StepInterpolant};
 
@@ -23,8 +23,8 @@ pub(super) type Sens = [[f64; 4]; 4];
 /// The sensitivities at the base: `d m(0) / d MA = -1`, `d phi(0) / d phi0 = 1`.
 pub(super) fn initial_sens() -> Sens {
     let mut y = [[0.0; 4]; 4];
-    y[1][2] = -1.0;
-    y[0][3] = 1.0;
+    y[comp::M][by::MA] = -1.0;
+    y[comp::PHI][by::PHI0] = 1.0;
     y
 }
 
@@ -196,6 +196,7 @@ pub(super) fn sensitivities(run: &BaseRun, ode: &BaseOde, at: &[f64]) -> Vec<Opt
 
 #[cfg(test)]
 mod tests {
+    use super::super::base_ode::sens_block;
     use super::super::base_ode::tests::row;
     use super::*;
     use crate::observables::ObservableRow;
@@ -218,10 +219,10 @@ mod tests {
         for (s, g) in arcs.iter().zip(got) {
             let e = exact.eval(*s).unwrap();
             for j in 0..4 {
-                let col = &e[4 * (j + 1)..4 * (j + 2)];
+                let col = sens_block(&e, j);
                 let size = col.iter().fold(1e-3f64, |a, v| a.max(v.abs()));
-                for c in 0..4 {
-                    worst = worst.max((g[c][j] - col[c]).abs() / size);
+                for (gc, v) in g.iter().zip(col) {
+                    worst = worst.max((gc[j] - v).abs() / size);
                 }
             }
         }
@@ -257,7 +258,7 @@ mod tests {
                 let mut out = [[0.0; 4]; 4];
                 for (c, row) in out.iter_mut().enumerate() {
                     for (j, o) in row.iter_mut().enumerate() {
-                        *o = v[4 * (j + 1) + c];
+                        *o = sens_block(&v, j)[c];
                     }
                 }
                 out

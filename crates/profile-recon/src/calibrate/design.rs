@@ -201,3 +201,49 @@ fn predict(
         worst_relative: worst,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The predicted standard errors of `fit` for the whisker of the test log past g1.
+    fn stderrs(fit: Vec<CalibParam>, fit_flow: bool) -> Vec<f64> {
+        let settings = DesignSettings {
+            fit,
+            noise: 1e-3,
+            fit_flow,
+            sweep: SweepSettings {
+                points: 24,
+                pre_contact_rows: 3,
+                ..SweepSettings::default()
+            },
+        };
+        let w = Whisker::new(0.5, 0.4, -0.3, 20.0);
+        let flow = FluidLoad { q: 2.0, alpha: 0.2 };
+        let out = design(&w, flow, &[("g1".into(), Profile::g1())], &settings).unwrap();
+        // three free rows, 24 contact rows and one per phase switch
+        assert!(out[0].rows >= 27 && out[0].contact >= 24, "{}", out[0].rows);
+        out[0]
+            .parameters
+            .iter()
+            .map(|p| p.stderr.expect("identifiable"))
+            .collect()
+    }
+
+    #[test]
+    fn fitting_more_costs_information() {
+        // the Cramér-Rao bound of a parameter grows with every other one fitted alongside
+        // (the Schur complement of the Fisher information): the flow, then B
+        let known = stderrs(vec![CalibParam::A, CalibParam::B], false);
+        let fitted = stderrs(vec![CalibParam::A, CalibParam::B], true);
+        let alone = stderrs(vec![CalibParam::A], false);
+        assert!(known.iter().all(|s| *s > 0.0 && s.is_finite()), "{known:?}");
+        assert!(
+            fitted[0] >= known[0] && fitted[1] >= known[1],
+            "{fitted:?} {known:?}"
+        );
+        assert!(alone[0] <= known[0], "{alone:?} {known:?}");
+        // of a size that a noise of 1e-3 on 29 rows can give
+        assert!(known[0] < 1e-1 && alone[0] > 1e-7, "{known:?}");
+    }
+}

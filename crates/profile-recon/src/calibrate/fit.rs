@@ -3,7 +3,10 @@
 //! few parameters and many residuals. Hand-written rather than argmin's trust region: the
 //! calibration needs the bounds, a residual function that may fail for a trial point (the
 //! step is then shortened, as for a rise of the cost), and a state carried from one accepted
-//! point to the next (the tracked phase-B roots).
+//! point to the next (the tracked phase-B roots). Its linear algebra is
+//! [`bvp_solvers::dense`]'s.
+
+use bvp_solvers::dense;
 
 /// A least-squares problem `min |r(p)|^2 / 2` for the fit.
 pub(crate) trait Problem {
@@ -74,6 +77,20 @@ pub(crate) struct LmResult<S> {
     pub cost: f64,
 }
 
+/// The finite-difference Jacobian's columns `column(i, h)` (`dr / dp_i`), each parameter's
+/// step `h` `step_rel`-relative to its size plus its scale; `None` if a column is.
+fn columns(
+    p: &[f64],
+    bounds: &Bounds,
+    step_rel: f64,
+    column: impl FnMut(usize, f64) -> Option<Vec<f64>>,
+) -> Option<Vec<Vec<f64>>> {
+    let mut column = column;
+    (0..p.len())
+        .map(|i| column(i, step_rel * (p[i].abs() + bounds.scale[i])))
+        .collect()
+}
+
 /// Forward-difference Jacobian (column-major: `jac[i]` is `dr / dp_i`), steps
 /// `sqrt(eps)`-relative to the parameter's scale, taken inwards at an upper bound.
 pub(crate) fn jacobian<P: Problem>(
@@ -84,14 +101,9 @@ pub(crate) fn jacobian<P: Problem>(
     bounds: &Bounds,
     step_rel: f64,
 ) -> Option<Vec<Vec<f64>>> {
-    let mut cols = Vec::with_capacity(p.len());
-    for i in 0..p.len() {
-        let mut h = step_rel * (p[i].abs() + bounds.scale[i]);
-        if p[i] + h > bounds.hi[i] {
-            h = -h;
-        }
+    columns(p, bounds, step_rel, |i, h| {
+        let h = if p[i] + h > bounds.hi[i] { -h } else { h };
         // forwards, else backwards (a phase-B root may leave the whisker on one side)
-        let mut col = None;
         for sign in [1.0, -1.0] {
             let mut q = p.to_vec();
             q[i] = (p[i] + sign * h).clamp(bounds.lo[i], bounds.hi[i]);
@@ -100,13 +112,11 @@ pub(crate) fn jacobian<P: Problem>(
                 continue;
             }
             if let Some((rq, _)) = prob.residuals(&q, state) {
-                col = Some(rq.iter().zip(r).map(|(a, b)| (a - b) / d).collect());
-                break;
+                return Some(rq.iter().zip(r).map(|(a, b)| (a - b) / d).collect());
             }
         }
-        cols.push(col?);
-    }
-    Some(cols)
+        None
+    })
 }
 
 /// Central-difference Jacobian (for the final covariance: error `O(h^2)`), one-sided at a
@@ -118,9 +128,7 @@ pub(crate) fn jacobian_central<P: Problem>(
     bounds: &Bounds,
     step_rel: f64,
 ) -> Option<Vec<Vec<f64>>> {
-    let mut cols = Vec::with_capacity(p.len());
-    for i in 0..p.len() {
-        let h = step_rel * (p[i].abs() + bounds.scale[i]);
+    columns(p, bounds, step_rel, |i, h| {
         let mut up = p.to_vec();
         let mut down = p.to_vec();
         up[i] = (p[i] + h).min(bounds.hi[i]);
@@ -133,43 +141,13 @@ pub(crate) fn jacobian_central<P: Problem>(
             (None, Some(d)) => (prob.residuals(p, state)?.0, d, p[i] - down[i]),
             (None, None) => return None,
         };
-        cols.push(ru.iter().zip(&rd).map(|(a, b)| (a - b) / d).collect());
-    }
-    Some(cols)
+        Some(ru.iter().zip(&rd).map(|(a, b)| (a - b) / d).collect())
+    })
 }
 
 /// `sum r^2 / 2`.
 pub(crate) fn cost(r: &[f64]) -> f64 {
     0.5 * r.iter().map(|v| v * v).sum::<f64>()
-}
-
-/// Solves the symmetric positive definite system `a x = b` by Cholesky (`None` if not SPD).
-pub(crate) fn solve_spd(a: &[Vec<f64>], b: &[f64]) -> Option<Vec<f64>> {
-    let n = b.len();
-    let mut l = vec![vec![0.0; n]; n];
-    for i in 0..n {
-        for j in 0..=i {
-            let s: f64 = (0..j).map(|k| l[i][k] * l[j][k]).sum();
-            if i == j {
-                let d = a[i][i] - s;
-                if !(d > 0.0 && d.is_finite()) {
-                    return None;
-                }
-                l[i][i] = d.sqrt();
-            } else {
-                l[i][j] = (a[i][j] - s) / l[j][j];
-            }
-        }
-    }
-    let mut y = vec![0.0; n];
-    for i in 0..n {
-        y[i] = (b[i] - (0..i).map(|k| l[i][k] * y[k]).sum::<f64>()) / l[i][i];
-    }
-    let mut x = vec![0.0; n];
-    for i in (0..n).rev() {
-        x[i] = (y[i] - (i + 1..n).map(|k| l[k][i] * x[k]).sum::<f64>()) / l[i][i];
-    }
-    Some(x)
 }
 
 /// Bounded Levenberg-Marquardt from `p0` (clamped into the box): each iteration solves
@@ -239,7 +217,7 @@ pub(crate) fn levenberg_marquardt<P: Problem>(
                 a[i][i] = 1.0;
                 neg[i] = 0.0;
             }
-            solve_spd(&a, &neg)
+            dense::solve_spd(&a, &neg)
         };
         // converged: the Gauss-Newton step would lower the cost by a negligible amount
         if let Some(d) = step(1e-10) {
@@ -342,10 +320,29 @@ mod tests {
     }
 
     #[test]
-    fn spd_solve() {
-        let a = vec![vec![4.0, 1.0], vec![1.0, 3.0]];
-        let x = solve_spd(&a, &[1.0, 2.0]).unwrap();
-        assert!((4.0 * x[0] + x[1] - 1.0).abs() < 1e-14 && (x[0] + 3.0 * x[1] - 2.0).abs() < 1e-14);
-        assert!(solve_spd(&[vec![0.0]], &[1.0]).is_none());
+    fn difference_jacobians_match_the_analytic_one() {
+        // d r / d p of Rosen at (0.3, -0.2): columns (-20 p0, -1) and (10, 0)
+        let p = [0.3, -0.2];
+        let want = [[-6.0, -1.0], [10.0, 0.0]];
+        let r = Rosen.residuals(&p, &()).unwrap().0;
+        // an upper bound just above p0: the forward step for p0 is taken backwards
+        let bounds = Bounds {
+            lo: vec![-5.0, -5.0],
+            hi: vec![0.3 + 1e-9, 5.0],
+            scale: vec![1.0, 1.0],
+        };
+        let fwd = jacobian(&Rosen, &p, &r, &(), &bounds, 1e-7).unwrap();
+        let cen = jacobian_central(&Rosen, &p, &(), &bounds, 1e-5).unwrap();
+        for (i, w) in want.iter().enumerate() {
+            for (k, v) in w.iter().enumerate() {
+                assert!((fwd[i][k] - v).abs() < 1e-5, "forward {i} {k}: {fwd:?}");
+            }
+        }
+        // central: one-sided at the bound (from p0 - 1.3e-5 to the bound: the secant of
+        // -10 p0^2 is -10 (up + down)), symmetric and exact for the linear residual of p1
+        let (up, down) = (0.3 + 1e-9, 0.3 - 1e-5 * 1.3);
+        assert!((cen[0][0] + 10.0 * (up + down)).abs() < 1e-8, "{cen:?}");
+        assert!((cen[0][1] + 1.0).abs() < 1e-9 && (cen[1][1]).abs() < 1e-12);
+        assert!((cen[1][0] - 10.0).abs() < 1e-9);
     }
 }

@@ -86,6 +86,8 @@ pub mod residual;
 mod result;
 mod run;
 mod screen;
+#[cfg(test)]
+mod test_log;
 pub mod whiten;
 
 pub use design::{design, DesignPrediction, DesignSettings};

@@ -105,3 +105,49 @@ fn leave_out_outliers(prob: &CalibProblem<'_>, p: &[f64], kinds: &mut Kinds) -> 
     }
     out.len()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::test_log::{exact, problem};
+    use super::super::CalibParam;
+    use super::*;
+
+    #[test]
+    fn an_outlier_is_left_out_but_not_a_crowd() {
+        let mut e = exact(3, 24);
+        let truth_kinds = e.kinds.clone();
+        let contact: Vec<usize> = (0..truth_kinds.len())
+            .filter(|&i| matches!(truth_kinds[i], RowKind::A | RowKind::B { .. }))
+            .collect();
+        // rows moved off the model by 1e-3 of the moment's full scale (whitened: 1e-3 at
+        // unit relative noise, far beyond six times a noise level of 1e-6)
+        let scale = e.log.rows.iter().map(|r| r.ma.abs()).fold(0.0, f64::max);
+        let moved = |e: &mut super::super::test_log::Exact, k: usize| {
+            e.log.rows[contact[k]].ma += 1e-3 * scale;
+        };
+        let run = |e: &super::super::test_log::Exact| {
+            let logs = [e.log.clone()];
+            let mut prob = problem(&logs, vec![CalibParam::A], &e.truth);
+            prob.log_noise = 1e-6;
+            let qf = (e.flow.q * e.flow.alpha.cos(), e.flow.q * e.flow.alpha.sin());
+            let p = prob.pack(&prob.base, &[qf]);
+            let mut kinds = vec![e.kinds.clone()];
+            assert!(prob.reweight(&p, &kinds));
+            let out = leave_out_outliers(&prob, &p, &mut kinds);
+            (out, skipped(&kinds))
+        };
+        moved(&mut e, 10);
+        let (out, skip) = run(&e);
+        assert_eq!(out, 1);
+        assert!(
+            (0..skip.len()).all(|i| skip[i] == (i == contact[10])),
+            "{skip:?}"
+        );
+        // more than a tenth of the contact rows (at least two) off: the model is in doubt,
+        // not the rows; none is left out
+        for k in [3, 6] {
+            moved(&mut e, k);
+        }
+        assert_eq!(run(&e), (0, vec![false; skip.len()]));
+    }
+}

@@ -403,7 +403,7 @@ impl<'a> CalibProblem<'a> {
                         let mut h = 0.0;
                         for _ in 0..super::residual::RESIDUALS_PER_ROW {
                             let ji: Vec<f64> = cols.iter().map(|c| c[idx]).collect();
-                            if let Some(x) = super::fit::solve_spd(&reg, &ji) {
+                            if let Some(x) = bvp_solvers::dense::solve_spd(&reg, &ji) {
                                 h += super::fit::dot(&ji, &x);
                             }
                             idx += 1;
@@ -457,5 +457,95 @@ impl Problem for CalibProblem<'_> {
             kinds.push(k);
         }
         Some((r, kinds))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::test_log::{exact, problem};
+    use super::*;
+    use beam_model::Whisker;
+
+    #[test]
+    fn packing_is_inverted_by_unpacking() {
+        let e = exact(3, 8);
+        let logs = [e.log.clone(), e.log.clone()];
+        let mut prob = problem(
+            &logs,
+            vec![CalibParam::Theta, CalibParam::K, CalibParam::Ei],
+            &e.truth,
+        );
+        prob.fixed_flow[1] = Some((1.0, 0.5));
+        assert_eq!(prob.dim(), 5);
+        let m = Model {
+            lambda: 2.5,
+            theta: 0.3,
+            c: 0.05,
+            ..prob.base
+        };
+        let p = prob.pack(&m, &[(1.5, -0.3), (9.0, 9.0)]);
+        // E I through its logarithm; the fixed flow is not a parameter
+        assert_eq!(p[..2], [0.3, 0.05]);
+        assert!((p[2] - 2.5f64.ln()).abs() < 1e-15 && p[3..] == [1.5, -0.3]);
+        let (back, flows) = prob.unpack(&p);
+        assert!((back.lambda / 2.5 - 1.0).abs() < 1e-15);
+        assert_eq!((back.theta, back.c, back.a, back.b), (0.3, 0.05, m.a, m.b));
+        assert_eq!(flows, [(1.5, -0.3), (1.0, 0.5)]);
+        let b = prob.bounds();
+        assert_eq!(b.lo.len(), 5);
+        assert!((b.hi[2] - 1e3f64.ln()).abs() < 1e-14 && (b.lo[2] + 1e3f64.ln()).abs() < 1e-14);
+        assert!(b.lo[1] == 0.0 && (b.hi[1] - 1.0 / K_MIN).abs() < 1e-12);
+    }
+
+    #[test]
+    fn the_exact_log_has_no_residual_at_the_truth() {
+        let e = exact(3, 12);
+        let logs = [e.log.clone()];
+        let prob = problem(&logs, vec![CalibParam::A, CalibParam::B], &e.truth);
+        let qf = (e.flow.q * e.flow.alpha.cos(), e.flow.q * e.flow.alpha.sin());
+        let p = prob.pack(&prob.base, &[qf]);
+        let kinds = vec![e.kinds.clone()];
+        let res = prob
+            .evaluate(&p, &kinds)
+            .expect("every row evaluates at the truth");
+        let worst = res[0]
+            .iter()
+            .flat_map(|r| r.r)
+            .fold(0.0f64, |a, v| a.max(v.abs()));
+        assert!(worst < 1e-8, "{worst:e}");
+        assert_eq!(prob.residual_count(&kinds), 4 * e.log.rows.len());
+        // moved off the truth, the residuals grow
+        let moved = prob
+            .evaluate(&[p[0] + 0.01, p[1], p[2], p[3]], &kinds)
+            .unwrap();
+        let worst = moved[0]
+            .iter()
+            .flat_map(|r| r.r)
+            .fold(0.0f64, |a, v| a.max(v.abs()));
+        assert!(worst > 1e-5, "{worst:e}");
+    }
+
+    #[test]
+    fn leverages_add_up_to_the_parameter_count() {
+        // three rows in use (twelve residuals), one skipped; two parameters
+        let prob = problem(&[], vec![CalibParam::A, CalibParam::B], &Whisker::uniform());
+        let kinds = vec![vec![
+            RowKind::Pre,
+            RowKind::Skipped,
+            RowKind::A,
+            RowKind::B { s1: 0.5 },
+        ]];
+        let cols: Vec<Vec<f64>> = (0..2)
+            .map(|c| {
+                (0..12)
+                    .map(|i| ((i * (c + 2)) as f64 * 0.7).sin() + c as f64)
+                    .collect()
+            })
+            .collect();
+        let h = prob.leverages(&cols, &kinds);
+        assert!(h[0][1].is_nan());
+        let total: f64 = [0, 2, 3].iter().map(|&k| h[0][k]).sum();
+        assert!((total - 2.0).abs() < 1e-9, "{h:?}");
+        assert!([0, 2, 3].iter().all(|&k| h[0][k] > 0.0 && h[0][k] < 2.0));
     }
 }

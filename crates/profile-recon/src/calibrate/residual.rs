@@ -27,12 +27,12 @@
 //! per row.
 
 use crate::accurate::base_ivp;
+use crate::common::force_components;
 use crate::observables::ObservableRow;
-use beam_model::{FluidLoad, Whisker};
+use beam_model::{FluidLoad, Support, Whisker};
 use bvp_solvers::integrator::{Dop853, OdeSolution};
 use bvp_solvers::roots::{brent, RootOptions};
 use contact_sim::Profile;
-use std::f64::consts::FRAC_PI_2;
 
 /// Residuals per row.
 pub const RESIDUALS_PER_ROW: usize = 4;
@@ -65,14 +65,18 @@ impl Model {
         }
     }
 
+    /// The follicle (`k = 1/c`, rigid for `c <= 0`).
+    pub fn support(&self) -> Support {
+        if self.c > 0.0 {
+            Support::Spring { k: 1.0 / self.c }
+        } else {
+            Support::Rigid
+        }
+    }
+
     /// The whisker (`k = 1/c`, rigid for `c <= 0`).
     pub fn whisker(&self) -> Whisker {
-        let k = if self.c > 0.0 {
-            1.0 / self.c
-        } else {
-            f64::INFINITY
-        };
-        Whisker::new(self.theta, self.a, self.b, k)
+        Whisker::new(self.theta, self.a, self.b, self.support().stiffness())
     }
 }
 
@@ -165,15 +169,15 @@ pub(crate) fn row_residuals(
         ma: row.ma / m.lambda,
         phi0: row.phi0,
     };
-    let (qc, qs) = ctx.flow;
-    let follicle = obs.phi0 - FRAC_PI_2 + obs.ma * m.c;
+    // the follicle law [3.21, 3.22] with m(0) = -MA
+    let follicle = m.support().residual(obs.phi0, -obs.ma);
     let whisker = Whisker {
         theta: m.theta,
         a: m.a,
         b: m.b,
         ..Whisker::default()
     };
-    let flow = flow_of(qc, qs);
+    let flow = flow_of(ctx.flow.0, ctx.flow.1);
     let nan = (f64::NAN, f64::NAN);
     match kind {
         RowKind::Skipped => Some(RowResult {
@@ -193,16 +197,18 @@ pub(crate) fn row_residuals(
             if !(phi1.is_finite() && m1.is_finite()) {
                 return None;
             }
+            // the point force at the tip that the reactions balance with the flow [6.8, 6.9]
+            let (fa, fb) = force_components(&obs, flow, 1.0);
             if kind == RowKind::Pre {
+                // none on the free whisker [6.1]
                 return Some(RowResult {
-                    r: [follicle, obs.ax + qc, obs.ay - qs, m1],
+                    r: [follicle, -fa, fb, m1],
                     kind,
                     point: nan,
                     distance: f64::NAN,
                     compression: f64::NAN,
                 });
             }
-            let (fa, fb) = (-obs.ax - qc, obs.ay - qs);
             let (dist, psi_c) = contour_distance(ctx.profile, x1, y1);
             let normal = fa * psi_c.cos() - fb * psi_c.sin();
             let r = [follicle, m1, dist, normal];
@@ -226,7 +232,7 @@ pub(crate) fn row_residuals(
                 return None;
             }
             let (phi, x, y) = (u[0], u[2], u[3]);
-            let (fa, fb) = (-obs.ax - qc * root, obs.ay - qs * root);
+            let (fa, fb) = force_components(&obs, flow, root);
             let (dist, psi_c) = contour_distance(ctx.profile, x, y);
             let normal = fa * psi_c.cos() - fb * psi_c.sin();
             let tangency = fb * phi.sin() - fa * phi.cos();
@@ -377,9 +383,15 @@ pub(crate) fn hypotheses(ctx: &RowCtx<'_>, row: &ObservableRow) -> Vec<RowResult
 }
 
 /// The contact force of `row` at the tip under the flow, `|(-Ax - qc, Ay - qs)|` (model
-/// units): what decides [`RowKind::Skipped`].
+/// units, [`force_components`]): what decides [`RowKind::Skipped`].
 pub(crate) fn tip_force(model: &Model, flow: (f64, f64), row: &ObservableRow) -> f64 {
-    (-row.ax / model.lambda - flow.0).hypot(row.ay / model.lambda - flow.1)
+    let obs = ObservableRow {
+        ax: row.ax / model.lambda,
+        ay: row.ay / model.lambda,
+        ..*row
+    };
+    let (fa, fb) = force_components(&obs, flow_of(flow.0, flow.1), 1.0);
+    fa.hypot(fb)
 }
 
 #[cfg(test)]

@@ -657,3 +657,7 @@ pub(crate) fn logs_noise(prob: &CalibProblem<'_>) -> f64 {
         .map(|(l, sc)| smoothness_noise(&l.rows, sc))
         .fold(0.0, f64::max)
 }
+
+#[cfg(test)]
+#[path = "run_tests.rs"]
+mod tests;

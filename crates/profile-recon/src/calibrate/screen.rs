@@ -114,3 +114,53 @@ pub(crate) fn candidates(
     out.sort_by(|a, b| a.0.total_cmp(&b.0));
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::residual::tip_force;
+    use super::super::test_log::{exact, problem};
+    use super::*;
+
+    #[test]
+    fn the_truth_screens_best() {
+        let e = exact(3, 24);
+        let logs = [e.log.clone()];
+        let free = vec![CalibParam::Theta, CalibParam::A, CalibParam::K];
+        let prob = problem(&logs, free, &e.truth);
+        let qf = (e.flow.q * e.flow.alpha.cos(), e.flow.q * e.flow.alpha.sin());
+        let p0 = prob.pack(&prob.base, &[qf]);
+        let pre: Vec<Vec<bool>> = vec![e.kinds.iter().map(|k| *k == RowKind::Pre).collect()];
+        let rows = subsample(&prob, &pre);
+        // one pre-contact row and every contact row up to 16 (24 and more: every other)
+        assert!(rows[0][0].1 && rows[0][1..].iter().all(|r| !r.1));
+        assert!((12..=17).contains(&rows[0].len()), "{}", rows[0].len());
+        // the truth explains every row with its best hypothesis, but for a contact row
+        // without force (the first contact: no push, so no hypothesis), which counts the cap
+        let force = |i: usize| tip_force(&prob.base, qf, &logs[0].rows[i]);
+        let fmax = (0..logs[0].rows.len()).map(force).fold(0.0, f64::max);
+        let forceless = rows[0]
+            .iter()
+            .filter(|r| !r.1 && force(r.0) < 1e-9 * fmax)
+            .count();
+        assert_eq!(forceless, 1);
+        let at_truth = objective(&prob, &p0, &rows);
+        assert!((at_truth - CAP).abs() < 1e-12, "{at_truth:e}");
+        let forced = vec![rows[0]
+            .iter()
+            .copied()
+            .filter(|r| r.1 || force(r.0) >= 1e-9 * fmax)
+            .collect()];
+        assert!(objective(&prob, &p0, &forced) < 1e-18);
+        let mut off = p0.clone();
+        off[1] += 0.1;
+        assert!(objective(&prob, &off, &forced) > 1e-6);
+        // the candidates: the start and four seeded ones, sorted, the truth first, the
+        // compliance and the flow kept
+        let c = candidates(&prob, &p0, &pre, 4, 3);
+        assert_eq!(c.len(), 5);
+        assert!(c.windows(2).all(|w| w[0].0 <= w[1].0));
+        assert_eq!(c[0].1, p0);
+        assert!(c.iter().all(|(_, p)| p[2] == p0[2] && p[3..] == p0[3..]));
+        assert!(c.iter().all(|(_, p)| (0.02..=1.0).contains(&p[0])));
+    }
+}

@@ -1,12 +1,13 @@
 //! The whitening of a row's residuals by their covariance under the sensor noise
-//! ([`Whitener`]: the finite-difference Jacobian of the residuals in the observables, its
-//! Cholesky factor and the small dense linear algebra around it), the projection of a noisy
+//! ([`Whitener`]: the finite-difference Jacobian of the residuals in the observables and its
+//! Cholesky factor, by [`bvp_solvers::dense`]), the projection of a noisy
 //! row onto the model (`projected`) and the phase of a contact row by its smallest whitened
 //! residual (`judge`).
 
 use super::residual::{hypotheses, row_residuals, RowCtx, RowKind, RowResult, RESIDUALS_PER_ROW};
 use crate::common::NoiseScales;
 use crate::observables::ObservableRow;
+use bvp_solvers::dense;
 
 /// The covariance square root of a row's residuals under unit relative noise:
 /// `C = J D J^T` with `J = d r / d(Ax, Ay, MA, phi0)` (finite differences) and
@@ -50,11 +51,8 @@ impl Whitener {
 
     /// `L^-1 r` by forward substitution.
     pub fn apply(&self, r: &[f64; RESIDUALS_PER_ROW]) -> [f64; RESIDUALS_PER_ROW] {
-        let mut z = [0.0; RESIDUALS_PER_ROW];
-        for i in 0..RESIDUALS_PER_ROW {
-            let s: f64 = (0..i).map(|j| self.l[i][j] * z[j]).sum();
-            z[i] = (r[i] - s) / self.l[i][i];
-        }
+        let mut z = *r;
+        dense::forward_substitute(self.l.as_flattened(), &mut z);
         z
     }
 
@@ -106,7 +104,7 @@ pub(crate) fn whitener(
     let ridge = 1e-14 * trace + f64::MIN_POSITIVE;
     let mut w = cholesky(&c, ridge)?;
     w.degeneracy = degeneracy(&c);
-    w.map = invert(&jac).map(|r_inv| {
+    w.map = dense::inverse(&jac).map(|r_inv| {
         let mut q = [[0.0; RESIDUALS_PER_ROW]; RESIDUALS_PER_ROW];
         for j in 0..n {
             let col = w.apply(&[jac[0][j], jac[1][j], jac[2][j], jac[3][j]]);
@@ -117,59 +115,6 @@ pub(crate) fn whitener(
         RowMap { r_inv, q }
     });
     Some(w)
-}
-
-/// `m^-1` by Gauss-Jordan elimination with partial pivoting (`None` when a pivot falls
-/// below `1e-12` of the largest entry).
-#[allow(clippy::needless_range_loop)]
-fn invert(
-    m: &[[f64; RESIDUALS_PER_ROW]; RESIDUALS_PER_ROW],
-) -> Option<[[f64; RESIDUALS_PER_ROW]; RESIDUALS_PER_ROW]> {
-    let n = RESIDUALS_PER_ROW;
-    let big = m.iter().flatten().fold(0.0f64, |a, v| a.max(v.abs()));
-    if !(big > 0.0 && big.is_finite()) {
-        return None;
-    }
-    let mut a = *m;
-    let mut inv = [[0.0; RESIDUALS_PER_ROW]; RESIDUALS_PER_ROW];
-    for (i, row) in inv.iter_mut().enumerate() {
-        row[i] = 1.0;
-    }
-    for col in 0..n {
-        let piv = (col..n).max_by(|&x, &y| a[x][col].abs().total_cmp(&a[y][col].abs()))?;
-        if a[piv][col].abs() < 1e-12 * big {
-            return None;
-        }
-        a.swap(col, piv);
-        inv.swap(col, piv);
-        let d = a[col][col];
-        for j in 0..n {
-            a[col][j] /= d;
-            inv[col][j] /= d;
-        }
-        for i in 0..n {
-            if i != col {
-                let f = a[i][col];
-                for j in 0..n {
-                    a[i][j] -= f * a[col][j];
-                    inv[i][j] -= f * inv[col][j];
-                }
-            }
-        }
-    }
-    Some(inv)
-}
-
-/// `m v`.
-fn mul(
-    m: &[[f64; RESIDUALS_PER_ROW]; RESIDUALS_PER_ROW],
-    v: &[f64; RESIDUALS_PER_ROW],
-) -> [f64; RESIDUALS_PER_ROW] {
-    let mut out = [0.0; RESIDUALS_PER_ROW];
-    for (o, row) in out.iter_mut().zip(m) {
-        *o = row.iter().zip(v).map(|(a, b)| a * b).sum();
-    }
-    out
 }
 
 /// The chord-Newton iteration of `projected` stops when a step is below this fraction of
@@ -202,7 +147,7 @@ pub(crate) fn projected(
     let Some(map) = w.map.filter(|_| steps > 0 && res.kind != RowKind::Skipped) else {
         return first;
     };
-    let mut delta = mul(&map.r_inv, &res.r).map(|v| -v);
+    let mut delta = dense::mul_vec(&map.r_inv, &res.r).map(|v| -v);
     let mut kind = res.kind;
     for _ in 0..steps {
         let size = delta.iter().fold(0.0f64, |a, v| a.max(v.abs()));
@@ -218,7 +163,7 @@ pub(crate) fn projected(
             return first;
         };
         kind = e.kind;
-        let step = mul(&map.r_inv, &e.r);
+        let step = dense::mul_vec(&map.r_inv, &e.r);
         for (d, s) in delta.iter_mut().zip(step) {
             *d -= s;
         }
@@ -227,7 +172,7 @@ pub(crate) fn projected(
             break;
         }
     }
-    let z = mul(&map.q, &delta).map(|v| -v);
+    let z = dense::mul_vec(&map.q, &delta).map(|v| -v);
     if z.iter().all(|v| v.is_finite()) {
         z
     } else {
@@ -256,32 +201,16 @@ fn degeneracy(c: &[[f64; RESIDUALS_PER_ROW]; RESIDUALS_PER_ROW]) -> f64 {
     }
 }
 
-/// Cholesky factor of `c + ridge I`, with the ridge raised until it succeeds.
+/// Cholesky factor of `c + ridge I` ([`dense::cholesky`]), with the ridge raised until it
+/// succeeds.
 fn cholesky(c: &[[f64; RESIDUALS_PER_ROW]; RESIDUALS_PER_ROW], ridge: f64) -> Option<Whitener> {
-    let n = RESIDUALS_PER_ROW;
     let mut ridge = ridge;
     for _ in 0..40 {
-        let mut l = [[0.0; RESIDUALS_PER_ROW]; RESIDUALS_PER_ROW];
-        let mut ok = true;
-        for i in 0..n {
-            for j in 0..=i {
-                let s: f64 = (0..j).map(|k| l[i][k] * l[j][k]).sum();
-                if i == j {
-                    let d = c[i][i] + ridge - s;
-                    if !(d > 0.0 && d.is_finite()) {
-                        ok = false;
-                        break;
-                    }
-                    l[i][i] = d.sqrt();
-                } else {
-                    l[i][j] = (c[i][j] - s) / l[j][j];
-                }
-            }
-            if !ok {
-                break;
-            }
+        let mut a = *c;
+        for (i, row) in a.iter_mut().enumerate() {
+            row[i] += ridge;
         }
-        if ok {
+        if let Some(l) = dense::cholesky(&a) {
             return Some(Whitener {
                 l,
                 degeneracy: 1.0,
@@ -341,30 +270,6 @@ mod tests {
         let z = w.apply(&[w.l[0][0], w.l[1][0], w.l[2][0], w.l[3][0]]);
         assert!((z[0] - 1.0).abs() < 1e-14 && z[1..].iter().all(|v| v.abs() < 1e-14));
         assert!((w.sd(0) - 2.0).abs() < 1e-14);
-    }
-
-    #[test]
-    #[allow(clippy::needless_range_loop)]
-    fn invert_gives_the_inverse_and_refuses_a_singular_matrix() {
-        let m = [
-            [0.0, 2.0, 1.0, 0.0],
-            [1.0, 0.5, 0.0, 3.0],
-            [4.0, 0.0, 1.0, 1.0],
-            [0.0, 1.0, 0.0, 2.0],
-        ];
-        let inv = invert(&m).unwrap();
-        for i in 0..4 {
-            for j in 0..4 {
-                let v: f64 = (0..4).map(|k| m[i][k] * inv[k][j]).sum();
-                assert!(
-                    (v - f64::from(u8::from(i == j))).abs() < 1e-14,
-                    "{i} {j} {v}"
-                );
-            }
-        }
-        let mut sing = m;
-        sing[3] = [0.0; 4];
-        assert!(invert(&sing).is_none());
     }
 
     /// A pre-contact row moved off the model by `d` (in units of the noise scales): the

@@ -28,7 +28,7 @@
 //! a BVP takes): the least-squares minimum keeps a residual of about `1e-5..1e-4`. This is the
 //! thesis's observation that "only a tolerance of 1e-4 is achievable". The trust region runs
 //! with tolerance `1e-8`; when it cannot get there, the run is ended once [`STALL_TRIALS`]
-//! trial points bring no progress (further trial points are rejected without an FDM solve) and
+//! trial points bring no progress (the next trial point stops it without an FDM solve) and
 //! the best point found is the reconstruction, with its residual norm reported in
 //! [`ReconPoint::residual`] and the trust-region iterations up to it in
 //! [`ReconPoint::evaluations`].

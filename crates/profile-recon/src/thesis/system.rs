@@ -3,6 +3,7 @@
 //! region of [`bvp_solvers::nonlinear`] with the stall rule ([`STALL_TRIALS`]); a solved
 //! hypothesis and the conversion of a solution of one phase into a start of the other.
 
+use crate::common::force_components;
 use crate::error::{ReconError, Result};
 use crate::observables::ObservableRow;
 use beam_model::equations::WhiskerFdmProblem;
@@ -178,9 +179,11 @@ impl<'a> RowSystem<'a> {
         r[1] = m.y1 - u[1]; // [6.5], y component
         r[2] = w.stiffness(s1) * (m.kappa1 - w.kappa0(s1)); // [6.6]
         r[3] = self.row.ma + w.stiffness(0.0) * (m.kappa0 - w.b); // [6.7]
-        let (sa, ca) = self.flow.alpha.sin_cos();
-        r[4] = self.row.ax + self.flow.q * s1 * ca + f * sp; // [6.8]
-        r[5] = self.row.ay - self.flow.q * s1 * sa - f * cp; // [6.9]
+                                                                  // the contact force (f sin psi, f cos psi) against the point force the base
+                                                                  // reactions balance with the flow on [0, s1]
+        let (fa, fb) = force_components(self.row, self.flow, s1);
+        r[4] = f * sp - fa; // [6.8]
+        r[5] = fb - f * cp; // [6.9]
     }
 
     /// Solves the row from `start` ([`nonlinear::solve`] with the trust region alone: the six
@@ -199,7 +202,8 @@ impl<'a> RowSystem<'a> {
         };
         let (u, residual, iterations) = match nonlinear::solve::<5, 6, _>(&self, start, &opts) {
             Ok(sol) => (sol.x, sol.residual_norm, sol.iterations),
-            // The least-squares minimum above the tolerance (the FDM level): the best point found.
+            // The least-squares minimum above the tolerance (the FDM level), or a run stalled
+            // on the way ([`STALL_TRIALS`]): the best point found.
             Err(ReconError::Bvp(BvpError::NoConvergence { .. }))
                 if self.track.borrow().best.is_finite() =>
             {
@@ -229,16 +233,21 @@ impl NonlinearSystem for RowSystem<'_> {
         6
     }
 
-    /// The residuals [6.5-6.9]; after [`STALL_TRIALS`] trial points without progress every
-    /// further trial point is rejected (NaN) without an FDM solve, which ends the run cheaply.
+    /// The residuals [6.5-6.9]; after [`STALL_TRIALS`] trial points without progress the
+    /// next trial point ends the run without an FDM solve: `NoConvergence` with the best
+    /// residual, the error that [`RowSystem::run`] answers with the best point ([`Track`]).
     fn residual(&self, x: &[f64], r: &mut [f64]) -> Result<()> {
         let trial = !self.in_jacobian.get();
         if trial {
             let mut t = self.track.borrow_mut();
             t.trials += 1;
             if t.trials - t.trial_at_best > STALL_TRIALS {
-                r.iter_mut().for_each(|v| *v = f64::NAN);
-                return Ok(());
+                return Err(BvpError::NoConvergence {
+                    method: "trust region (stalled)",
+                    iterations: t.trials,
+                    residual: t.best,
+                }
+                .into());
             }
         }
         self.eval(x, r);

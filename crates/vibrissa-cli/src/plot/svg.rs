@@ -171,8 +171,7 @@ pub(super) fn c(v: f64) -> String {
 
 /// Appends [`c`] of `v` to `out`: `v` rounded to two decimals as `format!("{v:.2}")` rounds
 /// it (the exact binary value, ties to even), trailing zeros and point dropped, `-0` as `0`.
-/// Done with integers into a stack buffer, one `push_str` (formatting a float with a
-/// precision was most of a figure's cost, pushing it a character at a time half of the rest).
+/// Done with integers (formatting a float with a precision was most of a figure's cost).
 fn push_c(out: &mut String, v: f64) {
     let Some(hundredths) = hundredths(v.abs()) else {
         let s = format!("{v:.2}");
@@ -184,34 +183,18 @@ fn push_c(out: &mut String, v: f64) {
         out.push('0');
         return;
     }
-    // sign, up to 15 integer digits (hundredths < 1e17), point, two decimals
-    let mut buf = [0u8; 24];
-    let mut i = buf.len();
-    let (mut int, frac) = (hundredths / 100, hundredths % 100);
-    if frac != 0 {
-        if frac % 10 != 0 {
-            i -= 1;
-            buf[i] = b'0' + (frac % 10) as u8;
-        }
-        i -= 1;
-        buf[i] = b'0' + (frac / 10) as u8;
-        i -= 1;
-        buf[i] = b'.';
-    }
-    loop {
-        i -= 1;
-        buf[i] = b'0' + (int % 10) as u8;
-        int /= 10;
-        if int == 0 {
-            break;
-        }
-    }
     if v < 0.0 {
-        i -= 1;
-        buf[i] = b'-';
+        out.push('-');
     }
-    // ASCII digits, point and sign only
-    out.push_str(std::str::from_utf8(&buf[i..]).unwrap_or("0"));
+    push_u64(out, hundredths / 100);
+    let frac = hundredths % 100;
+    if frac != 0 {
+        out.push('.');
+        out.push(char::from(b'0' + (frac / 10) as u8));
+        if frac % 10 != 0 {
+            out.push(char::from(b'0' + (frac % 10) as u8));
+        }
+    }
 }
 
 /// `a * 100` (`a` >= 0) rounded to an integer exactly as `{:.2}` rounds (half to even);
@@ -247,6 +230,23 @@ fn hundredths(a: f64) -> Option<u64> {
     let half = 1u128 << (k - 1);
     let up = r > half || (r == half && q & 1 == 1);
     Some((q + u128::from(up)) as u64)
+}
+
+/// Appends the decimal digits of `n`.
+fn push_u64(out: &mut String, mut n: u64) {
+    let mut buf = [0u8; 20];
+    let mut i = buf.len();
+    loop {
+        i -= 1;
+        buf[i] = b'0' + (n % 10) as u8;
+        n /= 10;
+        if n == 0 {
+            break;
+        }
+    }
+    for &b in &buf[i..] {
+        out.push(char::from(b));
+    }
 }
 
 impl Svg {

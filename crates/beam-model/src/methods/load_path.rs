@@ -120,12 +120,12 @@ impl LoadCurve<'_> {
                     iterations: it,
                 });
             }
-            let det = g[0] * n[1] - g[1] * n[0];
-            if det == 0.0 || !det.is_finite() {
+            // the bordered Newton step [R'; n] du = [R; c]
+            let Some(du) = bvp_solvers::dense::solve(&[g, n], &[r, c]) else {
                 break;
-            }
-            u[0] -= (n[1] * r - g[1] * c) / det;
-            u[1] -= (g[0] * c - n[0] * r) / det;
+            };
+            u[0] -= du[0];
+            u[1] -= du[1];
             if (u[0] - p[0]).hypot(u[1] - p[1]) > radius {
                 break;
             }

@@ -233,8 +233,7 @@ fn total(g: &Cheb, v: impl Iterator<Item = f64>) -> f64 {
 fn free_angle(scene: &Scene, phi1: f64, t: f64) -> f64 {
     let w = &scene.whisker;
     let s1 = scene.loads.s1;
-    let s = s1 + (1.0 - s1) * t;
-    phi1 + w.a * (s * s - s1 * s1) / 2.0 + w.b * (s - s1)
+    w.phi_free(s1, phi1, s1 + (1.0 - s1) * t)
 }
 
 /// The numbers the error estimate compares (tip, loaded end, base observables), from an
@@ -297,15 +296,10 @@ fn step(
     }
     for j in 0..=n {
         let s = s1 * g.t[j];
-        let e2 = (1.0 + (w.theta - 1.0) * s).powi(2);
-        out.kappa[j] = out.m[j] / (e2 * e2) + w.a * s + w.b;
+        out.kappa[j] = out.m[j] / w.stiffness(s) + w.kappa0(s);
     }
-    let k = w.support.stiffness();
-    let phi0 = if k.is_finite() {
-        FRAC_PI_2 + out.m[0] / k
-    } else {
-        FRAC_PI_2
-    };
+    // the follicle law [3.21, 3.22]
+    let phi0 = FRAC_PI_2 + out.m[0] * w.support.compliance();
     g.integrate(&out.kappa, s1, &mut out.phi);
     for v in out.phi.iter_mut() {
         *v += phi0;
@@ -397,7 +391,7 @@ fn solution(scene: &Scene, g: &Cheb, it: &Iterate, samples: usize) -> Solution {
                     end.x + dot(&c, &fx),
                     end.y + dot(&c, &fy),
                     dot(&c, &free_phi),
-                    w.a * s + w.b,
+                    w.kappa0(s),
                     0.0,
                 );
             }
@@ -532,10 +526,7 @@ pub(crate) fn solve(scene: &Scene, tol: f64, samples: usize) -> Result<Solution,
     let g0 = cheb(SIZES[0]);
     let unloaded: Vec<f64> =
         g0.t.iter()
-            .map(|t| {
-                let s = s1 * t;
-                FRAC_PI_2 + w.a * s * s / 2.0 + w.b * s
-            })
+            .map(|t| w.phi_unloaded(s1 * t))
             .collect();
     let mut c = iterate(scene, g0, &unloaded, inner, f64::NAN)?;
     let (mut steps, mut evaluations) = (c.steps, c.steps * (g0.n + 1));

@@ -285,8 +285,8 @@ mod tests {
             let (w, loads) = (&scene.whisker, &scene.loads);
             let phi1 = w.phi_unloaded(loads.s1) - 0.3;
             let sens = Sensitivities::TipAngle;
-            let earlier = shoot(w, loads, phi1 + 1e-3, sens, &Integration::adaptive(1e-10))
-                .unwrap();
+            let earlier =
+                shoot(w, loads, phi1 + 1e-3, sens, &Integration::adaptive(1e-10)).unwrap();
             let start = earlier.start.expect("a DOP853 shot records its first step");
             assert!(start.h > 0.0 && start.rtol == 1e-10, "{name}: {start:?}");
             let tight = Integration::adaptive(1e-12);

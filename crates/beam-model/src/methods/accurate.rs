@@ -217,6 +217,19 @@ fn trapezoidal_difference(scene: &Scene, tip: &TipSolve, sens: BaseValues, sol: 
     difference(second, phi1 - sol.loaded_end.phi, sol, &scene.loads)
 }
 
+/// The smallest error an answer of a dense shot at `tol` can claim: its tolerance relative
+/// to the answer's largest value (DOP853 controls each step's error to `tol (1 + |y|)`;
+/// below that the difference of two integrations says nothing: measured, answers at 1e-12
+/// 1e-13 off where the two solutions agreed to 1e-14, on 6 of 279 random scenes).
+fn resolution(sol: &Solution, tol: f64) -> f64 {
+    let b = &sol.base;
+    let e = &sol.loaded_end;
+    let scale = [b.ax, b.ay, b.ma, b.phi0, e.x, e.y, e.phi]
+        .iter()
+        .fold(0.0_f64, |m, v| m.max(v.abs()));
+    tol * (1.0 + scale)
+}
+
 /// Steps 3 and 4 of the module docs from the search's answer `tip`: the solution with its
 /// error estimate, or (`Err`) the evaluations spent when the dense shots' Newton steps do
 /// not come within reach of their root: `|d| <= root_step(tol)` and, where two shots give
@@ -261,11 +274,12 @@ fn refine(
         match linearised_shape(scene, phi1, run, stats, accept)? {
             Linearised::Root { mut sol, sens } => {
                 sol.stats.residual = support.residual(sol.base.phi0, -sol.base.ma).abs();
-                let linearisation = linearisation(&sens, sol.loaded_end.phi - phi1);
+                // the linearisation's bound and the dense shot's own resolution
+                let floor =
+                    linearisation(&sens, sol.loaded_end.phi - phi1) + resolution(&sol, d853.rtol);
                 // the second solution: stage 2's shot, where it was not at this angle ...
                 if let Some(second) = estimate.second.filter(|t| t.step != 0.0) {
-                    let est =
-                        SAFETY * trapezoidal_difference(scene, second, sens, &sol) + linearisation;
+                    let est = SAFETY * trapezoidal_difference(scene, second, sens, &sol) + floor;
                     if est <= estimate.tolerance {
                         sol.stats.error_estimate = est;
                         return Ok(Ok(*sol));
@@ -283,7 +297,7 @@ fn refine(
                     f64::INFINITY
                 };
                 sol.stats.error_estimate =
-                    SAFETY * corrected_difference(&shot, sens, d, &sol, loads) + linearisation;
+                    SAFETY * corrected_difference(&shot, sens, d, &sol, loads) + floor;
                 return Ok(Ok(*sol));
             }
             Linearised::Far {

@@ -524,10 +524,7 @@ pub(crate) fn solve(scene: &Scene, tol: f64, samples: usize) -> Result<Solution,
     let w = &scene.whisker;
     let s1 = scene.loads.s1;
     let g0 = cheb(SIZES[0]);
-    let unloaded: Vec<f64> =
-        g0.t.iter()
-            .map(|t| w.phi_unloaded(s1 * t))
-            .collect();
+    let unloaded: Vec<f64> = g0.t.iter().map(|t| w.phi_unloaded(s1 * t)).collect();
     let mut c = iterate(scene, g0, &unloaded, inner, f64::NAN)?;
     let (mut steps, mut evaluations) = (c.steps, c.steps * (g0.n + 1));
     for pair in SIZES.windows(2) {

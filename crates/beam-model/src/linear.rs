@@ -90,7 +90,7 @@ mod tests {
     fn sixteen_intervals_are_within_a_few_per_cent() {
         let w = Whisker::new(0.3, 1.5, -0.8, 8.0);
         let loads = Loads::combined(TipForce::dp(2.0, 0.7), 3.0, -0.4);
-        let (b64, t64) = rotations(&w, &loads);
+        let (_, t64) = rotations(&w, &loads);
         let (b16, t16) = rotations_on::<16>(&w, &loads);
         let (b256, t256) = rotations_on::<256>(&w, &loads);
         assert!((t16 - t256).abs() <= 0.03 * t256.abs(), "{t16} vs {t256}");

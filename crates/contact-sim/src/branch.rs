@@ -21,7 +21,7 @@ use crate::error::{ContactError, Result};
 use crate::phase::{contact_loads, ContactState, ContourPoint, Phase};
 use crate::profile::Profile;
 use beam_model::equations::Sensitivities;
-use beam_model::shot::{shoot, Integration};
+use beam_model::shot::{shoot, BaseValues, Integration};
 use beam_model::{FluidLoad, Whisker};
 use bvp_solvers::newton::{
     newton, Evaluation, JacobianUpdate, NewtonPolicy, NewtonSystem, Termination,
@@ -148,7 +148,7 @@ impl Branch<'_> {
         };
         if !(s1 > 1e-6 && s1 <= 1.5 && f.is_finite() && phi1.is_finite()) {
             return Err(ContactError::PhaseSolve {
-                phase: phase.letter(),
+                phase,
                 xc: g.x,
                 iterations: 0,
                 residual: f64::NAN,
@@ -167,25 +167,34 @@ impl Branch<'_> {
         };
         let shot = shoot(self.whisker, &loads, phi1, sens, self.integration)?;
         // d(shot)/d(beta) at fixed f (zero without a force)
-        let dbeta: [f64; 4] = if f == 0.0 || !jac {
-            [0.0; 4]
+        let dbeta = if f == 0.0 || !jac {
+            BaseValues::default()
         } else {
-            shot.d_beta.to_array()
+            shot.d_beta
         };
-        let c = self.whisker.support.compliance();
-        let col = |d: [f64; 4]| [d[0] - c * d[1], d[3], -d[2]];
+        let support = &self.whisker.support;
+        // a column of the Jacobian: the rates of R0 (the follicle law), R1 and x0
+        let col = |d: BaseValues| [support.residual_rate(d.phi0, d.m0), d.dy, -d.dx];
         // d/dt: the force angle beta = pi/2 - psi(t) turns, and in phase B phi1 = psi(t).
         let dpsi = g.dpsi;
-        let mut dt = [0.0; 4];
-        for i in 0..4 {
-            dt[i] = -dbeta[i] * dpsi;
+        let turn = |beta: f64, phi1: f64| {
+            let r = -beta * dpsi;
             if phase == Phase::B {
-                dt[i] += shot.d_phi1.to_array()[i] * dpsi;
+                r + phi1 * dpsi
+            } else {
+                r
             }
-        }
+        };
+        let (b, p) = (dbeta, shot.d_phi1);
+        let dt = BaseValues {
+            phi0: turn(b.phi0, p.phi0),
+            m0: turn(b.m0, p.m0),
+            dx: turn(b.dx, p.dx),
+            dy: turn(b.dy, p.dy),
+        };
         let (c0, c1) = match phase {
-            Phase::B => (col(shot.d_s1.to_array()), col(shot.d_f.to_array())),
-            _ => (col(shot.d_phi1.to_array()), col(shot.d_f.to_array())),
+            Phase::B => (col(shot.d_s1), col(shot.d_f)),
+            _ => (col(shot.d_phi1), col(shot.d_f)),
         };
         let mut c2 = col(dt);
         c2[1] -= g.dy;
@@ -302,7 +311,7 @@ impl Branch<'_> {
                 Ok(node)
             }
             _ => Err(ContactError::PhaseSolve {
-                phase: phase.letter(),
+                phase,
                 xc: node.state.point.xc,
                 iterations: MAX_NEWTON as u64,
                 residual: ans.norm,
@@ -481,4 +490,83 @@ pub(crate) fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
 
 pub(crate) fn norm(a: &[f64; 3]) -> f64 {
     dot(a, a).sqrt()
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+
+    /// A whisker, flow, contour and integrator to build a branch on in the crate's tests.
+    pub(crate) struct TestScene {
+        pub whisker: Whisker,
+        pub flow: FluidLoad,
+        pub profile: Profile,
+        pub integration: Integration,
+    }
+
+    impl TestScene {
+        /// A tapered, pre-curved whisker on a spring under a slanted flow past `g2`, shot
+        /// at tolerance `tol`.
+        pub(crate) fn bent(tol: f64) -> Self {
+            TestScene {
+                whisker: Whisker::new(0.6, 0.3, 0.2, 20.0),
+                flow: FluidLoad { q: 2.0, alpha: 0.3 },
+                profile: Profile::g2(),
+                integration: Integration::adaptive(tol),
+            }
+        }
+
+        /// A straight rigid whisker (no pre-curvature) without flow past `profile`.
+        pub(crate) fn straight(profile: Profile) -> Self {
+            TestScene {
+                whisker: Whisker::new(0.6, 0.0, 0.0, f64::INFINITY),
+                flow: FluidLoad { q: 0.0, alpha: 0.0 },
+                profile,
+                integration: Integration::adaptive(1e-12),
+            }
+        }
+
+        /// The branch equations of the scene (corrector tolerance 1e-11).
+        pub(crate) fn branch(&self) -> Branch<'_> {
+            Branch {
+                whisker: &self.whisker,
+                flow: self.flow,
+                profile: &self.profile,
+                integration: &self.integration,
+                tol: 1e-11,
+            }
+        }
+    }
+
+    /// The branch Jacobian (rows `dR0, dR1, dx0` in `(v, f, t)`), assembled from the shot's
+    /// sensitivities, matches central differences of the branch equations in both phases,
+    /// on a spring base (the follicle law's rate) under a slanted flow; the tangent is the
+    /// unit null vector of its first two rows, the slope has unit rate in x0.
+    #[test]
+    fn the_branch_jacobian_matches_central_differences() {
+        let scene = TestScene::bent(1e-13);
+        let branch = scene.branch();
+        for (phase, u) in [(Phase::A, [1.2, 0.8, 0.3]), (Phase::B, [0.7, 0.8, 0.3])] {
+            let (_, node) = branch.eval(phase, u).unwrap();
+            let h = 1e-5;
+            for k in 0..3 {
+                let at = |d: f64| {
+                    let mut v = u;
+                    v[k] += d;
+                    let (r, n) = branch.eval(phase, v).unwrap();
+                    [r[0], r[1], n.x0()]
+                };
+                let (p, m) = (at(h), at(-h));
+                for i in 0..3 {
+                    let fd = (p[i] - m[i]) / (2.0 * h);
+                    let err = (node.jac[i][k] - fd).abs();
+                    assert!(err < 1e-7 * (1.0 + fd.abs()), "{phase}: d{i}/du{k} {err:e}");
+                }
+            }
+            let t = node.tangent(&[1.0, 0.0, 0.0]);
+            assert!(dot(&node.jac[0], &t).abs() < 1e-12 && dot(&node.jac[1], &t).abs() < 1e-12);
+            assert!((norm(&t) - 1.0).abs() < 1e-15 && t[0] >= 0.0);
+            assert!((dot(&node.jac[2], &node.slope()) - 1.0).abs() < 1e-12);
+        }
+    }
 }

@@ -17,6 +17,7 @@ use crate::branch::{dot, Branch, Constraint, Node};
 use crate::error::{ContactError, Result};
 use crate::events::{penetration, phase_margin, x0_rate};
 use crate::phase::Phase;
+use beam_model::shot::Integration;
 use bvp_solvers::arclength::{locate, ArcControl, Arclength, Attempt, Curve};
 
 /// How the trace ended.
@@ -97,6 +98,49 @@ pub(crate) struct StepControl {
     pub event_tol: f64,
     /// Whether to check for a second contact at every node.
     pub check_penetration: bool,
+}
+
+impl StepControl {
+    /// The trace's steps up to `max` (the first a fifth of it, the smallest 1e-10) within
+    /// the budget `max_steps`, its events located to `event_tol`, a second contact checked
+    /// at every node if `check_penetration`.
+    pub(crate) fn new(max: f64, max_steps: usize, event_tol: f64, check_penetration: bool) -> Self {
+        StepControl {
+            initial: max * 0.2,
+            max,
+            min: 1e-10,
+            max_steps,
+            event_tol,
+            check_penetration,
+        }
+    }
+}
+
+/// The trace's integrator tolerance (at most as tight as the sweep's): its nodes guide the
+/// rows' predictions, whose errors (~1e-6 from the Hermite interpolant) dwarf it.
+const TRACE_INTEGRATION_TOL: f64 = 1e-10;
+
+/// The trace's residual tolerance (at most as tight as the sweep's).
+const TRACE_SOLVE_TOL: f64 = 1e-9;
+
+/// [`trace`] from `first` at looser tolerances than `branch`'s (integrator tolerance `tol`):
+/// the trace's nodes only guide the rows and bracket the events; the nodes that become rows
+/// (switches, the end) are then solved again on `branch` ([`Trace::tighten`]).
+pub(crate) fn trace_tightened(
+    branch: &Branch,
+    tol: f64,
+    first: Node,
+    ctl: &StepControl,
+) -> Result<Trace> {
+    let loose = Integration::adaptive(tol.max(TRACE_INTEGRATION_TOL));
+    let trace_branch = Branch {
+        integration: &loose,
+        tol: branch.tol.max(TRACE_SOLVE_TOL),
+        ..*branch
+    };
+    let mut tr = trace(&trace_branch, first, ctl)?;
+    tr.tighten(branch)?;
+    Ok(tr)
 }
 
 /// Penetration depth below which a second contact is not counted (the shape check's own
@@ -271,7 +315,7 @@ type Before = (Arclength<Node, 3>, usize, usize);
 /// Traces the branch from `first` until it separates. Where a second core exists the
 /// second-contact checks run on it while the trace goes on ([`crate::ahead`]); the trace is
 /// step for step the same either way.
-pub(crate) fn trace(branch: &Branch, first: Node, ctl: &StepControl) -> Result<Trace> {
+fn trace(branch: &Branch, first: Node, ctl: &StepControl) -> Result<Trace> {
     if !ctl.check_penetration {
         return trace_with(branch, first, ctl, None);
     }
@@ -385,7 +429,7 @@ impl<'b, 'a> Tracer<'b, 'a> {
     fn stalled(&self, reason: String) -> ContactError {
         let cur = self.cur();
         ContactError::BranchStalled {
-            phase: cur.phase.letter(),
+            phase: cur.phase,
             x0: cur.x0(),
             xc: cur.state.point.xc,
             step: self.arc.step(),
@@ -601,4 +645,37 @@ fn switch_phase(branch: &Branch, at: &Node) -> Result<(Node, [f64; 3])> {
     };
     let tn = next.tangent(&into);
     Ok((next, tn))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::branch::tests::TestScene;
+    use crate::first_contact::{first_node, first_touch, free_tip};
+
+    /// The traced branch from a first touch: x0 never rises from node to node, every node
+    /// solves the branch equations again (a fresh evaluation), and every switch node lies
+    /// on its phase's end.
+    #[test]
+    fn the_trace_follows_the_branch_to_its_end() {
+        let s = TestScene::bent(1e-12);
+        let branch = s.branch();
+        let phi1 = free_tip(&s.whisker, s.flow, 1e-12, &s.integration).unwrap();
+        let touch = first_touch(&s.whisker, s.flow, phi1, &s.profile, 1e-12).unwrap();
+        let first = first_node(&branch, &touch).unwrap();
+        let ctl = StepControl::new(0.2, 20_000, 1e-10, false);
+        let tr = trace_tightened(&branch, 1e-12, first, &ctl).unwrap();
+        assert!(tr.nodes.len() > 5 && !matches!(tr.end, End::NotReached(..)));
+        for w in tr.nodes.windows(2) {
+            assert!(w[1].x0() <= w[0].x0(), "{} after {}", w[1].x0(), w[0].x0());
+        }
+        for n in &tr.nodes {
+            let (r, _) = branch.eval(n.phase, n.u).unwrap();
+            assert!(r[0].hypot(r[1]) < 1e-8, "{r:?}");
+        }
+        assert!(!tr.switches.is_empty());
+        for n in &tr.switches {
+            assert!(phase_margin(n).abs() < 1e-9, "{}", phase_margin(n));
+        }
+    }
 }

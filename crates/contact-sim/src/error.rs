@@ -1,5 +1,6 @@
 //! The one error type of the crate.
 
+use crate::phase::Phase;
 use beam_model::ModelError;
 use bvp_solvers::BvpError;
 use thiserror::Error;
@@ -48,7 +49,7 @@ pub enum ContactError {
     #[error("phase {phase} solve failed at contour point xc = {xc:.6} after {iterations} iterations (residual {residual:.3e})")]
     PhaseSolve {
         /// `A` or `B`.
-        phase: char,
+        phase: Phase,
         /// The contour point.
         xc: f64,
         /// Iterations.
@@ -69,7 +70,7 @@ pub enum ContactError {
     #[error("the contact branch stalled in phase {phase} at base position x0 = {x0:.6} (contact point xc = {xc:.6}, step {step:.2e}): {reason}")]
     BranchStalled {
         /// `A` or `B`.
-        phase: char,
+        phase: Phase,
         /// Last base position reached.
         x0: f64,
         /// Last contact point.

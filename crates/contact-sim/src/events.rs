@@ -157,3 +157,53 @@ fn refined_max(depths: &[f64]) -> f64 {
 pub(crate) fn x0_rate(node: &Node, dir: &[f64; 3]) -> f64 {
     node.x0_rate(&node.tangent(dir))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::branch::tests::TestScene;
+    use crate::phase::ContourPoint;
+    use std::f64::consts::FRAC_PI_2;
+
+    /// A straight whisker (no pre-curvature, no load) standing at `x0` under a circle: its
+    /// depth in the obstacle is that of its highest sample off the contact point,
+    /// `s = 0.995`, below the arc, `0.995 - g(x0)`, or inside the circle's side,
+    /// `r - |x0 - xc|`, whichever is less; none once the circle is above it.
+    #[test]
+    fn a_straight_whisker_enters_a_circle_as_far_as_its_top() {
+        let state = |x0: f64| ContactState {
+            phase: Phase::A,
+            point: ContourPoint {
+                xc: x0,
+                yc: 1.0,
+                psi: 0.5,
+            },
+            f: 0.0,
+            s1: 1.0,
+            phi1: FRAC_PI_2,
+            x0,
+            phi0: FRAC_PI_2,
+            m0: 0.0,
+            iterations: 0,
+            residual: 0.0,
+        };
+        let s = TestScene::straight(Profile::Circle {
+            xc: 0.05,
+            yc: 1.2,
+            r: 0.5,
+        });
+        let depth = |s: &TestScene, x0| penetration(&s.whisker, s.flow, &s.profile, &state(x0));
+        for x0 in [0.0, 0.2, -0.3] {
+            let g = 1.2 - (0.25 - (x0 - 0.05f64).powi(2)).sqrt();
+            let truth = (0.995 - g).min(0.5 - (x0 - 0.05f64).abs());
+            let depth = depth(&s, x0).unwrap();
+            assert!((depth - truth).abs() < 1e-12, "{x0}: {depth} vs {truth}");
+        }
+        let above = TestScene::straight(Profile::Circle {
+            xc: 0.05,
+            yc: 2.0,
+            r: 0.5,
+        });
+        assert!(depth(&above, 0.0).unwrap() < 0.0);
+    }
+}

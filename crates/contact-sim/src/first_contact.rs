@@ -9,12 +9,19 @@
 //! whisker is bracketed on a fine sampling of the dense free solution and refined by
 //! bisection to machine precision, so the first contact is exact to the integrator's
 //! tolerance, not to a sampling step.
+//!
+//! The contact branch starts at the first touch's base position (`first_node`): a tip touch
+//! is the free whisker itself, a tangential one is followed along the phase-B branch from
+//! its own touch.
 
+use crate::branch::{Branch, Constraint, Node};
 use crate::error::{ContactError, Result};
+use crate::phase::Phase;
 use crate::profile::Profile;
 use beam_model::equations::{Sensitivities, WhiskerOde};
 use beam_model::shot::{shoot, Integration, Shot};
 use beam_model::{FluidLoad, Loads, Whisker};
+use bvp_solvers::continuation::{BranchGuard, Continuation};
 use bvp_solvers::integrator::{Dop853, OdeSolution};
 use bvp_solvers::newton::{JacobianUpdate, NewtonPolicy, Safeguards, SmallStep};
 use bvp_solvers::roots::bisect;
@@ -29,6 +36,24 @@ pub enum FirstContact {
     Tip,
     /// A point s1 < 1 touched tangentially first.
     Tangential,
+}
+
+impl FirstContact {
+    /// `tip` or `tangential`, as the outputs name it.
+    pub fn label(&self) -> &'static str {
+        match self {
+            FirstContact::Tip => "tip",
+            FirstContact::Tangential => "tangential",
+        }
+    }
+
+    /// The phase the contact begins in: A at the tip, B tangential.
+    pub fn phase(&self) -> Phase {
+        match self {
+            FirstContact::Tip => Phase::A,
+            FirstContact::Tangential => Phase::B,
+        }
+    }
 }
 
 /// Where and how the free whisker first touches the contour.
@@ -104,7 +129,7 @@ impl ShotProblem<1> for FreeTip<'_> {
 /// [3.21, 3.22] with the exact derivative of the shot, from `guess`: at most 40 shots, full
 /// steps; the step after a residual of 1e-15, or a step below `1e-15 (1 + |phi1|)`, is
 /// returned unshot; a failed iteration within 1e-11 is accepted.
-pub(crate) fn free_tip_angle(
+fn free_tip_angle(
     whisker: &Whisker,
     flow: FluidLoad,
     guess: f64,
@@ -149,6 +174,20 @@ pub(crate) fn free_tip_angle(
             })
         }
     }
+}
+
+/// The tip angle of the free whisker under `flow` alone: method `accurate` at tolerance `tol`
+/// (16 samples) for a start, then [`free_tip_angle`] on the shots of `integration`.
+pub(crate) fn free_tip(
+    whisker: &Whisker,
+    flow: FluidLoad,
+    tol: f64,
+    integration: &Integration,
+) -> Result<f64> {
+    let scene = beam_model::Scene::new(*whisker, Loads::fluid(flow.q, flow.alpha));
+    let method = beam_model::Method::Accurate { tol, samples: 16 };
+    let guess = beam_model::solve(&scene, &method)?.tip.phi;
+    free_tip_angle(whisker, flow, guess, integration)
 }
 
 /// Locates the first contact of the free whisker (tip angle `phi1`) with `profile`.
@@ -250,4 +289,139 @@ pub(crate) fn first_touch(
         x0,
         phi1,
     })
+}
+
+/// The first node of the branch: the contact state at the base position of the first touch.
+/// A tip touch is the free whisker itself (`f = 0`); a tangential touch is solved in phase B,
+/// where the flow acts on `[0, s1]` only (spec/model.md), at the same base position.
+pub(crate) fn first_node(branch: &Branch, touch: &FirstTouch) -> Result<Node> {
+    let phase = touch.kind.phase();
+    let u = match touch.kind {
+        FirstContact::Tip => [touch.phi1, 0.0, touch.t],
+        FirstContact::Tangential => [touch.s, 0.0, touch.t],
+    };
+    let node = match touch.kind {
+        // the free whisker itself: no correction (f = 0 exactly)
+        FirstContact::Tip => branch.eval(phase, u)?.1,
+        FirstContact::Tangential => {
+            match branch.correct(phase, u, Constraint::BasePosition(touch.x0)) {
+                Ok(n) if n.state.f >= 0.0 => n,
+                _ => tangential_first_node(branch, u, touch.x0)?,
+            }
+        }
+    };
+    if node.state.f < -1e-9 || (phase == Phase::B && node.state.s1 >= 1.0) {
+        return Err(ContactError::NoContact {
+            reason: format!(
+                "the first {} contact at x0 = {:.6} has no admissible state (f = {:.3e}, s1 = {:.6})",
+                touch.kind.label(),
+                touch.x0,
+                node.state.f,
+                node.state.s1
+            ),
+        });
+    }
+    Ok(node)
+}
+
+/// The phase-B state at the first-touch base position `x0`, reached along the phase-B branch:
+/// a tangential touch removes the flow beyond s1 (spec/model.md), which can move the state far
+/// from the free whisker's (slender tips). The branch point with `f = 0` is solved first (the
+/// whisker under the flow on `[0, s1]` alone, tangent to the contour), then the branch is
+/// followed in x0 down to `x0` ([`Continuation::follow`]). Where that branch does not reach `x0`
+/// with `f >= 0` (the thesis's phase-B model has no admissible state there), the sweep cannot
+/// start and says so.
+fn tangential_first_node(branch: &Branch, u: [f64; 3], x0: f64) -> Result<Node> {
+    let start = branch.correct(Phase::B, u, Constraint::NoForce)?;
+    if start.x0() < x0 - 1e-12 {
+        return Err(ContactError::NoContact {
+            reason: format!(
+                "at the first tangential touch (x0 = {x0:.6}) the phase-B model (flow on [0, s1] only) is not yet in contact (its own touch is at x0 = {:.6})",
+                start.x0()
+            ),
+        });
+    }
+    if start.x0() - x0 <= 1e-13 {
+        return Ok(start);
+    }
+    // Natural-parameter continuation in x0 with the secant predictor; an inadmissible
+    // state (s1 >= 1 or f < 0) counts as a failed corrector.
+    let step = (start.x0() - x0).min(0.05);
+    let cont = Continuation {
+        initial_step: step.max(1e-9),
+        min_step: 1e-9,
+        max_step: 0.05,
+    };
+    let guard = BranchGuard {
+        absolute: f64::INFINITY,
+        relative: 0.0,
+        max_attempts: 10_000,
+    };
+    let mut cur = start;
+    let followed = cont.follow(start.x0(), x0, start.u.to_vec(), &guard, |target, guess| {
+        let guess = [guess[0], guess[1], guess[2]];
+        match branch.correct(Phase::B, guess, Constraint::BasePosition(target)) {
+            Ok(n) if n.state.s1 < 1.0 && n.state.f >= 0.0 => {
+                cur = n;
+                Ok(n.u.to_vec())
+            }
+            Ok(_) => Err(()),
+            Err(_) => Err(()),
+        }
+    });
+    if followed.is_ok() {
+        return Ok(cur);
+    }
+    Err(ContactError::NoContact {
+        reason: format!(
+            "the tangential first touch at s = {:.6} (x0 = {x0:.6}) has no admissible phase-B state: the phase-B model (flow on [0, s1] only) leaves its own f = 0 touch at x0 = {:.6} and turns back at x0 = {:.6} with f = {:.3e}; the single-contact model cannot start this sweep",
+            u[0],
+            start.x0(),
+            cur.x0(),
+            cur.state.f
+        ),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::branch::tests::TestScene;
+    use std::f64::consts::FRAC_PI_2;
+
+    /// A straight whisker (no pre-curvature, no flow) first touches a circle whose centre is
+    /// above its tip with the tip, where the circle's right flank crosses `y = 1`: base at
+    /// `x0 = xc + sqrt(r^2 - (1 - yc)^2)`, contour angle `asin((x0 - xc)/r)`.
+    #[test]
+    fn a_straight_whisker_touches_a_circle_with_its_tip() {
+        let s = TestScene::straight(Profile::parse("circle:0.2,1.3,0.5").unwrap());
+        let touch = first_touch(&s.whisker, s.flow, FRAC_PI_2, &s.profile, 1e-12).unwrap();
+        let x0 = 0.2 + (0.25f64 - 0.09).sqrt();
+        let psi = (0.4f64 / 0.5).asin();
+        assert_eq!((touch.kind, touch.s), (FirstContact::Tip, 1.0));
+        assert!((touch.x0 - x0).abs() < 1e-12, "{} vs {x0}", touch.x0);
+        assert!((touch.xc - x0).abs() < 1e-12 && (touch.yc - 1.0).abs() < 1e-12);
+        assert!((touch.psi - psi).abs() < 1e-12 && (touch.t - psi).abs() < 1e-12);
+        assert_eq!((touch.kind.label(), touch.kind.phase()), ("tip", Phase::A));
+    }
+
+    /// The free tip angle under a flow satisfies the base condition [3.21, 3.22] of a shot
+    /// from the tip at that angle.
+    #[test]
+    fn the_free_tip_angle_meets_the_follicle_law() {
+        let s = TestScene::bent(1e-12);
+        let phi1 = free_tip(&s.whisker, s.flow, 1e-12, &s.integration).unwrap();
+        let loads = Loads::fluid(s.flow.q, s.flow.alpha);
+        let shot = shoot(
+            &s.whisker,
+            &loads,
+            phi1,
+            Sensitivities::None,
+            &s.integration,
+        )
+        .unwrap();
+        let r = s.whisker.support.residual(shot.phi0, shot.m0);
+        assert!(r.abs() < 1e-11, "{r:e}");
+        assert!(phi1 < FRAC_PI_2, "bent along the flow: {phi1}");
+    }
 }

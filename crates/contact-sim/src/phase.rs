@@ -11,7 +11,6 @@
 //! flow acts on `[0, s1]` at any angle alpha (spec/model.md). The base position follows as
 //! `x0 = xc - (x(s1) - x(0))`.
 
-use crate::profile::Profile;
 use beam_model::{FluidLoad, LoadKind, Loads, Reactions, TipForce};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::FRAC_PI_2;
@@ -47,6 +46,13 @@ impl Phase {
     }
 }
 
+/// The phase's [`Phase::label`] (`A`, `B` or `none`), as in messages.
+impl std::fmt::Display for Phase {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.label())
+    }
+}
+
 /// A contour point `(xc, g(xc))` with its contour angle.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ContourPoint {
@@ -56,18 +62,6 @@ pub struct ContourPoint {
     pub yc: f64,
     /// Contour angle `psi = atan g'(xc)`.
     pub psi: f64,
-}
-
-impl ContourPoint {
-    /// The contour point of `profile` at `xc`.
-    pub fn on(profile: &Profile, xc: f64) -> Self {
-        let (yc, d, _) = profile.eval(xc);
-        ContourPoint {
-            xc,
-            yc,
-            psi: d.atan(),
-        }
-    }
 }
 
 /// The solved state of the whisker in contact at one contour point.
@@ -121,5 +115,63 @@ pub fn contact_loads(flow: FluidLoad, psi: f64, f: f64, s1: f64) -> Loads {
         },
         fluid: flow,
         s1,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A contact state's observables are the force balance [6.7-6.9] written out: the base
+    /// holds the contact force `f (sin psi, -cos psi)` at `s1` and the flow on `[0, s1]`.
+    #[test]
+    fn observables_balance_the_contact_force_and_the_flow() {
+        let flow = FluidLoad { q: 2.5, alpha: 0.3 };
+        let (f, psi, s1, m0, phi0) = (1.7, 0.4, 0.8, -0.35, 1.9);
+        let point = ContourPoint {
+            xc: 0.3,
+            yc: 0.9,
+            psi,
+        };
+        let st = ContactState {
+            phase: Phase::B,
+            point,
+            f,
+            s1,
+            phi1: psi,
+            x0: 0.1,
+            phi0,
+            m0,
+            iterations: 0,
+            residual: 0.0,
+        };
+        let (ax, ay, ma, p0) = st.observables(flow);
+        let ax_true = -(f * psi.sin() + flow.q * s1 * flow.alpha.cos());
+        let ay_true = f * psi.cos() + flow.q * s1 * flow.alpha.sin();
+        assert!((ax - ax_true).abs() < 1e-14, "{ax} vs {ax_true}");
+        assert!((ay - ay_true).abs() < 1e-14, "{ay} vs {ay_true}");
+        assert_eq!((ma, p0), (-m0, phi0));
+        let loads = st.loads(flow);
+        assert_eq!(
+            (loads.tip.f, loads.tip.beta, loads.s1),
+            (f, FRAC_PI_2 - psi, s1)
+        );
+        assert_eq!(loads.tip.kind, LoadKind::Dp);
+    }
+
+    /// A phase's label, letter and message name.
+    #[test]
+    fn phases_name_themselves() {
+        let names = [
+            (Phase::None, "none", '-'),
+            (Phase::A, "A", 'A'),
+            (Phase::B, "B", 'B'),
+        ];
+        for (p, label, letter) in names {
+            assert_eq!(
+                (p.label(), p.letter(), p.to_string()),
+                (label, letter, label.into())
+            );
+        }
     }
 }

@@ -4,7 +4,7 @@
 //! curvature `g'' / (1 + g'^2)^(3/2)` (thesis ch. 5.1; contours [5.2, 5.3, 5.11]).
 
 use crate::error::{ContactError, Result};
-use bvp_solvers::roots::{bisect, brent, RootOptions};
+use bvp_solvers::roots::{bisect, brent, grow_brackets, Growth, RootOptions};
 use bvp_solvers::BvpError;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::FRAC_PI_2;
@@ -374,24 +374,6 @@ impl Profile {
         }
     }
 
-    /// Checks strict convexity (`g'' > 0`) on `[a, b]` at 401 points, naming the first
-    /// point where it fails.
-    pub fn check_convex(&self, a: f64, b: f64) -> Result<()> {
-        let n = 400;
-        for i in 0..=n {
-            let x = a + (b - a) * i as f64 / n as f64;
-            let g2 = self.eval(x).2;
-            if g2.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
-                return Err(ContactError::NotConvex {
-                    profile: self.name(),
-                    x,
-                    g2,
-                });
-            }
-        }
-        Ok(())
-    }
-
     /// The range of the contour parameter `t` ([`Profile::at`]): `x` itself for graphs
     /// (infinite for closed forms, the table's range for tabulated contours), the polar angle
     /// in `[-pi/2, pi/2]` for a circle's lower arc, vertical ends included.
@@ -399,14 +381,6 @@ impl Profile {
         match *self {
             Profile::Circle { .. } => (-FRAC_PI_2, FRAC_PI_2),
             _ => self.domain(),
-        }
-    }
-
-    /// The contour parameter of the point at `x` (see [`Profile::param_range`]).
-    pub fn param_of_x(&self, x: f64) -> f64 {
-        match *self {
-            Profile::Circle { xc, r, .. } => ((x - xc) / r).clamp(-1.0, 1.0).asin(),
-            _ => x,
         }
     }
 
@@ -464,18 +438,14 @@ impl Profile {
     }
 
     /// The parameter of the contour point right of the lowest point at height `y`, on the
-    /// whole parameter range (a circle's arc up to its vertical end): `None` below the lowest
-    /// point or above the contour's range. Brent's method to adjacent floats on the monotone
-    /// right flank (bisection if it fails).
-    pub fn param_right_at(&self, y: f64) -> Option<f64> {
-        self.param_right_near(y, f64::NAN)
-    }
-
-    /// [`Profile::param_right_at`] searched first around `hint` (the answer for a nearby
-    /// height): the bracket grows from `hint` by steps of 1e-3, x4, to the first sign change
-    /// of `y(t) - y`, so a sequence of close heights costs a few evaluations each instead of
-    /// a search of the whole flank; the same root to adjacent floats either way. A `hint`
-    /// off the flank (or NaN) searches the whole flank.
+    /// whole parameter range (a circle's arc up to its vertical end), searched first around
+    /// `hint` (the answer for a nearby height): `None` below the lowest point or above the
+    /// contour's range. The bracket grows from `hint` by steps of 1e-3, x4
+    /// ([`bvp_solvers::roots::grow_brackets`]), to the first sign change of `y(t) - y`, so a
+    /// sequence of close heights costs a few evaluations each instead of a search of the
+    /// whole flank; a `hint` off the flank (or NaN) searches the whole flank (from the lowest
+    /// point by steps of 1, 2, 4, ... up to 1e6 where the range is infinite). Brent's method
+    /// to adjacent floats on the monotone right flank (bisection if it fails).
     pub fn param_right_near(&self, y: f64, hint: f64) -> Option<f64> {
         let (t_lo, t_hi) = self.param_range();
         let tv = match *self {
@@ -498,14 +468,10 @@ impl Profile {
             Some(ab) => ab,
             None if hi.is_finite() => (lo, hi),
             None => {
-                let mut w = 1.0;
-                while self.y_at(tv + w) < y {
-                    w *= 2.0;
-                    if w > 1e6 {
-                        return None;
-                    }
-                }
-                (lo, tv + w)
+                let below = |t: f64| Some(self.y_at(t) < y);
+                let growth = Growth::within(1.0, 2.0, 1e6);
+                let (_, b) = grow_brackets(below, tv, true, (tv, hi), growth).next()?;
+                (lo, b)
             }
         };
         let opts = RootOptions {
@@ -521,29 +487,22 @@ impl Profile {
     }
 
     /// A bracket `[a, b]` within `[lo, hi]` of the height `y` on the rising right flank,
-    /// grown from `hint` (see [`Profile::param_right_near`]); `None` if `hint` is not in
-    /// `[lo, hi]` or 30 growths do not bracket it.
+    /// grown from `hint` towards `y` (see [`Profile::param_right_near`]); `None` if `hint` is
+    /// not in `[lo, hi]` or 30 growths do not bracket it.
     fn bracket_near(&self, y: f64, hint: f64, lo: f64, hi: f64) -> Option<(f64, f64)> {
         if !(hint >= lo && hint <= hi) {
             return None;
         }
         let below = self.y_at(hint) < y;
-        let (mut a, mut w) = (hint, 1e-3);
-        for _ in 0..30 {
-            let b = if below {
-                (a + w).min(hi)
-            } else {
-                (a - w).max(lo)
-            };
-            if (self.y_at(b) < y) != below {
-                return Some(if below { (a, b) } else { (b, a) });
-            }
-            if b == hi || b == lo {
-                return None;
-            }
-            (a, w) = (b, 4.0 * w);
-        }
-        None
+        // one side only: up the flank from below the height, down it from above
+        let span = if below { (hint, hi) } else { (lo, hint) };
+        let growth = Growth {
+            first: 1e-3,
+            factor: 4.0,
+            steps: 30,
+            chained: true,
+        };
+        grow_brackets(|t| Some(self.y_at(t) < y), hint, below, span, growth).next()
     }
 
     /// Checks strict convexity where a whisker of unit length with its base on `y = 0` can
@@ -566,30 +525,6 @@ impl Profile {
             }
         }
         Ok(())
-    }
-
-    /// The contour point right of the vertex at height `y` (`None` below the vertex or
-    /// outside the domain).
-    pub fn x_right_at(&self, y: f64) -> Option<f64> {
-        let xv = self.vertex();
-        if y < self.y(xv) {
-            return None;
-        }
-        let (_, dmax) = self.domain();
-        let mut hi = xv + 1.0;
-        let mut grow = 1.0;
-        while self.y(hi) < y {
-            grow *= 2.0;
-            hi = xv + grow;
-            if hi > dmax || grow > 1e6 {
-                if dmax.is_finite() && self.y(dmax) >= y {
-                    hi = dmax;
-                    break;
-                }
-                return None;
-            }
-        }
-        Some(bisect(|m| Some(self.y(m) < y), xv, hi, 200))
     }
 }
 
@@ -625,7 +560,7 @@ mod tests {
                 );
             }
             let y = p.y_at(p.vertex()) + 0.3;
-            let t = p.param_right_at(y).unwrap();
+            let t = p.param_right_near(y, f64::NAN).unwrap();
             assert!(
                 (p.y_at(t) - y).abs() <= 1e-14,
                 "{}: {}",

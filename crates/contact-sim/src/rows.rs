@@ -207,7 +207,7 @@ fn solve_row(branch: &Branch, pred: &RowPrediction, target: f64, xc: f64) -> Res
         }
     }
     Err(last_err.unwrap_or_else(|| ContactError::BranchStalled {
-        phase: phase.letter(),
+        phase,
         x0: target,
         xc,
         step: 0.0,

@@ -6,17 +6,16 @@
 //! then contact rows evenly spaced in x0 from the first contact to the separation, plus one
 //! row at each phase switch.
 
-use crate::branch::{Branch, Constraint, Node};
-use crate::continuation::{trace, End, StepControl};
+use crate::branch::{Branch, Node};
+use crate::continuation::{trace_tightened, End, StepControl};
 use crate::error::{ContactError, Result};
-use crate::first_contact::{first_touch, free_tip_angle};
+use crate::first_contact::{first_node, first_touch, free_tip};
 pub use crate::first_contact::{FirstContact, FirstTouch};
 use crate::phase::{ContactState, Phase};
 use crate::profile::Profile;
 use beam_model::equations::Sensitivities;
 use beam_model::shot::{shoot, Integration};
 use beam_model::{FluidLoad, Loads, Whisker};
-use bvp_solvers::continuation::{BranchGuard, Continuation};
 use serde::{Deserialize, Serialize};
 
 /// Largest number of contact rows a sweep accepts.
@@ -121,6 +120,21 @@ pub enum Separation {
     },
 }
 
+/// How the outputs name the separation: `snap`, `release`, `second contact`, `end of
+/// contour`, `contact at the base` or `not reached within N steps`.
+impl std::fmt::Display for Separation {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Separation::Snap => f.write_str("snap"),
+            Separation::Release => f.write_str("release"),
+            Separation::MultiContact { .. } => f.write_str("second contact"),
+            Separation::EndOfContour => f.write_str("end of contour"),
+            Separation::ContactAtBase => f.write_str("contact at the base"),
+            Separation::NotReached { steps } => write!(f, "not reached within {steps} steps"),
+        }
+    }
+}
+
 /// A complete sweep.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SweepResult {
@@ -148,7 +162,7 @@ impl SweepResult {
     pub fn phase_pattern(&self) -> String {
         let mut s = String::new();
         for p in self.contact_points() {
-            let c = if p.phase == Phase::A { 'A' } else { 'B' };
+            let c = p.phase.letter();
             if !s.ends_with(c) {
                 s.push(c);
             }
@@ -256,47 +270,49 @@ pub fn sweep_with_progress(
         tol: settings.solve_tol,
     };
     // The free whisker under the flow, then its exact first touch.
-    let guess = beam_model::solve(
-        &beam_model::Scene::new(*whisker, Loads::fluid(flow.q, flow.alpha)),
-        &beam_model::Method::Accurate {
-            tol: settings.integration_tol,
-            samples: 16,
-        },
-    )?
-    .tip
-    .phi;
-    let phi1 = free_tip_angle(whisker, flow, guess, &integration)?;
+    let phi1 = free_tip(whisker, flow, settings.integration_tol, &integration)?;
     let touch = first_touch(whisker, flow, phi1, profile, settings.integration_tol)?;
     profile.convex_at(touch.t)?;
     let first = first_node(&branch, &touch)?;
     // The branch from the first contact to the separation.
     progress(SweepProgress::Coarse { steps: 0 });
-    let ctl = StepControl {
-        initial: settings.max_step * 0.2,
-        max: settings.max_step,
-        min: 1e-10,
-        max_steps: settings.max_steps,
-        event_tol: settings.event_tol,
-        check_penetration: settings.check_penetration,
-    };
-    // The trace's nodes only guide the rows and bracket the events: it runs at looser
-    // tolerances, and the nodes that become rows (switches, the end) are solved again at
-    // the full ones.
-    let loose = Integration::adaptive(settings.integration_tol.max(TRACE_INTEGRATION_TOL));
-    let trace_branch = Branch {
-        integration: &loose,
-        tol: settings.solve_tol.max(TRACE_SOLVE_TOL),
-        ..branch
-    };
-    let mut tr = trace(&trace_branch, first, &ctl)?;
-    tr.tighten(&branch)?;
+    let ctl = StepControl::new(
+        settings.max_step,
+        settings.max_steps,
+        settings.event_tol,
+        settings.check_penetration,
+    );
+    let tr = trace_tightened(&branch, settings.integration_tol, first, &ctl)?;
     progress(SweepProgress::Coarse {
         steps: tr.nodes.len(),
     });
     for n in &tr.nodes {
         profile.convex_at(n.u[2])?;
     }
-    let (last, separation) = match tr.end {
+    let (last, separation) = separation(tr.end);
+    let states = crate::rows::rows(
+        &branch,
+        &tr.nodes,
+        &tr.switches,
+        &last,
+        settings.points,
+        &mut |done, total| progress(SweepProgress::Fine { done, total }),
+    )?;
+    let mut points = pre_contact_rows(whisker, flow, phi1, first.x0(), settings)?;
+    points.extend(states.iter().map(|s| SweepPoint::from_state(s, flow)));
+    Ok(SweepResult {
+        q: flow.q,
+        alpha: flow.alpha,
+        points,
+        first_contact: touch.kind,
+        first_touch: touch,
+        separation,
+    })
+}
+
+/// The node where the trace ended and how the contact ended there.
+fn separation(end: End) -> (Node, Separation) {
+    match end {
         End::Snap(n) => (n, Separation::Snap),
         End::Release(n) => (n, Separation::Release),
         End::MultiContact(n) => (
@@ -308,28 +324,26 @@ pub fn sweep_with_progress(
         End::OffContour(n) => (n, Separation::EndOfContour),
         End::AtBase(n) => (n, Separation::ContactAtBase),
         End::NotReached(n, steps) => (n, Separation::NotReached { steps }),
-    };
-    let states = crate::rows::rows(
-        &branch,
-        &tr.nodes,
-        &tr.switches,
-        &last,
-        settings.points,
-        &mut |done, total| progress(SweepProgress::Fine { done, total }),
-    )?;
-    // The free whisker's observables before contact.
-    let free = shoot(
-        whisker,
-        &Loads::fluid(flow.q, flow.alpha),
-        phi1,
-        Sensitivities::None,
-        &integration,
-    )?;
+    }
+}
+
+/// The rows before contact (the free whisker of tip angle `phi1` under the flow alone),
+/// spaced `pre_contact_spacing` in x0 before the first contact at `first_x0`.
+fn pre_contact_rows(
+    whisker: &Whisker,
+    flow: FluidLoad,
+    phi1: f64,
+    first_x0: f64,
+    settings: &SweepSettings,
+) -> Result<Vec<SweepPoint>> {
+    let integration = Integration::adaptive(settings.integration_tol);
+    let loads = Loads::fluid(flow.q, flow.alpha);
+    let free = shoot(whisker, &loads, phi1, Sensitivities::None, &integration)?;
     let free_reactions = beam_model::Reactions::balancing((0.0, 0.0), flow, 1.0);
-    let mut points = Vec::with_capacity(settings.pre_contact_rows + states.len());
+    let mut points = Vec::with_capacity(settings.pre_contact_rows + settings.points);
     for k in (1..=settings.pre_contact_rows).rev() {
         points.push(SweepPoint {
-            x0: first.x0() + k as f64 * settings.pre_contact_spacing,
+            x0: first_x0 + k as f64 * settings.pre_contact_spacing,
             ax: free_reactions.ax,
             ay: free_reactions.ay,
             ma: -free.m0,
@@ -343,23 +357,8 @@ pub fn sweep_with_progress(
             psi: f64::NAN,
         });
     }
-    points.extend(states.iter().map(|s| SweepPoint::from_state(s, flow)));
-    Ok(SweepResult {
-        q: flow.q,
-        alpha: flow.alpha,
-        points,
-        first_contact: touch.kind,
-        first_touch: touch,
-        separation,
-    })
+    Ok(points)
 }
-
-/// The trace's integrator tolerance (at most as tight as the sweep's): its nodes guide the
-/// rows' predictions, whose errors (~1e-6 from the Hermite interpolant) dwarf it.
-const TRACE_INTEGRATION_TOL: f64 = 1e-10;
-
-/// The trace's residual tolerance (at most as tight as the sweep's).
-const TRACE_SOLVE_TOL: f64 = 1e-9;
 
 /// Refuses settings the sweep cannot honour, naming the culprit.
 fn check_settings(settings: &SweepSettings, flow: FluidLoad) -> Result<()> {
@@ -425,97 +424,6 @@ fn check_settings(settings: &SweepSettings, flow: FluidLoad) -> Result<()> {
     Ok(())
 }
 
-/// The first node of the branch: the contact state at the base position of the first touch.
-/// A tip touch is the free whisker itself (`f = 0`); a tangential touch is solved in phase B,
-/// where the flow acts on `[0, s1]` only (spec/model.md), at the same base position.
-fn first_node(branch: &Branch, touch: &FirstTouch) -> Result<Node> {
-    let (phase, u) = match touch.kind {
-        FirstContact::Tip => (Phase::A, [touch.phi1, 0.0, touch.t]),
-        FirstContact::Tangential => (Phase::B, [touch.s, 0.0, touch.t]),
-    };
-    let node = match touch.kind {
-        // the free whisker itself: no correction (f = 0 exactly)
-        FirstContact::Tip => branch.eval(phase, u)?.1,
-        FirstContact::Tangential => {
-            match branch.correct(phase, u, Constraint::BasePosition(touch.x0)) {
-                Ok(n) if n.state.f >= 0.0 => n,
-                _ => tangential_first_node(branch, u, touch.x0)?,
-            }
-        }
-    };
-    if node.state.f < -1e-9 || (phase == Phase::B && node.state.s1 >= 1.0) {
-        return Err(ContactError::NoContact {
-            reason: format!(
-                "the first {} contact at x0 = {:.6} has no admissible state (f = {:.3e}, s1 = {:.6})",
-                if phase == Phase::B { "tangential" } else { "tip" },
-                touch.x0,
-                node.state.f,
-                node.state.s1
-            ),
-        });
-    }
-    Ok(node)
-}
-
-/// The phase-B state at the first-touch base position `x0`, reached along the phase-B branch:
-/// a tangential touch removes the flow beyond s1 (spec/model.md), which can move the state far
-/// from the free whisker's (slender tips). The branch point with `f = 0` is solved first (the
-/// whisker under the flow on `[0, s1]` alone, tangent to the contour), then the branch is
-/// followed in x0 down to `x0` ([`Continuation::follow`]). Where that branch does not reach `x0`
-/// with `f >= 0` (the thesis's phase-B model has no admissible state there), the sweep cannot
-/// start and says so.
-fn tangential_first_node(branch: &Branch, u: [f64; 3], x0: f64) -> Result<Node> {
-    let start = branch.correct(Phase::B, u, Constraint::NoForce)?;
-    if start.x0() < x0 - 1e-12 {
-        return Err(ContactError::NoContact {
-            reason: format!(
-                "at the first tangential touch (x0 = {x0:.6}) the phase-B model (flow on [0, s1] only) is not yet in contact (its own touch is at x0 = {:.6})",
-                start.x0()
-            ),
-        });
-    }
-    if start.x0() - x0 <= 1e-13 {
-        return Ok(start);
-    }
-    // Natural-parameter continuation in x0 with the secant predictor; an inadmissible
-    // state (s1 >= 1 or f < 0) counts as a failed corrector.
-    let step = (start.x0() - x0).min(0.05);
-    let cont = Continuation {
-        initial_step: step.max(1e-9),
-        min_step: 1e-9,
-        max_step: 0.05,
-    };
-    let guard = BranchGuard {
-        absolute: f64::INFINITY,
-        relative: 0.0,
-        max_attempts: 10_000,
-    };
-    let mut cur = start;
-    let followed = cont.follow(start.x0(), x0, start.u.to_vec(), &guard, |target, guess| {
-        let guess = [guess[0], guess[1], guess[2]];
-        match branch.correct(Phase::B, guess, Constraint::BasePosition(target)) {
-            Ok(n) if n.state.s1 < 1.0 && n.state.f >= 0.0 => {
-                cur = n;
-                Ok(n.u.to_vec())
-            }
-            Ok(_) => Err(()),
-            Err(_) => Err(()),
-        }
-    });
-    if followed.is_ok() {
-        return Ok(cur);
-    }
-    Err(ContactError::NoContact {
-        reason: format!(
-            "the tangential first touch at s = {:.6} (x0 = {x0:.6}) has no admissible phase-B state: the phase-B model (flow on [0, s1] only) leaves its own f = 0 touch at x0 = {:.6} and turns back at x0 = {:.6} with f = {:.3e}; the single-contact model cannot start this sweep",
-            u[0],
-            start.x0(),
-            cur.x0(),
-            cur.state.f
-        ),
-    })
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -524,13 +432,13 @@ mod tests {
     /// moment is the row's (the shape is the row's equilibrium).
     #[test]
     fn a_row_gives_its_whole_shape() {
-        let whisker = Whisker::new(0.6, 0.3, 0.2, 20.0);
-        let flow = FluidLoad { q: 2.0, alpha: 0.3 };
+        let s = crate::branch::tests::TestScene::bent(1e-12);
+        let (whisker, flow) = (s.whisker, s.flow);
         let settings = SweepSettings {
             points: 12,
             ..SweepSettings::default()
         };
-        let res = sweep(&whisker, flow, &Profile::g2(), &settings).unwrap();
+        let res = sweep(&whisker, flow, &s.profile, &settings).unwrap();
         let mut contacts = 0;
         for p in &res.points {
             let sol = p.shape(&whisker, flow, 1e-12, 50).unwrap();
@@ -547,5 +455,22 @@ mod tests {
             }
         }
         assert!(contacts >= 8, "{contacts}");
+    }
+
+    /// How the outputs (the CLI's text, JSON and figures; the chapter-5 tables) name the
+    /// first contact and the separation.
+    #[test]
+    fn events_are_named_for_the_outputs() {
+        assert_eq!(FirstContact::Tip.label(), "tip");
+        assert_eq!(FirstContact::Tangential.label(), "tangential");
+        assert_eq!(Separation::Snap.to_string(), "snap");
+        assert_eq!(
+            Separation::MultiContact { xc: 0.1 }.to_string(),
+            "second contact"
+        );
+        assert_eq!(
+            Separation::NotReached { steps: 3 }.to_string(),
+            "not reached within 3 steps"
+        );
     }
 }

@@ -2,6 +2,7 @@
 
 use beam_model::ModelError;
 use bvp_solvers::BvpError;
+use contact_sim::Phase;
 use thiserror::Error;
 
 /// Everything that can go wrong in identification and reconstruction.
@@ -55,7 +56,7 @@ pub enum ReconError {
         /// The best residual found.
         residual: f64,
         /// The phase hypothesis that came closest.
-        phase: char,
+        phase: Phase,
     },
     /// A parameter is out of range.
     #[error("invalid parameter {name} = {value}: {reason}")]

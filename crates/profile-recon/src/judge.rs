@@ -73,7 +73,7 @@ impl Judge<'_> {
                     row: i,
                     x0: row.x0,
                     residual: f64::NAN,
-                    phase: 'A',
+                    phase: Phase::A,
                 })?;
         check(&p, row, e.best_z(), self.settings)?;
         Ok(Some(p))
@@ -93,7 +93,7 @@ fn check(p: &ReconPoint, row: &ObservableRow, z: f64, settings: &ReconSettings) 
             row: p.row,
             x0: row.x0,
             residual: p.residual,
-            phase: if p.phase == Phase::A { 'A' } else { 'B' },
+            phase: p.phase,
         });
     }
     Ok(())

@@ -77,8 +77,8 @@ fn take_flushes(staging: &Path, unregister: bool) -> Vec<Flush> {
 /// directory, are flushed to disk, and the temporary file is renamed over `path`.
 /// On failure the temporary file is removed and `path` is untouched.
 ///
-/// A path in the staging folder of an [`OutputDir`] ([`OutputDir::path_for`],
-/// [`OutputDir::subdir`]) is written in place, its flush started on a thread of its own
+/// A path in the staging folder of an [`OutputDir`] ([`OutputDir::path_for`], also in a
+/// folder made there) is written in place, its flush started on a thread of its own
 /// and waited for by [`OutputDir::commit`] (see the module's documentation); on failure
 /// the partial file is removed.
 pub fn write_atomic(path: &Path, contents: &[u8]) -> Result<(), CliError> {
@@ -434,13 +434,6 @@ impl OutputDir {
         self.staging.join(name)
     }
 
-    /// Creates the staged subdirectory `name` and returns its staging path.
-    pub fn subdir(&self, name: &str) -> Result<PathBuf, CliError> {
-        let p = self.staging.join(name);
-        fs::create_dir_all(&p).map_err(|e| CliError::io(&p, e))?;
-        Ok(p)
-    }
-
     /// Swaps the staged folder in for the final directory as a whole and returns the final
     /// paths of the files written (the marker excluded), sorted. The earlier folder is
     /// renamed aside first and restored if the swap fails.
@@ -545,7 +538,8 @@ mod tests {
         assert!(is_staged(&staged));
         assert!(!is_staged(&dir.path().join("a.csv")));
         write_atomic(&staged, b"x,y\n").unwrap();
-        let sub = out.subdir("fig").unwrap();
+        let sub = out.path_for("fig");
+        fs::create_dir_all(&sub).unwrap();
         assert!(is_staged(&sub.join("f.svg")));
         write_atomic(&sub.join("f.svg"), b"<svg/>").unwrap();
         // a failed staged write names the file and leaves none behind

@@ -6,7 +6,7 @@ use std::path::Path;
 use vibrissa_cli::atomic::{write_atomic, OutputDir};
 use vibrissa_cli::csvio::{parse_table, read_table, Cell, CsvWriter};
 use vibrissa_cli::plot::{
-    write_heatmap_svg, write_svg, write_svg_panels, Chart, HeatMap, Series, Style,
+    write_figure, write_svg, write_svg_panels, Chart, HeatMap, Panel, Series, Style,
 };
 use vibrissa_cli::scene_file::{LoadKind, SceneFile, SweepSpec, Units, WhiskerSpec};
 use vibrissa_cli::CliError;
@@ -143,7 +143,8 @@ fn output_dir_commits_all_or_nothing() {
     let err = OutputDir::create(&out).unwrap_err().to_string();
     assert!(err.contains("another vibrissa process"), "{err}");
     write_atomic(&o.path_for("a.csv"), b"new").unwrap();
-    let sub = o.subdir("fig").unwrap();
+    let sub = o.path_for("fig");
+    fs::create_dir_all(&sub).unwrap();
     write_atomic(&sub.join("f.svg"), b"<svg/>").unwrap();
     let files = o.commit().unwrap();
     assert_eq!(files, vec![out.join("a.csv"), out.join("fig/f.svg")]);
@@ -369,18 +370,18 @@ fn svg_heatmap_checks_its_shape() {
             ("no contact".into(), (220, 220, 220)),
         ],
     };
-    write_heatmap_svg(&map, &p, (600, 400)).unwrap();
+    write_figure(&[Panel::HeatMap(&map)], 1, &p, (600, 400)).unwrap();
     let svg = fs::read_to_string(&p).unwrap();
     assert!(svg.contains("no contact") && svg.contains("Stability"));
     map.cells[1][2] = 7;
-    let e = write_heatmap_svg(&map, &p, (600, 400)).unwrap_err();
+    let e = write_figure(&[Panel::HeatMap(&map)], 1, &p, (600, 400)).unwrap_err();
     assert!(
         e.to_string()
             .ends_with("cells row 1 uses category 7 but only 3 categories are defined"),
         "{e}"
     );
     map.cells.pop();
-    let e = write_heatmap_svg(&map, &p, (600, 400)).unwrap_err();
+    let e = write_figure(&[Panel::HeatMap(&map)], 1, &p, (600, 400)).unwrap_err();
     assert!(e
         .to_string()
         .ends_with("cells has 1 rows but y_values has 2 values"));

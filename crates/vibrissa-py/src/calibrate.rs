@@ -2,20 +2,18 @@
 //! contours, as `vibrissa calibrate` computes them (same resolution, settings, result and
 //! messages), the logs given as columns instead of CSV files.
 
-use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyTuple};
 use vibrissa_cli::cli::{CalibrateArgs, ModelFlags};
 use vibrissa_cli::commands::calibrate::{fit_inputs, json_of, LogInput};
-use vibrissa_cli::commands::recon_io::to_model_units_with;
 use vibrissa_cli::resolve::resolve_model;
 
 use crate::convert::json;
 use crate::errors::{compute, invalid};
 use crate::params::{model_flags, number, string, units_scene, ProfileSpec};
-use crate::reconstruct::{log_table, LOG_ORIGIN};
+use crate::reconstruct::{log_table, log_to_model_units, LOG_ORIGIN};
 
 /// Calibrates the whisker of `spec` (start values `theta, a, b, k`, `units`; `fit` a
 /// comma-separated list; `starts`; `q` with `alpha_deg` to hold the flow fixed) on `logs`, a
@@ -72,8 +70,7 @@ pub fn calibrate<'py>(
         let units = r.units();
         let mut inputs = Vec::with_capacity(raw.len());
         for (i, (mut table, profile)) in raw.into_iter().enumerate() {
-            let x0_given =
-                to_model_units_with(&mut table, &BTreeMap::new(), &units, Path::new(LOG_ORIGIN))?;
+            let x0_given = log_to_model_units(&mut table, &units)?;
             let parsed = profile.parse(&units)?;
             inputs.push(LogInput {
                 arg: format!("log {}", i + 1),

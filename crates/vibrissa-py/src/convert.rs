@@ -38,13 +38,19 @@ pub fn json<'py>(py: Python<'py>, v: &Value) -> PyResult<Bound<'py, PyAny>> {
     })
 }
 
-/// Named columns as a dict of numpy arrays.
-pub fn columns<'py>(py: Python<'py>, cols: Vec<(&str, Vec<f64>)>) -> PyResult<Bound<'py, PyDict>> {
+/// A result dict holding named columns under `"columns"`, as a dict of numpy arrays (the
+/// shape of every table the package returns: `solve`, `sweep`, `reconstruct`).
+pub fn with_columns<'py>(
+    py: Python<'py>,
+    cols: Vec<(&str, Vec<f64>)>,
+) -> PyResult<Bound<'py, PyDict>> {
     let dict = PyDict::new(py);
     for (name, v) in cols {
         dict.set_item(name, array(py, v))?;
     }
-    Ok(dict)
+    let out = PyDict::new(py);
+    out.set_item("columns", dict)?;
+    Ok(out)
 }
 
 /// A 1-D float64 numpy array (or anything numpy turns into one: the Python layer passes

@@ -14,15 +14,22 @@ use vibrissa_cli::commands::reconstruct::{
     recon_model, reconstruct_log, ReconOptions, REQUIRED_COLUMNS,
 };
 use vibrissa_cli::csvio::Table;
-use vibrissa_cli::units::Quantity;
+use vibrissa_cli::units::{Quantity, UnitSystem};
+use vibrissa_cli::CliError;
 
-use crate::convert::{columns, json};
+use crate::convert::{json, with_columns};
 use crate::errors::{compute, invalid};
 use crate::params::{model_flags, number, string, units_scene, ProfileSpec};
 
 /// Where the rows of a log given as columns are said to be in messages: `log row:N: ...`
 /// names the 1-based row N.
 pub const LOG_ORIGIN: &str = "log row";
+
+/// A log given as columns (read by [`log_table`]) in the model's units, converted from the
+/// scene's `units` (such a log has no units sidecar); returns its x0 column as given.
+pub fn log_to_model_units(table: &mut Table, units: &UnitSystem) -> Result<Vec<f64>, CliError> {
+    to_model_units_with(table, &BTreeMap::new(), units, Path::new(LOG_ORIGIN))
+}
 
 /// The reconstruct command's arguments from `spec` (`theta, a, b, k, q, alpha_deg, noise,
 /// method, tolerance`).
@@ -114,8 +121,7 @@ pub fn reconstruct<'py>(
         let r = recon_model(&args, file)?;
         let units = r.units();
         let truth = truth_spec.map(|p| p.parse(&units)).transpose()?;
-        let x0_given =
-            to_model_units_with(&mut table, &BTreeMap::new(), &units, Path::new(LOG_ORIGIN))?;
+        let x0_given = log_to_model_units(&mut table, &units)?;
         let rec = reconstruct_log(&args, &opts, &r, &table)?;
         let errors = truth.as_ref().map(|p| contour_error(&rec.points, p));
         Ok((rec, units, x0_given, errors, opts.method))
@@ -153,11 +159,7 @@ pub fn reconstruct<'py>(
         "hypotheses",
         "error",
     ];
-    let out = PyDict::new(py);
-    out.set_item(
-        "columns",
-        columns(py, names.iter().copied().zip(cols).collect())?,
-    )?;
+    let out = with_columns(py, names.iter().copied().zip(cols).collect())?;
     out.set_item("phase", phase)?;
     let id = &rec.identification;
     let summary = serde_json::json!({

@@ -7,7 +7,7 @@ use vibrissa_cli::commands::solve::solution_json;
 use vibrissa_cli::resolve::resolve_model;
 use vibrissa_cli::units::Quantity;
 
-use crate::convert::{columns, json};
+use crate::convert::{json, with_columns};
 use crate::errors::compute;
 use crate::params::{model_flags, units_scene};
 
@@ -35,20 +35,16 @@ pub fn solve<'py>(py: Python<'py>, spec: &Bound<'py, PyDict>) -> PyResult<Bound<
     let summary = solution_json(&r, &sol);
     let e = sol.elastica;
     let scaled = |v: Vec<f64>, s: f64| v.into_iter().map(|x| x * s).collect::<Vec<_>>();
-    let out = PyDict::new(py);
-    out.set_item(
-        "columns",
-        columns(
-            py,
-            vec![
-                ("s", scaled(e.s, l)),
-                ("x", scaled(e.x, l)),
-                ("y", scaled(e.y, l)),
-                ("phi", e.phi),
-                ("kappa", scaled(e.kappa, k)),
-                ("m", scaled(e.m, m)),
-            ],
-        )?,
+    let out = with_columns(
+        py,
+        vec![
+            ("s", scaled(e.s, l)),
+            ("x", scaled(e.x, l)),
+            ("y", scaled(e.y, l)),
+            ("phi", e.phi),
+            ("kappa", scaled(e.kappa, k)),
+            ("m", scaled(e.m, m)),
+        ],
     )?;
     let tip = PyDict::new(py);
     tip.set_item("x", sol.tip.x * l)?;

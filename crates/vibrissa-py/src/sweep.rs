@@ -8,7 +8,7 @@ use vibrissa_cli::commands::sweep::{check_sweep_loads, missing_profile, sweep_js
 use vibrissa_cli::commands::{output_scene, ObservableRecord};
 use vibrissa_cli::resolve::resolve_model;
 
-use crate::convert::{columns, json};
+use crate::convert::{json, with_columns};
 use crate::errors::compute;
 use crate::params::{count, model_flags, units_scene, ProfileSpec};
 
@@ -44,24 +44,20 @@ pub fn sweep<'py>(py: Python<'py>, spec: &Bound<'py, PyDict>) -> PyResult<Bound<
         .map(|p| ObservableRecord::of(p, &units))
         .collect();
     let col = |f: fn(&ObservableRecord) -> f64| rows.iter().map(f).collect::<Vec<f64>>();
-    let out = PyDict::new(py);
-    out.set_item(
-        "columns",
-        columns(
-            py,
-            vec![
-                ("x0", col(|r| r.x0)),
-                ("Ax", col(|r| r.ax)),
-                ("Ay", col(|r| r.ay)),
-                ("MA", col(|r| r.ma)),
-                ("phi0", col(|r| r.phi0)),
-                ("f", col(|r| r.f)),
-                ("s1", col(|r| r.s1)),
-                ("xc", col(|r| r.xc)),
-                ("yc", col(|r| r.yc)),
-                ("psi", col(|r| r.psi)),
-            ],
-        )?,
+    let out = with_columns(
+        py,
+        vec![
+            ("x0", col(|r| r.x0)),
+            ("Ax", col(|r| r.ax)),
+            ("Ay", col(|r| r.ay)),
+            ("MA", col(|r| r.ma)),
+            ("phi0", col(|r| r.phi0)),
+            ("f", col(|r| r.f)),
+            ("s1", col(|r| r.s1)),
+            ("xc", col(|r| r.xc)),
+            ("yc", col(|r| r.yc)),
+            ("psi", col(|r| r.psi)),
+        ],
     )?;
     let phases: Vec<&str> = rows.iter().map(|r| r.phase).collect();
     out.set_item("phase", phases)?;

@@ -20,21 +20,16 @@ fn sweep_csv(points: &[SweepPoint]) -> CsvWriter {
         .unwrap_or_else(|_| CsvWriter::new(&vibrissa_cli::commands::OBSERVABLES_HEADER))
 }
 
-fn first_contact_name(f: FirstContact) -> &'static str {
-    match f {
-        FirstContact::Tip => "tip (A)",
-        FirstContact::Tangential => "tangential (B)",
-    }
+/// How the contact began, with the phase it began in: `tip (A)`, `tangential (B)`.
+fn first_contact_name(f: FirstContact) -> String {
+    format!("{} ({})", f.label(), f.phase().letter())
 }
 
+/// How the contact ended ([`Separation`]'s name), with the contour point of a second contact.
 fn separation_name(s: &Separation) -> String {
     match s {
-        Separation::Snap => "snap".to_string(),
-        Separation::Release => "release".to_string(),
-        Separation::MultiContact { xc } => format!("multi-contact at xc = {}", sig(*xc, 4)),
-        Separation::EndOfContour => "end of contour".to_string(),
-        Separation::ContactAtBase => "contact at the base".to_string(),
-        Separation::NotReached { steps } => format!("not reached within {steps} steps"),
+        Separation::MultiContact { xc } => format!("{s} at xc = {}", sig(*xc, 4)),
+        _ => s.to_string(),
     }
 }
 
@@ -247,7 +242,7 @@ fn sweep_files_and_table(out: &OutputDir, entry: &mut Entry, group: &[&SweepRun]
                 note_err(entry, &name, res);
                 rows.push(vec![
                     r.case.label.clone(),
-                    first_contact_name(s.first_contact).to_string(),
+                    first_contact_name(s.first_contact),
                     separation_name(&s.separation),
                     s.phase_pattern(),
                     s.points.len().to_string(),

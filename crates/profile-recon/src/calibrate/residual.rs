@@ -266,8 +266,10 @@ fn m_at(sol: &OdeSolution, s: f64) -> f64 {
 }
 
 /// The root of `m` on `(0, 1)` nearest to `guess`, within [`TRACK_SPAN`]: brackets grown
-/// outwards from the guess on both sides.
+/// outwards from the guess on both sides, by widths `1e-4 * 2^k`
+/// ([`grow_brackets`](bvp_solvers::roots::grow_brackets)), the nearer sign change first.
 fn track_root(sol: &OdeSolution, guess: f64) -> Option<f64> {
+    use bvp_solvers::roots::{grow_brackets, Growth};
     let end = sol.s_end.min(1.0);
     let g = guess.clamp(1e-9, end - 1e-12);
     let mg = m_at(sol, g);
@@ -277,40 +279,15 @@ fn track_root(sol: &OdeSolution, guess: f64) -> Option<f64> {
     if !mg.is_finite() {
         return None;
     }
-    let mut width = 1e-4;
-    let (mut lo, mut hi) = (g, g);
-    let (mut mlo, mut mhi) = (mg, mg);
-    while width <= TRACK_SPAN {
-        let nlo = (g - width).max(1e-12);
-        let nhi = (g + width).min(end);
-        let (a, b) = (m_at(sol, nlo), m_at(sol, nhi));
-        // the nearer of the two sign changes
-        let left = a.is_finite() && a.signum() != mlo.signum();
-        let right = b.is_finite() && b.signum() != mhi.signum();
-        let found = match (left, right) {
-            (true, _) => brent(
-                |s| Ok::<_, bvp_solvers::BvpError>(m_at(sol, s)),
-                nlo,
-                lo,
-                &ROOT_OPTS,
-            )
-            .ok(),
-            (false, true) => brent(
-                |s| Ok::<_, bvp_solvers::BvpError>(m_at(sol, s)),
-                hi,
-                nhi,
-                &ROOT_OPTS,
-            )
-            .ok(),
-            _ => None,
-        };
-        if let Some(r) = found {
-            return (r.x > 0.0 && r.x < 1.0).then_some(r.x);
-        }
-        (lo, hi, mlo, mhi) = (nlo, nhi, a, b);
-        width *= 2.0;
-    }
-    None
+    let sign = |s: f64| {
+        let m = m_at(sol, s);
+        m.is_finite().then_some(m.is_sign_positive())
+    };
+    let growth = Growth::within(1e-4, 2.0, TRACK_SPAN);
+    let m = |s| Ok::<_, bvp_solvers::BvpError>(m_at(sol, s));
+    let root = grow_brackets(sign, g, mg.is_sign_positive(), (1e-12, end), growth)
+        .find_map(|(a, b)| brent(m, a, b, &ROOT_OPTS).ok())?;
+    (root.x > 0.0 && root.x < 1.0).then_some(root.x)
 }
 
 /// Every root of `m` on `(0, 1)` of one base integration (sign changes on each step cut in

@@ -10,6 +10,27 @@ use super::whiten::Whitener;
 use super::{CalibParam, Calibration, Combination, LogFit, ParamEstimate, RowFit};
 use crate::error::{ReconError, Result};
 use beam_model::Whisker;
+use contact_sim::Phase;
+
+/// The letters of the row kinds, as a row's fit carries them ([`RowFit::kind`]; here, where
+/// the fits are made).
+impl RowKind {
+    /// The row kind in one letter: the phase's ([`Phase::letter`]: `-` before contact, `A`,
+    /// `B`), `x` for a row left out.
+    pub fn letter(&self) -> char {
+        match self {
+            RowKind::Pre => Phase::None.letter(),
+            RowKind::A => Phase::A.letter(),
+            RowKind::B { .. } => Phase::B.letter(),
+            RowKind::Skipped => 'x',
+        }
+    }
+
+    /// Whether a letter of [`RowKind::letter`] is a contact's (`A` or `B`).
+    pub fn is_contact_letter(letter: char) -> bool {
+        letter == Phase::A.letter() || letter == Phase::B.letter()
+    }
+}
 
 /// The result: the final Jacobian (central differences), its analysis, the estimates, the
 /// flows, the rows and the checks.
@@ -73,7 +94,7 @@ pub(crate) fn summarize(
     let rows = row_fits(prob, &fit.p, &fit.kinds, s);
     let contact: Vec<f64> = rows
         .iter()
-        .filter(|r| matches!(r.kind, 'A' | 'B'))
+        .filter(|r| RowKind::is_contact_letter(r.kind))
         .map(|r| r.distance)
         .collect();
     let rms_distance =
@@ -225,11 +246,11 @@ fn row_fits(prob: &CalibProblem<'_>, p: &[f64], kinds: &Kinds, s: f64) -> Vec<Ro
                 continue;
             };
             let w: &Whitener = &prob.whiteners[l][k];
-            let (kind, s1, di) = match res.kind {
-                RowKind::Pre => ('-', f64::NAN, None),
-                RowKind::A => ('A', 1.0, Some(2)),
-                RowKind::B { s1 } => ('B', s1, Some(1)),
-                RowKind::Skipped => ('x', f64::NAN, None),
+            let kind = res.kind.letter();
+            let (s1, di) = match res.kind {
+                RowKind::Pre | RowKind::Skipped => (f64::NAN, None),
+                RowKind::A => (1.0, Some(2)),
+                RowKind::B { s1 } => (s1, Some(1)),
             };
             let chi = if res.kind == RowKind::Skipped {
                 f64::NAN

@@ -111,7 +111,7 @@ impl RowSolve<'_> {
                     row: self.i,
                     x0: self.row.x0,
                     residual,
-                    phase: if phase == Phase::B { 'B' } else { 'A' },
+                    phase,
                 })
             }
         }
@@ -154,7 +154,7 @@ impl RowSolve<'_> {
                     row: self.i,
                     x0: self.row.x0,
                     residual: s.residual,
-                    phase: if s.phase == Phase::B { 'B' } else { 'A' },
+                    phase: s.phase,
                 });
             }
         }

@@ -46,9 +46,7 @@ pub use observables::{
 };
 pub use outputs::{list_files, output_scene, scene_unit_notes, write_scene_ron, write_units_of};
 pub use phases::phase_name;
-pub use sweep_events::{
-    first_contact_name, separation_name, sweep_events, sweep_summary, RowCounts, SweepEvent,
-};
+pub use sweep_events::{sweep_events, sweep_summary, RowCounts, SweepEvent};
 pub use sweep_figures::{write_sweep_figures, FigureContext};
 
 use crate::cli::Command;

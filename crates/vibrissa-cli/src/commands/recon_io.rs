@@ -93,7 +93,7 @@ pub fn to_model_units_with(
     units: &UnitSystem,
     origin: &Path,
 ) -> Result<Vec<f64>, CliError> {
-    let factors = column_factors(given, &INPUT_QUANTITIES, units, origin)?;
+    let factors = input_factors(given, units, origin)?;
     let x0 = table.column("x0").map(<[f64]>::to_vec).unwrap_or_default();
     for ((name, _), f) in INPUT_QUANTITIES.iter().zip(factors) {
         if f != 1.0 {
@@ -105,14 +105,18 @@ pub fn to_model_units_with(
     Ok(x0)
 }
 
-/// The scales of the input columns x0, Ax, Ay, MA, phi0 in the scene's `units` (a model
-/// value times its scale is the value in the scene's units), by the same quantities as a
-/// file's columns. The stream divides its values by them; a file's columns are multiplied
-/// by the factors of their sidecar's units, `1 / scale` without one (the two roundings
-/// differ in the last bit, and each path keeps its own so that its outputs stay as they
-/// were).
-pub fn input_scales(units: &UnitSystem) -> [f64; 5] {
-    INPUT_QUANTITIES.map(|(_, q)| units.scale(q))
+/// The factors that take the input columns x0, Ax, Ay, MA, phi0 to the model's
+/// dimensionless variables (a value times its factor): by the columns' units `given` (column
+/// name -> unit, read from `origin`, named in messages), `1 / scale` of the scene's `units`
+/// for a column not named. The one conversion of a log's values: a file's columns
+/// ([`to_model_units_with`]) and the stream's rows (no units given) alike.
+pub fn input_factors(
+    given: &BTreeMap<String, String>,
+    units: &UnitSystem,
+    origin: &Path,
+) -> Result<[f64; 5], CliError> {
+    let f = column_factors(given, &INPUT_QUANTITIES, units, origin)?;
+    Ok([f[0], f[1], f[2], f[3], f[4]])
 }
 
 /// The quantities of the `reconstruction.csv` columns (`error` last, if present): x0, x, y,
@@ -267,10 +271,32 @@ mod tests {
         assert_eq!(cells[6], Cell::Text("B"));
         assert_eq!(cells[9], Cell::Num(1.0));
         assert_eq!(cells[10], Cell::Num(0.5));
-        assert_eq!(input_scales(&units), [1.0; 5]);
+        let none = BTreeMap::new();
+        assert_eq!(
+            input_factors(&none, &units, Path::new("-")).unwrap(),
+            [1.0; 5]
+        );
         assert_eq!(
             reconstruction_header(true).join(","),
             "x0,x,y,s1,f,psi,phase,sigma,residual,hypotheses,error"
         );
+    }
+
+    /// A physical scene's log (no sidecar) is divided by its output scales, through the
+    /// reciprocal factors; a sidecar unit names its own factor (mm to the whisker length).
+    #[test]
+    fn input_factors_invert_the_scene_scales() {
+        let p = beam_model::Preset::from_name("beta").unwrap().whisker();
+        let units = UnitSystem::new(Some(p));
+        let origin = Path::new("log.units.csv");
+        let f = input_factors(&BTreeMap::new(), &units, origin).unwrap();
+        for ((_, q), f) in INPUT_QUANTITIES.iter().zip(f) {
+            assert_eq!(f, 1.0 / units.scale(*q));
+        }
+        assert!((f[0] * units.scale(Quantity::Length) - 1.0).abs() < 1e-15);
+        let given = BTreeMap::from([("x0".to_string(), "m".to_string())]);
+        let g = input_factors(&given, &units, origin).unwrap();
+        assert!((g[0] / f[0] - 1e3).abs() < 1e-9, "{}", g[0] / f[0]);
+        assert_eq!(g[1..], f[1..]);
     }
 }

@@ -13,9 +13,7 @@ use crate::commands::json::{json_number, json_opt};
 use crate::commands::observables::write_observables_csv;
 use crate::commands::outputs::{output_scene, scene_unit_notes, write_scene_ron};
 use crate::commands::shapes::{write_shapes_csv, write_shapes_svg};
-use crate::commands::sweep_events::{
-    first_contact_name, separation_name, sweep_events, sweep_summary, RowCounts,
-};
+use crate::commands::sweep_events::{sweep_events, sweep_summary, RowCounts};
 use crate::commands::sweep_figures::{write_sweep_figures, FigureContext};
 use crate::error::CliError;
 use crate::resolve::{parse_count, profile_arg, resolve_model, LoadedScene, ProfileArg, Resolved};
@@ -139,10 +137,10 @@ pub fn sweep_json(res: &SweepResult, requested: usize, units: &UnitSystem) -> se
         })
         .collect();
     serde_json::json!({
-        "first_contact": first_contact_name(res.first_contact),
+        "first_contact": res.first_contact.label(),
         "first_contact_row": n.first_contact_row,
         "first_contact_x0": x0_of(n.first_contact_row),
-        "separation": separation_name(&res.separation),
+        "separation": res.separation.to_string(),
         "separation_row": n.separation_row,
         "separation_x0": x0_of(n.separation_row),
         "phases": res.phase_pattern(),

@@ -23,7 +23,7 @@ pub fn sweep_events(res: &SweepResult) -> Vec<SweepEvent> {
     };
     out.push(SweepEvent {
         index: first,
-        label: format!("first contact ({})", first_contact_name(res.first_contact)),
+        label: format!("first contact ({})", res.first_contact.label()),
     });
     for i in first + 1..res.points.len() {
         let (a, b) = (res.points[i - 1].phase, res.points[i].phase);
@@ -37,33 +37,12 @@ pub fn sweep_events(res: &SweepResult) -> Vec<SweepEvent> {
     if let Some(last) = res.points.iter().rposition(|p| p.phase != Phase::None) {
         out.push(SweepEvent {
             index: last,
-            label: separation_name(&res.separation),
+            label: res.separation.to_string(),
         });
     }
     out
 }
 
-/// `tip` or `tangential`.
-pub fn first_contact_name(f: contact_sim::FirstContact) -> &'static str {
-    match f {
-        contact_sim::FirstContact::Tip => "tip",
-        contact_sim::FirstContact::Tangential => "tangential",
-    }
-}
-
-/// `snap`, `release`, `second contact` or `end of contour`.
-pub fn separation_name(s: &contact_sim::Separation) -> String {
-    match s {
-        contact_sim::Separation::Snap => "snap".to_string(),
-        contact_sim::Separation::Release => "release".to_string(),
-        contact_sim::Separation::MultiContact { .. } => "second contact".to_string(),
-        contact_sim::Separation::EndOfContour => "end of contour".to_string(),
-        contact_sim::Separation::ContactAtBase => "contact at the base".to_string(),
-        contact_sim::Separation::NotReached { steps } => {
-            format!("not reached within {steps} steps")
-        }
-    }
-}
 /// How the rows of a sweep are counted, the same way in the text, the JSON and the CSV:
 /// rows are the data rows of `observables.csv`, numbered from 1 (row r is on line r + 1,
 /// below the header).
@@ -128,7 +107,7 @@ pub fn sweep_summary(res: &SweepResult, requested: usize, units: &UnitSystem) ->
         contact_sim::Separation::MultiContact { xc } => {
             format!("second contact at xc = {:.6}{lu} (stopped)", xc * l)
         }
-        ref s => separation_name(s),
+        ref s => s.to_string(),
     };
     format!(
         "{} rows ({} before contact + {} in contact: {} requested + {} at events), first \
@@ -138,27 +117,10 @@ pub fn sweep_summary(res: &SweepResult, requested: usize, units: &UnitSystem) ->
         n.contact,
         n.requested,
         n.event_rows,
-        first_contact_name(res.first_contact),
+        res.first_contact.label(),
         at(n.first_contact_row),
         sep,
         at(n.separation_row),
         res.phase_pattern()
     )
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use contact_sim::{FirstContact, Separation};
-
-    #[test]
-    fn events_are_named_for_the_text_json_and_figures() {
-        assert_eq!(first_contact_name(FirstContact::Tip), "tip");
-        assert_eq!(first_contact_name(FirstContact::Tangential), "tangential");
-        assert_eq!(separation_name(&Separation::Snap), "snap");
-        assert_eq!(
-            separation_name(&Separation::NotReached { steps: 3 }),
-            "not reached within 3 steps"
-        );
-    }
 }

@@ -146,22 +146,14 @@ impl CsvWriter {
         Ok(())
     }
 
-    /// Appends one serde record (a struct whose fields are the columns, in header order;
-    /// numbers are written shortest round-trip exact by the `csv` crate).
-    ///
-    /// # Errors
-    /// [`CliError::InvalidArgument`] if the record cannot be serialised as one row of as
-    /// many fields as the header.
-    pub fn push_record<T: serde::Serialize>(&mut self, record: &T) -> Result<(), CliError> {
-        self.push_records(std::iter::once(record))
-    }
-
-    /// Appends serde records as [`CsvWriter::push_record`] does, through one `csv` writer
+    /// Appends serde records (structs whose fields are the columns, in header order; numbers
+    /// are written shortest round-trip exact by the `csv` crate), through one `csv` writer
     /// (a writer costs an 8 KiB zeroed buffer: one a record was most of the cost of a
     /// table). Nothing is appended if a record fails.
     ///
     /// # Errors
-    /// As [`CsvWriter::push_record`], for the first record that fails.
+    /// [`CliError::InvalidArgument`] for the first record that cannot be serialised as one
+    /// row of as many fields as the header.
     pub fn push_records<T: serde::Serialize>(
         &mut self,
         records: impl IntoIterator<Item = T>,
@@ -383,7 +375,7 @@ mod tests {
         ];
         let mut one = CsvWriter::new(&["x", "name"]);
         for r in &recs {
-            one.push_record(r).unwrap();
+            one.push_records(std::iter::once(r)).unwrap();
         }
         let mut batch = CsvWriter::new(&["x", "name"]);
         batch.push_records(recs.iter()).unwrap();

@@ -25,11 +25,6 @@ pub fn write_svg_panels(
     write_figure(&panels, cols, path, size)
 }
 
-/// Writes `map` as an SVG (and PNG) of `size` pixels to `path`, atomically.
-pub fn write_heatmap_svg(map: &HeatMap, path: &Path, size: (u32, u32)) -> Result<(), CliError> {
-    write_figure(&[Panel::HeatMap(map)], 1, path, size)
-}
-
 /// Which files a figure is written as: `--figures none|svg|png|all`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum FigureFormats {

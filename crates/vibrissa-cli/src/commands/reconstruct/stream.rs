@@ -1,7 +1,7 @@
 //! `vibrissa reconstruct --stream`: a sensor's log on standard input, one row per line,
 //! each contact point on standard output as soon as it is known. The rows are read by the
 //! CSV reader of the files ([`LineReader`]) and converted from the scene's units by the
-//! quantities of a file's columns ([`recon_io::input_scales`]); each point is a row of
+//! factors of a file's columns ([`recon_io::input_factors`]); each point is a row of
 //! `reconstruction.csv` ([`recon_io::recon_cells`]).
 
 use std::io::{BufRead, Write};
@@ -32,7 +32,7 @@ pub fn run_stream(args: &ReconstructArgs) -> Result<(), CliError> {
     let file = LoadedScene::load_opt(scene.as_deref())?;
     let r = recon_model(args, file)?;
     let units = r.units();
-    let scale = recon_io::input_scales(&units);
+    let factor = recon_io::input_factors(&Default::default(), &units, Path::new(STDIN))?;
     let (flow, settings) = (opts.known_flow(args, &r), opts.settings());
     let mut stream = Streamer::new(&r.scene.whisker, flow, &settings)
         .map_err(|e| stdin_err(1, e.to_string()))?;
@@ -57,11 +57,11 @@ pub fn run_stream(args: &ReconstructArgs) -> Result<(), CliError> {
         let v = rows.values(line).map_err(|p| line_err(n, line, p))?;
         lines.push(n);
         let row = ObservableRow {
-            x0: v[0] / scale[0],
-            ax: v[1] / scale[1],
-            ay: v[2] / scale[2],
-            ma: v[3] / scale[3],
-            phi0: v[4] / scale[4],
+            x0: v[0] * factor[0],
+            ax: v[1] * factor[1],
+            ay: v[2] * factor[2],
+            ma: v[3] * factor[3],
+            phi0: v[4] * factor[4],
         };
         let points = stream.push(row).map_err(|e| at_row(&lines, e))?;
         out.write(&points)?;

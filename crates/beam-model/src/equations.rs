@@ -93,6 +93,17 @@ impl MomentLaw {
         }
     }
 
+    /// `m'` alone at arc length `s` where `(sin phi, cos phi) = (sp, cp)`: [`MomentLaw::at`]'s
+    /// sum regrouped as `sin phi (f cos c + (s1 - s) q cos alpha) + cos phi (f sin c +
+    /// (s1 - s) q sin alpha)`, fewer operations after `sin_cos` (the reconstruction's state
+    /// runs are bound by that latency: 8 % of the stream's time).
+    #[inline]
+    pub fn dm(&self, s: f64, sp: f64, cp: f64) -> f64 {
+        let ((sb, cb), (sal, cal)) = (self.force, self.flow);
+        let arm = (self.s1 - s) * self.q;
+        sp * (self.f * cb + arm * cal) + cp * (self.f * sb + arm * sal)
+    }
+
     /// The rate at arc length `s` where `(sin phi, cos phi) = (sp, cp)`.
     #[inline]
     pub fn at(&self, s: f64, sp: f64, cp: f64) -> MomentRate {
@@ -350,5 +361,33 @@ impl OdeSystem for FreeSegment {
         let (sp, cp) = crate::trig::sin_cos(self.phi(s));
         du[0] = cp;
         du[1] = sp;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::loads::TipForce;
+
+    /// The regrouped `m'` is the law's sum in another order: equal to rounding, for DP and
+    /// AP forces with a flow, at every arc length and angle tried.
+    #[test]
+    fn the_regrouped_rate_is_the_law() {
+        for tip in [TipForce::dp(3.0, 0.7), TipForce::ap(2.0, -1.1)] {
+            let loads = Loads {
+                s1: 0.8,
+                ..Loads::combined(tip, 5.0, 0.4)
+            };
+            let law = MomentLaw::new(&loads, 0.3);
+            for i in 0..50 {
+                let (s, phi) = (i as f64 / 49.0 * 0.8, -3.0 + 0.13 * i as f64);
+                let (sp, cp) = phi.sin_cos();
+                let (a, b) = (law.at(s, sp, cp).dm, law.dm(s, sp, cp));
+                assert!(
+                    (a - b).abs() <= 1e-14 * (1.0 + a.abs()),
+                    "{s} {phi}: {a} vs {b}"
+                );
+            }
+        }
     }
 }

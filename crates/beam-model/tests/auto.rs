@@ -177,15 +177,22 @@ fn strong_loads_go_to_shooting_and_impossible_accuracies_are_refused() {
     assert!(e.to_string().contains("tol"), "{e}");
 }
 
-/// `accurate`'s own estimate (default tolerance: a search shot at 1e-10 against the dense
-/// shot at 1e-12) bounds its error against `accurate` at 1e-14 (whose estimate comes from
-/// a check shot), on seeded scenes over the command line's space: theta 0.05..1, A, B
-/// within ±2, k 1..50 or rigid, DP/AP forces up to 20 at any angle, flows up to 20, loaded
-/// in part in a third. Where `auto` is asked for 1e-8 it answers with exactly this solve,
-/// so the battery above cannot see it. Returns (scenes compared, worst error / estimate).
-fn estimates_bound_errors(seed: u64, n: usize) -> (usize, f64) {
+/// The estimates of `accurate` (default tolerance: a search shot at 1e-10 against the
+/// dense shot at 1e-12) and of `auto` asked for 1e-4..1e-12 (stage 2 at the asked accuracy
+/// against the dense shot a hundred times tighter) bound their errors against `accurate`
+/// at 1e-14 (whose estimate comes from a check shot), on seeded scenes over the command
+/// line's space: theta 0.05..1, A, B within ±2, k 1..50 or rigid, DP/AP forces up to 20 at
+/// any angle, flows up to 20, loaded in part in a third. Where `auto` is asked for 1e-8
+/// and answers by shooting, the battery above cannot see the estimate's honesty: it
+/// compares with `accurate`'s default, whose error is of the same order. Only answers by
+/// shooting count (Picard's are checked above). Returns (scenes compared, worst error /
+/// estimate) per method.
+fn estimates_bound_errors(seed: u64, n: usize) -> Vec<(usize, f64)> {
+    let methods: Vec<Method> = std::iter::once(Method::accurate())
+        .chain([1e-4, 1e-6, 1e-8, 1e-10, 1e-12].map(auto))
+        .collect();
     let mut rng = Rng(seed);
-    let (mut cases, mut worst) = (0, 0.0_f64);
+    let mut out = vec![(0, 0.0_f64); methods.len()];
     for case in 0..n {
         let theta = rng.range(0.05, 1.0);
         let (a, b) = (rng.range(-2.0, 2.0), rng.range(-2.0, 2.0));
@@ -214,39 +221,52 @@ fn estimates_bound_errors(seed: u64, n: usize) -> (usize, f64) {
             tol: 1e-14,
             samples: 100,
         };
-        let (Ok(sol), Ok(truth)) = (solve(&scene, &Method::accurate()), solve(&scene, &tight))
-        else {
+        let Ok(truth) = solve(&scene, &tight) else {
             continue;
         };
-        if sol.stats.method_used != MethodKind::Accurate {
+        if truth.stats.method_used != MethodKind::Accurate {
             continue;
         }
-        cases += 1;
-        let err = sol.difference(&truth);
-        let ratio = err / (sol.stats.error_estimate + truth.stats.error_estimate);
-        assert!(
-            ratio <= 1.0,
-            "case {case} ({scene:?}): error {err:e} > estimate {:e} (+ {:e})",
-            sol.stats.error_estimate,
-            truth.stats.error_estimate
-        );
-        worst = worst.max(ratio);
+        for (m, (cases, worst)) in methods.iter().zip(out.iter_mut()) {
+            // a refusal is an answer too (no numbers, so never a wrong one)
+            let Ok(sol) = solve(&scene, m) else {
+                continue;
+            };
+            if sol.stats.method_used != MethodKind::Accurate {
+                continue;
+            }
+            *cases += 1;
+            let err = sol.difference(&truth);
+            let ratio = err / (sol.stats.error_estimate + truth.stats.error_estimate);
+            assert!(
+                ratio <= 1.0,
+                "case {case} ({scene:?}) by {m:?}: error {err:e} > estimate {:e} (+ {:e})",
+                sol.stats.error_estimate,
+                truth.stats.error_estimate
+            );
+            *worst = worst.max(ratio);
+        }
     }
-    println!("{cases} scenes: worst error / estimate {worst:.3}");
-    (cases, worst)
+    for (m, (cases, worst)) in methods.iter().zip(&out) {
+        println!("{m:?}: {cases} scenes by shooting, worst error / estimate {worst:.3}");
+    }
+    out
 }
 
 #[test]
-fn accurate_estimates_bound_their_errors() {
-    let (cases, _) = estimates_bound_errors(0x5EED_E571, 40);
-    assert!(cases >= 30, "only {cases} scenes answered by shooting");
+fn estimates_of_accurate_and_auto_bound_their_errors() {
+    for (cases, _) in estimates_bound_errors(0x5EED_E571, 40) {
+        assert!(cases >= 25, "only {cases} scenes answered by shooting");
+    }
 }
 
-/// The same on 2000 scenes (~15 s in release):
+/// The same on 1000 scenes (~1 min in release; measured: ~820 scenes by shooting per
+/// method, worst error / estimate 0.56):
 /// `cargo test --release -p beam-model --test auto -- --ignored --nocapture`.
 #[test]
 #[ignore]
-fn accurate_estimates_bound_their_errors_wide() {
-    let (cases, _) = estimates_bound_errors(0xE571_2026, 2000);
-    assert!(cases >= 1500, "only {cases} scenes answered by shooting");
+fn estimates_of_accurate_and_auto_bound_their_errors_wide() {
+    for (cases, _) in estimates_bound_errors(0xE571_2026, 1000) {
+        assert!(cases >= 700, "only {cases} scenes answered by shooting");
+    }
 }

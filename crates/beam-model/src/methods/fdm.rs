@@ -232,6 +232,7 @@ fn shooting_start(
         tolerance: 1e-6,
         samples: 16,
         budget,
+        search_tol: None,
     };
     let sol = super::accurate::solve_accurate(scene, &shooting).ok()?;
     if sol.stats.error_estimate.is_nan() || sol.stats.error_estimate > 1e-6 {

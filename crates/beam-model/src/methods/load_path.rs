@@ -350,19 +350,17 @@ pub(crate) fn find_branch_by_rule(
 ) -> Result<(Found, Option<LoadPath>)> {
     let support = &whisker.support;
     let unfolded = |tip: &TipSolve| support.residual_rate(tip.sens.phi0, tip.sens.m0) > 0.0;
+    // (a solved polish counts its own evaluations)
     let polished = |phi1: f64, start| {
-        let (t, spent) = polish_tip_angle(
+        polish_tip_angle(
             whisker,
             loads,
             polish.integration,
             method,
             (phi1, start),
             &polish.target,
-        );
-        t.map(|mut t| {
-            t.evaluations += spent;
-            t
-        })
+        )
+        .0
     };
     let found = match find_branch(whisker, loads, search, method, budget) {
         Ok(found) if found.steps == 0 && !polish.direct_too => Ok(found),

@@ -95,6 +95,10 @@ fn work_precision_errors_are_errors_against_the_exact_elastica() {
             "fdm-richardson" => Method::FdmRichardson {
                 n: p.setting as usize,
             },
+            "auto" => Method::Auto {
+                tol: p.setting,
+                samples: 100,
+            },
             _ => Method::Accurate {
                 tol: p.setting,
                 samples: 100,

@@ -10,7 +10,8 @@
 //! and [`solve_square`] for a square [`NewtonSystem`] that carries a point of its own (the
 //! domain's state at the solution), may start from a known Jacobian (Broyden's method first,
 //! [`NonlinearOptions::start`]) and may rule trial points out
-//! ([`NewtonSystem::admissible`]); its Newton path is [`newton`]'s, step for step.
+//! ([`NewtonSystem::admissible`]); its Newton path is
+//! [`newton`](crate::newton::newton)'s, step for step.
 //!
 //! ```
 //! use bvp_solvers::nonlinear::{solve, NonlinearOptions, Solver};
@@ -38,7 +39,7 @@ use crate::trust_region::{self, NonlinearSystem, TrustRegionOptions};
 use crate::BvpError;
 
 mod square;
-pub use square::{solve_square, SquareAnswer};
+pub use square::{solve_square, SquareReport};
 
 /// Options of [`solve`] and [`solve_square`]: the fast path's policies and the fallback's
 /// options.

@@ -7,17 +7,24 @@ use crate::newton::{newton, NewtonAnswer, NewtonPolicy, NewtonSystem, Terminatio
 use crate::trust_region::{self, forward_difference_jacobian, NonlinearSystem, TrustRegionOptions};
 use crate::BvpError;
 
-/// The answer of [`solve_square`].
-#[derive(Clone, Debug)]
-pub struct SquareAnswer<const N: usize, P> {
-    /// A solution (`answer.termination.is_solution()`), or where no solver reached one, the
-    /// Newton path's last answer: its best point, its residual, and why it stopped.
-    pub answer: NewtonAnswer<N, P>,
-    /// The solver that gave the answer.
+/// How [`solve_square`] reached its result.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SquareReport {
+    /// The solver that gave the result.
     pub solver: Solver,
-    /// Newton iterations spent before the stage that gave the answer (the start stage's
+    /// Newton iterations spent before the stage that gave the result (the start stage's
     /// before `newton`'s, all of them before the trust region's).
     pub newton_iterations: usize,
+}
+
+impl Default for SquareReport {
+    /// The Newton path, no iterations.
+    fn default() -> Self {
+        SquareReport {
+            solver: Solver::Newton,
+            newton_iterations: 0,
+        }
+    }
 }
 
 /// Solves the square system `sys` from `u0` through the Newton path, then the fallback:
@@ -34,7 +41,11 @@ pub struct SquareAnswer<const N: usize, P> {
 ///    Its tolerance is absolute ([`NewtonSystem::scale`] does not apply).
 ///
 /// A stage that reaches a solution ([`Termination::is_solution`]) gives the answer; where
-/// the stages run are the same, the answer is [`newton`]'s, bit for bit.
+/// the stages run are the same, the answer is [`newton`]'s, bit for bit. Where no solver
+/// reaches a solution the answer is the Newton path's last (its best point, its residual,
+/// and why it stopped). `report` says which solver gave it; it is written, not returned, so
+/// that the last stage's answer reaches the caller as it comes, uncopied (the contact sweep
+/// calls this in its hot loop).
 ///
 /// # Errors
 /// `InvalidInput` if no stage can run; the last Newton stage's evaluation errors
@@ -45,54 +56,71 @@ pub fn solve_square<const N: usize, S>(
     u0: [f64; N],
     jac0: Option<[[f64; N]; N]>,
     opts: &NonlinearOptions,
-) -> Result<SquareAnswer<N, S::Point>, S::Error>
+    report: &mut SquareReport,
+) -> Result<NewtonAnswer<N, S::Point>, S::Error>
 where
     S: NewtonSystem<N>,
     S::Error: std::error::Error + From<BvpError> + Send + Sync + 'static,
 {
-    let start = jac0.and_then(|j| opts.start.map(|p| (p, Some(j))));
-    let stages = [start, opts.newton.map(|p| (p, None))];
-    let (mut spent, mut before) = (0, 0);
+    *report = SquareReport::default();
+    let Some(tr) = &opts.trust_region else {
+        return newton_path(sys, u0, jac0, opts, report);
+    };
     let mut last = None;
-    for (policy, jac) in stages.into_iter().flatten() {
-        before = spent;
-        match newton(sys, u0, jac, &policy) {
-            Ok(answer) if answer.termination.is_solution() => {
-                return Ok(SquareAnswer {
-                    answer,
-                    solver: Solver::Newton,
-                    newton_iterations: before,
-                });
-            }
-            outcome => {
-                spent += outcome.as_ref().map_or(0, |a| a.iterations);
-                last = Some(outcome);
-            }
+    let mut spent = 0;
+    for (policy, jac) in [
+        (opts.start.filter(|_| jac0.is_some()), jac0),
+        (opts.newton, None),
+    ] {
+        let Some(policy) = policy else { continue };
+        report.newton_iterations = spent;
+        let result = newton(sys, u0, jac, &policy);
+        if result.as_ref().is_ok_and(|a| a.termination.is_solution()) {
+            return result;
+        }
+        spent += result.as_ref().map_or(0, |a| a.iterations);
+        last = Some(result);
+    }
+    let policy = opts.newton.or(opts.start);
+    let jacobian = policy.is_none_or(|p: NewtonPolicy| p.jacobian_at_solution);
+    match (rescue(sys, &u0, tr, jacobian), last) {
+        (Err(_), Some(result)) => result,
+        (rescued, _) => {
+            *report = SquareReport {
+                solver: Solver::TrustRegion,
+                newton_iterations: spent,
+            };
+            rescued
         }
     }
-    let mut rescue_error = None;
-    if let Some(tr) = &opts.trust_region {
-        let policy = opts.newton.or(opts.start);
-        let jacobian = policy.is_none_or(|p: NewtonPolicy| p.jacobian_at_solution);
-        match rescue(sys, &u0, tr, jacobian) {
-            Ok(answer) => {
-                return Ok(SquareAnswer {
-                    answer,
-                    solver: Solver::TrustRegion,
-                    newton_iterations: spent,
-                })
-            }
-            Err(e) => rescue_error = Some(e),
+}
+
+/// [`solve_square`] without a fallback: the start stage (if it applies), then `opts.newton`
+/// where it does not reach a solution; the last stage's outcome as it comes.
+fn newton_path<const N: usize, S: NewtonSystem<N>>(
+    sys: &S,
+    u0: [f64; N],
+    jac0: Option<[[f64; N]; N]>,
+    opts: &NonlinearOptions,
+    report: &mut SquareReport,
+) -> Result<NewtonAnswer<N, S::Point>, S::Error>
+where
+    S::Error: From<BvpError>,
+{
+    if let (Some(policy), true) = (&opts.start, jac0.is_some()) {
+        let Some(next) = &opts.newton else {
+            return newton(sys, u0, jac0, policy);
+        };
+        match newton(sys, u0, jac0, policy) {
+            Ok(a) if a.termination.is_solution() => return Ok(a),
+            Ok(a) => report.newton_iterations = a.iterations,
+            Err(_) => {}
         }
+        return newton(sys, u0, None, next);
     }
-    match (last, rescue_error) {
-        (Some(outcome), _) => outcome.map(|answer| SquareAnswer {
-            answer,
-            solver: Solver::Newton,
-            newton_iterations: before,
-        }),
-        (None, Some(e)) => Err(e),
-        (None, None) => Err(neither().into()),
+    match &opts.newton {
+        Some(policy) => newton(sys, u0, None, policy),
+        None => Err(neither().into()),
     }
 }
 

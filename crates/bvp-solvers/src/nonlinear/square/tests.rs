@@ -49,6 +49,21 @@ fn atan(radius: f64) -> Atan {
     }
 }
 
+/// [`solve_square`] with its report.
+fn run(
+    sys: &Atan,
+    u0: [f64; 2],
+    jac0: Option<[[f64; 2]; 2]>,
+    opts: &NonlinearOptions,
+) -> (Result<NewtonAnswer<2, usize>, BvpError>, SquareReport) {
+    let mut report = SquareReport {
+        solver: Solver::TrustRegion,
+        newton_iterations: 99,
+    };
+    let result = solve_square(sys, u0, jac0, opts, &mut report);
+    (result, report)
+}
+
 /// Full Newton steps (no halving): diverges from afar.
 fn full_steps(tol: f64) -> NewtonPolicy {
     NewtonPolicy {
@@ -61,20 +76,20 @@ fn full_steps(tol: f64) -> NewtonPolicy {
 fn the_newton_path_is_newtons_bit_for_bit() {
     let opts = NonlinearOptions::new(1e-13);
     let (a, b) = (atan(f64::INFINITY), atan(f64::INFINITY));
-    let out = solve_square(&a, [1.5, 0.0], None, &opts).unwrap();
+    let (result, report) = run(&a, [1.5, 0.0], None, &opts);
     let direct = newton(&b, [1.5, 0.0], None, &opts.newton.unwrap()).unwrap();
-    assert_eq!((out.solver, out.newton_iterations), (Solver::Newton, 0));
-    assert_eq!(out.answer.u, direct.u);
-    assert_eq!(out.answer.jac, direct.jac);
     assert_eq!(
-        (
-            out.answer.iterations,
-            out.answer.point,
-            out.answer.termination
-        ),
+        (report.solver, report.newton_iterations),
+        (Solver::Newton, 0)
+    );
+    let ans = result.unwrap();
+    assert_eq!(ans.u, direct.u);
+    assert_eq!(ans.jac, direct.jac);
+    assert_eq!(
+        (ans.iterations, ans.point, ans.termination),
         (direct.iterations, direct.point, Termination::Converged)
     );
-    assert!((out.answer.u[0] - 1.0).abs() < 1e-13 && (out.answer.u[1] - 2.0).abs() < 1e-13);
+    assert!((ans.u[0] - 1.0).abs() < 1e-13 && (ans.u[1] - 2.0).abs() < 1e-13);
 }
 
 #[test]
@@ -93,19 +108,21 @@ fn broyden_from_a_start_jacobian_comes_first_and_newton_follows_where_it_fails()
     // the exact Jacobian near the root: Broyden converges, no Jacobian evaluated but at the end
     let near = [[1.0, 0.0], [-2.0, 1.0]];
     let (a, b) = (atan(f64::INFINITY), atan(f64::INFINITY));
-    let out = solve_square(&a, [1.2, 2.3], Some(near), &opts).unwrap();
+    let (result, report) = run(&a, [1.2, 2.3], Some(near), &opts);
     let direct = newton(&b, [1.2, 2.3], Some(near), &broyden).unwrap();
-    assert_eq!(out.solver, Solver::Newton);
-    assert_eq!((out.answer.u, out.answer.point), (direct.u, direct.point));
+    assert_eq!(report.solver, Solver::Newton);
+    let ans = result.unwrap();
+    assert_eq!((ans.u, ans.point), (direct.u, direct.point));
     // a wrong start Jacobian: Broyden stops (no contraction), Newton from the start solves
     let wrong = [[-1.0, 0.0], [0.0, -1.0]];
-    let out = solve_square(&atan(f64::INFINITY), [1.2, 2.3], Some(wrong), &opts).unwrap();
-    assert_eq!(out.solver, Solver::Newton);
-    assert!(out.newton_iterations >= 1);
-    assert!((out.answer.u[0] - 1.0).abs() < 1e-12);
+    let (result, report) = run(&atan(f64::INFINITY), [1.2, 2.3], Some(wrong), &opts);
+    assert_eq!(report.solver, Solver::Newton);
+    assert!(report.newton_iterations >= 1);
+    assert!((result.unwrap().u[0] - 1.0).abs() < 1e-12);
     // without a start Jacobian the start policy does not apply
-    let out = solve_square(&atan(f64::INFINITY), [1.2, 2.3], None, &opts).unwrap();
-    assert_eq!(out.newton_iterations, 0);
+    let (result, report) = run(&atan(f64::INFINITY), [1.2, 2.3], None, &opts);
+    assert_eq!(report.newton_iterations, 0);
+    assert!(result.is_ok());
 }
 
 #[test]
@@ -119,29 +136,31 @@ fn the_trust_region_rescues_a_diverging_newton() {
         trust_region: None,
         ..opts
     };
-    let out = solve_square(&atan(f64::INFINITY), [6.0, 0.0], None, &alone).unwrap();
-    assert!(!out.answer.termination.is_solution(), "{out:?}");
-    assert_eq!(out.solver, Solver::Newton);
-    assert!(out.answer.iterations >= 1 && out.answer.norm > 1.0);
+    let (result, report) = run(&atan(f64::INFINITY), [6.0, 0.0], None, &alone);
+    assert_eq!(report.solver, Solver::Newton);
+    let ans = result.unwrap();
+    assert!(!ans.termination.is_solution(), "{ans:?}");
+    assert!(ans.iterations >= 1 && ans.norm > 1.0);
     // with it, the trust region reaches the root (1, 2), its point evaluated there with
     // the Jacobian, inside an admissible disc that Newton's first full step leaves (it ends
     // there without descent)
     let sys = atan(8.0);
-    let out = solve_square(&sys, [6.0, 0.0], None, &opts).unwrap();
+    let (result, report) = run(&sys, [6.0, 0.0], None, &opts);
     assert_eq!(
-        (out.solver, out.answer.termination),
-        (Solver::TrustRegion, Termination::Converged)
+        (report.solver, report.newton_iterations),
+        (Solver::TrustRegion, 0)
     );
-    assert_eq!(out.newton_iterations, 0);
-    let u = out.answer.u;
+    let ans = result.unwrap();
+    assert_eq!(ans.termination, Termination::Converged);
+    let u = ans.u;
     assert!(
         (u[0] - 1.0).abs() < 1e-11 && (u[1] - 2.0).abs() < 1e-11,
         "{u:?}"
     );
-    assert!(out.answer.norm <= 1e-12);
-    assert_eq!(out.answer.point, sys.evals.get());
+    assert!(ans.norm <= 1e-12);
+    assert_eq!(ans.point, sys.evals.get());
     assert_eq!(
-        out.answer.jac,
+        ans.jac,
         [[1.0 / (1.0 + (u[0] - 1.0).powi(2)), 0.0], [-2.0, 1.0]]
     );
     assert_eq!(
@@ -158,7 +177,7 @@ fn options_without_a_solver_are_rejected() {
         newton: None,
         trust_region: None,
     };
-    let out = solve_square(&atan(1.0), [0.0, 0.0], None, &opts);
+    let (out, _) = run(&atan(1.0), [0.0, 0.0], None, &opts);
     assert!(matches!(out, Err(BvpError::InvalidInput { .. })), "{out:?}");
     // the trust region alone, failing: its error
     let tr = TrustRegionOptions {
@@ -170,7 +189,7 @@ fn options_without_a_solver_are_rejected() {
         trust_region: Some(tr),
         ..opts
     };
-    let out = solve_square(&atan(f64::INFINITY), [6.0, 0.0], None, &alone);
+    let (out, _) = run(&atan(f64::INFINITY), [6.0, 0.0], None, &alone);
     assert!(
         matches!(out, Err(BvpError::NoConvergence { .. })),
         "{out:?}"

@@ -6,6 +6,13 @@
 //! the same start, where Newton does not reach a solution. The answer says which one solved
 //! the system and why it stopped ([`Termination`]).
 //!
+//! Two entry points: [`solve`] for a [`NonlinearSystem`] of any shape (Gauss-Newton's step),
+//! and [`solve_square`] for a square [`NewtonSystem`] that carries a point of its own (the
+//! domain's state at the solution), may start from a known Jacobian (Broyden's method first,
+//! [`NonlinearOptions::start`]) and may rule trial points out
+//! ([`NewtonSystem::admissible`]); its Newton path is
+//! [`newton`](crate::newton::newton)'s, step for step.
+//!
 //! ```
 //! use bvp_solvers::nonlinear::{solve, NonlinearOptions, Solver};
 //! use bvp_solvers::trust_region::NonlinearSystem;
@@ -31,26 +38,39 @@ use crate::newton::{gauss_newton, Evaluation, NewtonPolicy, NewtonSystem, Termin
 use crate::trust_region::{self, NonlinearSystem, TrustRegionOptions};
 use crate::BvpError;
 
-/// Options of [`solve`]: the fast path's policy and the fallback's options.
+mod square;
+pub use square::{solve_square, SquareReport};
+
+/// Options of [`solve`] and [`solve_square`]: the fast path's policies and the fallback's
+/// options.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct NonlinearOptions {
-    /// Newton (Gauss-Newton for `M > N`) under this policy first; `None` runs the trust
-    /// region alone (for systems on which Newton cannot succeed: a least-squares minimum
-    /// above the tolerance, or evaluations that carry state from one to the next).
+    /// With a start Jacobian ([`solve_square`] only): this policy first, from it (typically
+    /// Broyden's method with full steps, [`crate::newton::JacobianUpdate::Broyden`]); `newton`
+    /// runs only where it does not reach a solution. Ignored without a start Jacobian.
+    pub start: Option<NewtonPolicy>,
+    /// Newton (Gauss-Newton for `M > N`) under this policy, with a Jacobian evaluated at
+    /// the start; `None` skips it (the trust region alone for systems on which Newton cannot
+    /// succeed: a least-squares minimum above the tolerance, or evaluations that carry state
+    /// from one to the next).
     pub newton: Option<NewtonPolicy>,
-    /// The trust region where Newton does not reach a solution.
-    pub trust_region: TrustRegionOptions,
+    /// The trust region where the Newton path does not reach a solution; `None` for no
+    /// fallback (where a failure is itself the answer: a continuation corrector whose failure
+    /// shortens the step, or a fast attempt the caller follows up itself).
+    pub trust_region: Option<TrustRegionOptions>,
 }
 
 impl NonlinearOptions {
-    /// Residual norm `tol` for both: [`NewtonPolicy::new`] and the trust region's defaults.
+    /// Residual norm `tol` for both: [`NewtonPolicy::new`] and the trust region's defaults;
+    /// no start policy.
     pub fn new(tol: f64) -> Self {
         NonlinearOptions {
+            start: None,
             newton: Some(NewtonPolicy::new(tol)),
-            trust_region: TrustRegionOptions {
+            trust_region: Some(TrustRegionOptions {
                 tol,
                 ..TrustRegionOptions::default()
-            },
+            }),
         }
     }
 }
@@ -108,12 +128,15 @@ impl<const N: usize, const M: usize, S: NonlinearSystem> NewtonSystem<N, M> for 
 
 /// Solves `sys` (`N` unknowns, `M >= N` residuals) from `x0`: Newton under `opts.newton`
 /// (module docs), and where it ends without a solution (or its evaluations fail), the trust
-/// region from `x0` under `opts.trust_region`.
+/// region from `x0` under `opts.trust_region` (`opts.start` does not apply: no start
+/// Jacobian).
 ///
 /// # Errors
-/// `DimensionMismatch` if `N`, `M` or `x0` do not fit `sys`; otherwise the trust region's
-/// errors ([`trust_region::solve`]: `NoConvergence` with the best residual, or the system's
-/// own error).
+/// `DimensionMismatch` if `N`, `M` or `x0` do not fit `sys`; `InvalidInput` if neither
+/// solver is configured; `NoConvergence` (method `"newton"`, the residual reached) where
+/// Newton fails without a fallback; otherwise the trust region's errors
+/// ([`trust_region::solve`]: `NoConvergence` with the best residual, or the system's own
+/// error).
 pub fn solve<const N: usize, const M: usize, S: NonlinearSystem>(
     sys: &S,
     x0: &[f64],
@@ -134,6 +157,7 @@ pub fn solve<const N: usize, const M: usize, S: NonlinearSystem>(
         }
     }
     let mut newton_iterations = 0;
+    let mut newton_residual = f64::NAN;
     if let Some(policy) = &opts.newton {
         let u0: [f64; N] = std::array::from_fn(|i| x0[i]);
         if let Ok(a) = gauss_newton(&AsNewton(sys), u0, None::<[[f64; N]; M]>, policy) {
@@ -148,9 +172,21 @@ pub fn solve<const N: usize, const M: usize, S: NonlinearSystem>(
                 });
             }
             newton_iterations = a.iterations;
+            newton_residual = a.norm;
         }
     }
-    let sol = trust_region::solve(sys, x0, &opts.trust_region)?;
+    let Some(tr) = &opts.trust_region else {
+        return Err(match opts.newton {
+            Some(_) => BvpError::NoConvergence {
+                method: "newton",
+                iterations: newton_iterations,
+                residual: newton_residual,
+            },
+            None => neither(),
+        }
+        .into());
+    };
+    let sol = trust_region::solve(sys, x0, tr)?;
     Ok(NonlinearAnswer {
         x: sol.x,
         residual_norm: sol.residual_norm,
@@ -159,6 +195,15 @@ pub fn solve<const N: usize, const M: usize, S: NonlinearSystem>(
         solver: Solver::TrustRegion,
         termination: Termination::Converged,
     })
+}
+
+/// The error of options without a solver.
+fn neither() -> BvpError {
+    BvpError::InvalidInput {
+        name: "NonlinearOptions",
+        value: f64::NAN,
+        reason: "needs a Newton policy or a trust region",
+    }
 }
 
 #[cfg(test)]
@@ -239,7 +284,8 @@ mod tests {
         };
         let (a, b) = (meet(None), meet(None));
         let out = solve::<2, 2, _>(&a, &[5.0, -3.0], &tr_only).unwrap();
-        let direct = trust_region::solve(&b, &[5.0, -3.0], &tr_only.trust_region).unwrap();
+        let tr = tr_only.trust_region.unwrap();
+        let direct = trust_region::solve(&b, &[5.0, -3.0], &tr).unwrap();
         assert_eq!(out.solver, Solver::TrustRegion);
         assert_eq!(out.x, direct.x);
         assert_eq!(a.calls.get(), b.calls.get());

@@ -14,8 +14,10 @@
 //! so the branch is a curve in `(v, f, t)`; the base position on it is
 //! `x0(u) = xc(t) - (x(s1) - x(0))`. A third equation picks one point: `x0(u) = X` (a row at
 //! a prescribed base position), a hyperplane through a predicted point (pseudo-arclength), or
-//! an event condition. Each is solved by Newton's method on the 3x3 system with the exact
-//! sensitivities of the shot in `(phi1, f, s1, beta)`.
+//! an event condition. Each is solved through the one interface of
+//! [`bvp_solvers::nonlinear`] (the thesis's `fsolve`): Newton's method on the 3x3 system with
+//! the exact sensitivities of the shot in `(phi1, f, s1, beta)` as the fast path, and where
+//! the caller asks for it ([`Rescue`]), the trust region from the same start as the fallback.
 
 use crate::error::{ContactError, Result};
 use crate::phase::{contact_loads, ContactState, ContourPoint, Phase};
@@ -23,9 +25,9 @@ use crate::profile::Profile;
 use beam_model::equations::Sensitivities;
 use beam_model::shot::{shoot, BaseValues, Integration};
 use beam_model::{FluidLoad, Whisker};
-use bvp_solvers::newton::{
-    newton, Evaluation, JacobianUpdate, NewtonPolicy, NewtonSystem, Termination,
-};
+use bvp_solvers::newton::{Evaluation, JacobianUpdate, NewtonPolicy, NewtonSystem, Termination};
+use bvp_solvers::nonlinear::{solve_square, NonlinearOptions, SquareReport};
+use bvp_solvers::trust_region::TrustRegionOptions;
 use std::cell::Cell;
 
 /// A point of the contact branch: the phase, the state `u = (v, f, t)` and everything the
@@ -123,6 +125,22 @@ const NOISE_FLOOR: f64 = 1e-10;
 /// Newton iterations per corrector solve (from a prediction Newton converges in 2-4; a
 /// corrector that needs more is failed fast and the caller shortens its step).
 const MAX_NEWTON: usize = 10;
+
+/// Trust-region iterations of a rescue ([`Rescue::TrustRegion`]).
+const MAX_TRUST_REGION: u64 = 50;
+
+/// What a corrector does where Newton does not reach a solution.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Rescue {
+    /// The trust region from the same start ([`bvp_solvers::nonlinear::solve_square`]): for
+    /// solves whose failure ends the sweep (no smaller step, no other start to try).
+    TrustRegion,
+    /// Newton alone, its failure the answer: for a continuation corrector, whose failure is
+    /// the signal to shorten the step (a globalised solve there would spend shots on every
+    /// rejected step and could land on another part of the branch, a jump the short step
+    /// exists to prevent), and for a fast attempt whose caller has its own follow-up.
+    NewtonOnly,
+}
 
 impl Branch<'_> {
     /// Evaluates the branch equations at `u` in `phase`: residual `R`, the node (state and
@@ -242,22 +260,32 @@ impl Branch<'_> {
     /// step (simplified Newton) and recomputed otherwise, and always at the solution (for the
     /// branch's tangent). Slender tips put a noise floor on the shots (adaptive steps): a
     /// corrector that stalls just above the tolerance but within [`NOISE_FLOOR`] is accepted,
-    /// its residual recorded in the state. Fails with the last residual.
-    pub fn correct(&self, phase: Phase, u: [f64; 3], constraint: Constraint) -> Result<Node> {
-        self.correct_near(phase, u, constraint, None)
+    /// its residual recorded in the state. Where Newton does not converge, `rescue` says
+    /// whether the trust region tries from `u` ([`Rescue`]; at most [`MAX_TRUST_REGION`]
+    /// iterations, initial radius 0.1, to the same tolerance). Fails with Newton's last
+    /// residual.
+    pub fn correct(
+        &self,
+        phase: Phase,
+        u: [f64; 3],
+        constraint: Constraint,
+        rescue: Rescue,
+    ) -> Result<Node> {
+        self.correct_near(phase, u, constraint, None, rescue)
     }
 
     /// [`Branch::correct`] started with the branch Jacobian `near` of a nearby node (rows
     /// `dR0, dR1, dx0`) in place of one evaluated at `u`, where the constraint's gradient
-    /// does not depend on the point (a hyperplane, a base position): the first shot then
-    /// carries no sensitivities, and the policy evaluates a Jacobian where that one
-    /// contracts too slowly and at the solution.
+    /// does not depend on the point (a hyperplane, a base position): Broyden's method from it
+    /// first (full steps, the Jacobian evaluated only with the trial predicted to converge),
+    /// then Newton from `u` where it fails.
     pub fn correct_near(
         &self,
         phase: Phase,
         u: [f64; 3],
         constraint: Constraint,
         near: Option<&[[f64; 3]; 3]>,
+        rescue: Rescue,
     ) -> Result<Node> {
         let jac0 = near.and_then(|j| match constraint {
             Constraint::Hyperplane { n, .. } => Some([j[0], j[1], n]),
@@ -280,25 +308,23 @@ impl Branch<'_> {
         };
         // From a nearby node's Jacobian: Broyden's method, full steps, the Jacobian
         // evaluated only with the trial predicted to converge; Newton from `u` if it fails.
-        let broyden = jac0.and_then(|j| {
-            let fast = NewtonPolicy {
+        let opts = NonlinearOptions {
+            start: Some(NewtonPolicy {
                 halvings: 0,
                 update: JacobianUpdate::Broyden {
                     min_contraction: 0.5,
                 },
                 ..policy
-            };
-            newton(&sys, u, Some(j), &fast).ok().filter(|a| {
-                matches!(
-                    a.termination,
-                    Termination::Converged | Termination::NoiseFloor
-                )
-            })
-        });
-        let ans = match broyden {
-            Some(a) => a,
-            None => newton(&sys, u, None, &policy)?,
+            }),
+            newton: Some(policy),
+            trust_region: (rescue == Rescue::TrustRegion).then_some(TrustRegionOptions {
+                tol: self.tol,
+                max_iters: MAX_TRUST_REGION,
+                initial_radius: 0.1,
+                max_radius: 10.0,
+            }),
         };
+        let ans = solve_square(&sys, u, jac0, &opts, &mut SquareReport::default())?;
         let mut node = sys.node(ans.point);
         match ans.termination {
             Termination::Converged => {
@@ -422,6 +448,11 @@ impl Branch<'_> {
     /// update after every step; shots without sensitivities only. Used from good predictions;
     /// `None` if the residual does not halve at every step or the tolerance is not reached in
     /// seven steps. The node carries the updated Jacobian, a good start for the next row.
+    ///
+    /// Through [`bvp_solvers::nonlinear::solve_square`] with its start stage only, no
+    /// fallback: this is the row's fast attempt, and its caller follows a failure up with
+    /// [`Branch::correct`] from its own starts (`rows::solve_row`); a trust region here would
+    /// only repeat that work at a higher price.
     pub fn broyden_at_base(
         &self,
         phase: Phase,
@@ -434,16 +465,22 @@ impl Branch<'_> {
             phase,
             x0,
         };
-        let policy = NewtonPolicy {
-            max_iter: 7,
-            halvings: 0,
-            update: JacobianUpdate::Broyden {
-                min_contraction: 0.5,
-            },
-            jacobian_at_solution: false,
-            ..NewtonPolicy::new(self.tol)
+        // the start stage alone: no Newton with evaluated Jacobians (the caller's follow-up,
+        // the corrector from its own starts), no trust region
+        let opts = NonlinearOptions {
+            start: Some(NewtonPolicy {
+                max_iter: 7,
+                halvings: 0,
+                update: JacobianUpdate::Broyden {
+                    min_contraction: 0.5,
+                },
+                jacobian_at_solution: false,
+                ..NewtonPolicy::new(self.tol)
+            }),
+            newton: None,
+            trust_region: None,
         };
-        let ans = newton(&sys, u, Some(*jac), &policy).ok()?;
+        let ans = solve_square(&sys, u, Some(*jac), &opts, &mut SquareReport::default()).ok()?;
         (ans.termination == Termination::Converged).then(|| {
             let mut node = ans.point;
             node.jac = ans.jac;
@@ -495,6 +532,7 @@ pub(crate) fn norm(a: &[f64; 3]) -> f64 {
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
+    use std::f64::consts::FRAC_PI_2;
 
     /// A whisker, flow, contour and integrator to build a branch on in the crate's tests.
     pub(crate) struct TestScene {
@@ -536,6 +574,35 @@ pub(crate) mod tests {
                 tol: 1e-11,
             }
         }
+    }
+
+    /// The trust region rescues a contact solve that Newton alone does not converge: a
+    /// straight whisker (no pre-curvature, no flow, clamped) with its base at the first tip
+    /// touch of the circle of centre `(0.2, 1.3)` and radius 0.5, `x0 = 0.2 + sqrt(0.16) = 0.6`,
+    /// from a start far off in tip angle and contour point. The truth is the free whisker
+    /// itself: no force, tip angle `pi/2`, the tip on the circle at `(0.6, 1)`, contour
+    /// parameter `psi = asin(0.8)`.
+    #[test]
+    fn the_trust_region_rescues_a_tip_contact_newton_misses() {
+        let scene = TestScene::straight(Profile::parse("circle:0.2,1.3,0.5").unwrap());
+        let branch = scene.branch();
+        let (u, at) = ([2.6, 0.0, 1.5], Constraint::BasePosition(0.6));
+        let alone = branch.correct(Phase::A, u, at, Rescue::NewtonOnly);
+        assert!(
+            matches!(alone, Err(ContactError::PhaseSolve { .. })),
+            "{alone:?}"
+        );
+        let node = branch
+            .correct(Phase::A, u, at, Rescue::TrustRegion)
+            .unwrap();
+        let [phi1, f, t] = node.u;
+        let err = [phi1 - FRAC_PI_2, f, t - 0.8f64.asin(), node.x0() - 0.6];
+        assert!(err.iter().all(|e| e.abs() < 1e-11), "{err:?}");
+        assert!((node.state.point.yc - 1.0).abs() < 1e-11);
+        assert!(node.state.residual <= branch.tol && node.state.iterations > 0);
+        // the node carries the Jacobian at the solution: its tangent is the branch's
+        let (_, fresh) = branch.eval(Phase::A, node.u).unwrap();
+        assert_eq!(node.jac, fresh.jac);
     }
 
     /// The branch Jacobian (rows `dR0, dR1, dx0` in `(v, f, t)`), assembled from the shot's

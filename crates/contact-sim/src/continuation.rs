@@ -13,7 +13,7 @@
 //! [`End::NotReached`].
 
 use crate::ahead::{with_checks, Ahead};
-use crate::branch::{dot, Branch, Constraint, Node};
+use crate::branch::{dot, Branch, Constraint, Node, Rescue};
 use crate::error::{ContactError, Result};
 use crate::events::{penetration, phase_margin, x0_rate};
 use crate::phase::Phase;
@@ -49,13 +49,17 @@ impl Trace {
     /// Solves the nodes that become rows (the switches and the end) again on `branch` (the
     /// sweep's full tolerances) from the trace's own: a switch on its phase boundary, a
     /// release at `f = 0`, any other end on the hyperplane through it normal to the branch.
+    ///
+    /// One-off solves from nodes on the branch whose failure ends the sweep: Newton, the trust
+    /// region the fallback ([`Rescue::TrustRegion`]; the end's plane keeps it within 1e-3).
     pub(crate) fn tighten(&mut self, branch: &Branch) -> Result<()> {
         for n in &mut self.switches {
-            *n = branch.correct(n.phase, n.u, Constraint::PhaseEnd)?;
+            *n = branch.correct(n.phase, n.u, Constraint::PhaseEnd, Rescue::TrustRegion)?;
         }
         let end = match &mut self.end {
             End::Release(n) => {
-                let mut at = branch.correct(n.phase, n.u, Constraint::NoForce)?;
+                let mut at =
+                    branch.correct(n.phase, n.u, Constraint::NoForce, Rescue::TrustRegion)?;
                 at.state.f = at.state.f.max(0.0);
                 at.u[1] = at.state.f;
                 *n = at;
@@ -78,7 +82,7 @@ impl Trace {
             p: end.u,
             radius: 1e-3,
         };
-        *end = branch.correct(end.phase, end.u, plane)?;
+        *end = branch.correct(end.phase, end.u, plane, Rescue::TrustRegion)?;
         Ok(())
     }
 }
@@ -273,11 +277,15 @@ impl Curve<3> for PhaseCurve<'_, '_> {
         p.u
     }
 
+    /// The pseudo-arclength corrector: Newton alone ([`Rescue::NewtonOnly`]). Its failure is
+    /// the arclength driver's signal to shorten the step; a trust-region rescue would spend
+    /// shots on every rejected step and could converge on another part of the branch (the
+    /// jump the short step and the hyperplane's radius exist to prevent).
     fn correct(&self, p: [f64; 3], n: [f64; 3], radius: f64) -> Result<Node> {
         let plane = Constraint::Hyperplane { n, p, radius };
         let near = self.jacobian_at(&p);
         self.branch
-            .correct_near(self.phase, p, plane, near.as_ref())
+            .correct_near(self.phase, p, plane, near.as_ref(), Rescue::NewtonOnly)
     }
 
     fn tangent(&self, p: &Node, dir: &[f64; 3]) -> [f64; 3] {
@@ -582,7 +590,8 @@ impl<'b, 'a> Tracer<'b, 'a> {
 
     /// A switch or a release solved directly from the secant point of its condition over
     /// the step to `node` (`None` for other events, or if the solve fails or lands outside
-    /// the step).
+    /// the step). Newton alone ([`Rescue::NewtonOnly`]): this is a fast attempt, and where it
+    /// fails the caller locates the event on the traced step itself, which cannot leave it.
     fn direct(&self, ev: Event, node: &Node) -> Option<(Event, Node)> {
         let c = ev.constraint()?;
         let cur = self.cur();
@@ -593,7 +602,10 @@ impl<'b, 'a> Tracer<'b, 'a> {
         let (ga, gb) = (g(cur), g(node));
         let w = ga / (ga - gb);
         let p = crate::branch::lerp(&cur.u, &node.u, w);
-        let mut at = self.branch.correct(cur.phase, p, c).ok()?;
+        let mut at = self
+            .branch
+            .correct(cur.phase, p, c, Rescue::NewtonOnly)
+            .ok()?;
         if ev == Event::Release {
             // f = 0 to the corrector's tolerance: the release row carries f = 0
             at.state.f = at.state.f.max(0.0);
@@ -628,13 +640,19 @@ impl<'b, 'a> Tracer<'b, 'a> {
 }
 
 /// The node of the other phase at a switch node `at` (where `phi1 = psi` and `s1 = 1`), with
-/// the tangent that enters the new phase's valid side.
+/// the tangent that enters the new phase's valid side. A one-off solve whose failure ends the
+/// trace: Newton, with the trust region as the fallback ([`Rescue::TrustRegion`]).
 fn switch_phase(branch: &Branch, at: &Node) -> Result<(Node, [f64; 3])> {
     let (phase, u) = match at.phase {
         Phase::B => (Phase::A, [at.state.point.psi, at.u[1], at.u[2]]),
         _ => (Phase::B, [1.0, at.u[1], at.u[2]]),
     };
-    let next = branch.correct(phase, u, Constraint::BasePosition(at.x0()))?;
+    let next = branch.correct(
+        phase,
+        u,
+        Constraint::BasePosition(at.x0()),
+        Rescue::TrustRegion,
+    )?;
     // The valid side: s1 < 1 in B; phi1 - psi(t) > 0 in A.
     let into = match phase {
         Phase::B => [-1.0, 0.0, 0.0],

@@ -14,7 +14,7 @@
 //! is the free whisker itself, a tangential one is followed along the phase-B branch from
 //! its own touch.
 
-use crate::branch::{Branch, Constraint, Node};
+use crate::branch::{Branch, Constraint, Node, Rescue};
 use crate::error::{ContactError, Result};
 use crate::phase::Phase;
 use crate::profile::Profile;
@@ -293,7 +293,11 @@ pub(crate) fn first_touch(
 
 /// The first node of the branch: the contact state at the base position of the first touch.
 /// A tip touch is the free whisker itself (`f = 0`); a tangential touch is solved in phase B,
-/// where the flow acts on `[0, s1]` only (spec/model.md), at the same base position.
+/// where the flow acts on `[0, s1]` only (spec/model.md), at the same base position: Newton
+/// alone from the touch ([`Rescue::NewtonOnly`]), since where it fails (or finds `f < 0`)
+/// [`tangential_first_node`] follows the phase-B branch there from its own `f = 0` touch, the
+/// globalisation that stays on the branch; a trust region could settle on another phase-B
+/// state at the same base position (the branch can turn back in x0).
 pub(crate) fn first_node(branch: &Branch, touch: &FirstTouch) -> Result<Node> {
     let phase = touch.kind.phase();
     let u = match touch.kind {
@@ -304,7 +308,12 @@ pub(crate) fn first_node(branch: &Branch, touch: &FirstTouch) -> Result<Node> {
         // the free whisker itself: no correction (f = 0 exactly)
         FirstContact::Tip => branch.eval(phase, u)?.1,
         FirstContact::Tangential => {
-            match branch.correct(phase, u, Constraint::BasePosition(touch.x0)) {
+            match branch.correct(
+                phase,
+                u,
+                Constraint::BasePosition(touch.x0),
+                Rescue::NewtonOnly,
+            ) {
                 Ok(n) if n.state.f >= 0.0 => n,
                 _ => tangential_first_node(branch, u, touch.x0)?,
             }
@@ -330,9 +339,11 @@ pub(crate) fn first_node(branch: &Branch, touch: &FirstTouch) -> Result<Node> {
 /// whisker under the flow on `[0, s1]` alone, tangent to the contour), then the branch is
 /// followed in x0 down to `x0` ([`Continuation::follow`]). Where that branch does not reach `x0`
 /// with `f >= 0` (the thesis's phase-B model has no admissible state there), the sweep cannot
-/// start and says so.
+/// start and says so. The `f = 0` point is a one-off solve whose failure ends the sweep
+/// (Newton, the trust region as the fallback, [`Rescue::TrustRegion`]); the continuation's
+/// corrector is Newton alone ([`Rescue::NewtonOnly`]): its failure shortens the step.
 fn tangential_first_node(branch: &Branch, u: [f64; 3], x0: f64) -> Result<Node> {
-    let start = branch.correct(Phase::B, u, Constraint::NoForce)?;
+    let start = branch.correct(Phase::B, u, Constraint::NoForce, Rescue::TrustRegion)?;
     if start.x0() < x0 - 1e-12 {
         return Err(ContactError::NoContact {
             reason: format!(
@@ -360,7 +371,12 @@ fn tangential_first_node(branch: &Branch, u: [f64; 3], x0: f64) -> Result<Node> 
     let mut cur = start;
     let followed = cont.follow(start.x0(), x0, start.u.to_vec(), &guard, |target, guess| {
         let guess = [guess[0], guess[1], guess[2]];
-        match branch.correct(Phase::B, guess, Constraint::BasePosition(target)) {
+        match branch.correct(
+            Phase::B,
+            guess,
+            Constraint::BasePosition(target),
+            Rescue::NewtonOnly,
+        ) {
             Ok(n) if n.state.s1 < 1.0 && n.state.f >= 0.0 => {
                 cur = n;
                 Ok(n.u.to_vec())

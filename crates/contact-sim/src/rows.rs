@@ -3,7 +3,7 @@
 //! (cubic Hermite in x0 within a phase, Lagrange extrapolation across a switch) and
 //! corrected at its base position (Broyden from the prediction, Newton as the fallback).
 
-use crate::branch::{hermite, Branch, Constraint, Node};
+use crate::branch::{hermite, Branch, Constraint, Node, Rescue};
 use crate::error::{ContactError, Result};
 use crate::phase::{ContactState, Phase};
 
@@ -192,15 +192,23 @@ fn quartic_correction(guess: &mut [f64; 3], (a, b): (&Node, &Node), r: &Node, ta
 
 /// Solves the row at `target` from its prediction: Broyden's method from the prediction;
 /// Newton from it, from the interpolation between the bracketing nodes, and from the nearer
-/// node as fallbacks (`xc` the contact point reported if all fail).
+/// node as fallbacks (`xc` the contact point reported if all fail). Only the last start, a
+/// node on the branch, goes on to the trust region where Newton fails
+/// ([`Rescue::TrustRegion`]): the earlier ones are attempts with a follow-up
+/// ([`Rescue::NewtonOnly`]), and a failing row fails the sweep.
 fn solve_row(branch: &Branch, pred: &RowPrediction, target: f64, xc: f64) -> Result<Node> {
     let phase = pred.phase;
     if let Some(n) = branch.broyden_at_base(phase, pred.guess, target, &pred.jac) {
         return Ok(n);
     }
     let mut last_err = None;
-    for start in [pred.guess, pred.lin, pred.near] {
-        match branch.correct(phase, start, Constraint::BasePosition(target)) {
+    let starts = [
+        (pred.guess, Rescue::NewtonOnly),
+        (pred.lin, Rescue::NewtonOnly),
+        (pred.near, Rescue::TrustRegion),
+    ];
+    for (start, rescue) in starts {
+        match branch.correct(phase, start, Constraint::BasePosition(target), rescue) {
             Ok(n) if (n.x0() - target).abs() <= 1e-9 => return Ok(n),
             Ok(_) => {}
             Err(e) => last_err = Some(e),

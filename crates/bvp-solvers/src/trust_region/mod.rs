@@ -70,33 +70,48 @@ pub trait NonlinearSystem {
     /// # Errors
     /// Errors of [`NonlinearSystem::residual`].
     fn jacobian(&self, x: &[f64], jac: &mut [f64]) -> Result<(), Self::Error> {
-        let n = self.n_unknowns();
-        let m = self.n_residuals();
-        if jac.len() != m * n || x.len() != n {
-            return Err(BvpError::DimensionMismatch {
-                name: "jacobian buffer",
-                expected: m * n,
-                found: jac.len(),
-            }
-            .into());
-        }
-        let mut r0 = vec![0.0; m];
-        let mut r1 = vec![0.0; m];
-        let mut xp = x.to_vec();
-        self.residual(x, &mut r0)?;
-        let sq = f64::EPSILON.sqrt();
-        for j in 0..n {
-            let h = sq * x[j].abs().max(1.0);
-            xp[j] = x[j] + h;
-            let hh = xp[j] - x[j]; // exactly representable step
-            self.residual(&xp, &mut r1)?;
-            xp[j] = x[j];
-            for i in 0..m {
-                jac[i * n + j] = (r1[i] - r0[i]) / hh;
-            }
-        }
-        Ok(())
+        forward_difference_jacobian(self, x, jac)
     }
+}
+
+/// The Jacobian of `sys` at `x` by forward differences (the default of
+/// [`NonlinearSystem::jacobian`]): `J_ij = (r_i(x + h_j e_j) - r_i(x))/h_j` with
+/// `h_j = sqrt(eps) max(1, |x_j|)`, row-major `m x n`.
+///
+/// # Errors
+/// `DimensionMismatch` for a buffer or `x` of the wrong length; errors of
+/// [`NonlinearSystem::residual`].
+pub fn forward_difference_jacobian<S: NonlinearSystem + ?Sized>(
+    sys: &S,
+    x: &[f64],
+    jac: &mut [f64],
+) -> Result<(), S::Error> {
+    let n = sys.n_unknowns();
+    let m = sys.n_residuals();
+    if jac.len() != m * n || x.len() != n {
+        return Err(BvpError::DimensionMismatch {
+            name: "jacobian buffer",
+            expected: m * n,
+            found: jac.len(),
+        }
+        .into());
+    }
+    let mut r0 = vec![0.0; m];
+    let mut r1 = vec![0.0; m];
+    let mut xp = x.to_vec();
+    sys.residual(x, &mut r0)?;
+    let sq = f64::EPSILON.sqrt();
+    for j in 0..n {
+        let h = sq * x[j].abs().max(1.0);
+        xp[j] = x[j] + h;
+        let hh = xp[j] - x[j]; // exactly representable step
+        sys.residual(&xp, &mut r1)?;
+        xp[j] = x[j];
+        for i in 0..m {
+            jac[i * n + j] = (r1[i] - r0[i]) / hh;
+        }
+    }
+    Ok(())
 }
 
 /// The dogleg step for the model `m(p) = f + g^T p + 1/2 p^T H p` in `||p|| <= radius`, as an

@@ -192,13 +192,14 @@ impl<'a> RowSystem<'a> {
     /// start and the stall count of [`Track`] that the trust region's run depends on).
     pub(super) fn run(self, start: &[f64]) -> Result<Solved> {
         let opts = NonlinearOptions {
+            start: None,
             newton: None,
-            trust_region: TrustRegionOptions {
+            trust_region: Some(TrustRegionOptions {
                 tol: self.tol,
                 max_iters: MAX_ITERS,
                 initial_radius: 0.1,
                 max_radius: 10.0,
-            },
+            }),
         };
         let (u, residual, iterations) = match nonlinear::solve::<5, 6, _>(&self, start, &opts) {
             Ok(sol) => (sol.x, sol.residual_norm, sol.iterations),

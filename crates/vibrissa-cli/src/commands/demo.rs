@@ -19,7 +19,7 @@ use crate::commands::reconstruct::summary::{
 };
 use crate::commands::reconstruct::write_reconstruction_figures;
 use crate::commands::solve::write_solution_files;
-use crate::commands::sweep::{run_sweep, write_sweep_outputs};
+use crate::commands::sweep::{run_sweep, write_sweep_outputs, write_sweep_units};
 use crate::commands::sweep_events::sweep_summary;
 use crate::error::CliError;
 use crate::resolve::{profile_arg, resolve_model, LoadedScene, Resolved};
@@ -70,6 +70,7 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
     let out = OutputDir::create(&args.out)?;
     // write_sweep_outputs writes scene.ron with the points actually used.
     write_solution_files(&r, &free, &out)?;
+    write_sweep_units(&r, &out)?;
     write_sweep_outputs(&r, &contour, &res, &profile, args.points, &out)?;
     // 3. Identification and reconstruction.
     let mut summary = Vec::new();

@@ -10,8 +10,10 @@ use contact_sim::{sweep_with_progress, Profile, SweepProgress, SweepResult, Swee
 use crate::atomic::{write_atomic, OutputDir};
 use crate::cli::SweepArgs;
 use crate::commands::json::{json_number, json_opt};
-use crate::commands::observables::write_observables_csv;
-use crate::commands::outputs::{output_scene, scene_unit_notes, write_scene_ron};
+use crate::commands::observables::{
+    observables_csv_in, OBSERVABLES_HEADER, OBSERVABLES_QUANTITIES,
+};
+use crate::commands::outputs::{output_scene, scene_unit_notes, write_scene_ron, write_units_of};
 use crate::commands::shapes::{write_shapes_csv, write_shapes_svg};
 use crate::commands::sweep_events::{sweep_events, sweep_summary, RowCounts};
 use crate::commands::sweep_figures::{write_sweep_figures, FigureContext};
@@ -47,8 +49,13 @@ pub fn run(args: &SweepArgs) -> Result<(), CliError> {
     let inputs: Vec<(&str, &std::path::Path)> =
         inputs.iter().map(|(w, p)| (*w, p.as_path())).collect();
     crate::atomic::refuse_over_inputs(&args.out, &inputs)?;
-    let res = run_sweep(&r, &contour, &profile, points)?;
+    // The output folder (its lock, staging folder and marker) and the units sidecar of
+    // `observables.csv` need nothing of the sweep: made before it, their flushes to disk
+    // run while it solves instead of after it (a failed sweep removes the staging folder and
+    // the lock; parent folders of --out made for it stay).
     let out = OutputDir::create(&args.out)?;
+    write_sweep_units(&r, &out)?;
+    let res = run_sweep(&r, &contour, &profile, points)?;
     write_sweep_outputs(&r, &contour, &res, &profile, points, &out)?;
     if args.shapes {
         write_shapes_csv(&r, &res, &out.path_for("shapes.csv"))?;
@@ -272,8 +279,19 @@ pub fn run_sweep(
     res.map_err(|e| r.contact_culprit(e, profile))
 }
 
-/// Writes a sweep's folder into `out`: `observables.csv` (in the scene's units) with its
-/// units sidecar `observables.units.csv`, `scene.ron` (every parameter, units included, the
+/// Writes the units sidecar of a sweep's `observables.csv`, `observables.units.csv`, into
+/// `out` (it depends on the scene's units only: written before the sweep).
+pub fn write_sweep_units(r: &Resolved, out: &OutputDir) -> Result<(), CliError> {
+    write_units_of(
+        &out.path_for("observables.csv"),
+        &OBSERVABLES_HEADER,
+        &OBSERVABLES_QUANTITIES,
+        &r.units(),
+    )
+}
+
+/// Writes a sweep's folder into `out` (its units sidecar aside, [`write_sweep_units`]):
+/// `observables.csv` (in the scene's units), `scene.ron` (every parameter, units included, the
 /// true point count; a points profile is copied beside it as `profile.csv`), and the figures
 /// `observables`, `contact` and `shapes` (as `--figures` says).
 pub fn write_sweep_outputs(
@@ -305,7 +323,7 @@ pub fn write_sweep_outputs(
     )
 }
 
-/// Writes a sweep's data files into `out`: `observables.csv` with its units sidecar,
+/// Writes a sweep's data files into `out`: `observables.csv` (its units sidecar aside),
 /// `scene.ron` and, for a points profile, `profile.csv`.
 fn write_sweep_data(
     r: &Resolved,
@@ -315,7 +333,7 @@ fn write_sweep_data(
     out: &OutputDir,
 ) -> Result<(), CliError> {
     let units = r.units();
-    write_observables_csv(res, &units, &out.path_for("observables.csv"))?;
+    observables_csv_in(&res.points, &units)?.write(&out.path_for("observables.csv"))?;
     let spec = match profile.points_path() {
         Some(path) => {
             let bytes = std::fs::read(&path).map_err(|e| CliError::io(&path, e))?;

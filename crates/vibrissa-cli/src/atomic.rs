@@ -210,6 +210,9 @@ pub struct OutputDir {
     staging: PathBuf,
     lock: PathBuf,
     committed: bool,
+    /// The parent folders made for it, deepest first: removed (where still empty) when
+    /// the command fails, so that a failed command leaves nothing behind.
+    made_parents: Vec<PathBuf>,
 }
 
 /// Whether a process with this pid exists (Linux `/proc`; elsewhere assumed alive).
@@ -384,6 +387,11 @@ impl OutputDir {
             Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
             _ => PathBuf::from("."),
         };
+        let made_parents: Vec<PathBuf> = parent
+            .ancestors()
+            .take_while(|a| !a.as_os_str().is_empty() && !a.exists())
+            .map(Path::to_path_buf)
+            .collect();
         fs::create_dir_all(&parent).map_err(|e| {
             CliError::invalid_argument(
                 "--out",
@@ -410,18 +418,15 @@ impl OutputDir {
             staging_dirs().push((staging.clone(), Vec::new()));
             write_staged(&staging.join(MARKER), b"written by vibrissa\n")
         })();
-        if let Err(e) = prepared {
-            drop(take_flushes(&staging, true));
-            let _ = fs::remove_dir_all(&staging);
-            let _ = fs::remove_file(&lock);
-            return Err(e);
-        }
-        Ok(OutputDir {
+        let dir = OutputDir {
             target: path.to_path_buf(),
             staging,
             lock,
             committed: false,
-        })
+            made_parents,
+        };
+        // (a failure here drops `dir`: its staging folder, lock and parents go)
+        prepared.map(|()| dir)
     }
 
     /// The final directory.
@@ -503,6 +508,12 @@ impl Drop for OutputDir {
             let _ = fs::remove_dir_all(&self.staging);
         }
         let _ = fs::remove_file(&self.lock);
+        if !self.committed {
+            // deepest first; a folder something else wrote into meanwhile stays
+            for p in &self.made_parents {
+                let _ = fs::remove_dir(p);
+            }
+        }
     }
 }
 

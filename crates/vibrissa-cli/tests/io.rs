@@ -125,6 +125,13 @@ fn output_dir_commits_all_or_nothing() {
     }
     assert!(!out.exists());
     assert_eq!(fs::read_dir(dir.path()).unwrap().count(), 0);
+    // ... nor the parent folders made for it (the folder is made before the sweep runs).
+    {
+        let o = OutputDir::create(&dir.path().join("new/deeper/run")).unwrap();
+        write_atomic(&o.path_for("half.csv"), b"x").unwrap();
+        assert!(dir.path().join("new/deeper").is_dir());
+    }
+    assert_eq!(fs::read_dir(dir.path()).unwrap().count(), 0);
     // A folder not written by vibrissa is never replaced.
     fs::create_dir(&out).unwrap();
     fs::write(out.join("keep.txt"), "k").unwrap();

@@ -22,7 +22,6 @@
 //! Every fallible routine returns [`BvpError`], whose variants carry the numbers
 //! (iterations, residual, row, offending value).
 
-pub mod arclength;
 pub mod continuation;
 pub mod cores;
 pub mod dense;

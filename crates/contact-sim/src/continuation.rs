@@ -18,7 +18,7 @@ use crate::error::{ContactError, Result};
 use crate::events::{penetration, phase_margin, x0_rate};
 use crate::phase::Phase;
 use beam_model::shot::Integration;
-use bvp_solvers::arclength::{locate, ArcControl, Arclength, Attempt, Curve};
+use bvp_solvers::continuation::{locate, ArcControl, Arclength, Attempt, Curve};
 
 /// How the trace ended.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -34,7 +34,7 @@
 //! and which points it keeps.
 //!
 //! ```
-//! use bvp_solvers::arclength::{locate, ArcControl, Arclength, Attempt, Curve};
+//! use bvp_solvers::continuation::{locate, ArcControl, Arclength, Attempt, Curve};
 //!
 //! /// The unit circle `x^2 + y^2 = 1`, corrected by Newton on the 2x2 system.
 //! struct Circle;

@@ -273,7 +273,7 @@ impl Curve<3> for PhaseCurve<'_, '_> {
         p.u
     }
 
-    fn correct(&self, p: [f64; 3], n: [f64; 3], radius: f64) -> Result<Node> {
+    fn correct(&self, _from: &Node, p: [f64; 3], n: [f64; 3], radius: f64) -> Result<Node> {
         let plane = Constraint::Hyperplane { n, p, radius };
         let near = self.jacobian_at(&p);
         self.branch

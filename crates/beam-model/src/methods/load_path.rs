@@ -147,7 +147,13 @@ impl Curve<2> for LoadCurve<'_> {
         p.u
     }
 
-    fn correct(&self, p: [f64; 2], n: [f64; 2], radius: f64) -> Result<PathPoint> {
+    fn correct(
+        &self,
+        _from: &PathPoint,
+        p: [f64; 2],
+        n: [f64; 2],
+        radius: f64,
+    ) -> Result<PathPoint> {
         self.newton(p, n, radius)
     }
 

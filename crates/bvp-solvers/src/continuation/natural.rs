@@ -1,16 +1,27 @@
-//! Natural-parameter (load) continuation: step a parameter `lambda` from an easy value to the
-//! target, starting each solve from a prediction off the previous solutions, with step halving
-//! on failure.
+//! Natural-parameter continuation: the pseudo-arclength driver with the parameter as its one
+//! coordinate.
 //!
-//! [`Continuation::follow`] (and [`Continuation::follow_from`], with a known first slope) is
-//! the one driver: a secant predictor, a jump guard that rejects a corrector landing on
-//! another branch, a step budget, and a failure that carries the last inner error
-//! ([`ContinuationFailure`]).
+//! [`Continuation::follow`] (and [`Continuation::follow_from`], with a known first slope)
+//! steps a parameter `lambda` from a known solution to a target, each solve warm-started
+//! from the secant prediction off the last two solutions. It runs on [`Arclength`]: the
+//! branch seen as a curve whose only coordinate is `lambda` (a [`Curve`] of dimension 1),
+//! so the tangent is `+-1`, the tangent predictor steps `lambda` by exactly the step, the
+//! corrector's hyperplane is `lambda = const` (the caller's solve at a fixed parameter),
+//! and the step control is the arclength's ([`ArcControl`] with the step doubled after
+//! every accepted point and halved after a rejected one). What the natural path adds on top:
+//!
+//! - the secant predictor of the state the caller solves for (the arclength's points carry
+//!   it; the predictor of the coordinate is the arclength's);
+//! - a jump guard ([`BranchGuard`]) that rejects a corrector landing on another branch;
+//! - the last step clipped to end exactly on the target, and a budget of corrector calls;
+//! - a failure that carries the last inner error ([`ContinuationFailure`]).
 
 // `!(x > 0.0)` is used on purpose: it is true for NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+use super::arclength::{ArcControl, Arclength, Attempt, Curve, Predictor};
 use crate::BvpError;
+use std::cell::{Cell, RefCell};
 use std::fmt;
 
 /// Step-size controlled natural-parameter continuation.
@@ -19,7 +30,8 @@ use std::fmt;
 /// `lambda_next = lambda + h` (clipped to `to`), correcting a prediction off the last
 /// solutions. On success the step is accepted and `h <- min(2h, max_step)`; on failure
 /// `h <- h/2` and the step is retried; when `h < min_step` the continuation stops (e.g. at a
-/// fold of the solution branch, where natural-parameter continuation cannot pass): see
+/// fold of the solution branch, where natural-parameter continuation cannot pass: there
+/// [`Arclength`] on the curve in `(state, lambda)` takes over): see
 /// [`Continuation::follow`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Continuation {
@@ -77,9 +89,28 @@ impl Continuation {
         Ok(())
     }
 
+    /// The arclength step control the natural path runs on: steps in
+    /// `[min_step, max_step]` from `initial_step`, doubled after every accepted point (every
+    /// correction counts as easy), halved after a rejected one, the tangent predictor (in
+    /// the one coordinate `lambda`: a step of exactly `h`), no turn check (the tangent is
+    /// always `+-1`).
+    pub fn control(&self) -> ArcControl {
+        ArcControl {
+            initial: self.initial_step,
+            max: self.max_step,
+            min: self.min_step,
+            grow: 2.0,
+            shorten: 1.0,
+            easy: usize::MAX,
+            hard: usize::MAX,
+            min_turn_cos: 0.0,
+            predictor: Predictor::Tangent,
+        }
+    }
+
     /// Follows the solution branch `y(lambda)` of a parameter-dependent problem from
-    /// `(from, start)` (a known solution, not re-solved) to `to`, the one driver of load
-    /// continuation:
+    /// `(from, start)` (a known solution, not re-solved) to `to`, the one driver of
+    /// natural-parameter continuation:
     ///
     /// - predictor: the secant through the last two accepted points,
     ///   `y_pred = y_k + (lambda - lambda_k) (y_k - y_{k-1}) / (lambda_k - lambda_{k-1})`
@@ -89,8 +120,9 @@ impl Continuation {
     /// - jump guard: a corrector that lands farther than
     ///   `guard.absolute + guard.relative * |y_pred - y_k|` (max-norm) from its prediction has
     ///   jumped to another branch; the step is rejected like a failed corrector;
-    /// - step control: success doubles the step (capped at `max_step`), a rejection halves
-    ///   it; below `min_step`, or after `guard.max_attempts` correctors, the run fails.
+    /// - step control ([`Continuation::control`]): success doubles the step (capped at
+    ///   `max_step`), a rejection halves it; below `min_step`, or after
+    ///   `guard.max_attempts` correctors, the run fails.
     ///
     /// Returns the solution at `to` and the work counters.
     ///
@@ -126,7 +158,7 @@ impl Continuation {
         start: Vec<f64>,
         slope: Vec<f64>,
         guard: &BranchGuard,
-        mut correct: F,
+        correct: F,
     ) -> Result<(Vec<f64>, ContinuationStats), ContinuationFailure<E>>
     where
         F: FnMut(f64, &[f64]) -> Result<Vec<f64>, E>,
@@ -150,80 +182,147 @@ impl Continuation {
             return Err(fail(from, 0.0, 0, StallCause::Invalid(e)));
         }
         let dir = if to >= from { 1.0 } else { -1.0 };
+        let path = NaturalPath {
+            correct: RefCell::new(correct),
+            guard,
+            to,
+            ends: Cell::new(false),
+            jumps: Cell::new(0),
+            invalid: RefCell::new(None),
+        };
+        let first = State {
+            lambda: from,
+            y: start,
+            slope,
+        };
+        let mut arc = Arclength::new(&path, first, [dir], self.control());
         let mut stats = ContinuationStats::default();
-        let (mut lambda, mut y) = (from, start);
-        let mut slope = slope;
-        let mut h = self.initial_step;
         let mut attempts = 0usize;
-        let mut pred = vec![0.0; y.len()];
-        while lambda != to {
+        while arc.current().lambda != to {
+            let (lambda, h) = (arc.current().lambda, arc.step());
             if attempts >= guard.max_attempts {
-                return Err(fail(
-                    lambda,
-                    h,
-                    stats.steps,
-                    StallCause::Budget {
-                        max_attempts: guard.max_attempts,
-                    },
-                ));
+                let cause = StallCause::Budget {
+                    max_attempts: guard.max_attempts,
+                };
+                return Err(fail(lambda, h, stats.steps, cause));
             }
             attempts += 1;
+            // the last step ends exactly on the target
             let remaining = (to - lambda).abs();
-            let next = if remaining <= h { to } else { lambda + dir * h };
-            let dl = next - lambda;
-            for ((p, &yi), &d) in pred.iter_mut().zip(&y).zip(&slope) {
-                *p = yi + d * dl;
-            }
-            let outcome = match correct(next, &pred) {
-                Ok(sol) if sol.len() != y.len() => {
-                    Err(StallCause::Invalid(BvpError::DimensionMismatch {
-                        name: "continuation state",
-                        expected: y.len(),
-                        found: sol.len(),
-                    }))
-                }
-                Ok(sol) => {
-                    let distance = max_diff(&sol, &pred);
-                    let allowed = guard.absolute + guard.relative * max_diff(&pred, &y);
-                    if distance.is_finite() && distance <= allowed {
-                        Ok(sol)
-                    } else {
-                        Err(StallCause::Jump {
-                            at: next,
-                            distance,
-                            allowed,
-                        })
-                    }
-                }
-                Err(e) => Err(StallCause::Inner(e)),
-            };
-            match outcome {
-                Ok(sol) => {
-                    for ((d, &a), &b) in slope.iter_mut().zip(&sol).zip(&y) {
-                        *d = (a - b) / dl;
-                    }
-                    y = sol;
-                    lambda = next;
+            path.ends.set(remaining <= h);
+            arc.limit_step(remaining);
+            let tried = arc.step();
+            let cause = match arc.attempt(&path) {
+                Attempt::Point(point, t) => {
+                    arc.accept(&path, point, t);
                     stats.steps += 1;
-                    h = (2.0 * h).min(self.max_step);
+                    continue;
                 }
-                Err(cause @ StallCause::Invalid(_)) => {
-                    return Err(fail(lambda, h, stats.steps, cause));
-                }
-                Err(cause) => {
-                    stats.halvings += 1;
-                    if matches!(cause, StallCause::Jump { .. }) {
-                        stats.jumps += 1;
+                Attempt::Retry => match path.invalid.take() {
+                    Some(e) => StallCause::Invalid(e),
+                    None => {
+                        stats.halvings += 1;
+                        continue;
                     }
-                    let tried = h.min(remaining);
-                    h = 0.5 * tried;
-                    if h < self.min_step {
-                        return Err(fail(lambda, tried, stats.steps, cause));
-                    }
-                }
+                },
+                Attempt::Failed(cause) => cause,
+            };
+            stats.jumps = path.jumps.get();
+            if matches!(cause, StallCause::Invalid(_)) {
+                return Err(fail(lambda, h, stats.steps, cause));
             }
+            stats.halvings += 1;
+            return Err(fail(lambda, tried, stats.steps, cause));
         }
-        Ok((y, stats))
+        stats.jumps = path.jumps.get();
+        Ok((arc.into_current().y, stats))
+    }
+}
+
+/// A solved point of the natural path: the parameter, the caller's state and its slope
+/// `dy/dlambda` (the secant through this point and the one before, or the known first
+/// slope).
+#[derive(Clone, Debug)]
+struct State {
+    lambda: f64,
+    y: Vec<f64>,
+    slope: Vec<f64>,
+}
+
+/// The branch `y(lambda)` as a [`Curve`] in its one coordinate `lambda`: the corrector
+/// predicts the state by the secant, calls the caller's solve at the fixed parameter and
+/// applies the jump guard.
+struct NaturalPath<'g, F> {
+    correct: RefCell<F>,
+    guard: &'g BranchGuard,
+    to: f64,
+    /// Whether the attempt under way ends on the target (set by the driver).
+    ends: Cell<bool>,
+    /// Correctors rejected by the guard.
+    jumps: Cell<usize>,
+    /// A corrector of the wrong dimension: the run ends.
+    invalid: RefCell<Option<BvpError>>,
+}
+
+impl<E, F> Curve<1> for NaturalPath<'_, F>
+where
+    F: FnMut(f64, &[f64]) -> Result<Vec<f64>, E>,
+{
+    type Point = State;
+    type Error = StallCause<E>;
+
+    fn coords(&self, p: &State) -> [f64; 1] {
+        [p.lambda]
+    }
+
+    fn correct(
+        &self,
+        from: &State,
+        p: [f64; 1],
+        _n: [f64; 1],
+        _radius: f64,
+    ) -> Result<State, StallCause<E>> {
+        let next = if self.ends.get() { self.to } else { p[0] };
+        let dl = next - from.lambda;
+        let pred: Vec<f64> = (from.y.iter().zip(&from.slope))
+            .map(|(&y, &d)| y + d * dl)
+            .collect();
+        let sol = (self.correct.borrow_mut())(next, &pred).map_err(StallCause::Inner)?;
+        if sol.len() != from.y.len() {
+            let e = BvpError::DimensionMismatch {
+                name: "continuation state",
+                expected: from.y.len(),
+                found: sol.len(),
+            };
+            *self.invalid.borrow_mut() = Some(e.clone());
+            return Err(StallCause::Invalid(e));
+        }
+        let distance = max_diff(&sol, &pred);
+        let allowed = self.guard.absolute + self.guard.relative * max_diff(&pred, &from.y);
+        if !(distance.is_finite() && distance <= allowed) {
+            self.jumps.set(self.jumps.get() + 1);
+            return Err(StallCause::Jump {
+                at: next,
+                distance,
+                allowed,
+            });
+        }
+        let slope = (sol.iter().zip(&from.y))
+            .map(|(a, b)| (a - b) / dl)
+            .collect();
+        Ok(State {
+            lambda: next,
+            y: sol,
+            slope,
+        })
+    }
+
+    fn tangent(&self, _p: &State, dir: &[f64; 1]) -> [f64; 1] {
+        [if dir[0] < 0.0 { -1.0 } else { 1.0 }]
+    }
+
+    fn iterations(&self, _p: &State) -> usize {
+        0
     }
 }
 
@@ -323,288 +422,4 @@ impl<E: fmt::Display> fmt::Display for ContinuationFailure<E> {
 impl<E: fmt::Debug + fmt::Display> std::error::Error for ContinuationFailure<E> {}
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Newton on `f(x) = 0` from `x0` with the derivative `df`, to `|f| <= 1e-14 (1 + |lambda|)`.
-    fn newton(
-        lambda: f64,
-        x0: f64,
-        f: impl Fn(f64) -> f64,
-        df: impl Fn(f64) -> f64,
-    ) -> Result<f64, BvpError> {
-        let mut x = x0;
-        for _ in 0..60 {
-            let r = f(x);
-            if r.abs() <= 1e-14 * (1.0 + lambda.abs()) {
-                return Ok(x);
-            }
-            x -= r / df(x);
-        }
-        Err(BvpError::NoConvergence {
-            method: "test newton",
-            iterations: 60,
-            residual: f(x),
-        })
-    }
-
-    fn cont(initial_step: f64, min_step: f64, max_step: f64) -> Continuation {
-        Continuation {
-            initial_step,
-            min_step,
-            max_step,
-        }
-    }
-
-    /// `x = sqrt(lambda)` (Newton on `x^2 = lambda`) from `(1, 1)` to 4 and back: the answers
-    /// are the roots 2 and 1 to rounding, with no rejected step.
-    #[test]
-    fn follows_the_square_root_branch_both_ways() {
-        let c = cont(0.25, 1e-6, 1.0);
-        let sqrt = |l: f64, p: &[f64]| newton(l, p[0], |x| x * x - l, |x| 2.0 * x).map(|x| vec![x]);
-        let (x, stats) = c
-            .follow(1.0, 4.0, vec![1.0], &BranchGuard::default(), sqrt)
-            .unwrap();
-        assert!((x[0] - 2.0).abs() < 1e-14, "{}", x[0]);
-        // steps 0.25, 0.5, 1.0, 1.0 (max_step), then 0.25 clipped to 4: five steps
-        assert_eq!((stats.steps, stats.halvings, stats.jumps), (5, 0, 0));
-        let (x, _) = c
-            .follow(4.0, 1.0, vec![2.0], &BranchGuard::default(), sqrt)
-            .unwrap();
-        assert!((x[0] - 1.0).abs() < 1e-14, "{}", x[0]);
-        // the slope known at the start (1 / (2 sqrt(1)) = 1/2) is used on the first step:
-        // a corrector that accepts only a prediction within 1e-2 of the root succeeds at once
-        let strict = |l: f64, p: &[f64]| {
-            let x = l.sqrt();
-            if (p[0] - x).abs() < 1e-2 {
-                Ok(vec![x])
-            } else {
-                Err(BvpError::InvalidInput {
-                    name: "prediction",
-                    value: p[0],
-                    reason: "too far",
-                })
-            }
-        };
-        let c = cont(0.1, 1e-6, 0.1);
-        let (x, stats) = c
-            .follow_from(
-                1.0,
-                1.1,
-                vec![1.0],
-                vec![0.5],
-                &BranchGuard::default(),
-                strict,
-            )
-            .unwrap();
-        assert_eq!((x[0], stats.steps, stats.halvings), (1.1f64.sqrt(), 1, 0));
-        // without the slope the constant prediction 1 is 0.049 off: the step is halved
-        let (_, stats) = c
-            .follow(1.0, 1.1, vec![1.0], &BranchGuard::default(), strict)
-            .unwrap();
-        assert!(stats.halvings >= 1, "{stats:?}");
-    }
-
-    /// `x^3 - 3x = lambda` has a lower branch `x < -1` up to its fold at `(lambda, x) = (2, -1)`
-    /// and beyond it only the upper root (`x = 2.1038...` at `lambda = 3`): Newton from the
-    /// prediction past the fold lands there, the guard rejects it, and the run stops at the
-    /// fold; without the guard it ends on the other branch.
-    #[test]
-    fn the_jump_guard_stops_at_a_fold_where_newton_changes_branch() {
-        let cubic = |l: f64, p: &[f64]| {
-            newton(l, p[0], |x| x * x * x - 3.0 * x - l, |x| 3.0 * x * x - 3.0).map(|x| vec![x])
-        };
-        let c = cont(0.5, 1e-4, 0.5);
-        let start = vec![-(3.0f64.sqrt())];
-        let guard = BranchGuard::default();
-        let mut landed_above = 0;
-        let fail = c
-            .follow(0.0, 3.0, start.clone(), &guard, |l, p: &[f64]| {
-                let x = cubic(l, p)?;
-                if x[0] > -1.0 {
-                    landed_above += 1;
-                }
-                Ok::<_, BvpError>(x)
-            })
-            .unwrap_err();
-        assert!(fail.reached <= 2.0 && fail.reached > 2.0 - 1e-3, "{fail:?}");
-        assert!(fail.step < 2e-4, "{}", fail.step);
-        assert_eq!(fail.target, 3.0);
-        assert!(landed_above > 0, "Newton did land on the upper branch");
-        match fail.cause {
-            // the last rejection: a jump, or Newton failing at the fold itself
-            StallCause::Jump { at, distance, .. } => {
-                assert!(at > 2.0 && distance > 1.0, "{at} {distance}")
-            }
-            StallCause::Inner(_) => {}
-            other => panic!("{other:?}"),
-        }
-        let open = BranchGuard {
-            absolute: f64::INFINITY,
-            ..guard
-        };
-        let (x, _) = c.follow(0.0, 3.0, start, &open, cubic).unwrap();
-        // the one real root of x^3 - 3x - 3 (Cardano): cbrt(3/2 + sqrt(5)/2) + cbrt(3/2 - sqrt(5)/2)
-        let s5 = 5.0f64.sqrt();
-        let upper = (1.5 + 0.5 * s5).cbrt() + (1.5 - 0.5 * s5).cbrt();
-        assert!((x[0] - upper).abs() < 1e-14, "{} vs {upper}", x[0]);
-    }
-
-    /// A corrector that needs the prediction within 0.3 of the answer `x(lambda) = lambda`:
-    /// the constant first prediction fails three times, then the secant is exact.
-    #[test]
-    fn counts_halvings_and_rejects_bad_settings() {
-        let c = cont(1.0, 1e-3, 1.0);
-        let near = |l: f64, g: &[f64]| {
-            if (g[0] - l).abs() > 0.3 {
-                Err(BvpError::InvalidInput {
-                    name: "guess",
-                    value: g[0],
-                    reason: "too far",
-                })
-            } else {
-                Ok(vec![l])
-            }
-        };
-        let (x, stats) = c
-            .follow(0.0, 2.0, vec![0.0], &BranchGuard::default(), near)
-            .unwrap();
-        assert_eq!(x, vec![2.0]);
-        // h = 1 and 0.5 fail; at 0.25 the answer is 0.25 from the prediction, more than the
-        // guard's 0.2: a jump; 0.125 is accepted, then the exact secant: 0.25, 0.5, 1.0 and
-        // the last 0.125 (clipped)
-        assert_eq!((stats.steps, stats.halvings, stats.jumps), (5, 3, 1));
-        let (x, _) = c
-            .follow(2.0, 1.0, vec![2.0], &BranchGuard::default(), near)
-            .unwrap();
-        assert_eq!(x, vec![1.0]);
-        let bad = cont(0.0, 1e-3, 1.0)
-            .follow(0.0, 1.0, vec![0.0], &BranchGuard::default(), near)
-            .unwrap_err();
-        assert!(matches!(
-            bad.cause,
-            StallCause::Invalid(BvpError::InvalidInput {
-                name: "initial_step",
-                ..
-            })
-        ));
-        let bad = c
-            .follow(0.0, f64::NAN, vec![0.0], &BranchGuard::default(), near)
-            .unwrap_err();
-        assert!(matches!(
-            bad.cause,
-            StallCause::Invalid(BvpError::InvalidInput { name: "to", .. })
-        ));
-        let bad = c
-            .follow_from(0.0, 1.0, vec![0.0], vec![], &BranchGuard::default(), near)
-            .unwrap_err();
-        assert!(matches!(
-            bad.cause,
-            StallCause::Invalid(BvpError::DimensionMismatch { .. })
-        ));
-    }
-
-    /// Newton on `y^3 + y = lambda` (one root for every lambda): `follow` reaches lambda = 10
-    /// and the answer solves the equation to rounding.
-    fn cubic_newton(lambda: f64, y0: f64) -> Result<f64, BvpError> {
-        let mut y = y0;
-        for it in 0..30 {
-            let r = y * y * y + y - lambda;
-            if r.abs() < 1e-13 * (1.0 + lambda.abs()) {
-                return Ok(y);
-            }
-            y -= r / (3.0 * y * y + 1.0);
-            if it == 29 {
-                break;
-            }
-        }
-        Err(BvpError::NoConvergence {
-            method: "cubic",
-            iterations: 30,
-            residual: y * y * y + y - lambda,
-        })
-    }
-
-    #[test]
-    fn follow_reaches_the_target_with_a_secant_predictor() {
-        let cont = Continuation {
-            initial_step: 0.1,
-            min_step: 1e-6,
-            max_step: 0.5,
-        };
-        let mut calls = 0;
-        let (y, stats) = cont
-            .follow(
-                0.0,
-                10.0,
-                vec![0.0],
-                &BranchGuard::default(),
-                |l, p: &[f64]| {
-                    calls += 1;
-                    cubic_newton(l, p[0]).map(|y| vec![y])
-                },
-            )
-            .unwrap();
-        // y^3 + y = 10 has the root y = 2 exactly
-        assert!((y[0] - 2.0).abs() < 1e-12, "{}", y[0]);
-        assert_eq!(stats.halvings, 0);
-        assert_eq!(stats.steps, calls);
-    }
-
-    /// [`Continuation::follow`] from `(0, [0])` to 1 with steps in `[0.01, 0.25]`: its failure.
-    fn failure_to_one(
-        guard: &BranchGuard,
-        correct: impl FnMut(f64, &[f64]) -> Result<Vec<f64>, BvpError>,
-    ) -> ContinuationFailure<BvpError> {
-        cont(0.25, 0.01, 0.25)
-            .follow(0.0, 1.0, vec![0.0], guard, correct)
-            .unwrap_err()
-    }
-
-    #[test]
-    fn follow_fails_with_the_last_inner_error_or_the_jump() {
-        // a corrector that fails beyond lambda = 0.5 with its own error
-        let fail = failure_to_one(&BranchGuard::default(), |l, _p| {
-            if l > 0.5 {
-                Err(BvpError::NoConvergence {
-                    method: "inner",
-                    iterations: 7,
-                    residual: l,
-                })
-            } else {
-                Ok(vec![l])
-            }
-        });
-        assert_eq!(fail.reached, 0.5);
-        assert!(fail.step < 0.02 && fail.step >= 0.01, "{}", fail.step);
-        match fail.cause {
-            StallCause::Inner(BvpError::NoConvergence {
-                method: "inner",
-                iterations: 7,
-                residual,
-            }) => assert!(residual > 0.5 && residual < 0.52, "{residual}"),
-            other => panic!("{other:?}"),
-        }
-        // a corrector that lands on another branch (y jumps by 1 at lambda > 0.5)
-        let guard = BranchGuard {
-            absolute: 0.2,
-            relative: 0.5,
-            max_attempts: 1000,
-        };
-        let fail = failure_to_one(&guard, |l, _p| Ok(vec![if l > 0.5 { l + 1.0 } else { l }]));
-        assert_eq!(fail.reached, 0.5);
-        match fail.cause {
-            StallCause::Jump { distance, .. } => assert!(distance > 0.9, "{distance}"),
-            other => panic!("{other:?}"),
-        }
-        // the corrector budget (a guard wide enough to accept the first, unpredicted step)
-        let guard = BranchGuard {
-            absolute: 1.0,
-            relative: 0.5,
-            max_attempts: 3,
-        };
-        let fail = failure_to_one(&guard, |l, _p| Ok(vec![l]));
-        assert_eq!(fail.cause, StallCause::Budget { max_attempts: 3 });
-        assert_eq!(fail.steps, 3);
-    }
-}
+mod tests;

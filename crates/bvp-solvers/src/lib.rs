@@ -16,13 +16,11 @@
 //! | [`roots`] | scalar roots: bisection and Brent (the `fzero` equivalents) |
 //! | [`trust_region`] | small non-linear systems by argmin's trust region (the `fsolve` equivalent) |
 //! | [`shooting`] | shooting: unknown initial values / parameters found so that boundary residuals vanish; Newton with the problem's own sensitivities (what the domain runs), or forward differences and the trust region for bare ODEs |
-//! | [`continuation`] | load continuation: step a parameter from an easy value to the target |
-//! | [`arclength`] | pseudo-arclength continuation of a solution curve through its folds, with located events |
+//! | [`continuation`] | continuation of a solution branch: pseudo-arclength through folds with located events ([`continuation::Arclength`] on a [`continuation::Curve`]), and natural-parameter continuation ([`continuation::Continuation::follow`]) as its special case with the parameter as the one coordinate |
 //!
 //! Every fallible routine returns [`BvpError`], whose variants carry the numbers
 //! (iterations, residual, row, offending value).
 
-pub mod arclength;
 pub mod continuation;
 pub mod cores;
 pub mod dense;

@@ -18,7 +18,7 @@ use crate::error::{ContactError, Result};
 use crate::events::{penetration, phase_margin, x0_rate};
 use crate::phase::Phase;
 use beam_model::shot::Integration;
-use bvp_solvers::arclength::{locate, ArcControl, Arclength, Attempt, Curve};
+use bvp_solvers::continuation::{locate, ArcControl, Arclength, Attempt, Curve};
 
 /// How the trace ended.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -281,7 +281,7 @@ impl Curve<3> for PhaseCurve<'_, '_> {
     /// the arclength driver's signal to shorten the step; a trust-region rescue would spend
     /// shots on every rejected step and could converge on another part of the branch (the
     /// jump the short step and the hyperplane's radius exist to prevent).
-    fn correct(&self, p: [f64; 3], n: [f64; 3], radius: f64) -> Result<Node> {
+    fn correct(&self, _from: &Node, p: [f64; 3], n: [f64; 3], radius: f64) -> Result<Node> {
         let plane = Constraint::Hyperplane { n, p, radius };
         let near = self.jacobian_at(&p);
         self.branch

@@ -4,7 +4,7 @@
 //! contour).
 //!
 //! An event is bracketed by two nodes of the branch, one on each side, and located by
-//! [`bvp_solvers::arclength::locate`] (regula falsi along the chord, every trial point a
+//! [`bvp_solvers::continuation::locate`] (regula falsi along the chord, every trial point a
 //! solution of the branch equations on a hyperplane across it), so the located node is an
 //! exact equilibrium, within `tol` of the event in the state `(v, f, t)`.
 

@@ -11,7 +11,7 @@
 //! through the unloaded whisker at `lambda = 0`. Natural-parameter continuation in `lambda`
 //! stops (or jumps to another equilibrium) where that curve turns back in `lambda`: a fold,
 //! where the physical whisker would snap through. This module follows the curve by
-//! pseudo-arclength ([`bvp_solvers::arclength`]) from `(phi1_unloaded, 0)`, passing its folds
+//! pseudo-arclength ([`bvp_solvers::continuation::Arclength`]) from `(phi1_unloaded, 0)`, passing its folds
 //! (located where `dR/dphi1 = 0`), to its **first arrival at full load** (`lambda = 1`,
 //! located, then Newton at full accuracy): that equilibrium is the answer of every method
 //! whose own load continuation stalled or ended past a fold (`dR/dphi1 <= 0` there: it is 1
@@ -33,7 +33,7 @@ use crate::loads::Loads;
 use crate::shot::{shoot, Integration};
 use crate::solution::{LoadFold, LoadPath, PathEquilibrium};
 use crate::whisker::Whisker;
-use bvp_solvers::arclength::{locate, ArcControl, Arclength, Attempt, Curve, Predictor};
+use bvp_solvers::continuation::{locate, ArcControl, Arclength, Attempt, Curve, Predictor};
 use std::cell::Cell;
 use std::f64::consts::FRAC_PI_2;
 
@@ -147,7 +147,13 @@ impl Curve<2> for LoadCurve<'_> {
         p.u
     }
 
-    fn correct(&self, p: [f64; 2], n: [f64; 2], radius: f64) -> Result<PathPoint> {
+    fn correct(
+        &self,
+        _from: &PathPoint,
+        p: [f64; 2],
+        n: [f64; 2],
+        radius: f64,
+    ) -> Result<PathPoint> {
         self.newton(p, n, radius)
     }
 

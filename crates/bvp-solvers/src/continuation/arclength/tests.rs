@@ -16,7 +16,13 @@ impl Curve<2> for Ellipse {
     fn coords(&self, p: &[f64; 2]) -> [f64; 2] {
         *p
     }
-    fn correct(&self, p: [f64; 2], n: [f64; 2], radius: f64) -> Result<[f64; 2], &'static str> {
+    fn correct(
+        &self,
+        _from: &[f64; 2],
+        p: [f64; 2],
+        n: [f64; 2],
+        radius: f64,
+    ) -> Result<[f64; 2], &'static str> {
         self.calls.set(self.calls.get() + 1);
         let (a2, b2) = (self.a * self.a, self.b * self.b);
         let mut u = p;
@@ -211,7 +217,13 @@ fn the_step_adapts_and_a_failure_below_the_smallest_step_is_reported() {
         fn coords(&self, p: &[f64; 2]) -> [f64; 2] {
             *p
         }
-        fn correct(&self, _p: [f64; 2], _n: [f64; 2], _r: f64) -> Result<[f64; 2], &'static str> {
+        fn correct(
+            &self,
+            _from: &[f64; 2],
+            _p: [f64; 2],
+            _n: [f64; 2],
+            _r: f64,
+        ) -> Result<[f64; 2], &'static str> {
             Err("never")
         }
         fn tangent(&self, _p: &[f64; 2], _d: &[f64; 2]) -> [f64; 2] {

@@ -34,7 +34,7 @@
 //! and which points it keeps.
 //!
 //! ```
-//! use bvp_solvers::arclength::{locate, ArcControl, Arclength, Attempt, Curve};
+//! use bvp_solvers::continuation::{locate, ArcControl, Arclength, Attempt, Curve};
 //!
 //! /// The unit circle `x^2 + y^2 = 1`, corrected by Newton on the 2x2 system.
 //! struct Circle;
@@ -42,7 +42,7 @@
 //!     type Point = [f64; 2];
 //!     type Error = ();
 //!     fn coords(&self, p: &[f64; 2]) -> [f64; 2] { *p }
-//!     fn correct(&self, p: [f64; 2], n: [f64; 2], _r: f64) -> Result<[f64; 2], ()> {
+//!     fn correct(&self, _from: &[f64; 2], p: [f64; 2], n: [f64; 2], _r: f64) -> Result<[f64; 2], ()> {
 //!         let mut u = p;
 //!         for _ in 0..20 {
 //!             let r = [u[0] * u[0] + u[1] * u[1] - 1.0, n[0] * (u[0] - p[0]) + n[1] * (u[1] - p[1])];
@@ -89,11 +89,20 @@ pub trait Curve<const N: usize> {
 
     /// Solves `R(u) = 0` with `n . (u - p) = 0`, starting from `p` (`n` a unit vector). A
     /// solution or an iterate farther than `radius` from `p` may be refused: the
-    /// prediction was off the curve.
+    /// prediction was off the curve. `from` is the solved point the prediction was made
+    /// from (the current point of a step; in [`locate`] the bracket's end on the valid
+    /// side), for a curve whose points carry more than their coordinates (the natural path
+    /// predicts its state from it).
     ///
     /// # Errors
     /// The corrector's own when it does not converge.
-    fn correct(&self, p: [f64; N], n: [f64; N], radius: f64) -> Result<Self::Point, Self::Error>;
+    fn correct(
+        &self,
+        from: &Self::Point,
+        p: [f64; N],
+        n: [f64; N],
+        radius: f64,
+    ) -> Result<Self::Point, Self::Error>;
 
     /// The unit tangent of the curve at `p` (the null vector of `dR/du`), with the sign that
     /// makes it point along `dir`.
@@ -224,9 +233,15 @@ impl<P: Clone, const N: usize> Arclength<P, N> {
         self.h
     }
 
-    /// The step control.
-    pub fn control(&self) -> &ArcControl {
-        &self.ctl
+    /// Shortens the step of the next attempt to at most `h_max` (the natural path clips
+    /// its last step to end on the target).
+    pub fn limit_step(&mut self, h_max: f64) {
+        self.h = self.h.min(h_max);
+    }
+
+    /// The current point, ending the trace.
+    pub fn into_current(self) -> P {
+        self.cur
     }
 
     /// One predictor-corrector step of length [`Arclength::step`] from the current point.
@@ -237,7 +252,7 @@ impl<P: Clone, const N: usize> Arclength<P, N> {
     pub fn attempt<C: Curve<N, Point = P>>(&mut self, curve: &C) -> Attempt<P, C::Error, N> {
         let hs = self.h / curve.step_length(&self.cur, &self.t);
         let p = self.predict(hs);
-        let point = match curve.correct(p, self.t, 0.5 * hs + 1e-9) {
+        let point = match curve.correct(&self.cur, p, self.t, 0.5 * hs + 1e-9) {
             Ok(point) => point,
             Err(e) => {
                 self.h *= 0.5;
@@ -339,7 +354,7 @@ impl<P: Clone, const N: usize> Arclength<P, N> {
         self.cur = point;
         self.t = t;
         self.prev = None;
-        self.h = self.h.min(h_max);
+        self.limit_step(h_max);
     }
 
     /// The position of `point` along the current tangent, `t . (u - u_cur)`.
@@ -431,7 +446,7 @@ where
         for (pi, b) in p.iter_mut().zip(&ub) {
             *pi += s * (b - *pi);
         }
-        let point = curve.correct(p, n, len)?;
+        let point = curve.correct(&na, p, n, len)?;
         let gs = g(&point)?;
         if gs > 0.0 {
             (sa, ga, na) = (s, gs, point);

@@ -7,7 +7,7 @@
 //! FDM model of `thesis` cannot get below ~1e-5.
 //!
 //! The rows are reconstructed as [`reconstruct_with`] does, with the integrator at
-//! [`integration_tol`]; then every contact row is evaluated again under the identified flow
+//! [`integration_tol`] (1e-10 from `tol = 1e-6` up: a looser one is costlier); then every contact row is evaluated again under the identified flow
 //! at an integration [`ESTIMATE_FACTOR`] times looser and judged at the same noise level.
 //! The estimate of a point is twice the distance between the two points (the looser
 //! integration's error is many times the point's), and never below the looser tolerance
@@ -39,11 +39,14 @@ pub const ESTIMATE_MARGIN: f64 = 2.0;
 
 /// The integrator tolerance of the points for the accuracy `tol`: `tol / 1e4` (a point's
 /// error is up to ~5 times its integrator tolerance, and its estimate, from an integration
-/// 100 times looser, twice that error, must stay below `tol`), within [1e-13, 1e-8] (a
-/// looser integration leaves an exact log's rows residuals near the default consistency
-/// tolerance, 1e-6).
+/// 100 times looser, twice that error, must stay below `tol`), within [1e-13, 1e-10].
+/// Looser is not cheaper: measured with callgrind on the g1 sweep's log (default 38.3 M
+/// instructions), points at 1e-12 with their twins at 1e-10 cost 53.8 M, at 1e-10 (twins at
+/// 1e-8) 46.9 M, at 1e-8 (twins at 1e-6) 74.3 M, the integration's error raising the
+/// estimated noise level and with it the work of the ambiguity checks (and at 1e-8 an exact
+/// log's residuals reach the default consistency tolerance, 1e-6).
 pub fn integration_tol(tol: f64) -> f64 {
-    (tol / 1e4).clamp(1e-13, 1e-8)
+    (tol / 1e4).clamp(1e-13, 1e-10)
 }
 
 /// The accuracy of a reconstruction run by [`reconstruct_to`].

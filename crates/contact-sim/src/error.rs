@@ -80,6 +80,18 @@ pub enum ContactError {
         /// Why.
         reason: String,
     },
+    /// A row's error estimate exceeds the accuracy asked for (`SweepSettings::accuracy`).
+    #[error("row {} (x0 = {x0:.6}): error estimate {estimate:.3e} exceeds the accuracy asked for, {tol:e} (the best this sweep reaches there)", row + 1)]
+    AccuracyNotMet {
+        /// 0-based index of the row in `SweepResult::points`.
+        row: usize,
+        /// Its base position.
+        x0: f64,
+        /// Its error estimate.
+        estimate: f64,
+        /// The accuracy asked for.
+        tol: f64,
+    },
     /// An underlying BVP routine failed.
     #[error(transparent)]
     Bvp(#[from] BvpError),

@@ -32,6 +32,7 @@
 //! assert!(r.points.windows(2).all(|w| w[1].x0 < w[0].x0));
 //! ```
 
+pub mod accuracy;
 mod ahead;
 mod branch;
 pub mod cases;
@@ -44,6 +45,7 @@ pub mod profile;
 mod rows;
 pub mod sweep;
 
+pub use accuracy::SweepAccuracy;
 pub use error::{ContactError, Result};
 pub use phase::{ContactState, ContourPoint, Phase};
 pub use profile::Profile;

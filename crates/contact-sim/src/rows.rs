@@ -1,8 +1,10 @@
 //! The log's contact rows: `points` rows evenly spaced in the base position x0 from the first
 //! contact to the separation, each predicted from the bracketing nodes of the traced branch
 //! (cubic Hermite in x0 within a phase, Lagrange extrapolation across a switch) and
-//! corrected at its base position (Broyden from the prediction, Newton as the fallback).
+//! corrected at its base position (Broyden from the prediction, Newton as the fallback);
+//! with an accuracy asked for, each row with its error estimate ([`crate::accuracy`]).
 
+use crate::accuracy::{estimate, Estimator, Hold};
 use crate::branch::{hermite, Branch, Constraint, Node, Rescue};
 use crate::error::{ContactError, Result};
 use crate::phase::{ContactState, Phase};
@@ -10,15 +12,16 @@ use crate::phase::{ContactState, Phase};
 /// The log's contact rows: `points` rows evenly spaced in x0 from the first node to `last`
 /// (both included), each solved at its base position from the bracketing nodes of the traced
 /// branch, plus the switch nodes; in the order of the motion. `progress(done, total)` is
-/// told of every row.
+/// told of every row. Each row comes with its error estimate from the branch equations at
+/// the estimate's integration `loose` (NaN without).
 pub(crate) fn rows(
-    branch: &Branch,
+    (branch, loose): (&Branch, Option<&Estimator>),
     nodes: &[Node],
     switches: &[Node],
     last: &Node,
     points: usize,
     progress: &mut dyn FnMut(usize, usize),
-) -> Result<Vec<ContactState>> {
+) -> Result<Vec<(ContactState, f64)>> {
     let first = nodes[0];
     let (x_start, x_end) = (first.x0(), last.x0());
     let span = x_start - x_end;
@@ -29,24 +32,32 @@ pub(crate) fn rows(
     // whether the second half runs on a thread of its own (where a second core exists)
     let (near, far) = targets.split_at(targets.len() / 2);
     let (a, b) = if far.is_empty() {
-        let near_half = chain(branch, nodes, &[first], near, &mut |k| progress(k, points));
+        let near_half = chain((branch, loose), nodes, &[first], near, &mut |k| {
+            progress(k, points)
+        });
         (near_half, Ok(Vec::new()))
     } else {
         bvp_solvers::cores::both(
-            || chain(branch, nodes, &[first], near, &mut |k| progress(k, points)),
-            || chain(branch, nodes, &[], far, &mut |_| {}),
+            || {
+                chain((branch, loose), nodes, &[first], near, &mut |k| {
+                    progress(k, points)
+                })
+            },
+            || chain((branch, loose), nodes, &[], far, &mut |_| {}),
         )
     };
-    let mut out: Vec<ContactState> = Vec::with_capacity(points + switches.len());
-    out.push(first.state);
+    // the traced nodes held at their contour points (x0 may turn there)
+    let node_row = |n: &Node| (n.state, row_estimate(loose, n, Hold::ContourPoint));
+    let mut out: Vec<(ContactState, f64)> = Vec::with_capacity(points + switches.len());
+    out.push(node_row(&first));
     out.extend(a?);
     out.extend(b?);
     if span > 0.0 {
-        out.push(last.state);
+        out.push(node_row(last));
     }
-    out.extend(switches.iter().map(|n| n.state));
-    out.sort_by(|a, b| b.x0.total_cmp(&a.x0));
-    out.dedup_by(|a, b| a.x0 == b.x0);
+    out.extend(switches.iter().map(node_row));
+    out.sort_by(|a, b| b.0.x0.total_cmp(&a.0.x0));
+    out.dedup_by(|a, b| a.0.x0 == b.0.x0);
     progress(points, points);
     Ok(out)
 }
@@ -55,12 +66,12 @@ pub(crate) fn rows(
 /// nodes and the rows of this chain before it (after `start`), then solved; stops at the
 /// end of the traced nodes. `done(k)` is told of the `k`-th row.
 fn chain(
-    branch: &Branch,
+    (branch, loose): (&Branch, Option<&Estimator>),
     nodes: &[Node],
     start: &[Node],
     targets: &[f64],
     done: &mut dyn FnMut(usize),
-) -> Result<Vec<ContactState>> {
+) -> Result<Vec<(ContactState, f64)>> {
     let mut out = Vec::with_capacity(targets.len());
     let mut seg = 0;
     let mut recent: Vec<Node> = start.to_vec();
@@ -76,9 +87,21 @@ fn chain(
         let pred = predict(a, b, &recent, target);
         let node = solve_row(branch, &pred, target, a.state.point.xc)?;
         recent.push(node);
-        out.push(node.state);
+        out.push((
+            node.state,
+            row_estimate(loose, &node, Hold::BasePosition(target)),
+        ));
     }
     Ok(out)
+}
+
+/// The error estimate of a row ([`estimate`]; infinite where its shots fail), NaN without
+/// the estimate's branch equations `loose`.
+fn row_estimate(loose: Option<&Estimator>, node: &Node, hold: Hold) -> f64 {
+    match loose {
+        Some(l) => estimate(l, node, hold).unwrap_or(f64::INFINITY),
+        None => f64::NAN,
+    }
 }
 
 /// The prediction of a row at base position `target` between the traced nodes `a`, `b`.

@@ -6,6 +6,7 @@
 //! then contact rows evenly spaced in x0 from the first contact to the separation, plus one
 //! row at each phase switch.
 
+use crate::accuracy::{row_integration_tol, row_solve_tol, SweepAccuracy, ESTIMATE_FACTOR};
 use crate::branch::{Branch, Node};
 use crate::continuation::{trace_tightened, End, StepControl};
 use crate::error::{ContactError, Result};
@@ -47,6 +48,12 @@ pub struct SweepSettings {
     /// (measured on seven CLI scenes: 1.0 left fewer, costlier nodes and more expensive rows,
     /// with the same answers).
     pub max_step: f64,
+    /// The accuracy asked for of every row (absolute, in [1e-12, 1e-2]): the contact rows
+    /// solved at tolerances derived from it, each row given an a-posteriori error estimate
+    /// ([`crate::accuracy`]), and the sweep refused when a row's estimate exceeds it. `None`
+    /// (the default): the rows at `integration_tol` and `solve_tol`, without estimates.
+    #[serde(default)]
+    pub accuracy: Option<f64>,
 }
 
 impl Default for SweepSettings {
@@ -61,6 +68,7 @@ impl Default for SweepSettings {
             check_penetration: true,
             max_steps: 20_000,
             max_step: 0.2,
+            accuracy: None,
         }
     }
 }
@@ -150,6 +158,9 @@ pub struct SweepResult {
     pub first_touch: FirstTouch,
     /// How it ended.
     pub separation: Separation,
+    /// With `SweepSettings::accuracy`: the accuracy asked for and every row's estimate.
+    #[serde(default)]
+    pub accuracy: Option<SweepAccuracy>,
 }
 
 impl SweepResult {
@@ -290,8 +301,31 @@ pub fn sweep_with_progress(
         profile.convex_at(n.u[2])?;
     }
     let (last, separation) = separation(tr.end);
+    let row_integration = settings.accuracy.map(|t| {
+        (
+            Integration::adaptive(row_integration_tol(t)),
+            Integration::adaptive(row_integration_tol(t) * ESTIMATE_FACTOR),
+        )
+    });
+    let (row_branch, loose) = match (&row_integration, settings.accuracy) {
+        (Some((rows_at, loose_at)), Some(t)) => (
+            Branch {
+                integration: rows_at,
+                tol: row_solve_tol(t),
+                ..branch
+            },
+            Some(crate::accuracy::Estimator {
+                loose: Branch {
+                    integration: loose_at,
+                    ..branch
+                },
+                floor: row_integration_tol(t) * ESTIMATE_FACTOR,
+            }),
+        ),
+        _ => (branch, None),
+    };
     let states = crate::rows::rows(
-        &branch,
+        (&row_branch, loose.as_ref()),
         &tr.nodes,
         &tr.switches,
         &last,
@@ -299,7 +333,18 @@ pub fn sweep_with_progress(
         &mut |done, total| progress(SweepProgress::Fine { done, total }),
     )?;
     let mut points = pre_contact_rows(whisker, flow, phi1, first.x0(), settings)?;
-    points.extend(states.iter().map(|s| SweepPoint::from_state(s, flow)));
+    let pre = points.len();
+    points.extend(states.iter().map(|(s, _)| SweepPoint::from_state(s, flow)));
+    let accuracy = settings
+        .accuracy
+        .map(|tol| {
+            // the rows before contact are the free whisker, the first contact row's shape
+            let first_estimate = states.first().map_or(f64::NAN, |s| s.1);
+            let mut estimates = vec![first_estimate; pre];
+            estimates.extend(states.iter().map(|s| s.1));
+            check_accuracy(&points, estimates, tol)
+        })
+        .transpose()?;
     Ok(SweepResult {
         q: flow.q,
         alpha: flow.alpha,
@@ -307,7 +352,29 @@ pub fn sweep_with_progress(
         first_contact: touch.kind,
         first_touch: touch,
         separation,
+        accuracy,
     })
+}
+
+/// The accuracy of a sweep's rows with their `estimates`, refused (naming the worst row)
+/// when an estimate exceeds `tol`.
+fn check_accuracy(points: &[SweepPoint], estimates: Vec<f64>, tol: f64) -> Result<SweepAccuracy> {
+    let acc = SweepAccuracy {
+        tol,
+        row_integration_tol: row_integration_tol(tol),
+        estimates,
+    };
+    match acc.worst() {
+        Some((row, estimate)) if estimate > tol || estimate.is_nan() => {
+            Err(ContactError::AccuracyNotMet {
+                row,
+                x0: points[row].x0,
+                estimate,
+                tol,
+            })
+        }
+        _ => Ok(acc),
+    }
 }
 
 /// The node where the trace ended and how the contact ended there.
@@ -397,6 +464,15 @@ fn check_settings(settings: &SweepSettings, flow: FluidLoad) -> Result<()> {
     ] {
         if !(1e-14..=1e-3).contains(&v) {
             return bad(name, v, "tolerances must lie in [1e-14, 1e-3]");
+        }
+    }
+    if let Some(t) = settings.accuracy {
+        if !(crate::accuracy::ACCURACY_MIN..=crate::accuracy::ACCURACY_MAX).contains(&t) {
+            return bad(
+                "accuracy",
+                t,
+                "the accuracy asked for must lie in [1e-12, 1e-2]",
+            );
         }
     }
     if !(settings.max_step > 1e-6 && settings.max_step <= 1.0) {

@@ -156,6 +156,10 @@ pub struct Reconstruction {
     pub alpha_given: bool,
     /// One point per contact row, in the order of the input rows.
     pub points: Vec<ReconPoint>,
+    /// With an accuracy asked for ([`reconstruct_to`](crate::reconstruct_to)): the accuracy
+    /// and every point's error estimate.
+    #[serde(default)]
+    pub accuracy: Option<crate::accuracy::ReconAccuracy>,
 }
 
 /// Contact force and contour angle `(f, psi)` for a contact at `s1` [6.8, 6.9] with the flow

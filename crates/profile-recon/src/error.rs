@@ -58,6 +58,19 @@ pub enum ReconError {
         /// The phase hypothesis that came closest.
         phase: Phase,
     },
+    /// A point's error estimate exceeds the accuracy asked for
+    /// ([`reconstruct_to`](crate::reconstruct_to)).
+    #[error("row {row} (x0 = {x0}): error estimate {estimate:.3e} of the contact point exceeds the accuracy asked for, {tol:e} (the best reached there)")]
+    AccuracyNotMet {
+        /// 0-based index of the row (the crate's row convention).
+        row: usize,
+        /// Its base position.
+        x0: f64,
+        /// The point's error estimate.
+        estimate: f64,
+        /// The accuracy asked for.
+        tol: f64,
+    },
     /// A parameter is out of range.
     #[error("invalid parameter {name} = {value}: {reason}")]
     InvalidParameter {

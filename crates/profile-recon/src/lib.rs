@@ -30,6 +30,7 @@
 //! assert!(contour_error(&rec.points, &Profile::g2()).iter().all(|e| *e < 1e-9));
 //! ```
 
+pub mod accuracy;
 pub mod accurate;
 pub mod calibrate;
 pub mod common;
@@ -43,6 +44,7 @@ pub mod reconstruct;
 pub mod stream;
 pub mod thesis;
 
+pub use accuracy::{reconstruct_to, ReconAccuracy};
 pub use common::{
     contact_force, contour_error, free_flow, Identification, KnownFlow, NoiseScales, ReconMethod,
     ReconPoint, ReconSettings, Reconstruction,

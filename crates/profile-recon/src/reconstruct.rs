@@ -46,6 +46,16 @@ pub fn reconstruct_with(
     known: KnownFlow,
     settings: &ReconSettings,
 ) -> Result<Reconstruction> {
+    reconstruct_identified(whisker, rows, known, settings).map(|(rec, _)| rec)
+}
+
+/// [`reconstruct_with`], with the identification's evaluations and noise scales.
+pub(crate) fn reconstruct_identified(
+    whisker: &Whisker,
+    rows: &[ObservableRow],
+    known: KnownFlow,
+    settings: &ReconSettings,
+) -> Result<(Reconstruction, Identified)> {
     // one computation that may split over two cores (bvp_solvers::cores)
     let _claim = bvp_solvers::cores::Claim::new();
     let ided = identify_rows(whisker, rows, known, settings)?;
@@ -60,12 +70,14 @@ pub fn reconstruct_with(
         ReconMethod::Accurate => accurate_points(whisker, rows, &known, settings, &ided)?,
         ReconMethod::Thesis => thesis_points(whisker, rows, contact, settings, &ided)?,
     };
-    Ok(Reconstruction {
-        identification: ided.id,
+    let rec = Reconstruction {
+        identification: ided.id.clone(),
         q_given: known.q.is_some(),
         alpha_given: known.alpha.is_some(),
         points,
-    })
+        accuracy: None,
+    };
+    Ok((rec, ided))
 }
 
 /// Method `accurate`: every row judged on its own ([`Judge::judge`]; the pre-contact rows

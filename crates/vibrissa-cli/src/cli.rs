@@ -255,6 +255,14 @@ pub struct SweepArgs {
     /// before contact (flow only) come first. The summary counts them all [default: 200]
     #[arg(long, value_name = "N", allow_hyphen_values = true)]
     pub points: Option<String>,
+    /// The accuracy asked for of every row (absolute error of its observables and contact
+    /// point, dimensionless, in [1e-12, 1e-2]): the contact rows solved at tolerances derived
+    /// from it (looser ones are cheaper), each with an a-posteriori error estimate; the
+    /// summary reports the worst, and a row whose estimate exceeds T fails the sweep naming
+    /// it (exit 1). Also the scene's `sweep.tol` [default: none, the rows at ~1e-10 without
+    /// estimates]
+    #[arg(long, value_name = "T", allow_hyphen_values = true)]
+    pub tol: Option<String>,
     /// Also write shapes.csv: the whisker's shape at every row (row, s, x, y, phi; 100
     /// intervals of arc length up to the contact point, then the load-free segment beyond a
     /// tangential contact, to the tip), in the scene's units.
@@ -314,6 +322,13 @@ pub struct ReconstructArgs {
     /// reported) [default: 1e-6]
     #[arg(long, value_name = "T", allow_hyphen_values = true)]
     pub tolerance: Option<String>,
+    /// The accuracy asked for of every contact point (absolute error of x, y,
+    /// dimensionless, in [1e-12, 1e-2]; method accurate): the integration the points need,
+    /// each with an a-posteriori error estimate; the summary reports the worst, and a point
+    /// whose estimate exceeds T is an error naming its line (exit 1). Not with --stream
+    /// [default: none, the points at the integrator tolerance 1e-12 without estimates]
+    #[arg(long, value_name = "T", allow_hyphen_values = true)]
+    pub tol: Option<String>,
     /// Print one JSON object on stdout instead of a human summary.
     #[arg(long)]
     pub json: bool,

@@ -131,12 +131,16 @@ pub struct SweepSpec {
     /// Number of contact points along the contour, at least 2. Default 200.
     #[serde(default = "default_points")]
     pub points: usize,
+    /// The accuracy asked for of every row (`sweep --tol`); `None`: the sweep's own.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tol: Option<f64>,
 }
 
 impl Default for SweepSpec {
     fn default() -> Self {
         SweepSpec {
             points: default_points(),
+            tol: None,
         }
     }
 }

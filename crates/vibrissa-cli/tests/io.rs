@@ -227,7 +227,13 @@ fn scene_good_file_round_trips() {
     assert_eq!(s.loads.load, LoadKind::Ap);
     assert_eq!(s.loads.q, 5.0);
     assert_eq!(s.profile.as_deref(), Some("g1"));
-    assert_eq!(s.sweep, Some(SweepSpec { points: 200 }));
+    assert_eq!(
+        s.sweep,
+        Some(SweepSpec {
+            points: 200,
+            tol: None
+        })
+    );
     let again = SceneFile::parse(&s.to_ron().unwrap(), Path::new("x.ron")).unwrap();
     assert_eq!(again, s);
 }

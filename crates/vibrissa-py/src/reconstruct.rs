@@ -49,6 +49,7 @@ pub fn recon_args(spec: &Bound<'_, PyDict>) -> PyResult<ReconstructArgs> {
             Ok(t) => t,
             Err(_) => number(spec, "tolerance")?,
         },
+        tol: number(spec, "tol")?,
         json: false,
         out: None,
     })
@@ -162,7 +163,7 @@ pub fn reconstruct<'py>(
     let out = with_columns(py, names.iter().copied().zip(cols).collect())?;
     out.set_item("phase", phase)?;
     let id = &rec.identification;
-    let summary = serde_json::json!({
+    let mut summary = serde_json::json!({
         "q": id.q * units.scale(Quantity::LineLoad),
         "q_dimensionless": id.q,
         "q_given": rec.q_given,
@@ -179,6 +180,14 @@ pub fn reconstruct<'py>(
         "length_unit": units.unit(Quantity::Length),
         "force_unit": units.unit(Quantity::Force),
     });
+    // with `tol`: the accuracy asked for and the worst point's estimate (dimensionless)
+    if let Some(acc) = &rec.accuracy {
+        summary["tol"] = serde_json::Value::from(acc.tol);
+        if let Some((k, e)) = acc.worst() {
+            summary["max_estimate"] = serde_json::Value::from(e);
+            summary["max_estimate_row"] = serde_json::Value::from(rec.points[k].row + 1);
+        }
+    }
     out.set_item("summary", json(py, &summary)?)?;
     Ok(out)
 }

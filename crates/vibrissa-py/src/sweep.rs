@@ -1,10 +1,12 @@
 //! `vibrissa.sweep`: the whisker swept past an obstacle under the flow [ch. 5], as
 //! `vibrissa sweep` computes it (same resolution, settings and messages), without files.
 
-use contact_sim::{sweep as run_sweep, SweepSettings};
+use contact_sim::sweep as run_sweep;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use vibrissa_cli::commands::sweep::{check_sweep_loads, missing_profile, sweep_json, sweep_points};
+use vibrissa_cli::commands::sweep::{
+    check_sweep_loads, missing_profile, sweep_json, sweep_points, sweep_settings, sweep_tol,
+};
 use vibrissa_cli::commands::{output_scene, ObservableRecord};
 use vibrissa_cli::resolve::resolve_model;
 
@@ -18,21 +20,21 @@ use crate::params::{count, model_flags, units_scene, ProfileSpec};
 /// units.
 #[pyfunction]
 pub fn sweep<'py>(py: Python<'py>, spec: &Bound<'py, PyDict>) -> PyResult<Bound<'py, PyDict>> {
-    let flags = model_flags(spec)?;
+    let mut flags = model_flags(spec)?;
+    // `tol` is the accuracy of the sweep's rows (`sweep --tol`), not a method's
+    let tol_raw = flags.method.tol.take();
     let file = units_scene(spec)?;
     let points_raw = count(spec, "points")?;
     let profile = ProfileSpec::from_spec(spec, "profile")?;
     let (r, res, points, arg) = compute(py, move || {
         let profile = profile.ok_or_else(|| missing_profile(None))?;
         let points = sweep_points(points_raw.as_deref(), None)?;
+        let tol = sweep_tol(tol_raw.as_deref(), None)?;
         let r = resolve_model(&flags, file)?;
         check_sweep_loads(&r)?;
         let contour = profile.parse(&r.units())?;
         let arg = profile.arg();
-        let settings = SweepSettings {
-            points,
-            ..SweepSettings::default()
-        };
+        let settings = sweep_settings(points, tol);
         let res = run_sweep(&r.scene.whisker, r.scene.loads.fluid, &contour, &settings)
             .map_err(|e| r.contact_culprit(e, &arg))?;
         Ok((r, res, points, arg))
@@ -64,8 +66,11 @@ pub fn sweep<'py>(py: Python<'py>, spec: &Bound<'py, PyDict>) -> PyResult<Bound<
     let mut summary = sweep_json(&res, points, &units);
     summary["profile"] = serde_json::Value::String(arg.spec.clone());
     out.set_item("summary", json(py, &summary)?)?;
-    let scene = serde_json::to_value(output_scene(&r, Some(arg.spec), Some(points)))
-        .unwrap_or(serde_json::Value::Null);
+    let mut scene_file = output_scene(&r, Some(arg.spec), Some(points));
+    if let (Some(s), Some(acc)) = (scene_file.sweep.as_mut(), &res.accuracy) {
+        s.tol = Some(acc.tol);
+    }
+    let scene = serde_json::to_value(scene_file).unwrap_or(serde_json::Value::Null);
     out.set_item("scene", json(py, &scene)?)?;
     Ok(out)
 }

@@ -246,3 +246,39 @@ def test_solve_tol_matches_cli(cli, tmp_path, tol):
     exact = vibrissa.solve(**scene)
     assert abs(sol.tip["x"] - exact.tip["x"]) <= tol
     assert vibrissa.solve(**sol.scene).tip == sol.tip
+
+
+@pytest.mark.parametrize("tol", [1e-6, 1e-4])
+def test_sweep_and_reconstruct_tol_match_cli(cli, tmp_path, tol):
+    """``tol`` of sweep and reconstruct: the CLI's numbers and estimates, every row and
+    point within ``tol`` of the default run's, the estimates reported and the scene kept."""
+    import json
+
+    scene = {"profile": "g1", "q": 5.0, "theta": 0.75, "k": 20.0, "points": 40}
+    out = tmp_path / "sweep"
+    ref = json.loads(cli.run("sweep", *flags(scene), "--tol", repr(tol), "--json",
+                             "--out", str(out)).stdout)
+    sw = vibrissa.sweep(**scene, tol=tol)
+    check_sweep_against_folder(sw, out, ref)
+    assert sw.summary["tol"] == tol == ref["tol"]
+    assert sw.summary["max_estimate"] == ref["max_estimate"] <= tol
+    assert sw.summary["max_estimate_row"] == ref["max_estimate_row"]
+    base = vibrissa.sweep(**scene)
+    assert "max_estimate" not in base.summary
+    for col in ("x0", "Ax", "Ay", "MA", "phi0", "xc", "yc"):
+        d = np.nanmax(np.abs(np.asarray(sw[col]) - np.asarray(base[col])))
+        assert d <= sw.summary["max_estimate"], col
+    # the scene keeps the accuracy asked for
+    assert sw.scene["tol"] == tol
+    assert vibrissa.sweep(**sw.scene).summary["max_estimate"] == sw.summary["max_estimate"]
+    # the default log reconstructed at tol, as the CLI does
+    rec_dir = tmp_path / "rec"
+    ref = json.loads(cli.run("reconstruct", str(tmp_path / "sweep"), "--tol", repr(tol), "--json",
+                             "--out", str(rec_dir)).stdout)
+    rec = vibrissa.reconstruct(sw, tol=tol)
+    assert rec.summary["tol"] == tol
+    assert rec.summary["max_estimate"] == ref["max_estimate"] <= tol
+    exact = vibrissa.reconstruct(sw)
+    m = rec.contact
+    d = np.hypot(rec.x[m] - exact.x[m], rec.y[m] - exact.y[m]).max()
+    assert d <= rec.summary["max_estimate"]

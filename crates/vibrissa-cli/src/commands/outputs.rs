@@ -52,7 +52,7 @@ pub fn output_scene(r: &Resolved, profile: Option<String>, points: Option<usize>
             alpha_deg: g.alpha_deg.value,
         },
         profile,
-        sweep: points.map(|points| SweepSpec { points }),
+        sweep: points.map(|points| SweepSpec { points, tol: None }),
         method: MethodSpec {
             name: r.method.name().to_string(),
             n: g.n.as_ref().map(|n| n.value as usize),

@@ -18,7 +18,9 @@ use crate::commands::shapes::{write_shapes_csv, write_shapes_svg};
 use crate::commands::sweep_events::{sweep_events, sweep_summary, RowCounts};
 use crate::commands::sweep_figures::{write_sweep_figures, FigureContext};
 use crate::error::CliError;
-use crate::resolve::{parse_count, profile_arg, resolve_model, LoadedScene, ProfileArg, Resolved};
+use crate::resolve::{
+    parse_count, parse_number, profile_arg, resolve_model, LoadedScene, ProfileArg, Resolved,
+};
 use crate::units::{Quantity, UnitSystem};
 
 /// Default number of contact points.
@@ -30,6 +32,7 @@ pub fn run(args: &SweepArgs) -> Result<(), CliError> {
     let profile =
         profile_arg(&args.profile, file.as_ref()).ok_or_else(|| missing_profile(file.as_ref()))?;
     let points = sweep_points(args.points.as_deref(), file.as_ref())?;
+    let tol = sweep_tol(args.tol.as_deref(), file.as_ref())?;
     let flags = crate::cli::ModelFlags {
         whisker: args.whisker.clone(),
         fluid: args.fluid.clone(),
@@ -51,11 +54,11 @@ pub fn run(args: &SweepArgs) -> Result<(), CliError> {
     crate::atomic::refuse_over_inputs(&args.out, &inputs)?;
     // The output folder (its lock, staging folder and marker) and the units sidecar of
     // `observables.csv` need nothing of the sweep: made before it, their flushes to disk
-    // run while it solves instead of after it (a failed sweep removes the staging folder and
-    // the lock; parent folders of --out made for it stay).
+    // run while it solves instead of after it (a failed sweep removes the staging folder,
+    // the lock and the parent folders made for --out).
     let out = OutputDir::create(&args.out)?;
     write_sweep_units(&r, &out)?;
-    let res = run_sweep(&r, &contour, &profile, points)?;
+    let res = run_sweep_with(&r, &contour, &profile, &sweep_settings(points, tol))?;
     write_sweep_outputs(&r, &contour, &res, &profile, points, &out)?;
     if args.shapes {
         write_shapes_csv(&r, &res, &out.path_for("shapes.csv"))?;
@@ -71,12 +74,62 @@ pub fn run(args: &SweepArgs) -> Result<(), CliError> {
         // The summary line comes last (spec/cli.md: stdout ends with it).
         println!("wrote {} files to {}", files.len(), args.out.display());
         println!(
-            "sweep {}: {}",
+            "sweep {}: {}{}",
             profile.spec,
-            sweep_summary(&res, points, &units)
+            sweep_summary(&res, points, &units),
+            accuracy_note(&res)
         );
     }
     Ok(())
+}
+
+/// The accuracy asked for of a sweep's rows: `--tol` (typed as `raw`), else the scene
+/// file's `sweep.tol`, else none; in [1e-12, 1e-2].
+pub fn sweep_tol(raw: Option<&str>, file: Option<&LoadedScene>) -> Result<Option<f64>, CliError> {
+    const RANGE: &str = "the accuracy asked for must be in [1e-12, 1e-2]";
+    let ok = |t: f64| {
+        (contact_sim::accuracy::ACCURACY_MIN..=contact_sim::accuracy::ACCURACY_MAX).contains(&t)
+    };
+    match (raw, file) {
+        (Some(raw), _) => {
+            let t = parse_number("--tol", raw)?;
+            if !ok(t) {
+                return Err(CliError::invalid_argument("--tol", raw, RANGE));
+            }
+            Ok(Some(t))
+        }
+        (None, Some(f)) => match f.file.sweep.as_ref().and_then(|s| s.tol) {
+            Some(t) if !ok(t) => Err(f.error_at("sweep.tol", format!("{RANGE}, got {t}"))),
+            t => Ok(t),
+        },
+        (None, None) => Ok(None),
+    }
+}
+
+/// The library's settings of a sweep of `points` contact rows at the accuracy `tol` (none:
+/// the sweep's own).
+pub fn sweep_settings(points: usize, tol: Option<f64>) -> SweepSettings {
+    SweepSettings {
+        points,
+        accuracy: tol,
+        ..SweepSettings::default()
+    }
+}
+
+/// `; worst row estimate E (row r) for --tol T` after the summary of a sweep run with an
+/// accuracy asked for; nothing otherwise.
+pub fn accuracy_note(res: &SweepResult) -> String {
+    let Some(acc) = &res.accuracy else {
+        return String::new();
+    };
+    match acc.worst() {
+        Some((row, e)) => format!(
+            "; worst row error estimate {e:.2e} (row {}) for --tol {:e}",
+            row + 1,
+            acc.tol
+        ),
+        None => String::new(),
+    }
 }
 
 /// The error of a sweep without an obstacle (`file`: the scene file given, if any).
@@ -143,7 +196,7 @@ pub fn sweep_json(res: &SweepResult, requested: usize, units: &UnitSystem) -> se
             })
         })
         .collect();
-    serde_json::json!({
+    let mut v = serde_json::json!({
         "first_contact": res.first_contact.label(),
         "first_contact_row": n.first_contact_row,
         "first_contact_x0": x0_of(n.first_contact_row),
@@ -163,7 +216,15 @@ pub fn sweep_json(res: &SweepResult, requested: usize, units: &UnitSystem) -> se
         "length_unit": units.unit(Quantity::Length),
         "force_unit": units.unit(Quantity::Force),
         "moment_unit": units.unit(Quantity::Moment),
-    })
+    });
+    if let Some(acc) = &res.accuracy {
+        v["tol"] = json_number(acc.tol);
+        if let Some((row, e)) = acc.worst() {
+            v["max_estimate"] = json_number(e);
+            v["max_estimate_row"] = serde_json::Value::from(row + 1);
+        }
+    }
+    v
 }
 
 /// The sweep computes the contact force itself: refuses a tip force, and a flow angle outside
@@ -217,17 +278,24 @@ pub fn check_sweep_loads(r: &Resolved) -> Result<(), CliError> {
     Ok(())
 }
 
-/// Runs the sweep with a spinner on stderr when it is a terminal.
+/// Runs the sweep of `points` contact rows (the sweep's own accuracy) with a spinner on
+/// stderr when it is a terminal.
 pub fn run_sweep(
     r: &Resolved,
     contour: &Profile,
     profile: &ProfileArg,
     points: usize,
 ) -> Result<SweepResult, CliError> {
-    let settings = SweepSettings {
-        points,
-        ..SweepSettings::default()
-    };
+    run_sweep_with(r, contour, profile, &sweep_settings(points, None))
+}
+
+/// Runs the sweep with `settings` with a spinner on stderr when it is a terminal.
+pub fn run_sweep_with(
+    r: &Resolved,
+    contour: &Profile,
+    profile: &ProfileArg,
+    settings: &SweepSettings,
+) -> Result<SweepResult, CliError> {
     // Progress on stderr only when it is a terminal: the coarse pass that looks for the
     // separation counts its contour steps, then a bar counts the requested contact points.
     let bar = std::io::stderr().is_terminal().then(|| {
@@ -248,7 +316,7 @@ pub fn run_sweep(
         &r.scene.whisker,
         r.scene.loads.fluid,
         contour,
-        &settings,
+        settings,
         &mut |p| {
             let Some(pb) = &bar else { return };
             match p {
@@ -362,7 +430,10 @@ fn write_sweep_data(
         "Rows: {} = {} before contact + {} in contact ({} requested points + {} at events).",
         n.rows, n.pre_contact, n.contact, n.requested, n.event_rows
     ));
-    let scene = output_scene(r, Some(spec), Some(points));
+    let mut scene = output_scene(r, Some(spec), Some(points));
+    if let (Some(s), Some(acc)) = (scene.sweep.as_mut(), &res.accuracy) {
+        s.tol = Some(acc.tol);
+    }
     write_scene_ron(&out.path_for("scene.ron"), &scene, &notes)
 }
 

@@ -37,7 +37,7 @@ import numpy as np
 
 from . import _core
 from ._errors import InvalidInput, NoContact, SolverError, VibrissaError
-from ._params import check_tol, number, profile_spec, scene_kwargs, units_spec, whisker_spec
+from ._params import number, profile_spec, scene_kwargs, units_spec, whisker_spec
 from ._results import Calibration, Reconstruction, Solution, Sweep, log_columns
 from ._study import study
 
@@ -167,13 +167,18 @@ def sweep(
     scene's units, x increasing). ``points``: contact rows, evenly spaced in x0 (plus a row
     at each event). ``q, alpha_deg``: the flow (alpha in (-90, 90) degrees). The tip force
     must stay 0 (the sweep computes the contact force) and the method ``accurate``.
+    ``tol``: the accuracy asked for of every row (absolute, dimensionless, in [1e-12, 1e-2];
+    ``sweep --tol``): the contact rows solved at tolerances derived from it, each with an
+    a-posteriori error estimate (``summary["max_estimate"]``, ``summary["max_estimate_row"]``);
+    a row whose estimate exceeds it raises :class:`SolverError` naming the row. None: the
+    sweep's own accuracy (~1e-10 per row, no estimates).
 
     Returns a :class:`Sweep`. Raises :class:`InvalidInput`, :class:`NoContact` when the
     whisker never touches the obstacle, :class:`SolverError` when a contact phase cannot be
     solved to the accuracy.
     """
-    check_tol(tol)
     spec = _model_spec(theta, a, b, k, f, beta_deg, load, q, alpha_deg, method, n, units)
+    spec["tol"] = number("tol", tol)
     spec["profile"] = profile_spec(profile)
     spec["points"] = points
     raw = _core.sweep(spec)
@@ -210,14 +215,17 @@ def reconstruct(
     ``vibrissa reconstruct DIR`` reads the sweep's scene), else the CLI's default (theta 1,
     a = b = 0, rigid, dimensionless). ``method``: ``"accurate"`` or ``"thesis"``;
     ``tolerance``: the consistency tolerance of a row (default 1e-6 accurate, 1e-3 thesis;
-    ``"none"`` for noisy logs). Other keywords of a scene (``f, beta_deg, load, n,
+    ``"none"`` for noisy logs). ``tol``: the accuracy asked for of every contact point
+    (absolute, dimensionless, in [1e-12, 1e-2]; method ``accurate``; ``reconstruct --tol``):
+    each point with an a-posteriori error estimate (``summary["max_estimate"]``,
+    ``summary["max_estimate_row"]``); a point whose estimate exceeds it raises
+    :class:`SolverError` naming its row. Other keywords of a scene (``f, beta_deg, load, n,
     points``) are ignored, so that ``reconstruct(log, **load_scene(path))`` works (the
     scene's ``q`` is then taken as given: pass ``q=None`` to identify it).
 
     Returns a :class:`Reconstruction`. Raises :class:`InvalidInput` for a bad parameter or
     log (naming the row: ``log row:N``), :class:`SolverError` when no row fits.
     """
-    check_tol(tol)
     unknown = sorted(set(ignored) - {"f", "beta_deg", "load", "n", "points"})
     if unknown:
         raise TypeError(f"reconstruct() got an unexpected keyword argument {unknown[0]!r}")
@@ -229,6 +237,7 @@ def reconstruct(
         noise=number("noise", noise),
         method=method,
         tolerance=tolerance,
+        tol=number("tol", tol),
         profile=profile_spec(profile),
     )
     return Reconstruction(_core.reconstruct(log_columns(log), spec))

@@ -87,16 +87,6 @@ def whisker_spec(
     }
 
 
-def check_tol(tol: Any) -> None:
-    """Sweeps and reconstructions run at their own accuracy (about 1e-10 per row): ``tol``
-    must be ``None`` there (``solve`` takes it)."""
-    if tol is not None:
-        raise InvalidInput(
-            f"invalid value `{tol!r}` for `--tol`: sweeps and reconstructions run at their own "
-            "accuracy (about 1e-10 per row, each row with its estimate); solve() takes tol"
-        )
-
-
 def scene_kwargs(scene: Mapping[str, Any]) -> Dict[str, Any]:
     """A scene file's JSON form (``units, whisker, loads, profile, sweep, method``) as the
     keyword arguments of :func:`vibrissa.solve` / :func:`vibrissa.sweep`."""

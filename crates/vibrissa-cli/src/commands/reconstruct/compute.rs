@@ -2,7 +2,7 @@
 //! (identification of the flow, then every contact row on its own) and its errors mapped to
 //! their culprits (a line of the log, a flag, a model parameter, the solver).
 
-use profile_recon::{reconstruct_with, ObservableRow, ReconError, Reconstruction};
+use profile_recon::{reconstruct_to, reconstruct_with, ObservableRow, ReconError, Reconstruction};
 
 use super::options::ReconOptions;
 use crate::cli::ReconstructArgs;
@@ -21,12 +21,11 @@ pub fn reconstruct_log(
     table: &Table,
 ) -> Result<Reconstruction, CliError> {
     let rows = rows_of(table)?;
-    reconstruct_with(
-        &r.scene.whisker,
-        &rows,
-        opts.known_flow(args, r),
-        &opts.settings(),
-    )
+    let (whisker, known, settings) = (&r.scene.whisker, opts.known_flow(args, r), opts.settings());
+    match opts.accuracy {
+        Some(t) => reconstruct_to(whisker, &rows, known, &settings, t),
+        None => reconstruct_with(whisker, &rows, known, &settings),
+    }
     .map_err(|e| recon_culprit(e, table, r, args, opts.tol))
 }
 /// The observable rows of a table read with [`REQUIRED_COLUMNS`](super::REQUIRED_COLUMNS).
@@ -95,6 +94,20 @@ fn recon_culprit(
                 tol.map_or("none".to_string(), |t| format!("{t:e}"))
             ),
         ),
+        ReconError::AccuracyNotMet {
+            row,
+            x0,
+            estimate,
+            tol,
+        } => CliError::Solver {
+            reason: format!(
+                "{}:{}: x0 = {x0}: the contact point's error estimate {estimate:.3e} exceeds \
+                 --tol {tol:e} (the best reached there)",
+                table.path.display(),
+                line_of(row)
+            ),
+            source: Some(Box::new(err)),
+        },
         ReconError::TooFewRows { .. } => at(last_line, None, err.to_string()),
         ReconError::NoPreContactRows { .. } => at(
             first_line,

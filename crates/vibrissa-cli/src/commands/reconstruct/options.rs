@@ -26,6 +26,8 @@ pub struct ReconOptions {
     pub alpha: Option<f64>,
     /// `--noise`, if given.
     pub noise: Option<f64>,
+    /// `--tol`, the accuracy asked for of every point, if given.
+    pub accuracy: Option<f64>,
 }
 
 impl ReconOptions {
@@ -37,6 +39,7 @@ impl ReconOptions {
             tol: parse_tolerance(args.tolerance.as_deref(), method)?,
             alpha: parse_alpha(args.alpha_deg.as_deref())?,
             noise: parse_noise(args.noise.as_deref())?,
+            accuracy: parse_accuracy(args.tol.as_deref(), method)?,
         })
     }
 
@@ -44,6 +47,15 @@ impl ReconOptions {
     /// row on its own).
     pub fn parse_stream(args: &ReconstructArgs) -> Result<Self, CliError> {
         let opts = Self::parse(args)?;
+        if let Some(raw) = &args.tol {
+            return Err(CliError::invalid_argument(
+                "--tol",
+                raw,
+                "the stream returns each point as soon as it is known, at the integrator \
+                 tolerance 1e-12, without the second evaluation an estimate needs; leave \
+                 --tol out with --stream",
+            ));
+        }
         if opts.method != ReconMethod::Accurate {
             return Err(CliError::invalid_argument(
                 "--method",
@@ -119,6 +131,28 @@ fn parse_tolerance(raw: Option<&str>, method: ReconMethod) -> Result<Option<f64>
     }
     Ok(Some(t))
 }
+fn parse_accuracy(raw: Option<&str>, method: ReconMethod) -> Result<Option<f64>, CliError> {
+    let Some(raw) = raw else { return Ok(None) };
+    let t = parse_number("--tol", raw)?;
+    if !(profile_recon::accuracy::ACCURACY_MIN..=profile_recon::accuracy::ACCURACY_MAX).contains(&t)
+    {
+        return Err(CliError::invalid_argument(
+            "--tol",
+            raw,
+            "the accuracy asked for must be in [1e-12, 1e-2]",
+        ));
+    }
+    if method != ReconMethod::Accurate {
+        return Err(CliError::invalid_argument(
+            "--tol",
+            raw,
+            "an accuracy is asked of the method accurate only (thesis, on FDM grids, stays \
+             near 1e-5); leave --method at accurate",
+        ));
+    }
+    Ok(Some(t))
+}
+
 fn parse_alpha(raw: Option<&str>) -> Result<Option<f64>, CliError> {
     let Some(raw) = raw else { return Ok(None) };
     let d = parse_number("--alpha-deg", raw)?;

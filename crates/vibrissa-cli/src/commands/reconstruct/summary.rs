@@ -55,14 +55,31 @@ pub fn summary_line(
     format!(
         "{q}; {rows} rows: {} without contact force (the free whisker under the flow: before \
          contact, at a touch or release with f = 0; rows {}), {} contact points (rows {}; \
-         {method} method), phases A {na} / B {nb}, max residual {:.2e}",
+         {method} method), phases A {na} / B {nb}, max residual {:.2e}{}",
         free.len(),
         row_ranges(&free),
         rec.points.len(),
         row_ranges(&with),
         max_of(&rec.points.iter().map(|p| p.residual).collect::<Vec<_>>()),
+        accuracy_note(rec),
         method = method.name(),
     )
+}
+
+/// `; worst point error estimate E (row r) for --tol T` for a reconstruction run with an
+/// accuracy asked for; nothing otherwise. Rows numbered from 1 as in the log.
+pub fn accuracy_note(rec: &Reconstruction) -> String {
+    match rec
+        .accuracy
+        .as_ref()
+        .and_then(|a| a.worst().map(|w| (a.tol, w)))
+    {
+        Some((tol, (k, e))) => format!(
+            "; worst point error estimate {e:.2e} (row {}) for --tol {tol:e}",
+            rec.points[k].row + 1
+        ),
+        None => String::new(),
+    }
 }
 
 /// The 0-based rows of a log of `rows` rows that yield no contact point (the free whisker
@@ -134,6 +151,14 @@ pub fn recon_json(
     });
     if let Some(e) = max_error {
         v["max_error"] = json_number(e * units.scale(Quantity::Length));
+    }
+    if let Some(acc) = &rec.accuracy {
+        v["tol"] = json_number(acc.tol);
+        v["integration_tol"] = json_number(acc.integration_tol);
+        if let Some((k, e)) = acc.worst() {
+            v["max_estimate"] = json_number(e);
+            v["max_estimate_row"] = serde_json::Value::from(rec.points[k].row + 1);
+        }
     }
     if !rec.q_given {
         v["model_mismatch"] = json_number(rec.identification.model_mismatch);

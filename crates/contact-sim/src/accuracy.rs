@@ -1,0 +1,262 @@
+//! Accuracy on demand for a sweep (`SweepSettings::accuracy`): the contact rows solved at
+//! tolerances derived from the accuracy asked for, and each row's a-posteriori error
+//! estimate.
+//!
+//! The traced branch (first contact, nodes, events, separation) stays at the sweep's own
+//! tolerances whatever the accuracy asked for: it fixes the rows' base positions, which are
+//! then the default sweep's (to the rows' accuracy). The rows are what a looser accuracy
+//! makes cheaper: callgrind on `sweep --profile g1 --q 5 --points 200` counts 62.1 M
+//! instructions, the trace 19.7 M of them whatever T, the rows 27.8 M by default, 26.4 M
+//! with `--tol 1e-6` and 19.1 M with `--tol 1e-4` (their estimates included: 60.9 M and
+//! 53.5 M in all). A contact row at base position `x0` is solved with the integrator at
+//! [`row_integration_tol`] and the corrector at [`row_solve_tol`].
+//!
+//! **The estimate of a row.** Its equations are evaluated again at an integration
+//! [`ESTIMATE_FACTOR`] times looser, from the row's converged state: one shot there, one
+//! Newton step with the row's Jacobian to the looser integration's root (at the row's base
+//! position; at its contour point for a node of the traced branch, where `x0` may turn), one
+//! shot at that root. The estimate is twice the largest difference of the row's observables
+//! `x0, Ax, Ay, MA, phi0` and contact point `xc, yc` between the two: the looser solution's
+//! error is about ten times the row's (the integrator's error is proportional to its
+//! tolerance), so the estimate bounds the row's error about twenty times over. The rows
+//! before contact are the free whisker, the first contact row's shape (`f = 0`): they carry
+//! its estimate.
+
+use crate::branch::{Branch, Node};
+use crate::error::{ContactError, Result};
+use crate::phase::{ContactState, ContourPoint, Phase};
+use beam_model::equations::Sensitivities;
+use beam_model::shot::shoot;
+use serde::{Deserialize, Serialize};
+
+/// Smallest accuracy a sweep can be asked for.
+pub const ACCURACY_MIN: f64 = 1e-12;
+
+/// Largest accuracy a sweep can be asked for.
+pub const ACCURACY_MAX: f64 = 1e-2;
+
+/// How much looser than a row's the integration of its estimate is.
+pub const ESTIMATE_FACTOR: f64 = 100.0;
+
+/// The estimate over the difference of the row and its looser solution.
+pub const ESTIMATE_MARGIN: f64 = 2.0;
+
+/// How much tighter than the accuracy asked for the rows' integration is.
+pub const ROW_FACTOR: f64 = 1e4;
+
+/// Diameter ratio below which every shot carries sensitivities, as the branch's own shots
+/// (their plain shots lose accuracy in a slender tip's boundary layer).
+const SLENDER: f64 = 0.15;
+
+/// The integrator tolerance of the contact rows for the accuracy `tol`: `tol / 1e4`, at
+/// least 1e-14 (measured on seeded scenes: a row's error is up to ~15 times its integrator
+/// tolerance, and its estimate, from an integration 100 times looser, must stay below `tol`).
+pub fn row_integration_tol(tol: f64) -> f64 {
+    (tol / ROW_FACTOR).max(1e-14)
+}
+
+/// The corrector's residual tolerance of the contact rows for the accuracy `tol`: `tol / 1e4`
+/// within [1e-12, 1e-10] (a looser residual left errors of 10-100 times it in the rows;
+/// from the rows' predictions Newton reaches it in a step more at most).
+pub fn row_solve_tol(tol: f64) -> f64 {
+    (tol / ROW_FACTOR).clamp(1e-12, 1e-10)
+}
+
+/// The accuracy of a sweep run with `SweepSettings::accuracy`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SweepAccuracy {
+    /// The accuracy asked for (absolute, dimensionless).
+    pub tol: f64,
+    /// The integrator tolerance of the contact rows.
+    pub row_integration_tol: f64,
+    /// The error estimate of each row of `SweepResult::points` (the rows before contact
+    /// carry the first contact row's, module docs).
+    pub estimates: Vec<f64>,
+}
+
+impl SweepAccuracy {
+    /// The worst row: its 0-based index in `SweepResult::points` and its estimate (`None`
+    /// without rows).
+    pub fn worst(&self) -> Option<(usize, f64)> {
+        self.estimates.iter().copied().enumerate().reduce(|a, b| {
+            if b.1 > a.1 || b.1.is_nan() {
+                b
+            } else {
+                a
+            }
+        })
+    }
+}
+
+/// How a row's estimate holds its row in place.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Hold {
+    /// At its base position (a row solved there).
+    BasePosition(f64),
+    /// At its contour point (a node of the traced branch).
+    ContourPoint,
+}
+
+/// The estimate's branch equations: those of the rows at an integration
+/// [`ESTIMATE_FACTOR`] times looser.
+pub(crate) struct Estimator<'a> {
+    /// The branch equations at the looser integration.
+    pub loose: Branch<'a>,
+    /// The looser integration's tolerance: the smallest estimate (a row's error was
+    /// measured at most ~15 times its own integration's tolerance, a hundredth of this).
+    pub floor: f64,
+}
+
+/// The error estimate of the row `node` (module docs) by `est`.
+///
+/// # Errors
+/// The shots' errors.
+pub(crate) fn estimate(est: &Estimator, node: &Node, hold: Hold) -> Result<f64> {
+    let loose = &est.loose;
+    let (r, at) = shot_state(loose, node.phase, node.u)?;
+    let j = &node.jac;
+    let du = match hold {
+        Hold::BasePosition(x0) => solve3(j, [-r[0], -r[1], x0 - at.x0]),
+        Hold::ContourPoint => {
+            let m = [[j[0][0], j[0][1]], [j[1][0], j[1][1]]];
+            solve2(&m, [-r[0], -r[1]]).map(|d| [d[0], d[1], 0.0])
+        }
+    };
+    let Some(du) = du else {
+        return Ok(f64::INFINITY);
+    };
+    let u = [node.u[0] + du[0], node.u[1] + du[1], node.u[2] + du[2]];
+    let (_, moved) = shot_state(loose, node.phase, u)?;
+    Ok((ESTIMATE_MARGIN * difference(&node.state, &moved, loose)).max(est.floor))
+}
+
+/// The largest difference of the observables, base position and contact point of two states.
+fn difference(a: &ContactState, b: &ContactState, branch: &Branch) -> f64 {
+    let (oa, ob) = (a.observables(branch.flow), b.observables(branch.flow));
+    [
+        a.x0 - b.x0,
+        oa.0 - ob.0,
+        oa.1 - ob.1,
+        oa.2 - ob.2,
+        oa.3 - ob.3,
+        a.point.xc - b.point.xc,
+        a.point.yc - b.point.yc,
+    ]
+    .iter()
+    .fold(
+        0.0f64,
+        |m, d| if d.is_nan() { f64::NAN } else { m.max(d.abs()) },
+    )
+}
+
+/// One shot of the branch equations at `u` in `phase` without the Jacobian: the residual
+/// `R` (the follicle law, the contact height) and the state.
+fn shot_state(branch: &Branch, phase: Phase, u: [f64; 3]) -> Result<([f64; 2], ContactState)> {
+    let (v, f, t) = (u[0], u[1], u[2]);
+    let (t_lo, t_hi) = branch.profile.param_range();
+    if !(t >= t_lo && t <= t_hi) {
+        return Err(ContactError::LeftContour {
+            profile: branch.profile.name(),
+            t,
+        });
+    }
+    let g = branch.profile.at(t);
+    let (phi1, s1) = match phase {
+        Phase::B => (g.psi, v),
+        _ => (v, 1.0),
+    };
+    let loads = crate::phase::contact_loads(branch.flow, g.psi, f, s1);
+    let sens = if branch.whisker.theta < SLENDER {
+        Sensitivities::All
+    } else {
+        Sensitivities::None
+    };
+    let shot = shoot(branch.whisker, &loads, phi1, sens, branch.integration)?;
+    let r = [
+        branch.whisker.support.residual(shot.phi0, shot.m0),
+        shot.dy - g.y,
+    ];
+    let state = ContactState {
+        phase,
+        point: ContourPoint {
+            xc: g.x,
+            yc: g.y,
+            psi: g.psi,
+        },
+        f,
+        s1,
+        phi1,
+        x0: g.x - shot.dx,
+        phi0: shot.phi0,
+        m0: shot.m0,
+        iterations: 0,
+        residual: r[0].hypot(r[1]),
+    };
+    Ok((r, state))
+}
+
+/// `m x = b` for a 3x3 matrix by Cramer's rule (`None` if singular).
+fn solve3(m: &[[f64; 3]; 3], b: [f64; 3]) -> Option<[f64; 3]> {
+    let det = |a: &[[f64; 3]; 3]| {
+        a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1])
+            - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0])
+            + a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0])
+    };
+    let d = det(m);
+    if d == 0.0 || !d.is_finite() {
+        return None;
+    }
+    let mut x = [0.0; 3];
+    for (k, xk) in x.iter_mut().enumerate() {
+        let mut a = *m;
+        for (row, bi) in a.iter_mut().zip(b) {
+            row[k] = bi;
+        }
+        *xk = det(&a) / d;
+    }
+    x.iter().all(|v| v.is_finite()).then_some(x)
+}
+
+/// `m x = b` for a 2x2 matrix (`None` if singular).
+fn solve2(m: &[[f64; 2]; 2], b: [f64; 2]) -> Option<[f64; 2]> {
+    let d = m[0][0] * m[1][1] - m[0][1] * m[1][0];
+    let x = [
+        (b[0] * m[1][1] - m[0][1] * b[1]) / d,
+        (m[0][0] * b[1] - m[1][0] * b[0]) / d,
+    ];
+    (d != 0.0 && x.iter().all(|v| v.is_finite())).then_some(x)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn small_systems_are_solved() {
+        let m = [[2.0, 1.0, 0.0], [1.0, 3.0, 1.0], [0.0, 1.0, 4.0]];
+        let x = [1.0, -2.0, 0.5];
+        let b = [
+            m[0][0] * x[0] + m[0][1] * x[1] + m[0][2] * x[2],
+            m[1][0] * x[0] + m[1][1] * x[1] + m[1][2] * x[2],
+            m[2][0] * x[0] + m[2][1] * x[1] + m[2][2] * x[2],
+        ];
+        let got = solve3(&m, b).unwrap();
+        for (g, e) in got.iter().zip(x) {
+            assert!((g - e).abs() < 1e-14);
+        }
+        assert!(solve3(&[[1.0; 3]; 3], b).is_none());
+        let got = solve2(&[[2.0, 1.0], [1.0, 3.0]], [4.0, 7.0]).unwrap();
+        assert!((got[0] - 1.0).abs() < 1e-15 && (got[1] - 2.0).abs() < 1e-15);
+        assert!(solve2(&[[1.0, 2.0], [2.0, 4.0]], [1.0, 1.0]).is_none());
+        assert!((row_integration_tol(1e-6) / 1e-10 - 1.0).abs() < 1e-12);
+        assert_eq!(row_integration_tol(1e-12), 1e-14);
+        assert_eq!(row_solve_tol(1e-12), 1e-12);
+        assert_eq!(row_solve_tol(1e-2), 1e-10);
+        let acc = SweepAccuracy {
+            tol: 1e-6,
+            row_integration_tol: 1e-8,
+            estimates: vec![1e-9, 3e-8, 2e-8],
+        };
+        assert_eq!(acc.worst(), Some((1, 3e-8)));
+    }
+}

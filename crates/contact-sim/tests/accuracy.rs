@@ -1,0 +1,127 @@
+//! Accuracy on demand (`SweepSettings::accuracy`) against independent truth: on seeded random
+//! scenes (profiles g1, g2, ge, a parabola; theta 0.1..1, q 0..8, rigid or spring support)
+//! the sweep at T = 1e-6 and 1e-4 against the default sweep (rows at ~1e-10): the same rows
+//! (phases; the base positions within T), every row within T of the default's, and every row's estimate
+//! bounding its actual difference.
+
+use beam_model::{FluidLoad, Whisker};
+use contact_sim::{sweep, ContactError, Phase, Profile, SweepResult, SweepSettings};
+
+/// A small deterministic generator (xorshift64*), uniform in [0, 1).
+struct Seeded(u64);
+
+impl Seeded {
+    fn next(&mut self) -> f64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        (self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.next()
+    }
+}
+
+/// The largest difference of two rows' observables, base position and contact point.
+fn row_difference(a: &contact_sim::SweepPoint, b: &contact_sim::SweepPoint) -> f64 {
+    let mut d = [
+        a.x0 - b.x0,
+        a.ax - b.ax,
+        a.ay - b.ay,
+        a.ma - b.ma,
+        a.phi0 - b.phi0,
+    ];
+    if a.phase != Phase::None {
+        d[0] = d[0].abs().max((a.xc - b.xc).abs()).max((a.yc - b.yc).abs());
+    }
+    d.iter().fold(0.0f64, |m, v| m.max(v.abs()))
+}
+
+fn run(w: &Whisker, flow: FluidLoad, p: &Profile, accuracy: Option<f64>) -> SweepResult {
+    let s = SweepSettings {
+        points: 40,
+        accuracy,
+        ..SweepSettings::default()
+    };
+    sweep(w, flow, p, &s).unwrap()
+}
+
+#[test]
+fn rows_meet_the_accuracy_asked_for_and_their_estimates_bound_their_errors() {
+    let mut rng = Seeded(0x5eed_0021);
+    let profiles = ["g1", "g2", "ge", "parabola:2,0.4,0.5"];
+    let mut scenes = 0;
+    let mut worst_ratio: f64 = 0.0;
+    for k in 0..16 {
+        let p = Profile::parse(profiles[k % profiles.len()]).unwrap();
+        let theta = rng.range(0.1, 1.0);
+        let q = rng.range(0.0, 8.0);
+        let stiff = if rng.next() < 0.5 {
+            f64::INFINITY
+        } else {
+            rng.range(2.0, 50.0)
+        };
+        let w = Whisker::new(theta, 0.0, 0.0, stiff);
+        let flow = FluidLoad { q, alpha: 0.0 };
+        let settings = SweepSettings {
+            points: 40,
+            ..SweepSettings::default()
+        };
+        let Ok(truth) = sweep(&w, flow, &p, &settings) else {
+            continue; // no contact for this scene
+        };
+        assert!(truth.accuracy.is_none());
+        scenes += 1;
+        for tol in [1e-6, 1e-4] {
+            let res = run(&w, flow, &p, Some(tol));
+            let acc = res.accuracy.as_ref().unwrap();
+            assert_eq!(acc.tol, tol);
+            assert_eq!(res.points.len(), truth.points.len());
+            assert_eq!(acc.estimates.len(), res.points.len());
+            for ((a, b), e) in res.points.iter().zip(&truth.points).zip(&acc.estimates) {
+                assert_eq!(a.phase, b.phase, "{p:?} theta {theta} x0 {}", a.x0);
+                let d = row_difference(a, b);
+                let name = format!(
+                    "{} theta {theta:.3} q {q:.3} k {stiff:.2} x0 {}",
+                    p.name(),
+                    a.x0
+                );
+                assert!(d <= tol, "{name}: row off by {d:e} at T = {tol:e}");
+                assert!(*e <= tol, "{name}: estimate {e:e}");
+                // the estimate bounds the actual difference (the default's own error, ~1e-10,
+                // included)
+                assert!(
+                    d <= e + 1e-9,
+                    "{name}: difference {d:e}, estimate {e:e} at T = {tol:e}: {a:?} vs {b:?}"
+                );
+                worst_ratio = worst_ratio.max(d / e);
+            }
+        }
+    }
+    assert!(scenes >= 8, "{scenes} scenes in contact");
+    assert!(worst_ratio < 1.0, "{worst_ratio}");
+}
+
+#[test]
+fn an_accuracy_out_of_range_is_refused() {
+    let w = Whisker::uniform();
+    let flow = FluidLoad { q: 5.0, alpha: 0.0 };
+    for bad in [0.0, 1.0, 1e-13, f64::NAN] {
+        let s = SweepSettings {
+            accuracy: Some(bad),
+            ..SweepSettings::default()
+        };
+        let err = sweep(&w, flow, &Profile::g1(), &s).unwrap_err();
+        assert!(
+            matches!(
+                err,
+                ContactError::InvalidParameter {
+                    name: "accuracy",
+                    ..
+                }
+            ),
+            "{err}"
+        );
+    }
+}

@@ -1,0 +1,124 @@
+//! Accuracy on demand (`reconstruct_to`) against independent truth: on seeded random sweeps
+//! (profiles g1, g2, ge, a parabola; theta 0.1..1, q 0..8, rigid or spring support) the
+//! reconstruction at T = 1e-6 and 1e-4 against the default reconstruction (integrator 1e-12):
+//! the same rows and phases, every point within T of the default's, and every point's
+//! estimate bounding its actual difference.
+
+use beam_model::{FluidLoad, Whisker};
+use contact_sim::{sweep, Profile, SweepSettings};
+use profile_recon::{
+    from_sweep, reconstruct_to, reconstruct_with, KnownFlow, ReconError, ReconMethod, ReconSettings,
+};
+
+/// A small deterministic generator (xorshift64*), uniform in [0, 1).
+struct Seeded(u64);
+
+impl Seeded {
+    fn next(&mut self) -> f64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        (self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.next()
+    }
+}
+
+#[test]
+fn points_meet_the_accuracy_asked_for_and_their_estimates_bound_their_errors() {
+    let mut rng = Seeded(0x5eed_2104);
+    let profiles = ["g1", "g2", "ge", "parabola:2,0.4,0.5"];
+    let (mut scenes, mut worst_ratio) = (0, 0.0f64);
+    for k in 0..12 {
+        let p = Profile::parse(profiles[k % profiles.len()]).unwrap();
+        let theta = rng.range(0.1, 1.0);
+        let q = rng.range(0.0, 8.0);
+        let stiff = if rng.next() < 0.5 {
+            f64::INFINITY
+        } else {
+            rng.range(2.0, 50.0)
+        };
+        let w = Whisker::new(theta, 0.0, 0.0, stiff);
+        let settings = SweepSettings {
+            points: 40,
+            ..SweepSettings::default()
+        };
+        let Ok(truth) = sweep(&w, FluidLoad { q, alpha: 0.0 }, &p, &settings) else {
+            continue; // no contact for this scene
+        };
+        scenes += 1;
+        let rows = from_sweep(&truth);
+        let default = ReconSettings::default();
+        let base = reconstruct_with(&w, &rows, KnownFlow::default(), &default).unwrap();
+        assert!(base.accuracy.is_none());
+        for tol in [1e-6, 1e-4] {
+            let name = format!(
+                "{} theta {theta:.3} q {q:.3} k {stiff:.2} T {tol:e}",
+                p.name()
+            );
+            let rec = reconstruct_to(&w, &rows, KnownFlow::default(), &default, tol).unwrap();
+            let acc = rec.accuracy.as_ref().unwrap();
+            assert_eq!(rec.points.len(), base.points.len(), "{name}");
+            for ((a, b), e) in rec.points.iter().zip(&base.points).zip(&acc.estimates) {
+                assert_eq!((a.row, a.phase), (b.row, b.phase), "{name}");
+                let d = (a.x - b.x).hypot(a.y - b.y);
+                assert!(
+                    d <= tol && *e <= tol,
+                    "{name} row {}: {d:e}, estimate {e:e}",
+                    a.row
+                );
+                assert!(
+                    d <= *e,
+                    "{name} row {}: difference {d:e}, estimate {e:e}",
+                    a.row
+                );
+                worst_ratio = worst_ratio.max(d / e);
+            }
+        }
+    }
+    assert!(scenes >= 6, "{scenes} scenes in contact");
+    assert!(worst_ratio < 1.0, "{worst_ratio}");
+}
+
+#[test]
+fn bad_requests_are_refused() {
+    let w = Whisker::new(0.75, 0.0, 0.0, 20.0);
+    let truth = sweep(
+        &w,
+        FluidLoad { q: 5.0, alpha: 0.0 },
+        &Profile::g1(),
+        &SweepSettings {
+            points: 20,
+            ..SweepSettings::default()
+        },
+    )
+    .unwrap();
+    let rows = from_sweep(&truth);
+    let known = KnownFlow::default();
+    for tol in [0.0, 1.0, f64::NAN] {
+        let err = reconstruct_to(&w, &rows, known, &ReconSettings::default(), tol).unwrap_err();
+        assert!(
+            matches!(err, ReconError::InvalidParameter { name: "tol", .. }),
+            "{err}"
+        );
+    }
+    let thesis = ReconSettings {
+        method: ReconMethod::Thesis,
+        ..ReconSettings::default()
+    };
+    let err = reconstruct_to(&w, &rows, known, &thesis, 1e-4).unwrap_err();
+    assert!(
+        matches!(err, ReconError::InvalidParameter { name: "tol", .. }),
+        "{err}"
+    );
+    // 1e-12 is beyond the estimate's own floor: refused naming a row, its estimate the best
+    let err = reconstruct_to(&w, &rows, known, &ReconSettings::default(), 1e-12).unwrap_err();
+    match err {
+        ReconError::AccuracyNotMet { row, estimate, .. } => {
+            assert!(row < rows.len() && estimate > 1e-12, "{row} {estimate}")
+        }
+        other => panic!("{other}"),
+    }
+}

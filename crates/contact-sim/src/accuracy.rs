@@ -23,10 +23,9 @@
 //! its estimate.
 
 use crate::branch::{Branch, Node};
-use crate::error::{ContactError, Result};
-use crate::phase::{ContactState, ContourPoint, Phase};
-use beam_model::equations::Sensitivities;
-use beam_model::shot::shoot;
+use crate::error::Result;
+use crate::phase::ContactState;
+use bvp_solvers::dense;
 use serde::{Deserialize, Serialize};
 
 /// Smallest accuracy a sweep can be asked for.
@@ -43,10 +42,6 @@ pub const ESTIMATE_MARGIN: f64 = 2.0;
 
 /// How much tighter than the accuracy asked for the rows' integration is.
 pub const ROW_FACTOR: f64 = 1e4;
-
-/// Diameter ratio below which every shot carries sensitivities, as the branch's own shots
-/// (their plain shots lose accuracy in a slender tip's boundary layer).
-const SLENDER: f64 = 0.15;
 
 /// The integrator tolerance of the contact rows for the accuracy `tol`: `tol / 1e4`, at
 /// least 1e-14 (measured on seeded scenes: a row's error is up to ~15 times its integrator
@@ -113,20 +108,21 @@ pub(crate) struct Estimator<'a> {
 /// The shots' errors.
 pub(crate) fn estimate(est: &Estimator, node: &Node, hold: Hold) -> Result<f64> {
     let loose = &est.loose;
-    let (r, at) = shot_state(loose, node.phase, node.u)?;
+    let (r, at) = loose.eval_with(node.phase, node.u, false)?;
+    let at = at.state;
     let j = &node.jac;
     let du = match hold {
-        Hold::BasePosition(x0) => solve3(j, [-r[0], -r[1], x0 - at.x0]),
+        Hold::BasePosition(x0) => dense::solve(j, &[-r[0], -r[1], x0 - at.x0]),
         Hold::ContourPoint => {
             let m = [[j[0][0], j[0][1]], [j[1][0], j[1][1]]];
-            solve2(&m, [-r[0], -r[1]]).map(|d| [d[0], d[1], 0.0])
+            dense::solve(&m, &[-r[0], -r[1]]).map(|d| [d[0], d[1], 0.0])
         }
     };
     let Some(du) = du else {
         return Ok(f64::INFINITY);
     };
     let u = [node.u[0] + du[0], node.u[1] + du[1], node.u[2] + du[2]];
-    let (_, moved) = shot_state(loose, node.phase, u)?;
+    let moved = loose.eval_with(node.phase, u, false)?.1.state;
     Ok((ESTIMATE_MARGIN * difference(&node.state, &moved, loose)).max(est.floor))
 }
 
@@ -149,105 +145,12 @@ fn difference(a: &ContactState, b: &ContactState, branch: &Branch) -> f64 {
     )
 }
 
-/// One shot of the branch equations at `u` in `phase` without the Jacobian: the residual
-/// `R` (the follicle law, the contact height) and the state.
-fn shot_state(branch: &Branch, phase: Phase, u: [f64; 3]) -> Result<([f64; 2], ContactState)> {
-    let (v, f, t) = (u[0], u[1], u[2]);
-    let (t_lo, t_hi) = branch.profile.param_range();
-    if !(t >= t_lo && t <= t_hi) {
-        return Err(ContactError::LeftContour {
-            profile: branch.profile.name(),
-            t,
-        });
-    }
-    let g = branch.profile.at(t);
-    let (phi1, s1) = match phase {
-        Phase::B => (g.psi, v),
-        _ => (v, 1.0),
-    };
-    let loads = crate::phase::contact_loads(branch.flow, g.psi, f, s1);
-    let sens = if branch.whisker.theta < SLENDER {
-        Sensitivities::All
-    } else {
-        Sensitivities::None
-    };
-    let shot = shoot(branch.whisker, &loads, phi1, sens, branch.integration)?;
-    let r = [
-        branch.whisker.support.residual(shot.phi0, shot.m0),
-        shot.dy - g.y,
-    ];
-    let state = ContactState {
-        phase,
-        point: ContourPoint {
-            xc: g.x,
-            yc: g.y,
-            psi: g.psi,
-        },
-        f,
-        s1,
-        phi1,
-        x0: g.x - shot.dx,
-        phi0: shot.phi0,
-        m0: shot.m0,
-        iterations: 0,
-        residual: r[0].hypot(r[1]),
-    };
-    Ok((r, state))
-}
-
-/// `m x = b` for a 3x3 matrix by Cramer's rule (`None` if singular).
-fn solve3(m: &[[f64; 3]; 3], b: [f64; 3]) -> Option<[f64; 3]> {
-    let det = |a: &[[f64; 3]; 3]| {
-        a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1])
-            - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0])
-            + a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0])
-    };
-    let d = det(m);
-    if d == 0.0 || !d.is_finite() {
-        return None;
-    }
-    let mut x = [0.0; 3];
-    for (k, xk) in x.iter_mut().enumerate() {
-        let mut a = *m;
-        for (row, bi) in a.iter_mut().zip(b) {
-            row[k] = bi;
-        }
-        *xk = det(&a) / d;
-    }
-    x.iter().all(|v| v.is_finite()).then_some(x)
-}
-
-/// `m x = b` for a 2x2 matrix (`None` if singular).
-fn solve2(m: &[[f64; 2]; 2], b: [f64; 2]) -> Option<[f64; 2]> {
-    let d = m[0][0] * m[1][1] - m[0][1] * m[1][0];
-    let x = [
-        (b[0] * m[1][1] - m[0][1] * b[1]) / d,
-        (m[0][0] * b[1] - m[1][0] * b[0]) / d,
-    ];
-    (d != 0.0 && x.iter().all(|v| v.is_finite())).then_some(x)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
-    fn small_systems_are_solved() {
-        let m = [[2.0, 1.0, 0.0], [1.0, 3.0, 1.0], [0.0, 1.0, 4.0]];
-        let x = [1.0, -2.0, 0.5];
-        let b = [
-            m[0][0] * x[0] + m[0][1] * x[1] + m[0][2] * x[2],
-            m[1][0] * x[0] + m[1][1] * x[1] + m[1][2] * x[2],
-            m[2][0] * x[0] + m[2][1] * x[1] + m[2][2] * x[2],
-        ];
-        let got = solve3(&m, b).unwrap();
-        for (g, e) in got.iter().zip(x) {
-            assert!((g - e).abs() < 1e-14);
-        }
-        assert!(solve3(&[[1.0; 3]; 3], b).is_none());
-        let got = solve2(&[[2.0, 1.0], [1.0, 3.0]], [4.0, 7.0]).unwrap();
-        assert!((got[0] - 1.0).abs() < 1e-15 && (got[1] - 2.0).abs() < 1e-15);
-        assert!(solve2(&[[1.0, 2.0], [2.0, 4.0]], [1.0, 1.0]).is_none());
+    fn tolerances_follow_the_accuracy_asked_for() {
         assert!((row_integration_tol(1e-6) / 1e-10 - 1.0).abs() < 1e-12);
         assert_eq!(row_integration_tol(1e-12), 1e-14);
         assert_eq!(row_solve_tol(1e-12), 1e-12);

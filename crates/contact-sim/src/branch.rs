@@ -150,7 +150,12 @@ impl Branch<'_> {
     }
 
     /// [`Branch::eval`], with the Jacobian only if `jac` is set (zero otherwise).
-    fn eval_with(&self, phase: Phase, u: [f64; 3], jac: bool) -> Result<([f64; 2], Node)> {
+    pub(crate) fn eval_with(
+        &self,
+        phase: Phase,
+        u: [f64; 3],
+        jac: bool,
+    ) -> Result<([f64; 2], Node)> {
         let (v, f, t) = (u[0], u[1], u[2]);
         let (t_lo, t_hi) = self.profile.param_range();
         if !(t >= t_lo && t <= t_hi) {

@@ -5,10 +5,9 @@
 //! The traced branch (first contact, nodes, events, separation) stays at the sweep's own
 //! tolerances whatever the accuracy asked for: it fixes the rows' base positions, which are
 //! then the default sweep's (to the rows' accuracy). The rows are what a looser accuracy
-//! makes cheaper: callgrind on `sweep --profile g1 --q 5 --points 200` counts 62.1 M
-//! instructions, the trace 19.7 M of them whatever T, the rows 27.8 M by default, 26.4 M
-//! with `--tol 1e-6` and 19.1 M with `--tol 1e-4` (their estimates included: 60.9 M and
-//! 53.5 M in all). A contact row at base position `x0` is solved with the integrator at
+//! makes cheaper: callgrind on `sweep --profile g1 --q 5 --points 200 --figures none`
+//! counts 57.2 M instructions, the trace 15.4 M of them whatever T; 56.2 M with `--tol 1e-6`
+//! and 48.8 M with `--tol 1e-4` (the rows' estimates included). A contact row at base position `x0` is solved with the integrator at
 //! [`row_integration_tol`] and the corrector at [`row_solve_tol`].
 //!
 //! **The estimate of a row.** Its equations are evaluated again at an integration

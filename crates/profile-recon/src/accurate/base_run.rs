@@ -14,16 +14,23 @@ use bvp_solvers::integrator::{Dop853, Interpolant, StepInterpolant};
 /// (complete on the close steps, the cubic part elsewhere) and the end state.
 #[derive(Clone, Debug)]
 pub(super) struct BaseRun {
-    /// The accepted steps' interpolants.
-    steps: Vec<StepInterpolant<4>>,
-    /// Where each step ends (the last at `s_end`).
-    ends: Vec<f64>,
-    /// Whether `m` may have a root or an extremum on each step ([`close_step`]).
-    close: Vec<bool>,
+    /// The accepted steps (one allocation; each interpolant copied once, in place).
+    steps: Vec<Kept>,
     /// Where the integration ended: 1, or where `phi` wound by [`MAX_WINDING`].
     pub s_end: f64,
     /// The state `(phi, m, x, y)` at `s_end`.
     pub u_end: [f64; 4],
+}
+
+/// An accepted step as a [`BaseRun`] keeps it.
+#[derive(Clone, Debug, Default)]
+struct Kept {
+    /// Its interpolant (complete on a close step, the cubic part elsewhere).
+    interp: StepInterpolant<4>,
+    /// Where it ends (the last at `s_end`).
+    end: f64,
+    /// Whether `m` may have a root or an extremum on it ([`close_step`]).
+    close: bool,
 }
 
 /// One step of a [`BaseRun`]: `[start, end]`, whether it is close, and its interpolant.
@@ -64,8 +71,6 @@ impl BaseRun {
         let mut st = integrator.stepper(ode, 0.0, 1.0, &u0)?;
         let mut run = BaseRun {
             steps: Vec::with_capacity(32),
-            ends: Vec::with_capacity(32),
-            close: Vec::with_capacity(32),
             s_end: 1.0,
             u_end: [0.0; 4],
         };
@@ -78,20 +83,16 @@ impl BaseRun {
                 None if st.is_last() => 1.0,
                 None => st.end(),
             };
-            let cubic = st
-                .interpolant::<4>()
-                .expect("the base system has 4 components");
-            let close = close_step(&cubic, end - cubic.start());
-            let interp = if close {
+            run.steps.push(Kept::default());
+            let kept = run.steps.last_mut().expect("just pushed");
+            kept.end = end;
+            let held = st.interpolant_into(&mut kept.interp);
+            debug_assert!(held, "the base system has 4 components");
+            kept.close = close_step(&kept.interp, end - kept.interp.start());
+            if kept.close {
                 st.prepare(Interpolant::Full);
-                st.interpolant::<4>()
-                    .expect("the base system has 4 components")
-            } else {
-                cubic
-            };
-            run.steps.push(interp);
-            run.ends.push(end);
-            run.close.push(close);
+                st.interpolant_into(&mut kept.interp);
+            }
             if let Some(e) = hit {
                 run.s_end = e.s;
                 run.u_end.copy_from_slice(&e.u);
@@ -105,16 +106,12 @@ impl BaseRun {
 
     /// The steps in order.
     pub(super) fn steps(&self) -> impl Iterator<Item = RunStep<'_>> {
-        self.steps
-            .iter()
-            .zip(&self.ends)
-            .zip(&self.close)
-            .map(|((interp, &end), &close)| RunStep {
-                start: interp.start(),
-                end,
-                close,
-                interp,
-            })
+        self.steps.iter().map(|k| RunStep {
+            start: k.interp.start(),
+            end: k.end,
+            close: k.close,
+            interp: &k.interp,
+        })
     }
 
     /// Index of the step holding `s` in `[0, s_end]` (the last one starting at or before it).
@@ -122,7 +119,7 @@ impl BaseRun {
         if self.steps.is_empty() || !(s.is_finite() && s >= 0.0 && s <= self.s_end) {
             return None;
         }
-        let k = self.steps.partition_point(|p| p.start() <= s);
+        let k = self.steps.partition_point(|p| p.interp.start() <= s);
         Some(k.saturating_sub(1).min(self.steps.len() - 1))
     }
 
@@ -137,7 +134,7 @@ impl BaseRun {
             *out = self.u_end;
             return true;
         }
-        let p = &self.steps[k];
+        let p = &self.steps[k].interp;
         if p.level() != Interpolant::Full {
             // a step's start is its interpolant's first coefficient, exactly
             let mut d = [0.0; 4];
@@ -152,7 +149,7 @@ impl BaseRun {
         let Some(k) = self.step_index(s) else {
             return false;
         };
-        let p = &self.steps[k];
+        let p = &self.steps[k].interp;
         p.eval_cubic((s - p.start()) / p.h(), out, dout)
     }
 
@@ -162,7 +159,7 @@ impl BaseRun {
         let Some(k) = self.step_index(s) else {
             return false;
         };
-        let p = &self.steps[k];
+        let p = &self.steps[k].interp;
         let Some([r0, r1, r2, r3]) = p.cubic_coefficients() else {
             return false;
         };
@@ -272,7 +269,7 @@ mod tests {
             run.s_end
         );
         assert!((run.u_end[0] - MAX_WINDING).abs() < 1e-9);
-        assert_eq!(run.ends.last(), Some(&run.s_end));
+        assert_eq!(run.steps.last().map(|k| k.end), Some(run.s_end));
     }
 
     #[test]

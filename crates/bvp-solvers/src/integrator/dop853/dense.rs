@@ -75,6 +75,18 @@ pub struct StepInterpolant<const N: usize> {
     pub(super) rc: [[f64; N]; 8],
 }
 
+impl<const N: usize> Default for StepInterpolant<N> {
+    /// An interpolant with nothing copied ([`Interpolant::None`]: it evaluates nowhere).
+    fn default() -> Self {
+        StepInterpolant {
+            start: 0.0,
+            h: 0.0,
+            level: Interpolant::None,
+            rc: [[0.0; N]; 8],
+        }
+    }
+}
+
 impl<const N: usize> StepInterpolant<N> {
     /// Start of the step.
     pub fn start(&self) -> f64 {

@@ -386,8 +386,17 @@ impl<S: OdeSystem + ?Sized> Stepper<'_, S> {
     /// kept after the stepper moves on; `None` without a held step or if `N` is not the
     /// system's dimension.
     pub fn interpolant<const N: usize>(&self) -> Option<StepInterpolant<N>> {
+        let mut out = StepInterpolant::default();
+        self.interpolant_into(&mut out).then_some(out)
+    }
+
+    /// [`Stepper::interpolant`] written into `out` in place (only the blocks prepared are
+    /// copied, the others left as they were: a caller that keeps every step's interpolant
+    /// in a `Vec` copies each once); `false` (and `out` untouched) without a held step or
+    /// if `N` is not the system's dimension.
+    pub fn interpolant_into<const N: usize>(&self, out: &mut StepInterpolant<N>) -> bool {
         if !self.held || N != self.n {
-            return None;
+            return false;
         }
         let (rc, level) = self.coefficients();
         let blocks = match level {
@@ -395,16 +404,13 @@ impl<S: OdeSystem + ?Sized> Stepper<'_, S> {
             Interpolant::Cubic => 4,
             Interpolant::Full => 8,
         };
-        let mut out = StepInterpolant {
-            start: self.x,
-            h: self.h,
-            level,
-            rc: [[0.0; N]; 8],
-        };
+        out.start = self.x;
+        out.h = self.h;
+        out.level = level;
         for (b, src) in out.rc.iter_mut().zip(rc.chunks_exact(N)).take(blocks) {
             b.copy_from_slice(src);
         }
-        Some(out)
+        true
     }
 
     /// The held step checked for a zero of the event function `g = ev(s, u)`, which had the
@@ -464,6 +470,36 @@ impl<S: OdeSystem + ?Sized> Stepper<'_, S> {
 mod tests {
     use super::*;
     use crate::testing::Harmonic;
+
+    #[test]
+    fn an_interpolant_written_in_place_is_the_copy() {
+        let opts = Dop853::new(1e-10, 1e-10);
+        let mut st = opts.stepper(&Harmonic, 0.0, 3.0, &[0.0, 1.0]).unwrap();
+        let mut kept = StepInterpolant::<2>::default();
+        assert!(!st.interpolant_into(&mut kept), "no step held yet");
+        assert_eq!(kept, StepInterpolant::default());
+        assert!(st.step().unwrap());
+        assert!(!st.interpolant_into(&mut StepInterpolant::<3>::default()));
+        // the cubic part, then the whole interpolant over it: each the copy's
+        st.prepare(Interpolant::Cubic);
+        assert!(st.interpolant_into(&mut kept));
+        assert_eq!(Some(kept), st.interpolant::<2>());
+        st.prepare(Interpolant::Full);
+        assert!(st.interpolant_into(&mut kept));
+        assert_eq!(Some(kept), st.interpolant::<2>());
+        let (mut a, mut b) = ([0.0; 2], [0.0; 2]);
+        assert!(kept.eval(0.5, &mut a));
+        let s = st.start() + 0.5 * st.h();
+        assert!((a[0] - s.sin()).abs() < 1e-9 && (a[1] - s.cos()).abs() < 1e-9);
+        // the next step's cubic part over it: the blocks not prepared are left as they were
+        assert!(st.step().unwrap());
+        st.prepare(Interpolant::Cubic);
+        let before = kept;
+        assert!(st.interpolant_into(&mut kept));
+        assert_eq!(kept.level(), Interpolant::Cubic);
+        assert!(!kept.eval(0.5, &mut b));
+        assert_eq!(kept.rc[4..], before.rc[4..]);
+    }
 
     #[test]
     fn a_copied_interpolant_is_the_held_steps() {

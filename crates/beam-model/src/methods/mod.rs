@@ -363,11 +363,12 @@ pub const DEFAULT_AUTO_TOL: f64 = 1e-8;
 /// for its honesty over 1000 random scenes (`tests/auto.rs`: the estimate bounds every
 /// error, the worst at 0.56 of it).
 fn auto(scene: &Scene, tol: f64, samples: usize) -> Result<Solution> {
-    if let Some(sol) = linear_rung::solve(scene, tol, samples) {
+    let (base, tip) = crate::linear::rotations_on::<16>(&scene.whisker, &scene.loads);
+    let rotation = base.abs().max(tip.abs());
+    if let Some(sol) = linear_rung::solve(scene, tol, samples, rotation) {
         return Ok(sol);
     }
-    let (base, tip) = crate::linear::rotations_on::<16>(&scene.whisker, &scene.loads);
-    if base.abs().max(tip.abs()) <= PICARD_ROTATION {
+    if rotation <= PICARD_ROTATION {
         if let Ok(sol) = picard::solve(scene, tol, samples) {
             return Ok(sol);
         }

@@ -177,6 +177,35 @@ fn strong_loads_go_to_shooting_and_impossible_accuracies_are_refused() {
     assert!(e.to_string().contains("tol"), "{e}");
 }
 
+/// A whisker of the command line's space: theta 0.05..1, A, B within ±2, k 1..50 or rigid.
+fn command_line_whisker(rng: &mut Rng) -> Whisker {
+    let theta = rng.range(0.05, 1.0);
+    let (a, b) = (rng.range(-2.0, 2.0), rng.range(-2.0, 2.0));
+    let k = if rng.unit() < 0.5 {
+        f64::INFINITY
+    } else {
+        rng.range(1.0, 50.0)
+    };
+    Whisker::new(theta, a, b, k)
+}
+
+/// A tip force of magnitude `f` at any angle, angle-preserving in 30 %.
+fn tip_force(rng: &mut Rng, f: f64) -> TipForce {
+    let beta = rng.range(-std::f64::consts::PI, std::f64::consts::PI);
+    if rng.unit() < 0.3 {
+        TipForce::ap(f, beta)
+    } else {
+        TipForce::dp(f, beta)
+    }
+}
+
+/// Loaded in part (s1 in 0.5..1) in 30 %.
+fn partly_loaded(rng: &mut Rng, loads: &mut Loads) {
+    if rng.unit() < 0.3 {
+        loads.s1 = rng.range(0.5, 1.0);
+    }
+}
+
 /// The estimates of `accurate` (default tolerance: a search shot at 1e-10 against the
 /// dense shot at 1e-12) and of `auto` asked for 1e-4..1e-12 (stage 2 at the asked accuracy
 /// against the dense shot a hundred times tighter) bound their errors against `accurate`
@@ -194,29 +223,16 @@ fn estimates_bound_errors(seed: u64, n: usize) -> Vec<(usize, f64)> {
     let mut rng = Rng(seed);
     let mut out = vec![(0, 0.0_f64); methods.len()];
     for case in 0..n {
-        let theta = rng.range(0.05, 1.0);
-        let (a, b) = (rng.range(-2.0, 2.0), rng.range(-2.0, 2.0));
-        let k = if rng.unit() < 0.5 {
-            f64::INFINITY
-        } else {
-            rng.range(1.0, 50.0)
-        };
+        let whisker = command_line_whisker(&mut rng);
         let f = if rng.unit() < 0.3 {
             0.0
         } else {
             rng.range(0.0, 20.0)
         };
-        let beta = rng.range(-std::f64::consts::PI, std::f64::consts::PI);
-        let tip = if rng.unit() < 0.3 {
-            TipForce::ap(f, beta)
-        } else {
-            TipForce::dp(f, beta)
-        };
+        let tip = tip_force(&mut rng, f);
         let mut loads = Loads::combined(tip, rng.range(0.0, 20.0), rng.range(-1.5, 1.5));
-        if rng.unit() < 0.3 {
-            loads.s1 = rng.range(0.5, 1.0);
-        }
-        let scene = Scene::new(Whisker::new(theta, a, b, k), loads);
+        partly_loaded(&mut rng, &mut loads);
+        let scene = Scene::new(whisker, loads);
         let tight = Method::Accurate {
             tol: 1e-14,
             samples: 100,
@@ -285,24 +301,13 @@ fn linear_answers(seed: u64, n: usize) -> Vec<(f64, usize, f64)> {
     let mut rng = Rng(seed);
     let weak = |rng: &mut Rng| 10f64.powf(rng.range(-6.0, 0.0));
     for case in 0..n {
-        let theta = rng.range(0.05, 1.0);
-        let (a, b) = (rng.range(-2.0, 2.0), rng.range(-2.0, 2.0));
-        let k = if rng.unit() < 0.5 {
-            f64::INFINITY
-        } else {
-            rng.range(1.0, 50.0)
-        };
+        let whisker = command_line_whisker(&mut rng);
         let f = if rng.unit() < 0.3 {
             0.0
         } else {
             weak(&mut rng)
         };
-        let beta = rng.range(-std::f64::consts::PI, std::f64::consts::PI);
-        let tip = if rng.unit() < 0.3 {
-            TipForce::ap(f, beta)
-        } else {
-            TipForce::dp(f, beta)
-        };
+        let tip = tip_force(&mut rng, f);
         let q = if rng.unit() < 0.2 {
             0.0
         } else {
@@ -310,10 +315,8 @@ fn linear_answers(seed: u64, n: usize) -> Vec<(f64, usize, f64)> {
         };
         let alpha = rng.range(-std::f64::consts::PI, std::f64::consts::PI);
         let mut loads = Loads::combined(tip, q, alpha);
-        if rng.unit() < 0.3 {
-            loads.s1 = rng.range(0.5, 1.0);
-        }
-        let scene = Scene::new(Whisker::new(theta, a, b, k), loads);
+        partly_loaded(&mut rng, &mut loads);
+        let scene = Scene::new(whisker, loads);
         let tight = Method::Accurate {
             tol: 1e-14,
             samples: 100,

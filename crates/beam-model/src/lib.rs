@@ -12,9 +12,9 @@
 //! | [`balance`] | the force balance: loads to base reactions and back [5.1, 6.1, 6.8, 6.9] |
 //! | [`units`] | physical units <-> dimensionless form [3.16-3.19], rat whisker presets (Table 2.2) |
 //! | [`equations`] | the system [3.25] and its Jacobian [3.27] plugged into `bvp-solvers` |
-//! | [`linear`] | linear small-deflection theory about the unloaded shape (the continuation's first predictor) |
+//! | [`linear`] | linear small-deflection theory about the unloaded shape (the continuation's first predictor; `auto`'s cheapest model where its a-priori bound meets the tolerance, [`ModelKind::Linear`]) |
 //! | [`shot`] | shooting from the loaded end (observables as initial values) |
-//! | [`methods`] | `fdm`, `rk4`, `accurate` and [`solve`] |
+//! | [`methods`] | `fdm`, `rk4`, `accurate`, `auto` and [`solve`] |
 //! | [`scenarios`] | the thesis's load scenarios 1-18 as reference problems |
 //!
 //! ```
@@ -47,8 +47,8 @@ pub use loads::{FluidLoad, LoadKind, Loads, TipForce};
 pub use methods::{shape_from_tip_angle, solve, Method};
 pub use scene::Scene;
 pub use solution::{
-    BaseObservables, Elastica, EndState, LoadFold, LoadPath, MethodKind, PathEquilibrium, Solution,
-    SolveStats,
+    BaseObservables, Elastica, EndState, LoadFold, LoadPath, MethodKind, ModelKind,
+    PathEquilibrium, Solution, SolveStats,
 };
 pub use support::Support;
 pub use units::{PhysicalWhisker, Preset};

@@ -13,6 +13,10 @@
 //!
 //! The tip rotation `delta(s1)` is the slope `d phi1 / d lambda` at `lambda = 0` of the loads
 //! scaled by `lambda`: the predictor of the load continuation's first step.
+//!
+//! `auto`'s cheapest rung answers with this theory (its angle `phi_u + delta` integrated to
+//! positions, on Chebyshev points) where an a-priori bound proves it meets the accuracy
+//! asked for (module `methods::linear_rung`, [`ModelKind::Linear`](crate::ModelKind)).
 
 use crate::equations::MomentLaw;
 use crate::loads::Loads;

@@ -93,7 +93,9 @@ pub enum MethodKind {
     FdmRichardson,
     /// One integration from a known tip angle (no boundary-value solve).
     Shape,
-    /// The spectral Picard iteration of the integral form (weak and moderate loads).
+    /// The spectral Picard iteration of the integral form (weak and moderate loads); with
+    /// [`ModelKind::Linear`], its first iterate alone (linear small-deflection theory
+    /// evaluated by the same Chebyshev quadrature, no iteration).
     Picard,
     /// The cheapest method that meets a requested accuracy (`Method::Auto`).
     Auto,
@@ -115,13 +117,40 @@ impl MethodKind {
     }
 }
 
+/// Which model of the whisker produced a solution's numbers ([`SolveStats::model_used`]),
+/// beside the method that computed them ([`SolveStats::method_used`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum ModelKind {
+    /// Linear small-deflection theory: the loads' moment on the unloaded shape
+    /// (module [`linear`](crate::linear)); only `Method::Auto` answers with it, where its
+    /// a-priori bound proves it meets the accuracy asked for.
+    Linear,
+    /// The large-deflection elastica [3.25] with its boundary conditions [3.21, 3.22]:
+    /// every method's model.
+    #[default]
+    Elastica,
+}
+
+impl ModelKind {
+    /// The name used by the CLI (`linear`, `elastica`).
+    pub fn name(&self) -> &'static str {
+        match self {
+            ModelKind::Linear => "linear",
+            ModelKind::Elastica => "elastica",
+        }
+    }
+}
+
 /// Statistics of a solve, with its a-posteriori error estimate.
 ///
 /// `error_estimate` bounds the absolute error of the returned tip, loaded end (x, y, phi)
 /// and base observables (MA, phi0; Ax, Ay follow from phi1) by an independent second
 /// solution, not by the solve's own residual: a tighter-tolerance shot corrected by one
 /// Newton step (`accurate`), a doubled grid (`fdm`, `rk4`), the last Richardson level
-/// (`fdm-richardson`). A solve whose estimate exceeds `tolerance` is returned as
+/// (`fdm-richardson`), the contraction bound plus a doubled grid (`picard`); linear theory
+/// (`model_used` linear, `auto` only) bounds the model's error a priori (a closed-form
+/// contraction constant of the integral form, module `methods::linear_rung`) and adds a
+/// doubled grid's difference. A solve whose estimate exceeds `tolerance` is returned as
 /// [`ModelError::Inaccurate`](crate::ModelError::Inaccurate), never as a solution.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SolveStats {
@@ -143,6 +172,10 @@ pub struct SolveStats {
     /// The method that produced the numbers.
     #[serde(default)]
     pub method_used: MethodKind,
+    /// The model whose numbers they are: the elastica, or linear theory where `auto`
+    /// proved it meets the accuracy asked for (absent from old JSON: the elastica).
+    #[serde(default)]
+    pub model_used: ModelKind,
     /// Load steps at which the continuation's corrector converged on another equilibrium
     /// (rejected by the branch guard): when > 0, other equilibria exist along the load path;
     /// the one returned is the branch reached by loading from zero.
@@ -173,6 +206,7 @@ impl Default for SolveStats {
             error_estimate: f64::NAN,
             tolerance: f64::INFINITY,
             method_used: MethodKind::Accurate,
+            model_used: ModelKind::Elastica,
             requested: MethodKind::Accurate,
         }
     }
@@ -262,5 +296,35 @@ impl Solution {
             0.0,
             |m, d| if d.is_nan() { f64::NAN } else { m.max(d.abs()) },
         )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Stats written before `model_used` existed read back as the elastica's; the field
+    /// round-trips.
+    #[test]
+    fn model_used_defaults_to_the_elastica_and_round_trips() {
+        let old = r#"{"iterations": 3, "residual": 0.0, "continuation_steps": 0,
+            "evaluations": 10, "method_used": "Picard"}"#;
+        let stats: SolveStats = serde_json::from_str(old).unwrap();
+        assert_eq!(stats.model_used, ModelKind::Elastica);
+        assert_eq!(stats.method_used, MethodKind::Picard);
+        let linear = SolveStats {
+            model_used: ModelKind::Linear,
+            // (JSON has no NaN)
+            error_estimate: 1e-3,
+            tolerance: 1e-2,
+            ..stats
+        };
+        let text = serde_json::to_string(&linear).unwrap();
+        let back: SolveStats = serde_json::from_str(&text).unwrap();
+        assert_eq!(back.model_used, ModelKind::Linear);
+        assert_eq!(
+            (ModelKind::Linear.name(), ModelKind::Elastica.name()),
+            ("linear", "elastica")
+        );
     }
 }

@@ -177,9 +177,10 @@ pub struct FluidFlags {
 /// Method flags.
 #[derive(Debug, Clone, Default, Args)]
 pub struct MethodFlags {
-    /// Solution method: auto (the cheapest method that meets --tol: a spectral Picard
-    /// iteration of the integral form for weak and moderate loads, else accurate at the
-    /// tolerance that suffices), accurate (adaptive DOP853 shooting, error estimated by a second shot;
+    /// Solution method: auto (the cheapest model and method that meets --tol: linear
+    /// small-deflection theory where its a-priori bound proves it meets --tol, a spectral
+    /// Picard iteration of the integral form for weak and moderate loads, else accurate at
+    /// the tolerance that suffices), accurate (adaptive DOP853 shooting, error estimated by a second shot;
     /// falls back to fdm-richardson on refined grids where shooting is ill-conditioned, as
     /// `stats.method_used` says; refused when the estimate exceeds 1e-8), rk4 (fixed-step
     /// shooting), fdm (finite differences, the thesis's method) or fdm-richardson (FDM on n,
@@ -193,8 +194,10 @@ pub struct MethodFlags {
     #[arg(long, value_name = "N", allow_hyphen_values = true)]
     pub n: Option<String>,
     /// The accuracy asked for (absolute error of the tip, loaded end and base observables,
-    /// dimensionless, in [1e-12, 1e-2]): solves with --method auto, the cheapest method
-    /// whose error estimate meets it; `stats.method_used` says which [default: 1e-8]
+    /// dimensionless, in [1e-12, 1e-2]): solves with --method auto, the cheapest model and
+    /// method whose error estimate meets it (linear theory for weak enough loads);
+    /// `stats.model_used` and `stats.method_used` say which (sweep and reconstruct: always
+    /// the elastica) [default: 1e-8]
     #[arg(long, value_name = "T", allow_hyphen_values = true)]
     pub tol: Option<String>,
 }
@@ -259,8 +262,8 @@ pub struct SweepArgs {
     /// point, dimensionless, in [1e-12, 1e-2]): the contact rows solved at tolerances derived
     /// from it (looser ones are cheaper), each with an a-posteriori error estimate; the
     /// summary reports the worst, and a row whose estimate exceeds T fails the sweep naming
-    /// it (exit 1). Also the scene's `sweep.tol` [default: none, the rows at ~1e-10 without
-    /// estimates]
+    /// it (exit 1); the model is always the elastica (`model_used` in the JSON summary).
+    /// Also the scene's `sweep.tol` [default: none, the rows at ~1e-10 without estimates]
     #[arg(long, value_name = "T", allow_hyphen_values = true)]
     pub tol: Option<String>,
     /// Also write shapes.csv: the whisker's shape at every row (row, s, x, y, phi; 100
@@ -325,8 +328,9 @@ pub struct ReconstructArgs {
     /// The accuracy asked for of every contact point (absolute error of x, y,
     /// dimensionless, in [1e-12, 1e-2]; method accurate): the integration the points need,
     /// each with an a-posteriori error estimate; the summary reports the worst, and a point
-    /// whose estimate exceeds T is an error naming its line (exit 1). Not with --stream
-    /// [default: none, the points at the integrator tolerance 1e-12 without estimates]
+    /// whose estimate exceeds T is an error naming its line (exit 1); the model is always
+    /// the elastica (`model_used` in the JSON summary). Not with --stream [default: none,
+    /// the points at the integrator tolerance 1e-12 without estimates]
     #[arg(long, value_name = "T", allow_hyphen_values = true)]
     pub tol: Option<String>,
     /// Print one JSON object on stdout instead of a human summary.

@@ -248,6 +248,23 @@ def test_solve_tol_matches_cli(cli, tmp_path, tol):
     assert vibrissa.solve(**sol.scene).tip == sol.tip
 
 
+def test_solve_reports_the_model_used(cli, tmp_path):
+    """A weak flow at a loose accuracy is linear theory's (its a-priori bound meets it),
+    within its estimate of the elastica; the default is the elastica's; as the CLI says."""
+    import json
+
+    weak = {"theta": 0.5, "k": 10.0, "q": 0.05}
+    sol = vibrissa.solve(**weak, tol=1e-3)
+    assert sol.stats["model_used"] == "linear" and sol.stats["method_used"] == "picard"
+    exact = vibrissa.solve(**weak)
+    assert exact.stats["model_used"] == "elastica"
+    for key in ("x", "y"):
+        assert abs(sol.tip[key] - exact.tip[key]) <= sol.stats["error_estimate"] + 1e-8
+    p = cli.run("solve", *flags({**weak, "method": "auto"}), "--tol", "1e-3", "--json",
+                "--out", str(tmp_path / "o"))
+    assert json.loads(p.stdout)["stats"] == sol.stats
+
+
 @pytest.mark.parametrize("tol", [1e-6, 1e-4])
 def test_sweep_and_reconstruct_tol_match_cli(cli, tmp_path, tol):
     """``tol`` of sweep and reconstruct: the CLI's numbers and estimates, every row and

@@ -5,12 +5,13 @@
 //! | [`Method::Fdm`] | central FDM [3.25, 3.27], Newton on the tridiagonal Jacobian | 2 | ch. 4 (its method) |
 //! | [`Method::Rk4`] | RK4 shooting from the loaded end, exact Newton derivatives | 4 | ch. 4 (comparison) |
 //! | [`Method::Accurate`] | adaptive DOP853 shooting from the loaded end | 8 | — |
-//! | [`Method::Auto`] | the cheapest of: spectral Picard iteration, then `accurate` at the tolerance that suffices | spectral / 8 | — |
+//! | [`Method::Auto`] | the cheapest of: linear theory where its a-priori bound meets the tolerance, the spectral Picard iteration, then `accurate` at the tolerance that suffices | spectral / 8 | — |
 
 pub(crate) mod accurate;
 pub(crate) mod elastica;
 pub(crate) mod fdm;
 pub(crate) mod fixed;
+pub(crate) mod linear_rung;
 pub(crate) mod load_path;
 pub(crate) mod picard;
 pub(crate) mod shooting;
@@ -49,11 +50,13 @@ pub enum Method {
         n: usize,
     },
     /// Accuracy on demand: the cheapest method whose a-posteriori estimate meets `tol`
-    /// (absolute, the norm of [`SolveStats::error_estimate`](crate::SolveStats)). First the
-    /// spectral Picard iteration of the integral form (its first iterate is linear
-    /// small-deflection theory; it contracts for weak and moderate loads), then `accurate`
-    /// with the integrator tolerance that suffices (and its FDM + Richardson fallback).
-    /// `stats.method_used` says which answered.
+    /// (absolute, the norm of [`SolveStats::error_estimate`](crate::SolveStats)). First
+    /// linear small-deflection theory, where its a-priori bound (a closed-form contraction
+    /// constant of the integral form) plus its grid estimate meets `tol`; then the spectral
+    /// Picard iteration of the integral form (it contracts for weak and moderate loads);
+    /// then `accurate` with the integrator tolerance that suffices (and its FDM +
+    /// Richardson fallback). `stats.model_used` says which model answered (`linear` or
+    /// `elastica`), `stats.method_used` which method (`picard` for the first two rungs).
     Auto {
         /// The accuracy asked for, in `[1e-12, 1e-2]`.
         tol: f64,
@@ -349,7 +352,10 @@ pub const PICARD_ROTATION: f64 = 4.0;
 /// The default accuracy of `--method auto` (the default `accurate`'s tolerance).
 pub const DEFAULT_AUTO_TOL: f64 = 1e-8;
 
-/// `auto`: the spectral Picard iteration where it contracts, else `accurate` with stage 2
+/// `auto`: linear theory where its a-priori bound proves it meets `tol` (module
+/// `linear_rung`: one application of the integral map per grid, cheaper than any other
+/// rung; `stats.model_used` linear), else the spectral Picard iteration where it
+/// contracts, else `accurate` with stage 2
 /// at the asked accuracy `tol` (its shot the estimate's second solution) and the dense
 /// shot at `tol / 100`; where that estimate does not meet `tol`, `accurate` at `1e-4 tol`
 /// (at most 1e-12; the estimate's tolerance floored at 1e-10). Measured against the lower
@@ -358,7 +364,11 @@ pub const DEFAULT_AUTO_TOL: f64 = 1e-8;
 /// error, the worst at 0.56 of it).
 fn auto(scene: &Scene, tol: f64, samples: usize) -> Result<Solution> {
     let (base, tip) = crate::linear::rotations_on::<16>(&scene.whisker, &scene.loads);
-    if base.abs().max(tip.abs()) <= PICARD_ROTATION {
+    let rotation = base.abs().max(tip.abs());
+    if let Some(sol) = linear_rung::solve(scene, tol, samples, rotation) {
+        return Ok(sol);
+    }
+    if rotation <= PICARD_ROTATION {
         if let Ok(sol) = picard::solve(scene, tol, samples) {
             return Ok(sol);
         }

@@ -33,18 +33,18 @@ use crate::solution::{BaseObservables, Elastica, EndState, MethodKind, Solution,
 /// Chebyshev points of the second kind on `[0, 1]`, `t_j = (1 − cos(π j / N)) / 2`, with
 /// the cumulative integration matrix `Q` (`(Q v)_i = ∫_0^{t_i} p`, `p` the interpolant of
 /// `v`) and the barycentric weights.
-struct Cheb {
-    n: usize,
-    t: Vec<f64>,
+pub(super) struct Cheb {
+    pub(super) n: usize,
+    pub(super) t: Vec<f64>,
     q: Vec<f64>,
     w: Vec<f64>,
 }
 
 /// Grid sizes tried, coarse to fine.
-const SIZES: [usize; 6] = [8, 16, 32, 64, 128, 256];
+pub(super) const SIZES: [usize; 6] = [8, 16, 32, 64, 128, 256];
 
 /// The Chebyshev grid with `n` intervals (one of [`SIZES`]), built once.
-fn cheb(n: usize) -> &'static Cheb {
+pub(super) fn cheb(n: usize) -> &'static Cheb {
     static GRIDS: [OnceLock<Cheb>; 6] = [
         OnceLock::new(),
         OnceLock::new(),
@@ -179,19 +179,19 @@ fn with_sampling(g: &Cheb, samples: usize, f: impl FnOnce(&[f64])) {
 /// The loaded part `[0, s1]` on Chebyshev points: the iterate and what it gives (x and y
 /// only once the iteration is done, [`Iterate::positions`]).
 #[derive(Clone, Debug, Default)]
-struct Iterate {
-    phi: Vec<f64>,
+pub(super) struct Iterate {
+    pub(super) phi: Vec<f64>,
     /// `(sin, cos)` of phi ([`Iterate::trig`]): the next step and the observables share them.
-    sc: Vec<(f64, f64)>,
-    m: Vec<f64>,
+    pub(super) sc: Vec<(f64, f64)>,
+    pub(super) m: Vec<f64>,
     kappa: Vec<f64>,
     x: Vec<f64>,
     y: Vec<f64>,
-    base: BaseObservables,
+    pub(super) base: BaseObservables,
 }
 
 impl Iterate {
-    fn new(n: usize) -> Self {
+    pub(super) fn new(n: usize) -> Self {
         Iterate {
             phi: vec![0.0; n + 1],
             sc: Vec::with_capacity(n + 1),
@@ -204,13 +204,13 @@ impl Iterate {
     }
 
     /// Fills `sc` from phi.
-    fn trig(&mut self) {
+    pub(super) fn trig(&mut self) {
         self.sc.clear();
         self.sc.extend(self.phi.iter().map(|p| p.sin_cos()));
     }
 
     /// Fills x and y (the loaded part's positions) from phi.
-    fn positions(&mut self, g: &Cheb, s1: f64, work: &mut [f64]) {
+    pub(super) fn positions(&mut self, g: &Cheb, s1: f64, work: &mut [f64]) {
         self.x.resize(g.n + 1, 0.0);
         self.y.resize(g.n + 1, 0.0);
         // one sin_cos per point: the sines wait in y until the cosines are integrated
@@ -238,7 +238,7 @@ fn free_angle(scene: &Scene, phi1: f64, t: f64) -> f64 {
 
 /// The numbers the error estimate compares (tip, loaded end, base observables), from an
 /// iterate without its positions (its `sc` filled).
-fn observables(scene: &Scene, g: &Cheb, it: &Iterate) -> [f64; 10] {
+pub(super) fn observables(scene: &Scene, g: &Cheb, it: &Iterate) -> [f64; 10] {
     let s1 = scene.loads.s1;
     let n = g.n;
     let (x1, y1) = {
@@ -263,7 +263,7 @@ fn observables(scene: &Scene, g: &Cheb, it: &Iterate) -> [f64; 10] {
     [xt, yt, pt, x1, y1, phi1, b.ma, b.phi0, b.ax, b.ay]
 }
 
-fn distance(a: &[f64; 10], b: &[f64; 10]) -> f64 {
+pub(super) fn distance(a: &[f64; 10], b: &[f64; 10]) -> f64 {
     a.iter()
         .zip(b)
         .map(|(u, v)| (u - v).abs())
@@ -272,7 +272,7 @@ fn distance(a: &[f64; 10], b: &[f64; 10]) -> f64 {
 
 /// One application of the integral map `T` on grid `g` (module docs): `out` from `phi`
 /// (with its sines and cosines `sc`).
-fn step(
+pub(super) fn step(
     scene: &Scene,
     g: &Cheb,
     (phi, sc): (&[f64], &[(f64, f64)]),
@@ -316,7 +316,7 @@ fn step(
 /// The whole whisker from a converged iterate (positions filled): the loaded part on the
 /// grid and, beyond s1, the unloaded rest (`φ' = A s + B`, integrated on the same points),
 /// sampled at `samples + 1` equal steps of `[0, 1]`.
-fn solution(scene: &Scene, g: &Cheb, it: &Iterate, samples: usize) -> Solution {
+pub(super) fn solution(scene: &Scene, g: &Cheb, it: &Iterate, samples: usize) -> Solution {
     let w = &scene.whisker;
     let s1 = scene.loads.s1;
     let n = g.n;

@@ -100,6 +100,7 @@ pub fn solution_json(r: &Resolved, sol: &Solution) -> Value {
             "error_estimate": num(sol.stats.error_estimate),
             "tolerance": num(sol.stats.tolerance),
             "method_used": sol.stats.method_used.name(),
+            "model_used": sol.stats.model_used.name(),
             "branch_jumps": sol.stats.branch_jumps,
         },
         "scene": {
@@ -190,7 +191,7 @@ fn load_path_note(sol: &Solution) -> String {
 
 fn human_summary(r: &Resolved, sol: &Solution) -> String {
     let mut out = format!(
-        "solve: {} (n = {}){}, {} iterations, residual {:.2e}, estimated error {:.1e} (tolerance {:.0e}){}\n",
+        "solve: {} (n = {}){}, {} model, {} iterations, residual {:.2e}, estimated error {:.1e} (tolerance {:.0e}){}\n",
         r.method.name(),
         r.method.intervals(),
         if sol.stats.fell_back() {
@@ -198,6 +199,7 @@ fn human_summary(r: &Resolved, sol: &Solution) -> String {
         } else {
             String::new()
         },
+        sol.stats.model_used.name(),
         sol.stats.iterations,
         sol.stats.residual,
         sol.stats.error_estimate,

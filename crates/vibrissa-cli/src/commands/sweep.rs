@@ -219,6 +219,9 @@ pub fn sweep_json(res: &SweepResult, requested: usize, units: &UnitSystem) -> se
     });
     if let Some(acc) = &res.accuracy {
         v["tol"] = json_number(acc.tol);
+        // the contact rows are always the elastica's (no linear rung): spec/cli.md's
+        // `model_used` of the accuracy asked for
+        v["model_used"] = serde_json::Value::from(beam_model::ModelKind::Elastica.name());
         if let Some((row, e)) = acc.worst() {
             v["max_estimate"] = json_number(e);
             v["max_estimate_row"] = serde_json::Value::from(row + 1);

@@ -125,8 +125,10 @@ def solve(
     ``method`` (``"accurate"``, ``"fdm"``, ``"fdm-richardson"``, ``"rk4"``), ``n`` grid
     intervals (output intervals for ``accurate``; default 100), ``units`` (module docs).
     ``tol``: the accuracy asked for (absolute, in [1e-12, 1e-2]); with ``method="accurate"``
-    (the default) it selects ``"auto"``, the cheapest method whose error estimate meets it
-    (``stats["method_used"]`` says which: ``"picard"`` for weak and moderate loads).
+    (the default) it selects ``"auto"``, the cheapest model and method whose error
+    estimate meets it (``stats["method_used"]`` says which method: ``"picard"`` for weak and
+    moderate loads; ``stats["model_used"]`` which model: ``"linear"`` where linear
+    small-deflection theory provably meets it, else ``"elastica"``).
     None: ``accurate``'s default accuracy (estimate <= 1e-8).
     ``profile`` and ``points`` are ignored (as ``vibrissa solve SCENE.ron`` ignores them),
     so that ``solve(**load_scene(path))`` works.

@@ -45,8 +45,8 @@ class Solution(_Columns):
     Columns ``s, x, y, phi, kappa, m`` (lengths, curvature and moment in the scene's units:
     whisker lengths, or mm, 1/mm and N mm for a physical scene); ``tip`` (x, y, phi),
     ``base`` (the base observables Ax, Ay, MA, phi0 [6.1]), ``stats`` (``method_used``,
-    ``error_estimate``, ``tolerance``, iterations, ...), ``scene`` (the keyword arguments
-    that give this solution back), ``load_path`` (None where loading from zero is monotone;
+    ``model_used``, ``error_estimate``, ``tolerance``, iterations, ...), ``scene`` (the
+    keyword arguments that give this solution back), ``load_path`` (None where loading from zero is monotone;
     else a dict: ``folds`` [{lambda, phi1, phi0}] passed on the way, ``arrival`` the
     equilibrium returned, its first arrival at full load, ``other_equilibria`` further along
     the path)."""

@@ -154,6 +154,9 @@ pub fn recon_json(
     }
     if let Some(acc) = &rec.accuracy {
         v["tol"] = json_number(acc.tol);
+        // the contact rows are always the elastica's (no linear rung): spec/cli.md's
+        // `model_used` of the accuracy asked for
+        v["model_used"] = serde_json::Value::from(beam_model::ModelKind::Elastica.name());
         v["integration_tol"] = json_number(acc.integration_tol);
         if let Some((k, e)) = acc.worst() {
             v["max_estimate"] = json_number(e);

@@ -326,5 +326,10 @@ fn a_weak_flow_at_a_loose_accuracy_is_answered_by_linear_theory() {
     let o = run(&[&flow[..], &["--out", "h", "--tol", "1e-3"]].concat(), d);
     assert!(o.status.success(), "{}", stderr(&o));
     let summary = String::from_utf8_lossy(&o.stdout);
-    assert!(summary.contains("picard, linear model"), "{summary}");
+    // `auto` chose the method: no fallback is reported
+    assert!(
+        summary.contains("auto (n = 100) -> picard, linear model")
+            && !summary.contains("fell back"),
+        "{summary}"
+    );
 }

@@ -194,10 +194,13 @@ fn human_summary(r: &Resolved, sol: &Solution) -> String {
         "solve: {} (n = {}){}, {} model, {} iterations, residual {:.2e}, estimated error {:.1e} (tolerance {:.0e}){}\n",
         r.method.name(),
         r.method.intervals(),
-        if sol.stats.fell_back() {
-            format!(" -> fell back to {}", sol.stats.method_used.name())
-        } else {
-            String::new()
+        match sol.stats.requested {
+            // `auto` chooses a method; any other request that answers by another fell back
+            beam_model::MethodKind::Auto => format!(" -> {}", sol.stats.method_used.name()),
+            _ if sol.stats.fell_back() => {
+                format!(" -> fell back to {}", sol.stats.method_used.name())
+            }
+            _ => String::new(),
         },
         sol.stats.model_used.name(),
         sol.stats.iterations,

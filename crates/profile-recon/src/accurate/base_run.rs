@@ -154,11 +154,30 @@ impl BaseRun {
     }
 
     /// The cubic Hermite part of the interpolant at `s` into `out`, as
-    /// [`cubic_at`](Self::cubic_at) gives it, without the derivative (and its divisions).
-    pub(super) fn cubic_value_at(&self, s: f64, out: &mut [f64; 4]) -> bool {
-        let Some(k) = self.step_index(s) else {
+    /// [`cubic_at`](Self::cubic_at) gives it, without the derivative (and its divisions),
+    /// with the step looked for from `*hint` (the step of the arc asked for before,
+    /// updated): walked to from there, which for a sequence of nearby arcs is a step or two
+    /// instead of a binary search whose branches the processor cannot predict (measured on
+    /// the 16 arcs of [`tip_levels`](super::tip::tip_levels): a stream row 7.9-8.0 -> 7.6
+    /// µs in phase A, 7.6 -> 6.8 µs in phase B, for 0.7 k fewer instructions).
+    pub(super) fn cubic_value_near(&self, s: f64, hint: &mut usize, out: &mut [f64; 4]) -> bool {
+        if self.steps.is_empty() || !(s.is_finite() && s >= 0.0 && s <= self.s_end) {
             return false;
-        };
+        }
+        // the last step starting at or before s (the first if none), as `step_index` finds it
+        let mut k = (*hint).min(self.steps.len() - 1);
+        while k > 0 && self.steps[k].interp.start() > s {
+            k -= 1;
+        }
+        while k + 1 < self.steps.len() && self.steps[k + 1].interp.start() <= s {
+            k += 1;
+        }
+        *hint = k;
+        self.cubic_value_on(k, s, out)
+    }
+
+    /// The cubic part of step `k`'s interpolant at `s` into `out`.
+    fn cubic_value_on(&self, k: usize, s: f64, out: &mut [f64; 4]) -> bool {
         let p = &self.steps[k].interp;
         let Some([r0, r1, r2, r3]) = p.cubic_coefficients() else {
             return false;
@@ -246,8 +265,12 @@ mod tests {
             }
             // the cubic everywhere, close to the truth
             assert!(run.cubic_at(mid, &mut u, &mut du));
-            let mut v = [0.0; 4];
-            assert!(run.cubic_value_at(mid, &mut v) && v == u);
+            // without the derivative, from any hint: the same step and values
+            for mut hint in [0, k, run.steps.len() + 3] {
+                let mut v = [0.0; 4];
+                assert!(run.cubic_value_near(mid, &mut hint, &mut v) && v == u);
+                assert_eq!(hint, k);
+            }
             let exact = full.eval(mid).unwrap();
             assert!((u[1] - exact[1]).abs() < 1e-4, "{} vs {}", u[1], exact[1]);
         }

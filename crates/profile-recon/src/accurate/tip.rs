@@ -21,10 +21,12 @@ pub(super) fn tip_levels(run: &BaseRun, ode: &BaseOde, sd_m: f64, sd_g: f64) -> 
     let mut out = vec![(0.0, f64::INFINITY); TIP_GRID];
     let mut u = [0.0; 4];
     let tiny = f64::MIN_POSITIVE;
+    // the arcs walk back from the tip: each step found from the last one's
+    let mut hint = usize::MAX;
     // (m, g) at 1 - d
     let mut at = |d: f64| -> Option<(f64, f64)> {
         let s = 1.0 - d;
-        if !run.cubic_value_at(s, &mut u) {
+        if !run.cubic_value_near(s, &mut hint, &mut u) {
             return None;
         }
         let (sp, cp) = ode.sin_cos(u[0]);

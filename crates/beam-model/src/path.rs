@@ -81,9 +81,16 @@ impl ShapePath {
 
     /// The point at arc length `s` in `[0, 1]` (`None` outside).
     pub fn at(&self, s: f64) -> Option<PathPoint> {
+        self.at_near(s, &mut 0)
+    }
+
+    /// [`ShapePath::at`] with the integrator's step looked for from `*hint` (updated; any
+    /// value to start, e.g. 0): for points sampled in order, a step or two of walking
+    /// instead of a binary search ([`OdeSolution::eval_near`]). The same values.
+    pub fn at_near(&self, s: f64, hint: &mut usize) -> Option<PathPoint> {
         if s <= self.s1 {
             let mut u = [0.0; 4];
-            self.loaded.eval_into(s, &mut u).then(|| PathPoint {
+            self.loaded.eval_near(s, hint, &mut u).then(|| PathPoint {
                 x: u[2] + self.end.0,
                 y: u[3] + self.end.1,
                 phi: u[0],
@@ -91,7 +98,7 @@ impl ShapePath {
         } else {
             let (sol, seg) = self.free.as_ref()?;
             let mut u = [0.0; 2];
-            sol.eval_into(s, &mut u).then(|| PathPoint {
+            sol.eval_near(s, hint, &mut u).then(|| PathPoint {
                 x: u[0],
                 y: u[1],
                 phi: seg.phi(s),

@@ -72,13 +72,16 @@ pub(crate) fn penetration(
     }
     let ss = samples(path.s1());
     let in_hot = |s: f64| hot.iter().any(|&(a, b)| s >= a && s <= b);
+    // the samples in order: each step found from the last one's
+    let mut hint = 0;
     let depths: Vec<f64> = (0..ss.len())
         .map(|i| {
             let near = (i.saturating_sub(1)..=(i + 1).min(ss.len() - 1)).any(|j| in_hot(ss[j]));
             if !near || (ss[i] - state.s1).abs() < 2e-3 {
                 return f64::NEG_INFINITY;
             }
-            path.at(ss[i]).map_or(f64::NEG_INFINITY, &depth)
+            path.at_near(ss[i], &mut hint)
+                .map_or(f64::NEG_INFINITY, &depth)
         })
         .collect();
     let sampled = refined_max(&depths);

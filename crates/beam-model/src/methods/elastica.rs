@@ -120,9 +120,14 @@ impl Moved {
 
 /// The state `(phi, m, x, y)` at `s` (relative to the loaded end) of a dense shot, moved by
 /// `d` along its tip-angle sensitivities when it carries them; `None` outside its span.
-fn state_at(sol: &OdeSolution, s: f64, d: f64, buf: &mut [f64; 8]) -> Option<[f64; 4]> {
+fn state_at(
+    sol: &OdeSolution,
+    (s, hint): (f64, &mut usize),
+    d: f64,
+    buf: &mut [f64; 8],
+) -> Option<[f64; 4]> {
     let n = sol.u_end.len();
-    if !sol.eval_into(s, &mut buf[..n]) {
+    if !sol.eval_near(s, hint, &mut buf[..n]) {
         return None;
     }
     let mut u = [buf[0], buf[1], buf[2], buf[3]];
@@ -149,13 +154,13 @@ fn assemble(scene: &Scene, run: &Run<'_>, m: &Moved, mut stats: SolveStats) -> R
     };
     match &m.path {
         Some(ShotPath::Dense(sol)) => {
-            let mut buf = [0.0; 8];
+            let (mut buf, mut hint) = ([0.0; 8], usize::MAX);
             for i in 0..=run.samples {
                 let s = (i as f64 / run.samples as f64).min(1.0);
                 if s > s1 {
                     break;
                 }
-                if let Some(u) = state_at(sol, s, m.d, &mut buf) {
+                if let Some(u) = state_at(sol, (s, &mut hint), m.d, &mut buf) {
                     sample(&mut el, s, &u);
                 }
             }
@@ -235,10 +240,10 @@ fn free_segment(
             let mut d = d.clone().with_dense(true);
             d.h_init = None;
             let sol = d.integrate(&seg, s1, 1.0, &u0).map_err(err)?;
-            let mut u = [0.0; 2];
+            let (mut u, mut hint) = ([0.0; 2], 0);
             for i in 0..=samples {
                 let s = i as f64 / samples as f64;
-                if s > s1 && sol.eval_into(s, &mut u) {
+                if s > s1 && sol.eval_near(s, &mut hint, &mut u) {
                     push(el, s, u[0], u[1]);
                 }
             }

@@ -177,6 +177,57 @@ impl OdeSolution {
         true
     }
 
+    /// [`OdeSolution::eval_into`] with the step looked for from `*hint` (the step of the
+    /// point asked for before, updated; any value to start): walked to from there, which
+    /// for a sequence of nearby points (sampling a shape) is a step or two instead of a
+    /// binary search whose branches the processor cannot predict. The same values.
+    pub fn eval_near(&self, s: f64, hint: &mut usize, out: &mut [f64]) -> bool {
+        if out.len() != self.dim || !self.in_span(s) {
+            return false;
+        }
+        if self.hs.is_empty() {
+            out.copy_from_slice(&self.u_start);
+            return true;
+        }
+        if s == self.s_end {
+            out.copy_from_slice(&self.u_end);
+            return true;
+        }
+        let Some(idx) = self.step_near(s, hint) else {
+            return false;
+        };
+        let n = self.dim;
+        let theta = (s - self.points[idx]) / self.hs[idx];
+        dense_eval(&self.cont[idx * 8 * n..(idx + 1) * 8 * n], n, theta, out);
+        true
+    }
+
+    /// [`OdeSolution::step_index`] walked to from `*hint` (updated).
+    fn step_near(&self, s: f64, hint: &mut usize) -> Option<usize> {
+        let nsteps = self.hs.len();
+        if nsteps == 0 || !self.in_span(s) {
+            return None;
+        }
+        let dir = if self.s_end >= self.s_start {
+            1.0
+        } else {
+            -1.0
+        };
+        let t = dir * (s - self.s_start);
+        let key = |k: usize| dir * (self.points[k] - self.s_start);
+        // the last step starting at or before s in the direction of integration (the
+        // first if none), as the binary search of `step_index` finds it
+        let mut k = (*hint).min(nsteps - 1);
+        while k > 0 && key(k) > t {
+            k -= 1;
+        }
+        while k + 1 < nsteps && key(k + 1) <= t {
+            k += 1;
+        }
+        *hint = k;
+        Some(k)
+    }
+
     /// Whether `s` lies in the integrated span of a dense output.
     fn in_span(&self, s: f64) -> bool {
         let (lo, hi) = if self.s_end >= self.s_start {
@@ -434,7 +485,34 @@ fn extend_in<D: Dim, S: OdeSystem + ?Sized>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::testing::ring_cases;
+    use crate::integrator::Dop853;
+    use crate::testing::{ring_cases, Harmonic};
+
+    /// Walking from a hint finds the step of the binary search, forwards and backwards,
+    /// whatever the hint and the order of the points: the very values of `eval_into`.
+    #[test]
+    fn evaluation_near_a_hint_is_evaluation() {
+        let opts = Dop853::new(1e-9, 1e-9).with_dense(true);
+        for (a, b) in [(0.0, 3.0), (3.0, 0.0)] {
+            let sol = opts.integrate(&Harmonic, a, b, &[0.0, 1.0]).unwrap();
+            assert!(sol.steps() > 5, "{}", sol.steps());
+            let mut hint = usize::MAX;
+            let (mut u, mut v) = ([0.0; 2], [0.0; 2]);
+            // increasing, then scattered (a hint far off), then the end points
+            let pts = (0..=60).map(|i| 0.05 * i as f64);
+            let scattered = (0..40).map(|i| (i * 17 % 40) as f64 * 0.075);
+            for s in pts.chain(scattered).chain([0.0, 3.0]) {
+                assert!(sol.eval_into(s, &mut u));
+                assert!(sol.eval_near(s, &mut hint, &mut v));
+                assert_eq!(u, v, "at {s}");
+                assert!((u[0] - (s - a).sin()).abs() < 1e-8, "at {s}: {}", u[0]);
+            }
+            assert!(
+                !sol.eval_near(3.5, &mut hint, &mut v)
+                    && !sol.eval_near(f64::NAN, &mut hint, &mut v)
+            );
+        }
+    }
 
     /// The extension unrolled for a fixed dimension gives the very numbers of the run-time
     /// dimension's loops, for every dimension the dispatch fixes.

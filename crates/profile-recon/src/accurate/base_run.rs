@@ -8,6 +8,7 @@ use super::base_ode::BaseOde;
 use super::context::{MAX_WINDING, SAMPLES};
 use crate::error::Result;
 use crate::observables::ObservableRow;
+use bvp_solvers::grid::locate_from;
 use bvp_solvers::integrator::{Dop853, Interpolant, StepInterpolant};
 
 /// The base integration of a row [3.25, 6.8, 6.9]: the interpolant of every accepted step
@@ -165,14 +166,7 @@ impl BaseRun {
             return false;
         }
         // the last step starting at or before s (the first if none), as `step_index` finds it
-        let mut k = (*hint).min(self.steps.len() - 1);
-        while k > 0 && self.steps[k].interp.start() > s {
-            k -= 1;
-        }
-        while k + 1 < self.steps.len() && self.steps[k + 1].interp.start() <= s {
-            k += 1;
-        }
-        *hint = k;
+        let k = locate_from(self.steps.len(), |k| self.steps[k].interp.start(), s, hint);
         self.cubic_value_on(k, s, out)
     }
 

@@ -213,19 +213,15 @@ impl OdeSolution {
         } else {
             -1.0
         };
-        let t = dir * (s - self.s_start);
+        // the last step starting at or before s in the direction of integration, as the
+        // binary search of `step_index` finds it
         let key = |k: usize| dir * (self.points[k] - self.s_start);
-        // the last step starting at or before s in the direction of integration (the
-        // first if none), as the binary search of `step_index` finds it
-        let mut k = (*hint).min(nsteps - 1);
-        while k > 0 && key(k) > t {
-            k -= 1;
-        }
-        while k + 1 < nsteps && key(k + 1) <= t {
-            k += 1;
-        }
-        *hint = k;
-        Some(k)
+        Some(crate::grid::locate_from(
+            nsteps,
+            key,
+            dir * (s - self.s_start),
+            hint,
+        ))
     }
 
     /// Whether `s` lies in the integrated span of a dense output.

@@ -157,24 +157,7 @@ impl OdeSolution {
     /// As [`OdeSolution::eval`], writing into `out` (length `dim`); returns `false` (and leaves
     /// `out` unspecified) if `s` is outside the span, not dense, or `out` has the wrong length.
     pub fn eval_into(&self, s: f64, out: &mut [f64]) -> bool {
-        if out.len() != self.dim || !self.in_span(s) {
-            return false;
-        }
-        if self.hs.is_empty() {
-            out.copy_from_slice(&self.u_start);
-            return true;
-        }
-        if s == self.s_end {
-            out.copy_from_slice(&self.u_end);
-            return true;
-        }
-        let Some(idx) = self.step_index(s) else {
-            return false;
-        };
-        let n = self.dim;
-        let theta = (s - self.points[idx]) / self.hs[idx];
-        dense_eval(&self.cont[idx * 8 * n..(idx + 1) * 8 * n], n, theta, out);
-        true
+        self.eval_on(s, out, |sol| sol.step_index(s))
     }
 
     /// [`OdeSolution::eval_into`] with the step looked for from `*hint` (the step of the
@@ -182,6 +165,12 @@ impl OdeSolution {
     /// for a sequence of nearby points (sampling a shape) is a step or two instead of a
     /// binary search whose branches the processor cannot predict. The same values.
     pub fn eval_near(&self, s: f64, hint: &mut usize, out: &mut [f64]) -> bool {
+        self.eval_on(s, out, |sol| sol.step_near(s, hint))
+    }
+
+    /// The state at `s` into `out` from the step that `step` finds (as
+    /// [`OdeSolution::eval_into`]: the ends exactly, `false` outside the span).
+    fn eval_on(&self, s: f64, out: &mut [f64], step: impl FnOnce(&Self) -> Option<usize>) -> bool {
         if out.len() != self.dim || !self.in_span(s) {
             return false;
         }
@@ -193,7 +182,7 @@ impl OdeSolution {
             out.copy_from_slice(&self.u_end);
             return true;
         }
-        let Some(idx) = self.step_near(s, hint) else {
+        let Some(idx) = step(self) else {
             return false;
         };
         let n = self.dim;
@@ -204,8 +193,15 @@ impl OdeSolution {
 
     /// [`OdeSolution::step_index`] walked to from `*hint` (updated).
     fn step_near(&self, s: f64, hint: &mut usize) -> Option<usize> {
-        let nsteps = self.hs.len();
-        if nsteps == 0 || !self.in_span(s) {
+        let (dir, t) = self.key_of(s)?;
+        let key = |k: usize| dir * (self.points[k] - self.s_start);
+        Some(crate::grid::locate_from(self.hs.len(), key, t, hint))
+    }
+
+    /// The direction of integration and `s` measured along it from the start, the key by
+    /// which the steps are sorted (`None` without steps, or outside the span).
+    fn key_of(&self, s: f64) -> Option<(f64, f64)> {
+        if self.hs.is_empty() || !self.in_span(s) {
             return None;
         }
         let dir = if self.s_end >= self.s_start {
@@ -213,15 +209,7 @@ impl OdeSolution {
         } else {
             -1.0
         };
-        // the last step starting at or before s in the direction of integration, as the
-        // binary search of `step_index` finds it
-        let key = |k: usize| dir * (self.points[k] - self.s_start);
-        Some(crate::grid::locate_from(
-            nsteps,
-            key,
-            dir * (s - self.s_start),
-            hint,
-        ))
+        Some((dir, dir * (s - self.s_start)))
     }
 
     /// Whether `s` lies in the integrated span of a dense output.
@@ -237,16 +225,8 @@ impl OdeSolution {
     /// Index of the step containing `s`, the last one whose start is `<= s` in the direction
     /// of integration (`None` outside the span or without dense output).
     pub fn step_index(&self, s: f64) -> Option<usize> {
+        let (dir, t) = self.key_of(s)?;
         let nsteps = self.hs.len();
-        if nsteps == 0 || !self.in_span(s) {
-            return None;
-        }
-        let dir = if self.s_end >= self.s_start {
-            1.0
-        } else {
-            -1.0
-        };
-        let t = dir * (s - self.s_start);
         Some(
             self.points[..nsteps]
                 .partition_point(|&p| dir * (p - self.s_start) <= t)

@@ -290,8 +290,9 @@ mod tests {
         let units = UnitSystem::new(Some(p));
         let origin = Path::new("log.units.csv");
         let f = input_factors(&BTreeMap::new(), &units, origin).unwrap();
+        // (to the last bit or two: optimised builds may fold the scales' powers differently)
         for ((_, q), f) in INPUT_QUANTITIES.iter().zip(f) {
-            assert_eq!(f, 1.0 / units.scale(*q));
+            assert!((f * units.scale(*q) - 1.0).abs() < 1e-15, "{q:?}: {f}");
         }
         assert!((f[0] * units.scale(Quantity::Length) - 1.0).abs() < 1e-15);
         let given = BTreeMap::from([("x0".to_string(), "m".to_string())]);

@@ -89,6 +89,11 @@ pub(crate) enum Hold {
     BasePosition(f64),
     /// At its contour point (a node of the traced branch).
     ContourPoint,
+    /// At zero contact force (the release, solved there): its own defining condition. Held
+    /// at its contour point instead, the release's estimate came out up to ~1e7 times its
+    /// error (3.8e-5 against a row 1e-12 from a sweep at 1e-14: seeded random `--tol`
+    /// sweeps, g1, theta 0.47 under q = 5.2 at -45 degrees).
+    NoForce,
 }
 
 /// The estimate's branch equations: those of the rows at an integration
@@ -115,6 +120,11 @@ pub(crate) fn estimate(est: &Estimator, node: &Node, hold: Hold) -> Result<f64> 
         Hold::ContourPoint => {
             let m = [[j[0][0], j[0][1]], [j[1][0], j[1][1]]];
             dense::solve(&m, &[-r[0], -r[1]]).map(|d| [d[0], d[1], 0.0])
+        }
+        Hold::NoForce => {
+            // u = (phi1 or s1, f, t): f stays at the row's (zero)
+            let m = [[j[0][0], j[0][2]], [j[1][0], j[1][2]]];
+            dense::solve(&m, &[-r[0], -r[1]]).map(|d| [d[0], 0.0, d[1]])
         }
     };
     let Some(du) = du else {

@@ -13,12 +13,13 @@ use crate::phase::{ContactState, Phase};
 /// (both included), each solved at its base position from the bracketing nodes of the traced
 /// branch, plus the switch nodes; in the order of the motion. `progress(done, total)` is
 /// told of every row. Each row comes with its error estimate from the branch equations at
-/// the estimate's integration `loose` (NaN without).
+/// the estimate's integration `loose` (NaN without); `last` with the hold of its own
+/// estimate (a release at zero force, any other end at its contour point).
 pub(crate) fn rows(
     (branch, loose): (&Branch, Option<&Estimator>),
     nodes: &[Node],
     switches: &[Node],
-    last: &Node,
+    (last, last_hold): (&Node, Hold),
     points: usize,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Vec<(ContactState, f64)>> {
@@ -53,7 +54,7 @@ pub(crate) fn rows(
     out.extend(a?);
     out.extend(b?);
     if span > 0.0 {
-        out.push(node_row(last));
+        out.push((last.state, row_estimate(loose, last, last_hold)));
     }
     out.extend(switches.iter().map(node_row));
     out.sort_by(|a, b| b.0.x0.total_cmp(&a.0.x0));

@@ -328,7 +328,7 @@ pub fn sweep_with_progress(
         (&row_branch, loose.as_ref()),
         &tr.nodes,
         &tr.switches,
-        &last,
+        (&last, hold_of(&separation)),
         settings.points,
         &mut |done, total| progress(SweepProgress::Fine { done, total }),
     )?;
@@ -374,6 +374,15 @@ fn check_accuracy(points: &[SweepPoint], estimates: Vec<f64>, tol: f64) -> Resul
             })
         }
         _ => Ok(acc),
+    }
+}
+
+/// How the estimate of the row where the contact ended holds it: a release at zero force
+/// (its defining condition), any other end at its contour point.
+fn hold_of(separation: &Separation) -> crate::accuracy::Hold {
+    match separation {
+        Separation::Release => crate::accuracy::Hold::NoForce,
+        _ => crate::accuracy::Hold::ContourPoint,
     }
 }
 

@@ -125,3 +125,35 @@ fn an_accuracy_out_of_range_is_refused() {
         );
     }
 }
+
+/// The row where a contact is released is estimated under its own condition, zero force:
+/// held at its contour point instead, its estimate came out ~1e7 times its error and a
+/// sweep at 1e-6 of this scene was refused (found by seeded random sweeps at T = 1e-4..1e-8:
+/// 4 refusals of 180, all at a release). At T = 1e-6 the sweep goes through, and the release
+/// row's estimate bounds its difference from the default sweep (whose rows agree with a
+/// sweep at 1e-14 to 5e-11).
+#[test]
+fn a_release_row_is_estimated_at_zero_force() {
+    let p = Profile::g1();
+    let w = Whisker::new(0.470, -0.006, -0.217, f64::INFINITY);
+    let flow = FluidLoad {
+        q: 5.16,
+        alpha: -0.78,
+    };
+    let truth = run(&w, flow, &p, None);
+    assert_eq!(truth.separation, contact_sim::Separation::Release);
+    let res = run(&w, flow, &p, Some(1e-6));
+    let acc = res.accuracy.as_ref().unwrap();
+    // the release: the row of least x0, at zero force
+    let (i, row) = res
+        .points
+        .iter()
+        .enumerate()
+        .min_by(|a, b| a.1.x0.total_cmp(&b.1.x0))
+        .unwrap();
+    assert_eq!(row.f, 0.0);
+    let e = acc.estimates[i];
+    let d = row_difference(row, &truth.points[i]);
+    assert!(e <= 1e-6, "release estimate {e:e}");
+    assert!(d <= e + 1e-9, "release row off by {d:e}, estimate {e:e}");
+}

@@ -222,6 +222,7 @@ fn estimates_bound_errors(seed: u64, n: usize) -> Vec<(usize, f64)> {
         .collect();
     let mut rng = Rng(seed);
     let mut out = vec![(0, 0.0_f64); methods.len()];
+    let mut evaluations = vec![Vec::new(); methods.len()];
     for case in 0..n {
         let whisker = command_line_whisker(&mut rng);
         let f = if rng.unit() < 0.3 {
@@ -239,7 +240,11 @@ fn estimates_bound_errors(seed: u64, n: usize) -> Vec<(usize, f64)> {
         if truth.stats.method_used != MethodKind::Accurate {
             continue;
         }
-        for (m, (cases, worst)) in methods.iter().zip(out.iter_mut()) {
+        for ((m, (cases, worst)), spent) in methods
+            .iter()
+            .zip(out.iter_mut())
+            .zip(evaluations.iter_mut())
+        {
             // a refusal is an answer too (no numbers, so never a wrong one)
             let Ok(sol) = solve(&scene, m) else {
                 continue;
@@ -248,6 +253,7 @@ fn estimates_bound_errors(seed: u64, n: usize) -> Vec<(usize, f64)> {
                 continue;
             }
             *cases += 1;
+            spent.push(sol.stats.evaluations);
             let err = sol.difference(&truth);
             let ratio = err / (sol.stats.error_estimate + truth.stats.error_estimate);
             assert!(
@@ -259,8 +265,16 @@ fn estimates_bound_errors(seed: u64, n: usize) -> Vec<(usize, f64)> {
             *worst = worst.max(ratio);
         }
     }
-    for (m, (cases, worst)) in methods.iter().zip(&out) {
-        println!("{m:?}: {cases} scenes by shooting, worst error / estimate {worst:.3}");
+    for ((m, (cases, worst)), spent) in methods.iter().zip(&out).zip(&evaluations) {
+        println!(
+            "{m:?}: {cases} scenes by shooting, worst error / estimate {worst:.3}, \
+             median {} evaluations",
+            {
+                let mut v = spent.clone();
+                v.sort_unstable();
+                v.get(v.len() / 2).copied().unwrap_or(0)
+            }
+        );
     }
     out
 }

@@ -10,7 +10,10 @@
 //!    continuation) on DOP853 at [`GUIDE_TOL`]: it decides the branch;
 //! 2. Newton from there at the estimate's tolerance `e = min(tolerance / 100, SEARCH_TOL)`
 //!    ([`TipTarget::SEARCH`]): `phi1` within that integration's error of the root;
-//! 3. one dense shot at `tol` with the tip-angle sensitivities, moved by its own Newton step
+//! 3. one dense shot at `tol` (where the caller allows a looser one, `auto`, at the
+//!    loosest whose resolution floor leaves room for the estimate, [`dense_tol`], and at
+//!    `tol` only where that one's estimate fails) with the tip-angle sensitivities, moved
+//!    by its own Newton step
 //!    `d = -R / R'` to its root ([`linearised_shape`]: the base values, the loaded end and
 //!    the elastica along their sensitivities, an error `O(d^2)`); the returned solution;
 //! 4. the second solution, where `e >= 100 tol`: stage 2's last shot (at `e`) moved to its
@@ -42,6 +45,7 @@ use super::shooting::{
 };
 use crate::equations::Sensitivities;
 use crate::error::Result;
+use crate::loads::{LoadKind, Loads};
 use crate::scene::Scene;
 use crate::shot::{shoot, BaseValues, Integration};
 use crate::solution::{MethodKind, Solution, SolveStats};
@@ -96,14 +100,44 @@ pub(crate) struct Accurate {
     /// Stage 2's tolerance where the caller chooses it (`auto`, at its accuracy); `None`:
     /// `tolerance / ESTIMATE_MARGIN`, at most [`SEARCH_TOL`].
     pub search_tol: Option<f64>,
+    /// The loosest tolerance the caller allows the dense shot (`auto`: a tenth of its
+    /// accuracy; else `tol`): the dense shot runs at the loosest tolerance in
+    /// `[tol, loosest_tol]` whose resolution floor is at most half of `tolerance`
+    /// ([`dense_tol`]), and once more at `tol` where that answer's estimate from stage 2
+    /// does not meet `tolerance`.
+    pub loosest_tol: f64,
+}
+
+/// The share of the tolerance asked for that the dense shot's resolution floor may take
+/// where its tolerance is chosen ([`dense_tol`]); the rest is the second solution's.
+pub(crate) const FLOOR_SHARE: f64 = 0.5;
+
+/// The dense shot's tolerance (field [`Accurate::loosest_tol`]): the loosest in
+/// `[a.tol, a.loosest_tol]` whose [`resolution`] at stage 2's answer `tip` (its values
+/// within ~1e-5 of the answer's) is at most [`FLOOR_SHARE`] of `a.tolerance`.
+fn dense_tol(a: &Accurate, tip: &TipSolve, loads: &Loads) -> f64 {
+    if a.loosest_tol <= a.tol {
+        return a.tol;
+    }
+    let v = &tip.values;
+    let per_tol = resolution(scale([v.phi0, v.m0, v.dx, v.dy, tip.phi1]), 1.0, loads);
+    let t = FLOOR_SHARE * a.tolerance / per_tol;
+    if t.is_nan() {
+        a.tol
+    } else {
+        t.clamp(a.tol, a.loosest_tol)
+    }
 }
 
 impl Accurate {
-    /// The tolerance of stage 2, and whether its shot gives the second solution.
+    /// The tolerance of stage 2, and whether its shot gives the second solution: where the
+    /// caller chose stage 2's tolerance, whenever it is looser than the dense shot's (the
+    /// caller chose the margin); else where it is [`ESTIMATE_MARGIN`] times looser.
     fn estimate_tol(&self) -> (f64, bool) {
-        let e = self
-            .search_tol
-            .unwrap_or((self.tolerance / ESTIMATE_MARGIN).min(SEARCH_TOL));
+        if let Some(e) = self.search_tol {
+            return (e, e > self.tol);
+        }
+        let e = (self.tolerance / ESTIMATE_MARGIN).min(SEARCH_TOL);
         // (the margin met up to the rounding of a tolerance divided by it)
         if e >= ESTIMATE_MARGIN * self.tol * (1.0 - 1e-9) {
             (e, true)
@@ -156,23 +190,45 @@ pub(crate) fn solve_accurate(scene: &Scene, a: &Accurate) -> Result<Solution> {
         branch_jumps: found.tip.branch_jumps,
         ..SolveStats::default()
     };
+    // the dense shot at the loosest tolerance allowed whose floor leaves room for the
+    // estimate, then (where its estimate from stage 2 fails) at `tol`
+    let loose = dense_tol(a, &found.tip, loads);
+    let mut stats = stats;
+    for dense_tol in [loose, tol] {
+        let dense = Integration::adaptive(dense_tol);
+        let run = Run {
+            integration: &dense,
+            samples,
+            method: "accurate",
+            budget,
+        };
+        let estimate = Estimate {
+            check: &check,
+            second: second.then_some(&found.tip),
+            tolerance: a.tolerance,
+            tighten: dense_tol > tol,
+        };
+        match refine(scene, &found.tip, &run, &estimate, stats)? {
+            Refined::Answer(mut sol) => {
+                sol.load_path = path;
+                return Ok(*sol);
+            }
+            Refined::Loose(spent) => stats.evaluations += spent,
+            Refined::Far(spent) => {
+                stats.evaluations += spent;
+                break;
+            }
+        }
+        if loose <= tol {
+            break;
+        }
+    }
+    let spent = stats.evaluations - found.tip.evaluations;
     let run = Run {
         integration: &integration,
         samples,
         method: "accurate",
         budget,
-    };
-    let estimate = Estimate {
-        check: &check,
-        second: second.then_some(&found.tip),
-        tolerance: a.tolerance,
-    };
-    let spent = match refine(scene, &found.tip, &run, &estimate, stats)? {
-        Ok(mut sol) => {
-            sol.load_path = path;
-            return Ok(sol);
-        }
-        Err(spent) => spent,
     };
     // Newton at `tol` from the search's answer, the elastica at its root and the second
     // solution from the check shot there
@@ -210,6 +266,9 @@ struct Estimate<'a> {
     second: Option<&'a TipSolve>,
     /// The tolerance that estimate must meet (else the check shot gives it).
     tolerance: f64,
+    /// Where that estimate does not meet it: give up ([`Refined::Loose`]) for a tighter
+    /// dense shot instead of taking the check shot.
+    tighten: bool,
 }
 
 /// The largest second derivative `|V''|` of the base values `V = (phi0, m0, dx, dy)` in the
@@ -240,17 +299,43 @@ fn trapezoidal_difference(scene: &Scene, tip: &TipSolve, sens: BaseValues, sol: 
     difference(second, phi1 - sol.loaded_end.phi, sol, &scene.loads)
 }
 
+/// The largest magnitude among integrated values `(phi0, m0, x1, y1, phi1)`.
+fn scale(values: [f64; 5]) -> f64 {
+    values.iter().fold(0.0_f64, |m, v| m.max(v.abs()))
+}
+
 /// The smallest error an answer of a dense shot at `tol` can claim: its tolerance relative
-/// to the answer's largest value (DOP853 controls each step's error to `tol (1 + |y|)`;
-/// below that the difference of two integrations says nothing: measured, answers at 1e-12
-/// 1e-13 off where the two solutions agreed to 1e-14, on 6 of 279 random scenes).
-fn resolution(sol: &Solution, tol: f64) -> f64 {
-    let b = &sol.base;
-    let e = &sol.loaded_end;
-    let scale = [b.ax, b.ay, b.ma, b.phi0, e.x, e.y, e.phi]
-        .iter()
-        .fold(0.0_f64, |m, v| m.max(v.abs()));
-    tol * (1.0 + scale)
+/// to the largest integrated value `scale` ([`scale`]; DOP853 controls each step's error to
+/// `tol (1 + |y|)`; below that the difference of two integrations says nothing: measured,
+/// answers at 1e-12 1e-13 off where the two solutions agreed to 1e-14, on 6 of 279 random
+/// scenes), carried into the answer as [`difference`] carries a tip-angle error: the rest
+/// beyond `s1` by `(1 - s1)`, an AP force's reactions by `f`. The reactions of a
+/// fixed-direction load are its balance [5.1] and carry no integration error.
+fn resolution(scale: f64, tol: f64, loads: &Loads) -> f64 {
+    let ap = if loads.tip.kind == LoadKind::Ap {
+        loads.tip.f
+    } else {
+        0.0
+    };
+    tol * (1.0 + scale) * (1.0 + (1.0 - loads.s1)).max(ap)
+}
+
+/// [`resolution`] at a solution's integrated values.
+fn resolution_of(sol: &Solution, tol: f64, loads: &Loads) -> f64 {
+    let (b, e) = (&sol.base, &sol.loaded_end);
+    resolution(scale([b.phi0, b.ma, e.x, e.y, e.phi]), tol, loads)
+}
+
+/// What [`refine`] gives.
+enum Refined {
+    /// The solution with its error estimate.
+    Answer(Box<Solution>),
+    /// The estimate from stage 2 did not meet the tolerance and the caller asked to
+    /// tighten the dense shot rather than take the check shot: the evaluations spent.
+    Loose(usize),
+    /// The dense shots' Newton steps did not come within reach of their root: the
+    /// evaluations spent.
+    Far(usize),
 }
 
 /// Steps 3 and 4 of the module docs from the search's answer `tip`: the solution with its
@@ -266,13 +351,14 @@ fn refine(
     run: &Run<'_>,
     estimate: &Estimate<'_>,
     mut stats: SolveStats,
-) -> Result<std::result::Result<Solution, usize>> {
+) -> Result<Refined> {
     let w = &scene.whisker;
     let support = &w.support;
     let loads = &scene.loads;
     let Integration::Dop853(d853) = run.integration else {
-        return Ok(Err(0));
+        return Ok(Refined::Far(0));
     };
+    let before = stats.evaluations;
     // the dense and check shots start with stage 2's natural first step
     let dense = run.integration.started(tip.start);
     let run = &Run {
@@ -303,14 +389,17 @@ fn refine(
             Linearised::Root { mut sol, sens } => {
                 sol.stats.residual = support.residual(sol.base.phi0, -sol.base.ma).abs();
                 // the linearisation's bound and the dense shot's own resolution
-                let floor =
-                    linearisation(&sens, sol.loaded_end.phi - phi1) + resolution(&sol, d853.rtol);
+                let floor = linearisation(&sens, sol.loaded_end.phi - phi1)
+                    + resolution_of(&sol, d853.rtol, loads);
                 // the second solution: stage 2's shot, where it was not at this angle ...
                 if let Some(second) = estimate.second.filter(|t| t.step != 0.0) {
                     let est = SAFETY * trapezoidal_difference(scene, second, sens, &sol) + floor;
                     if est <= estimate.tolerance {
                         sol.stats.error_estimate = est;
-                        return Ok(Ok(*sol));
+                        return Ok(Refined::Answer(sol));
+                    }
+                    if estimate.tighten {
+                        return Ok(Refined::Loose(sol.stats.evaluations - before));
                     }
                 }
                 // ... else the check integration at the root, moved to its own root by one
@@ -326,7 +415,7 @@ fn refine(
                 };
                 sol.stats.error_estimate =
                     SAFETY * corrected_difference(&shot, sens, d, &sol, loads) + floor;
-                return Ok(Ok(*sol));
+                return Ok(Refined::Answer(sol));
             }
             Linearised::Far {
                 d,
@@ -343,7 +432,7 @@ fn refine(
             }
         }
     }
-    Ok(Err(spent))
+    Ok(Refined::Far(spent))
 }
 
 #[cfg(test)]
@@ -379,6 +468,7 @@ mod tests {
                     samples: 20,
                     budget: SHOOTING_BUDGET,
                     search_tol: None,
+                    loosest_tol: tol,
                 };
                 solve_accurate(&scene, &a).unwrap()
             };

@@ -233,6 +233,7 @@ fn shooting_start(
         samples: 16,
         budget,
         search_tol: None,
+        loosest_tol: 1e-10,
     };
     let sol = super::accurate::solve_accurate(scene, &shooting).ok()?;
     if sol.stats.error_estimate.is_nan() || sol.stats.error_estimate > 1e-6 {

@@ -312,6 +312,7 @@ fn accurate(scene: &Scene, tol: f64, samples: usize, tolerance: f64) -> Result<S
             samples,
             budget: SHOOTING_BUDGET,
             search_tol: None,
+            loosest_tol: tol,
         },
     );
     let shooting_evaluations = match &shot {
@@ -349,6 +350,11 @@ fn accurate(scene: &Scene, tol: f64, samples: usize, tolerance: f64) -> Result<S
 /// exceeded 3.14); beyond, its failed attempt was ~15 % of the shooting that answers.
 pub const PICARD_ROTATION: f64 = 4.0;
 
+/// The loosest dense shot of `auto`'s shooting: a tenth of the accuracy asked for, where
+/// the scene's resolution floor leaves room for it (module `accurate`, `dense_tol`);
+/// else as tight as a hundredth.
+pub const AUTO_DENSE_MARGIN: f64 = 10.0;
+
 /// The default accuracy of `--method auto` (the default `accurate`'s tolerance).
 pub const DEFAULT_AUTO_TOL: f64 = 1e-8;
 
@@ -357,7 +363,9 @@ pub const DEFAULT_AUTO_TOL: f64 = 1e-8;
 /// rung; `stats.model_used` linear), else the spectral Picard iteration where it
 /// contracts, else `accurate` with stage 2
 /// at the asked accuracy `tol` (its shot the estimate's second solution) and the dense
-/// shot at `tol / 100`; where that estimate does not meet `tol`, `accurate` at `1e-4 tol`
+/// shot at `tol / 10` where the scene's resolution floor leaves room (else tighter, down
+/// to `tol / 100`), again at `tol / 100` where that estimate does not meet `tol`; where
+/// that one does not either, `accurate` at `1e-4 tol`
 /// (at most 1e-12; the estimate's tolerance floored at 1e-10). Measured against the lower
 /// envelope of every method's work-precision curve (`cargo xtask reproduce chapter4`) and
 /// for its honesty over 1000 random scenes (`tests/auto.rs`: the estimate bounds every
@@ -374,9 +382,23 @@ fn auto(scene: &Scene, tol: f64, samples: usize) -> Result<Solution> {
         }
     }
     // Shooting with the estimate's second solution from stage 2's shot at `tol` itself
-    // and the dense shot a hundred times tighter; where that estimate does not meet `tol`,
-    // the tight scheme (the dense shot at 1e-12 or below).
-    let itol = (tol / accurate::ESTIMATE_MARGIN).max(MIN_TOL);
+    // and the dense shot ten to a hundred times tighter; where that estimate does not meet
+    // `tol`, the tight scheme (the dense shot at 1e-12 or below).
+    static MM: std::sync::OnceLock<(f64, f64)> = std::sync::OnceLock::new();
+    let (margin, bfac) = *MM.get_or_init(|| {
+        (
+            std::env::var("AUTOM")
+                .ok()
+                .and_then(|v| v.parse().ok())
+                .unwrap_or(accurate::ESTIMATE_MARGIN),
+            std::env::var("AUTOB")
+                .ok()
+                .and_then(|v| v.parse().ok())
+                .unwrap_or(1.0),
+        )
+    });
+    let margin = margin / bfac;
+    let itol = (tol / margin).max(MIN_TOL);
     let cheap = accurate::solve_accurate(
         scene,
         &accurate::Accurate {
@@ -386,6 +408,7 @@ fn auto(scene: &Scene, tol: f64, samples: usize) -> Result<Solution> {
             samples,
             budget: SHOOTING_BUDGET,
             search_tol: Some(tol),
+            loosest_tol: (tol / AUTO_DENSE_MARGIN).max(itol),
         },
     );
     let mut sol = match cheap {

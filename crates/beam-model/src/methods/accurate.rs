@@ -440,6 +440,42 @@ mod tests {
     use super::*;
     use crate::methods::{CHECK_TOL_RATIO, SHOOTING_BUDGET};
 
+    /// `auto`'s scheme at 1e-12 (stage 2 at 1e-12, the dense shot allowed up to 1e-13):
+    /// cheaper than the dense shot at 1e-14, and its error against a solve at 1e-14 (with
+    /// that one's estimate) within its estimate, itself within 1e-12.
+    #[test]
+    fn a_looser_dense_shot_where_the_floor_leaves_room_is_cheaper_and_honest() {
+        for (name, scene) in crate::scenarios::reference_scenes() {
+            let scene = scene.normalised();
+            let run = |tol: f64, tolerance: f64, search_tol: Option<f64>, loosest_tol: f64| {
+                let a = Accurate {
+                    tol,
+                    check_tol: (tol * CHECK_TOL_RATIO).max(crate::methods::MIN_CHECK_TOL),
+                    tolerance,
+                    samples: 20,
+                    budget: SHOOTING_BUDGET,
+                    search_tol,
+                    loosest_tol,
+                };
+                solve_accurate(&scene, &a).unwrap()
+            };
+            let truth = run(1e-14, 1e-10, None, 1e-14);
+            let loose = run(1e-14, 1e-12, Some(1e-12), 1e-13);
+            let tight = run(1e-14, 1e-12, Some(1e-12), 1e-14);
+            let (est, err) = (loose.stats.error_estimate, loose.difference(&truth));
+            assert!(
+                err <= est + truth.stats.error_estimate && est <= 1e-12,
+                "{name}: error {err:e}, estimate {est:e}"
+            );
+            assert!(
+                loose.stats.evaluations < tight.stats.evaluations,
+                "{name}: {} vs {}",
+                loose.stats.evaluations,
+                tight.stats.evaluations
+            );
+        }
+    }
+
     /// `V = (phi^2, 2 phi^2, -phi^2 / 2, 0)`: the difference quotient of `V'` is `V''`,
     /// whose largest component is 4, wherever the two shots lie.
     #[test]

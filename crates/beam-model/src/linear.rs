@@ -51,15 +51,18 @@ pub fn rotations_on<const N: usize>(whisker: &Whisker, loads: &Loads) -> (f64, f
     // m at the nodes from the loaded end (m(s1) = 0), then its integral over 1/e^4 from the
     // base
     const { assert!(N >= 1 && N <= 256, "1..=256 intervals") };
-    let mut m = [0.0; 257];
-    let m = &mut m[..=N];
-    let mut upper = rate(N);
+    // m at nodes 0..N-1 (m(s1) = 0 at node N): an array of N, nothing zeroed beyond it
+    let mut m = [0.0; N];
+    let (mut above, mut upper) = (0.0, rate(N));
     for i in (0..N).rev() {
         let lower = rate(i);
-        m[i] = m[i + 1] - 0.5 * h * (lower + upper);
-        upper = lower;
+        m[i] = above - 0.5 * h * (lower + upper);
+        (above, upper) = (m[i], lower);
     }
-    let curvature = |i: usize| m[i] / whisker.stiffness(i as f64 * h);
+    let curvature = |i: usize| {
+        m.get(i)
+            .map_or(0.0, |mi| mi / whisker.stiffness(i as f64 * h))
+    };
     let bend: f64 = (0..N)
         .map(|i| 0.5 * h * (curvature(i) + curvature(i + 1)))
         .sum();

@@ -326,40 +326,38 @@ pub(super) fn solution(scene: &Scene, g: &Cheb, it: &Iterate, samples: usize) ->
         phi: it.phi[n],
     };
     let rest = 1.0 - s1;
-    let free_phi: Vec<f64> = g.t.iter().map(|&t| free_angle(scene, end.phi, t)).collect();
-    let (mut fx, mut fy) = (vec![0.0; n + 1], vec![0.0; n + 1]);
-    if rest > 0.0 {
-        let c: Vec<f64> = free_phi.iter().map(|p| p.cos()).collect();
-        let sn: Vec<f64> = free_phi.iter().map(|p| p.sin()).collect();
-        g.integrate(&c, rest, &mut fx);
-        g.integrate(&sn, rest, &mut fy);
-    }
-    let tip = EndState {
-        x: end.x + fx[n],
-        y: end.y + fy[n],
-        phi: free_phi[n],
-    };
     let mut el = Elastica::with_capacity(samples + 1);
     let dot = |c: &[f64], v: &[f64]| c.iter().zip(v).map(|(a, b)| a * b).sum::<f64>();
+    let tip;
     if s1 == 1.0 {
+        // no unloaded rest: the tip is the loaded end
+        tip = EndState {
+            phi: free_angle(scene, end.phi, 1.0),
+            ..end
+        };
         // The whole whisker is loaded: a cached interpolation matrix, applied column by
-        // column (one AXPY per point and quantity, vectorised over the samples).
+        // column (the five quantities updated in one pass over the samples, vectorised
+        // over them; each column's weight loaded once).
         let k = samples + 1;
         let mut out = vec![0.0; 5 * k];
+        let (x, rest5) = out.split_at_mut(k);
+        let (y, rest5) = rest5.split_at_mut(k);
+        let (phi, rest5) = rest5.split_at_mut(k);
+        let (kappa, m) = rest5.split_at_mut(k);
         with_sampling(g, samples, |cols| {
             for (j, col) in cols.chunks_exact(k).enumerate() {
-                let v = [it.x[j], it.y[j], it.phi[j], it.kappa[j], it.m[j]];
-                for (o, vj) in out.chunks_exact_mut(k).zip(v) {
-                    for (oi, ci) in o.iter_mut().zip(col) {
-                        *oi += ci * vj;
-                    }
+                let (vx, vy, vp, vk, vm) = (it.x[j], it.y[j], it.phi[j], it.kappa[j], it.m[j]);
+                let lanes = x.iter_mut().zip(y.iter_mut()).zip(phi.iter_mut());
+                let lanes = lanes.zip(kappa.iter_mut()).zip(m.iter_mut()).zip(col);
+                for (((((x, y), p), kp), mm), c) in lanes {
+                    *x += c * vx;
+                    *y += c * vy;
+                    *p += c * vp;
+                    *kp += c * vk;
+                    *mm += c * vm;
                 }
             }
         });
-        let (x, rest5) = out.split_at(k);
-        let (y, rest5) = rest5.split_at(k);
-        let (phi, rest5) = rest5.split_at(k);
-        let (kappa, m) = rest5.split_at(k);
         for i in 0..k {
             el.push(
                 i as f64 / samples as f64,
@@ -371,6 +369,19 @@ pub(super) fn solution(scene: &Scene, g: &Cheb, it: &Iterate, samples: usize) ->
             );
         }
     } else {
+        let free_phi: Vec<f64> = g.t.iter().map(|&t| free_angle(scene, end.phi, t)).collect();
+        let (mut fx, mut fy) = (vec![0.0; n + 1], vec![0.0; n + 1]);
+        if rest > 0.0 {
+            let c: Vec<f64> = free_phi.iter().map(|p| p.cos()).collect();
+            let sn: Vec<f64> = free_phi.iter().map(|p| p.sin()).collect();
+            g.integrate(&c, rest, &mut fx);
+            g.integrate(&sn, rest, &mut fy);
+        }
+        tip = EndState {
+            x: end.x + fx[n],
+            y: end.y + fy[n],
+            phi: free_phi[n],
+        };
         let mut c = vec![0.0; n + 1];
         for i in 0..=samples {
             let s = i as f64 / samples as f64;

@@ -194,8 +194,8 @@ pub(crate) fn solve_accurate(scene: &Scene, a: &Accurate) -> Result<Solution> {
     // estimate, then (where its estimate from stage 2 fails) at `tol`
     let loose = dense_tol(a, &found.tip, loads);
     let mut stats = stats;
-    for dense_tol in [loose, tol] {
-        let dense = Integration::adaptive(dense_tol);
+    for at in [loose, tol] {
+        let dense = Integration::adaptive(at);
         let run = Run {
             integration: &dense,
             samples,
@@ -206,7 +206,7 @@ pub(crate) fn solve_accurate(scene: &Scene, a: &Accurate) -> Result<Solution> {
             check: &check,
             second: second.then_some(&found.tip),
             tolerance: a.tolerance,
-            tighten: dense_tol > tol,
+            tighten: at > tol,
         };
         match refine(scene, &found.tip, &run, &estimate, stats)? {
             Refined::Answer(mut sol) => {

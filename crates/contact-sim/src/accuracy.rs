@@ -8,7 +8,10 @@
 //! makes cheaper: callgrind on `sweep --profile g1 --q 5 --points 200 --figures none`
 //! counts 57.2 M instructions, the trace 15.4 M of them whatever T; 56.2 M with `--tol 1e-6`
 //! and 48.8 M with `--tol 1e-4` (the rows' estimates included). A contact row at base position `x0` is solved with the integrator at
-//! [`row_integration_tol`] and the corrector at [`row_solve_tol`].
+//! [`row_integration_tol`] and the corrector at [`row_solve_tol`]. Where a row's estimate
+//! exceeds the accuracy asked for, the rows are solved once more at the tolerances of an
+//! accuracy [`TIGHTER`](crate::sweep::TIGHTER) times smaller (their estimates' integration
+//! too), and only then is the sweep refused, naming that row.
 //!
 //! **The estimate of a row.** Its equations are evaluated again at an integration
 //! [`ESTIMATE_FACTOR`] times looser, from the row's converged state: one shot there, one

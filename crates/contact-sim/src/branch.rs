@@ -107,6 +107,7 @@ pub(crate) enum Constraint {
 }
 
 /// The branch equations of one whisker, flow and contour.
+#[derive(Clone, Copy)]
 pub(crate) struct Branch<'a> {
     pub whisker: &'a Whisker,
     pub flow: FluidLoad,

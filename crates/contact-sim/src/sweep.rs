@@ -301,11 +301,9 @@ pub fn sweep_with_progress(
         profile.convex_at(n.u[2])?;
     }
     let (last, separation) = separation(tr.end);
-    let pre_rows = pre_contact_rows(whisker, flow, phi1, first.x0(), settings)?;
-    let pre = pre_rows.len();
-    // the rows (and, with an accuracy asked for, their estimates) with their integration
-    // at the tolerances of the accuracy `row_t`
-    let mut solve_rows = |row_t: Option<f64>| -> Result<(Vec<SweepPoint>, Vec<f64>)> {
+    // the contact rows and their estimates, with the integration at the tolerances of the
+    // accuracy `row_t` (the sweep's own without one)
+    let mut rows_at = |row_t: Option<f64>| {
         let row_integration = row_t.map(|t| {
             (
                 Integration::adaptive(row_integration_tol(t)),
@@ -329,41 +327,44 @@ pub fn sweep_with_progress(
             ),
             _ => (branch, None),
         };
-        let states = crate::rows::rows(
+        crate::rows::rows(
             (&row_branch, loose.as_ref()),
             &tr.nodes,
             &tr.switches,
             (&last, hold_of(&separation)),
             settings.points,
             &mut |done, total| progress(SweepProgress::Fine { done, total }),
-        )?;
-        let mut points = pre_rows.clone();
-        points.extend(states.iter().map(|(s, _)| SweepPoint::from_state(s, flow)));
-        // the rows before contact are the free whisker, the first contact row's shape
-        let first_estimate = states.first().map_or(f64::NAN, |s| s.1);
-        let mut estimates = vec![first_estimate; pre];
-        estimates.extend(states.iter().map(|s| s.1));
-        Ok((points, estimates))
+        )
     };
-    let (points, accuracy) = match settings.accuracy {
-        None => (solve_rows(None)?.0, None),
-        Some(tol) => {
-            let (points, estimates) = solve_rows(Some(tol))?;
-            match check_accuracy(&points, estimates, tol, row_integration_tol(tol)) {
-                Ok(acc) => (points, Some(acc)),
-                // a row's estimate above the accuracy asked for: the rows once more with
-                // their integration (and their estimates') ten times tighter, where that
-                // is possible
-                Err(_) if row_integration_tol(tol / TIGHTER) < row_integration_tol(tol) => {
-                    let at = tol / TIGHTER;
-                    let (points, estimates) = solve_rows(Some(at))?;
-                    let acc = check_accuracy(&points, estimates, tol, row_integration_tol(at))?;
-                    (points, Some(acc))
-                }
-                Err(e) => return Err(e),
-            }
+    let mut states = rows_at(settings.accuracy)?;
+    // where a row's estimate exceeds the accuracy asked for: the rows once more with their
+    // integration (and their estimates') ten times tighter, where that is possible
+    let row_accuracy = settings.accuracy.map(|tol| {
+        let tighter = tol / TIGHTER;
+        let missed = states.iter().any(|s| s.1 > tol || s.1.is_nan());
+        if missed && row_integration_tol(tighter) < row_integration_tol(tol) {
+            tighter
+        } else {
+            tol
         }
-    };
+    });
+    if row_accuracy != settings.accuracy {
+        states = rows_at(row_accuracy)?;
+    }
+    let mut points = pre_contact_rows(whisker, flow, phi1, first.x0(), settings)?;
+    let pre = points.len();
+    points.extend(states.iter().map(|(s, _)| SweepPoint::from_state(s, flow)));
+    let accuracy = settings
+        .accuracy
+        .zip(row_accuracy)
+        .map(|(tol, at)| {
+            // the rows before contact are the free whisker, the first contact row's shape
+            let first_estimate = states.first().map_or(f64::NAN, |s| s.1);
+            let mut estimates = vec![first_estimate; pre];
+            estimates.extend(states.iter().map(|s| s.1));
+            check_accuracy(&points, estimates, tol, row_integration_tol(at))
+        })
+        .transpose()?;
     Ok(SweepResult {
         q: flow.q,
         alpha: flow.alpha,

@@ -13,7 +13,7 @@
 //! | [`integrator`] | first-order systems `u' = G(s, u)`: fixed-step RK4, adaptive Dormand-Prince 8(5,3) with dense output and events |
 //! | [`newton`] | Newton's method for small systems with one convergence policy (damping, Jacobian reuse or Broyden, noise floor, termination reason; safeguards: largest step, stall detection, early exits): square, least squares (Gauss-Newton) and the nearest point of an underdetermined one (projection) |
 //! | [`nonlinear`] | one interface for small non-linear systems: Newton the fast path, the trust region the fallback, which one ran and why it stopped |
-//! | [`roots`] | scalar roots: bisection and Brent (the `fzero` equivalents) |
+//! | [`roots`] | scalar roots: bisection, Brent (the `fzero` equivalents) and Cauchy |
 //! | [`trust_region`] | small non-linear systems by argmin's trust region (the `fsolve` equivalent) |
 //! | [`shooting`] | shooting: unknown initial values / parameters found so that boundary residuals vanish; Newton with the problem's own sensitivities (what the domain runs), or forward differences and the trust region for bare ODEs |
 //! | [`continuation`] | continuation of a solution branch: pseudo-arclength through folds with located events ([`continuation::Arclength`] on a [`continuation::Curve`]), and natural-parameter continuation ([`continuation::Continuation::follow`]) as its special case with the parameter as the one coordinate |

@@ -4,13 +4,16 @@
 //! which one may lie from the cheap cubic part of the interpolant
 //! ([`close_step`](super::base_run::close_step)); [`candidates`] scans them.
 
+use super::base_ode::comp;
 use super::base_ode::BaseOde;
 use super::base_run::{BaseRun, RunStep};
 use super::context::SAMPLES;
 use crate::error::Result;
 use crate::observables::ObservableRow;
+use bvp_solvers::integrator::Interpolant;
 use bvp_solvers::integrator::OdeSystem;
-use bvp_solvers::roots::{brent, RootOptions};
+use bvp_solvers::roots::{brent, cauchy, RootOptions};
+use bvp_solvers::BvpError;
 use contact_sim::Phase;
 
 /// The arc lengths of a row's hypotheses.
@@ -74,11 +77,36 @@ impl Scan<'_> {
         })
     }
 
-    /// The root of `m` bracketed by `[a, b]`, if inside `(0, 1)`.
+    /// The root of `m` bracketed by `[a, b]`, if inside `(0, 1)`: on the polynomial of the
+    /// step being scanned by Cauchy's method where the bracket lies on it (its jet is a few
+    /// operations, and a root next to a double root, as at the tip of a contact whose force
+    /// runs along the tip, takes a few steps where Brent's secants crept for ~30), else by
+    /// Brent on the interpolants.
     fn root(&mut self, a: f64, b: f64) {
-        if let Ok(r) = brent(|t| self.m_at(t), a, b, &self.opts) {
-            if r.x > 0.0 && r.x < 1.0 {
-                self.out.roots.push((Phase::B, r.x));
+        let on_step = self.step.and_then(|p| {
+            let inside = p.start <= a.min(b) && a.max(b) <= p.end;
+            (inside && p.interp.level() == Interpolant::Full).then_some(p.interp)
+        });
+        let found = match on_step {
+            Some(p) => {
+                let (s0, h) = (p.start(), p.h());
+                // the same absolute tolerance in s as Brent's, in theta = (s - s0) / h
+                let opts = RootOptions {
+                    xtol: (self.opts.xtol + 4.0 * f64::EPSILON * a.abs().max(b.abs())) / h.abs(),
+                    ..self.opts
+                };
+                // (a full interpolant of 4 components always has the jet of m)
+                let jet =
+                    |th: f64| Ok::<_, BvpError>(p.eval_jet(comp::M, th).unwrap_or([f64::NAN; 3]));
+                cauchy(jet, (a - s0) / h, (b - s0) / h, &opts)
+                    .ok()
+                    .map(|r| s0 + r.x * h)
+            }
+            None => brent(|t| self.m_at(t), a, b, &self.opts).ok().map(|r| r.x),
+        };
+        if let Some(x) = found {
+            if x > 0.0 && x < 1.0 {
+                self.out.roots.push((Phase::B, x));
             }
         }
     }

@@ -113,6 +113,28 @@ impl<const N: usize> StepInterpolant<N> {
         true
     }
 
+    /// Component `i` of the 7th-order interpolant at `theta` with its first two derivatives
+    /// by `theta`, `[u_i, du_i/dtheta, d^2u_i/dtheta^2]` (the nested form differentiated
+    /// level by level; `d/ds = (1/h) d/dtheta`); `None` unless it was copied in full, or if
+    /// `i >= N`.
+    pub fn eval_jet(&self, i: usize, theta: f64) -> Option<[f64; 3]> {
+        if self.level != Interpolant::Full || i >= N {
+            return None;
+        }
+        let r = |j: usize| self.rc[j][i];
+        let t1 = 1.0 - theta;
+        // from the innermost level out: w = r_j + t w_in with t = theta (t' = 1) or
+        // 1 - theta (t' = -1): w' = t' w_in + t w_in', w'' = 2 t' w_in' + t w_in''
+        let (mut w, mut d1, mut d2) = (r(7), 0.0, 0.0);
+        for j in (0..7).rev() {
+            let (t, dt) = if j % 2 == 0 { (theta, 1.0) } else { (t1, -1.0) };
+            d2 = 2.0 * dt * d1 + t * d2;
+            d1 = dt * w + t * d1;
+            w = r(j) + t * w;
+        }
+        Some([w, d1, d2])
+    }
+
     /// The coefficient blocks `r0..r3` of the cubic Hermite part (module docs of
     /// [`StepInterpolant`]): `u(theta) = r0 + theta (r1 + (1 - theta) (r2 + theta r3))`,
     /// `h u'(theta) = r1 + (1 - 2 theta) r2 + theta (2 - 3 theta) r3`; `None` if no
@@ -488,6 +510,52 @@ mod tests {
                     && !sol.eval_near(f64::NAN, &mut hint, &mut v)
             );
         }
+    }
+
+    /// The jet of a component is the interpolant's value (to rounding) and its derivatives:
+    /// against the exact solution `(sin s, cos s)` of the harmonic oscillator and against
+    /// central differences of the interpolant itself; nothing without the full interpolant.
+    #[test]
+    fn the_jet_is_the_interpolant_and_its_derivatives() {
+        use crate::integrator::Interpolant;
+        let opts = Dop853::new(1e-11, 1e-11);
+        let mut st = opts.stepper(&Harmonic, 0.0, 3.0, &[0.0, 1.0]).unwrap();
+        let mut steps = 0;
+        while st.step().unwrap() {
+            st.prepare(Interpolant::Cubic);
+            let cubic = st.interpolant::<2>().unwrap();
+            assert!(cubic.eval_jet(0, 0.5).is_none());
+            st.prepare(Interpolant::Full);
+            let p = st.interpolant::<2>().unwrap();
+            assert!(p.eval_jet(2, 0.5).is_none());
+            let h = p.h();
+            for k in 0..=8 {
+                let th = k as f64 / 8.0;
+                let s = p.start() + th * h;
+                let mut u = [0.0; 2];
+                assert!(p.eval(th, &mut u));
+                for (i, (d0, d1, d2)) in
+                    [(s.sin(), s.cos(), -s.sin()), (s.cos(), -s.sin(), -s.cos())]
+                        .into_iter()
+                        .enumerate()
+                {
+                    let [w, w1, w2] = p.eval_jet(i, th).unwrap();
+                    assert!((w - u[i]).abs() <= 4e-16, "{w} vs {}", u[i]);
+                    assert!((w - d0).abs() < 1e-10);
+                    assert!((w1 / h - d1).abs() < 1e-8, "{} vs {d1}", w1 / h);
+                    assert!((w2 / (h * h) - d2).abs() < 1e-6, "{} vs {d2}", w2 / (h * h));
+                    // central differences of the polynomial (exact to O(dt^2) and rounding)
+                    let dt = 1e-3;
+                    let at = |t: f64| p.eval_jet(i, t).unwrap();
+                    let fd1 = (at(th + dt)[0] - at(th - dt)[0]) / (2.0 * dt);
+                    let fd2 = (at(th + dt)[1] - at(th - dt)[1]) / (2.0 * dt);
+                    assert!((fd1 - w1).abs() < 1e-6 * (1.0 + w1.abs()), "{fd1} vs {w1}");
+                    assert!((fd2 - w2).abs() < 1e-6 * (1.0 + w2.abs()), "{fd2} vs {w2}");
+                }
+            }
+            steps += 1;
+        }
+        assert!(steps > 3, "{steps}");
     }
 
     /// The extension unrolled for a fixed dimension gives the very numbers of the run-time

@@ -1,5 +1,7 @@
 //! Scalar roots: a bracket grown outwards from a start ([`grow_brackets`]), then Brent's
-//! method on it (the `fzero` equivalent, [`brent`]) or bisection on a predicate ([`bisect`]).
+//! method on it (the `fzero` equivalent, [`brent`]) or bisection on a predicate ([`bisect`]);
+//! where the first two derivatives are cheap (a polynomial, an interpolant), Cauchy's method
+//! on the bracket ([`cauchy`], third order, and quick next to a double root).
 //!
 //! [`brent`] takes a *fallible* closure `FnMut(f64) -> Result<f64, E>` so that callers can
 //! propagate their own error types; the only requirement is `E: From<BvpError>`.
@@ -8,6 +10,9 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 use crate::BvpError;
+
+mod cauchy;
+pub use cauchy::cauchy;
 
 /// A located root.
 #[derive(Clone, Copy, Debug, PartialEq)]

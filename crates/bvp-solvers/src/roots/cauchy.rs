@@ -1,7 +1,7 @@
 //! Cauchy's method on a bracket ([`cauchy`]): the root of the local quadratic Taylor model,
 //! for a function whose first two derivatives are cheap (a polynomial, an interpolant).
 
-use super::{check_inputs, finite, Root, RootOptions};
+use super::{check_inputs, finite, not_bracketed, Root, RootOptions};
 use crate::BvpError;
 
 /// The step of Cauchy's method from a point where `(f, f', f'') = jet`: the root nearest
@@ -67,18 +67,7 @@ where
         return Ok(at(b, jb[0], 0));
     }
     if (ja[0] < 0.0) == (jb[0] < 0.0) {
-        let (lo, hi, flo, fhi) = if a <= b {
-            (a, b, ja[0], jb[0])
-        } else {
-            (b, a, jb[0], ja[0])
-        };
-        return Err(BvpError::NotBracketed {
-            a: lo,
-            b: hi,
-            fa: flo,
-            fb: fhi,
-        }
-        .into());
+        return Err(not_bracketed((a, ja[0]), (b, jb[0])).into());
     }
     // the bracket: where f < 0 and where f > 0, with their values
     let (mut neg, mut pos) = if ja[0] < 0.0 {

@@ -90,6 +90,16 @@ fn finite(fx: f64, x: f64) -> Result<f64, BvpError> {
     }
 }
 
+/// The `NotBracketed` error of the ends `(a, f(a))`, `(b, f(b))` of a bracket (in order).
+fn not_bracketed((a, fa): (f64, f64), (b, fb): (f64, f64)) -> BvpError {
+    let ((a, fa), (b, fb)) = if a <= b {
+        ((a, fa), (b, fb))
+    } else {
+        ((b, fb), (a, fa))
+    };
+    BvpError::NotBracketed { a, b, fa, fb }
+}
+
 /// The values at the ends of a bracket, or a root already found at one of them.
 enum Ends {
     Root(Root),
@@ -353,18 +363,7 @@ where
     };
     let (mut a, mut b) = (a, b);
     if (fa < 0.0) == (fb < 0.0) {
-        let (lo, hi, flo, fhi) = if a <= b {
-            (a, b, fa, fb)
-        } else {
-            (b, a, fb, fa)
-        };
-        return Err(BvpError::NotBracketed {
-            a: lo,
-            b: hi,
-            fa: flo,
-            fb: fhi,
-        }
-        .into());
+        return Err(not_bracketed((a, fa), (b, fb)).into());
     }
     let eps = f64::EPSILON;
     let mut c = a;

@@ -23,7 +23,7 @@ fn step([f, d1, d2]: [f64; 3]) -> Option<f64> {
 /// `jet(x)` returns `(f, f', f'')` at `x`.
 ///
 /// From the end with the smaller `|f|`, each step goes to the nearest root of the local
-/// quadratic model ([`step`]); a step that leaves the bracket, a model without a real root,
+/// quadratic model; a step that leaves the bracket, a model without a real root,
 /// or a bracket that has not halved in two steps is replaced by bisection, and a step
 /// shorter than `tol1` is lengthened to `tol1` (as Brent's is) so that the bracket closes
 /// around the root. Terminates when the bracket's half-width is `<= tol1 = 2 eps |x| +

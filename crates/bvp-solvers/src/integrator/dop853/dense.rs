@@ -213,8 +213,33 @@ impl OdeSolution {
         true
     }
 
-    /// [`OdeSolution::step_index`] walked to from `*hint` (updated).
-    fn step_near(&self, s: f64, hint: &mut usize) -> Option<usize> {
+    /// The interpolant of step `k` ([`OdeSolution::step_index`]) of a linear map `map` of the
+    /// state (applied to each coefficient block: the interpolant is linear in them), for a
+    /// caller that samples a few quantities of a larger state many times on few steps;
+    /// `None` outside the steps or without dense output. Only a *linear* map is right: an
+    /// offset belongs to the first block alone.
+    pub fn step_interpolant_of<const M: usize>(
+        &self,
+        k: usize,
+        map: impl Fn(&[f64]) -> [f64; M],
+    ) -> Option<StepInterpolant<M>> {
+        let n = self.dim;
+        let rc = self.cont.get(k * 8 * n..(k + 1) * 8 * n)?;
+        let mut out = StepInterpolant {
+            start: self.points[k],
+            h: self.hs[k],
+            level: Interpolant::Full,
+            rc: [[0.0; M]; 8],
+        };
+        for (b, src) in out.rc.iter_mut().zip(rc.chunks_exact(n)) {
+            *b = map(src);
+        }
+        Some(out)
+    }
+
+    /// [`OdeSolution::step_index`] walked to from `*hint` (updated): for a sequence of nearby
+    /// points a step or two instead of a binary search ([`OdeSolution::eval_near`]).
+    pub fn step_near(&self, s: f64, hint: &mut usize) -> Option<usize> {
         let (dir, t) = self.key_of(s)?;
         let key = |k: usize| dir * (self.points[k] - self.s_start);
         Some(crate::grid::locate_from(self.hs.len(), key, t, hint))
@@ -510,6 +535,27 @@ mod tests {
                     && !sol.eval_near(f64::NAN, &mut hint, &mut v)
             );
         }
+    }
+
+    /// A step's interpolant of a linear map of the state is the map of the dense output
+    /// (to rounding), on every step; nothing outside the steps.
+    #[test]
+    fn a_steps_interpolant_of_a_linear_map_is_the_map_of_the_dense_output() {
+        let opts = Dop853::new(1e-10, 1e-10).with_dense(true);
+        let sol = opts.integrate(&Harmonic, 0.0, 3.0, &[0.0, 1.0]).unwrap();
+        let map = |r: &[f64]| [r[0] + 0.3 * r[1], -2.0 * r[1]];
+        let mut hint = usize::MAX;
+        for i in 0..=300 {
+            let s = 0.01 * i as f64 * (1.0 - 1e-12);
+            let k = sol.step_near(s, &mut hint).unwrap();
+            assert_eq!(Some(k), sol.step_index(s));
+            let p = sol.step_interpolant_of(k, map).unwrap();
+            let (mut v, u) = ([0.0; 2], sol.eval(s).unwrap());
+            assert!(p.eval((s - p.start()) / p.h(), &mut v));
+            let want = map(&u);
+            assert!((v[0] - want[0]).abs() <= 1e-15 && (v[1] - want[1]).abs() <= 1e-15);
+        }
+        assert!(sol.step_interpolant_of(sol.steps(), map).is_none());
     }
 
     /// The jet of a component is the interpolant's value (to rounding) and its derivatives:

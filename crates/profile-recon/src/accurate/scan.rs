@@ -4,14 +4,12 @@
 //! which one may lie from the cheap cubic part of the interpolant
 //! ([`close_step`](super::base_run::close_step)); [`candidates`] scans them.
 
-use super::base_ode::comp;
-use super::base_ode::BaseOde;
+use super::base_ode::{comp, BaseOde};
 use super::base_run::{BaseRun, RunStep};
 use super::context::SAMPLES;
 use crate::error::Result;
 use crate::observables::ObservableRow;
-use bvp_solvers::integrator::Interpolant;
-use bvp_solvers::integrator::OdeSystem;
+use bvp_solvers::integrator::{Interpolant, OdeSystem};
 use bvp_solvers::roots::{brent, cauchy, RootOptions};
 use bvp_solvers::BvpError;
 use contact_sim::Phase;

@@ -9,7 +9,7 @@ use crate::equations::{FreeSegment, Sensitivities};
 use crate::error::{ModelError, Result};
 use crate::scene::Scene;
 use crate::shot::{shoot_path, Integration, ShotPath};
-use bvp_solvers::integrator::{Dop853, OdeSolution};
+use bvp_solvers::integrator::{Dop853, OdeSolution, StepInterpolant};
 
 /// A point of the elastica, relative to the base.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -20,6 +20,19 @@ pub struct PathPoint {
     pub y: f64,
     /// The angle phi.
     pub phi: f64,
+}
+
+/// One integrator step of a [`ShapePath`] ([`ShapePath::pieces`]): the position relative
+/// to the base is `poly(theta) + offset` for `theta` in `[0, 1]`, at arc length
+/// `s = poly.start() + theta poly.h()`.
+#[derive(Clone, Copy, Debug)]
+pub struct ShapePiece {
+    /// The interpolant of `(x, y)` without the offset.
+    pub poly: StepInterpolant<2>,
+    /// What the interpolant's positions are measured from.
+    pub offset: (f64, f64),
+    /// Whether the step belongs to the load-free segment beyond a tangential contact.
+    pub free: bool,
 }
 
 /// The dense elastica of [`shape_path`].
@@ -104,6 +117,36 @@ impl ShapePath {
                 phi: seg.phi(s),
             })
         }
+    }
+
+    /// The integrators' steps as polynomials of the position `(x, y)` relative to the base,
+    /// ordered outward from the loaded end `s1`: the loaded part's steps from `s1` towards
+    /// the base, then (beyond a tangential contact) the free segment's from `s1` towards the
+    /// tip. On each, the position is the step's 7th-order interpolant plus
+    /// [`ShapePiece::offset`]; `theta = 0` is the end nearer `s1`.
+    pub fn pieces(&self) -> Vec<ShapePiece> {
+        let mut out = Vec::with_capacity(self.loaded.steps() + 8);
+        for k in 0..self.loaded.steps() {
+            if let Some(poly) = self.loaded.step_interpolant_of(k, |r| [r[2], r[3]]) {
+                out.push(ShapePiece {
+                    poly,
+                    offset: self.end,
+                    free: false,
+                });
+            }
+        }
+        if let Some((sol, _)) = &self.free {
+            for k in 0..sol.steps() {
+                if let Some(poly) = sol.step_interpolant_of(k, |r| [r[0], r[1]]) {
+                    out.push(ShapePiece {
+                        poly,
+                        offset: (0.0, 0.0),
+                        free: true,
+                    });
+                }
+            }
+        }
+        out
     }
 
     /// The integrators' step points over `[0, 1]`, increasing (`s1` among them): between

@@ -15,7 +15,7 @@
 use crate::ahead::{with_checks, Ahead};
 use crate::branch::{dot, Branch, Constraint, Node, Rescue};
 use crate::error::{ContactError, Result};
-use crate::events::{penetration, phase_margin, x0_rate};
+use crate::events::{near_margin, penetration, phase_margin, x0_rate};
 use crate::phase::Phase;
 use beam_model::shot::Integration;
 use bvp_solvers::continuation::{locate, ArcControl, Arclength, Attempt, Curve};
@@ -152,9 +152,11 @@ pub(crate) fn trace_tightened(
     Ok(tr)
 }
 
-/// Penetration depth below which a second contact is not counted (the shape check's own
-/// accuracy is ~1e-10).
-const PENETRATION_MARGIN: f64 = 1e-8;
+/// Penetration depth below which a second contact is not counted, and at which it is
+/// located: the depth of [`penetration`] excludes the contact point's basin and is bounded
+/// on the dense elastica to 1e-13, so the margin only absorbs the shape's integration error
+/// (its tolerance 1e-10); the located row lies that far inside at most.
+const PENETRATION_MARGIN: f64 = 1e-10;
 
 /// A step below which a rise of x0 is the turning point itself (x0 stationary within the
 /// shots' accuracy).
@@ -174,6 +176,8 @@ enum Event {
     Release,
     Snap,
     SecondContact,
+    /// The whisker next to the contact point touching ([`near_margin`]).
+    Touch,
     AtBase,
 }
 
@@ -184,12 +188,13 @@ pub(crate) const BASE_CONTACT: f64 = 1e-2;
 impl Event {
     /// Whether the event has happened at `node` (its condition crossed; `tn` the tangent
     /// there). The second contact is not checked here: it costs a shot of its own.
-    fn passed(self, node: &Node, tn: &[f64; 3]) -> bool {
+    fn passed(self, branch: &Branch, node: &Node, tn: &[f64; 3]) -> bool {
         match self {
             Event::Switch => phase_margin(node) <= 0.0,
             Event::Release => node.state.f < 0.0,
             Event::Snap => node.x0_rate(tn) >= 0.0,
             Event::AtBase => node.phase == Phase::B && node.state.s1 <= BASE_CONTACT,
+            Event::Touch => near_margin(branch.whisker, branch.profile, node) <= 0.0,
             Event::SecondContact => false,
         }
     }
@@ -202,6 +207,7 @@ impl Event {
             Event::Release => n.state.f,
             Event::Snap => -x0_rate(n, t_ref),
             Event::AtBase => n.state.s1 - BASE_CONTACT,
+            Event::Touch => near_margin(branch.whisker, branch.profile, n),
             Event::SecondContact => PENETRATION_MARGIN - depth(branch, n)?,
         })
     }
@@ -222,7 +228,7 @@ impl Event {
         match self {
             Event::Release => Some(End::Release(at)),
             Event::Snap => Some(End::Snap(at)),
-            Event::SecondContact => Some(End::MultiContact(at)),
+            Event::SecondContact | Event::Touch => Some(End::MultiContact(at)),
             Event::AtBase => Some(End::AtBase(at)),
             Event::Switch => None,
         }
@@ -454,10 +460,23 @@ impl<'b, 'a> Tracer<'b, 'a> {
     /// at the cost of a shot, only for a step that is otherwise accepted, and then on the
     /// other thread where the checks run ahead).
     fn events(&self, node: &Node, tn: &[f64; 3]) -> Result<Vec<Event>> {
-        let mut events: Vec<Event> = [Event::Switch, Event::Release, Event::Snap, Event::AtBase]
-            .into_iter()
-            .filter(|ev| ev.passed(node, tn))
-            .collect();
+        let cur = self.cur();
+        let mut events: Vec<Event> = [
+            Event::Switch,
+            Event::Release,
+            Event::Snap,
+            Event::AtBase,
+            Event::Touch,
+        ]
+        .into_iter()
+        .filter(|ev| {
+            ev.passed(self.branch, node, tn)
+                && (*ev != Event::Touch || self.ctl.check_penetration)
+                // the touch only where it is crossed within the step (a phase's first node
+                // that starts beyond it ends the trace at the switch)
+                && (*ev != Event::Touch || !ev.passed(self.branch, cur, tn))
+        })
+        .collect();
         if events.is_empty()
             && self.ctl.check_penetration
             && self.ahead.is_none()
@@ -632,6 +651,14 @@ impl<'b, 'a> Tracer<'b, 'a> {
             // The other phase's branch leaves towards larger x0: no quasi-static
             // continuation, the whisker snaps off at the switch.
             return Ok(Some(End::Snap(at)));
+        }
+        if self.ctl.check_penetration
+            && next.phase == Phase::B
+            && near_margin(self.branch.whisker, self.branch.profile, &next) <= 0.0
+        {
+            // the tangential phase starts with the whisker bending into the contour on both
+            // sides of the contact point
+            return Ok(Some(End::MultiContact(at)));
         }
         self.nodes.push(next);
         let curve = PhaseCurve {

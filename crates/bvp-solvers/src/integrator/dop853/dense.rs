@@ -135,6 +135,14 @@ impl<const N: usize> StepInterpolant<N> {
         Some([w, d1, d2])
     }
 
+    /// All eight coefficient blocks `r0..r7` of the 7th-order interpolant (module docs of
+    /// [`StepInterpolant`]), for a caller that bounds the polynomial over a range of
+    /// `theta` (e.g. by interval arithmetic on the nested form); `None` unless it was
+    /// copied in full.
+    pub fn coefficients(&self) -> Option<&[[f64; N]; 8]> {
+        (self.level == Interpolant::Full).then_some(&self.rc)
+    }
+
     /// The coefficient blocks `r0..r3` of the cubic Hermite part (module docs of
     /// [`StepInterpolant`]): `u(theta) = r0 + theta (r1 + (1 - theta) (r2 + theta r3))`,
     /// `h u'(theta) = r1 + (1 - 2 theta) r2 + theta (2 - 3 theta) r3`; `None` if no

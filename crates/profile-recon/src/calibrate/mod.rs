@@ -346,6 +346,41 @@ impl Calibration {
     }
 }
 
+/// The stage of a calibration that a [`Progress`] report comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stage {
+    /// Ranking the designed and seeded candidate starts (module docs, "Local minima").
+    Screen,
+    /// A local fit from a candidate (`done` of `total` local fits at most).
+    Search,
+    /// The fit extended from the subsample to every row of a long log (module docs,
+    /// "Long logs").
+    AllRows,
+    /// The final polish.
+    Polish,
+}
+
+/// A progress report of [`calibrate_with_progress`]: the stage, how far it is (`done` of
+/// `total` steps of that stage: candidates screened, local fits made, iterations) and the
+/// current cost (half the sum of the squared whitened residuals; NaN before any fit).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Progress {
+    /// The stage.
+    pub stage: Stage,
+    /// Steps of the stage done.
+    pub done: usize,
+    /// Steps of the stage at most.
+    pub total: usize,
+    /// Rows in use at this stage.
+    pub rows: usize,
+    /// Current cost.
+    pub cost: f64,
+}
+
+/// A receiver of [`Progress`] reports (a progress bar); `&dyn Fn` so that a calibration
+/// needs no mutable access to it.
+pub type ProgressFn<'a> = &'a dyn Fn(&Progress);
+
 /// Fits the whisker's parameters `settings.fit` to `logs`, starting from `start` (module
 /// docs of [`calibrate`](self)).
 ///
@@ -354,13 +389,30 @@ impl Calibration {
 /// value, [`ReconError::CalibrationRequest`] for an empty or repeated parameter list,
 /// [`ReconError::Model`] for a start whisker out of range, [`ReconError::CalibrationStart`]
 /// when the start whisker cannot evaluate a pre-contact row,
+/// [`ReconError::CalibrationNoContact`] when no row of any log is in contact, or none of
+/// them can be fitted (and a parameter other than `k` is asked for),
 /// [`ReconError::CalibrationUnderdetermined`] with fewer residuals than parameters.
 pub fn calibrate(
     start: &Whisker,
     logs: &[CalibLog],
     settings: &CalibSettings,
 ) -> crate::error::Result<Calibration> {
-    let (mut prob, mut fit, costs) = run::fit(start, logs, settings)?;
+    calibrate_with_progress(start, logs, settings, &|_| {})
+}
+
+/// [`calibrate()`], reporting its progress to `progress` (at every candidate screened, every
+/// Levenberg-Marquardt iteration and every stage; a long log takes a while).
+///
+/// # Errors
+/// Those of [`calibrate()`].
+pub fn calibrate_with_progress(
+    start: &Whisker,
+    logs: &[CalibLog],
+    settings: &CalibSettings,
+    progress: ProgressFn<'_>,
+) -> crate::error::Result<Calibration> {
+    let (mut prob, mut fit, costs) = run::fit(start, logs, settings, progress)?;
     polish::polish(&mut prob, &mut fit, settings)?;
+    run::check_contact(&prob, &fit)?;
     result::summarize(&mut prob, &fit, &costs, start)
 }

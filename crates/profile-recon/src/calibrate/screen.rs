@@ -11,7 +11,7 @@
 
 use super::problem::CalibProblem;
 use super::residual::{hypotheses, row_residuals, Model, RowCtx, RowKind};
-use super::CalibParam;
+use super::{CalibParam, Stage};
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 
@@ -95,7 +95,10 @@ pub(crate) fn candidates(
     let mut rng = StdRng::seed_from_u64(seed);
     let start: Model = prob.unpack(p0).0;
     let mut out = vec![(objective(prob, p0, &rows), p0.to_vec())];
-    for _ in 0..count {
+    let n_rows = rows.iter().map(Vec::len).sum();
+    for k in 0..count {
+        prob.progress
+            .stage(Stage::Screen, k, count, n_rows, out[0].0);
         let mut p = p0.to_vec();
         for (v, param) in p.iter_mut().zip(&prob.free) {
             *v = match param {

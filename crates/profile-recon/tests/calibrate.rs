@@ -753,3 +753,46 @@ fn diagnose_battery_cases() {
         true
     });
 }
+
+/// A long log (issue 34: 100,000 rows took ~280 s): ten noisy passes (relative noise 1e-4)
+/// of a 10,000-row sweep, calibrated from a wrong start; the progress reports counted.
+/// `CALIB_ROWS=100000` for the issue's size. `cargo test -p profile-recon --test calibrate
+/// long_log -- --ignored --nocapture`.
+#[test]
+#[ignore = "timing: a long log"]
+fn long_log_timing() {
+    let rows: usize = std::env::var("CALIB_ROWS").map_or(100_000, |v| v.parse().unwrap());
+    let case = Case {
+        truth: Whisker::new(0.6, 0.5, 0.3, 20.0),
+        flow: FluidLoad { q: 2.0, alpha: 0.2 },
+        profile: ("g2".into(), Profile::g2()),
+    };
+    let pass = log_of(&case, rows / 10).unwrap();
+    let mut log = pass.clone();
+    log.rows = (0..10)
+        .flat_map(|k| add_noise(&pass.rows, 1e-4, 40 + k))
+        .collect();
+    let n = log.rows.len();
+    let start = Whisker::new(0.8, 0.3, 0.2, 30.0);
+    let reports = std::cell::Cell::new(0usize);
+    let t = std::time::Instant::now();
+    let cal = profile_recon::calibrate::calibrate_with_progress(
+        &start,
+        std::slice::from_ref(&log),
+        &CalibSettings::default(),
+        &|_| reports.set(reports.get() + 1),
+    )
+    .unwrap();
+    let secs = t.elapsed().as_secs_f64();
+    eprintln!(
+        "{n} rows: {secs:.1} s ({:.3} ms a row), {} progress reports, warnings {:?}",
+        1e3 * secs / n as f64,
+        reports.get(),
+        cal.warnings
+    );
+    for (p, e, sd) in errors(&cal, &case.truth) {
+        eprintln!("  {}: off by {e:.2e} = {:.1} stderr", p.name(), e / sd);
+        assert!(e.abs() < 4.0 * sd, "{}", p.name());
+    }
+    assert!(reports.get() > 10);
+}

@@ -219,13 +219,20 @@ fn a_log_of_the_free_whisker_only_is_refused() {
         &["free.csv", "free whisker", "0 of 0 contact row"],
         cwd,
     );
-    // the follicle law alone gives k from the same rows
+    // the follicle law alone gives k from the same rows (the shape held at the truth's: a
+    // wrong one leaves m(1) != 0, and a warning)
     let o = run(
         &[
             "calibrate",
             &format!("free.csv={POST}"),
             "--fit",
             "k",
+            "--theta",
+            "0.6",
+            "--a",
+            "0.5",
+            "--b",
+            "0.3",
             "--json",
         ],
         cwd,

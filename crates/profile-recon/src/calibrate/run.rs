@@ -181,12 +181,19 @@ pub(crate) fn check_contact(prob: &CalibProblem<'_>, fit: &Rounds) -> Result<()>
         .filter(|k| **k == RowKind::Pre)
         .count();
     let rows: usize = prob.logs.iter().map(|l| l.rows.len()).sum();
-    Err(no_contact(
-        prob.logs,
-        rows - pre,
+    let flowless = fit
+        .kinds
+        .iter()
+        .zip(&prob.fixed_flow)
+        .any(|(ks, fixed)| fixed.is_none() && !ks.iter().any(|k| *k == RowKind::Pre));
+    let reason = if flowless {
+        "none of the contact rows can be fitted, and no row of the free whisker gives the \
+         flow (give q and alpha, or rows before contact)"
+    } else {
         "none of the contact rows can be fitted by one whisker on the known contour(s) (rows \
-         of another whisker or contour, rows all at one base position, or a start far off)",
-    ))
+         of another whisker or contour, rows all at one base position, or a start far off)"
+    };
+    Err(no_contact(prob.logs, rows - pre, reason))
 }
 
 /// Input checks.

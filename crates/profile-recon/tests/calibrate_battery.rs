@@ -553,6 +553,67 @@ fn battery_of_issue_37() {
     }
 }
 
+/// Diagnostics of one case (`CALIB_CASE=FAMILY_INDEX,K`, `CALIB_LEVEL`): the fit from the
+/// default start and from the truth. `cargo test -p profile-recon --test calibrate_battery
+/// diagnose -- --ignored --nocapture`.
+#[test]
+#[ignore = "diagnostics"]
+fn diagnose_case() {
+    let var = |k: &str| std::env::var(k).ok();
+    let level: f64 = var("CALIB_LEVEL").map_or(1e-3, |v| v.parse().unwrap());
+    let spec = var("CALIB_CASE").unwrap_or_else(|| "0,0".into());
+    let mut it = spec.split(',').map(|v| v.parse::<usize>().unwrap());
+    let (f, k) = (it.next().unwrap(), it.next().unwrap());
+    let family = FAMILIES[f];
+    let i = f * 10 + k;
+    let c = case(family, 3701 + 97 * k as u64 + family as u64, 60).unwrap();
+    let logs = logs_of(&c, level, 1000 + i as u64);
+    eprintln!(
+        "{:?} {:?} flows {:?}",
+        family,
+        c.truth,
+        c.sweeps.iter().map(|s| s.flow).collect::<Vec<_>>()
+    );
+    for (name, start, settings) in [
+        ("default", default_start(), CalibSettings::default()),
+        (
+            "truth",
+            c.truth,
+            CalibSettings {
+                screen: 0,
+                starts: 1,
+                ..Default::default()
+            },
+        ),
+        (
+            "default, 12 starts",
+            default_start(),
+            CalibSettings {
+                starts: 12,
+                ..Default::default()
+            },
+        ),
+    ] {
+        match calibrate(&start, &logs, &settings) {
+            Ok(cal) => {
+                let z: Vec<String> = errors(&cal, &c.truth)
+                    .iter()
+                    .map(|(p, e, sd)| format!("{}: {:+.1}", p.name(), e / sd))
+                    .collect();
+                let kinds: String = cal.rows.iter().map(|r| r.kind).collect();
+                eprintln!(
+                    "{name}: {kinds} fits {:?} noise {:.2e} (logs {:.2e}) z [{}]",
+                    cal.fits,
+                    cal.noise_level,
+                    cal.log_noise,
+                    z.join(", ")
+                );
+            }
+            Err(e) => eprintln!("{name}: {e}"),
+        }
+    }
+}
+
 #[test]
 #[ignore = "debug"]
 fn debug_generator() {

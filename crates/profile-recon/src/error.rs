@@ -109,6 +109,22 @@ pub enum ReconError {
         /// Parameters to fit.
         parameters: usize,
     },
+    /// No contact row of any calibration log is in the fit: what the contact with the known
+    /// contour determines (theta, A, B, E I [3.5, 3.8, 3.16]) and the distance to it are
+    /// not determined by the logs.
+    #[error("calibration: {reason}: {fitted} of {contact} contact row(s) of {rows} row(s) in {logs} log(s) could be fitted; theta, a, b and ei need rows in contact with the known contour")]
+    CalibrationNoContact {
+        /// Why no contact row is in the fit.
+        reason: &'static str,
+        /// Logs.
+        logs: usize,
+        /// Rows of all logs.
+        rows: usize,
+        /// Rows that are not the free whisker (contact rows by the data).
+        contact: usize,
+        /// Contact rows in the fit.
+        fitted: usize,
+    },
 }
 
 /// Result alias of this crate.

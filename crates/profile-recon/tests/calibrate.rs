@@ -6,9 +6,8 @@
 //!   unknown contour as well as the true one;
 //! - `noisy_*`: relative noise 1e-4 and 1e-3: the truth within 3 standard errors for at
 //!   least 95 % of the (case, parameter) pairs; standard errors shrinking as 1/sqrt(rows);
-//! - `unidentifiable_*`: where the Fisher information is singular (a log of the free whisker
-//!   only; no flow at all), the parameters are reported as not identifiable, with the
-//!   combination that is determined;
+//! - a log of the free whisker only is refused (theta, A, B need contact), but gives `k`
+//!   alone; three contact rows are not taken for the flow's, one free row is recognised;
 //! - `design_*`: the predicted standard errors of the design advice against a fit.
 //!
 //! The default tests take ~5 s (`cargo test -p profile-recon --test calibrate`); the big
@@ -20,7 +19,9 @@ use contact_sim::{sweep, Phase, Profile, SweepResult, SweepSettings};
 use profile_recon::calibrate::{
     calibrate, design, CalibLog, CalibParam, CalibSettings, Calibration, DesignSettings,
 };
-use profile_recon::{add_noise, contour_error, from_sweep, reconstruct, KnownFlow, ReconSettings};
+use profile_recon::{
+    add_noise, contour_error, from_sweep, reconstruct, KnownFlow, ReconError, ReconSettings,
+};
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 
@@ -327,11 +328,9 @@ fn battery_exact_and_noisy() {
         if let Some(mut free) = log_of(&case, 20) {
             free.rows.truncate(10);
             let start = wrong_start(&case.truth, &mut rng);
-            if let Ok(cal) = calibrate(&start, &[free], &CalibSettings::default()) {
-                singular += 1;
-                for p in &cal.parameters[..3] {
-                    assert!(!p.identifiable, "case {i}: {:?}", cal.parameters);
-                }
+            match calibrate(&start, &[free], &CalibSettings::default()) {
+                Err(ReconError::CalibrationNoContact { .. }) => singular += 1,
+                other => panic!("case {i}: free rows only: {other:?}"),
             }
         }
         match exact_case(&case, 60, &mut rng) {
@@ -350,7 +349,7 @@ fn battery_exact_and_noisy() {
     eprintln!(
         "exact: {done} cases calibrated to 1e-7, {flagged} missed with a warning, {silent} \
          missed silently, {failed_sweeps} sweeps failed or too short; {singular} free-rows-only \
-         logs all reported theta, a, b as not identifiable ({:?})",
+         logs all refused (no contact row) ({:?})",
         t.elapsed()
     );
     // The issue asks for 95 % at both levels. Measured: 157/160 pairs at 1e-4 (case 31, a
@@ -406,7 +405,7 @@ fn standard_errors_shrink_as_one_over_sqrt_rows() {
 }
 
 #[test]
-fn unidentifiable_when_the_log_shows_the_free_whisker_only() {
+fn a_log_of_the_free_whisker_only_is_refused_but_gives_k() {
     let truth = Whisker::new(0.5, 0.4, -0.3, 15.0);
     let case = Case {
         truth,
@@ -414,44 +413,112 @@ fn unidentifiable_when_the_log_shows_the_free_whisker_only() {
         profile: ("g2".into(), Profile::g2()),
     };
     let mut log = log_of(&case, 20).unwrap();
-    // the free rows only: one configuration, seen ten times
+    // the free rows only: one configuration, seen ten times; theta, A, B need contact
     log.rows.truncate(10);
-    let settings = CalibSettings {
-        fit: vec![
-            CalibParam::Theta,
-            CalibParam::A,
-            CalibParam::B,
-            CalibParam::K,
-        ],
+    let start = Whisker::new(0.6, 0.3, -0.2, 20.0);
+    let e = calibrate(
+        &start,
+        std::slice::from_ref(&log),
+        &CalibSettings::default(),
+    )
+    .unwrap_err();
+    assert!(
+        matches!(
+            e,
+            ReconError::CalibrationNoContact {
+                contact: 0,
+                fitted: 0,
+                rows: 10,
+                ..
+            }
+        ),
+        "{e}"
+    );
+    // k from the follicle law of the rows alone
+    let only_k = CalibSettings {
+        fit: vec![CalibParam::K],
         ..Default::default()
     };
-    let start = Whisker::new(0.6, 0.3, -0.2, 20.0);
-    let cal = calibrate(&start, std::slice::from_ref(&log), &settings).unwrap();
-    for p in &cal.parameters[..3] {
-        assert!(!p.identifiable && p.value.is_none(), "{:?}", cal.parameters);
-    }
-    // k from the follicle law of the rows
+    // (the shape held at the truth's: a wrong one leaves m(1) != 0, which the whitening
+    // correlates with the follicle law through the noise of phi0)
+    let shape = Whisker {
+        support: start.support,
+        ..truth
+    };
+    let cal = calibrate(&shape, std::slice::from_ref(&log), &only_k).unwrap();
     let k = cal.parameter(CalibParam::K).unwrap();
     assert!(
         k.identifiable && (k.value.unwrap() - 15.0).abs() < 1e-6,
         "{k:?}"
     );
-    // the one thing the free whisker determines: m(1) = 0, one combination of theta, A, B
-    assert_eq!(cal.determined.len(), 1, "{:?}", cal.determined);
-    assert_eq!(cal.determined[0].terms.len(), 3);
-    // no flow at all: the free whisker under no load says nothing about theta, A, B, k
-    let none = Case {
-        flow: FluidLoad { q: 0.0, alpha: 0.0 },
-        ..case
+    // the distance of no contact row is none, not 0
+    assert!(cal.rms_distance.is_nan());
+    // two whiskers in one file: the contact rows of another whisker and contour than the
+    // free rows' cannot be fitted by one whisker; refused or warned, never silent
+    let other = Case {
+        truth: Whisker::new(1.0, -1.5, 1.2, 3.0),
+        flow: FluidLoad {
+            q: 0.3,
+            alpha: -0.5,
+        },
+        profile: ("g1".into(), Profile::g1()),
     };
-    let mut log = log_of(&none, 20).unwrap();
-    log.rows.truncate(10);
-    let cal = calibrate(&start, &[log], &settings).unwrap();
-    assert!(
-        cal.parameters.iter().all(|p| !p.identifiable),
-        "{:?}",
-        cal.parameters
-    );
+    let mut mixed = log.clone();
+    mixed
+        .rows
+        .extend(log_of(&other, 20).unwrap().rows.into_iter().skip(10));
+    match calibrate(&start, &[mixed], &CalibSettings::default()) {
+        Err(e) => eprintln!("mixed: {e}"),
+        Ok(cal) => assert!(!cal.warnings.is_empty(), "{:?}", cal.parameters),
+    }
+}
+
+#[test]
+fn three_contact_rows_are_not_taken_for_the_flow() {
+    let truth = Whisker::new(0.6, 0.5, 0.3, 20.0);
+    let case = Case {
+        truth,
+        flow: FluidLoad { q: 5.0, alpha: 0.0 },
+        profile: ("g2".into(), Profile::g2()),
+    };
+    let log = log_of(&case, 40).unwrap();
+    let first = log.rows.len() / 2;
+    let three = CalibLog {
+        rows: log.rows[first..first + 3].to_vec(),
+        ..log.clone()
+    };
+    // issue 34: taken for three rows of the free whisker, q = 7.24 and k "identifiable"
+    match calibrate(&truth, &[three], &CalibSettings::default()) {
+        Err(e) => eprintln!("three rows: {e}"),
+        Ok(cal) => {
+            assert_eq!(cal.logs[0].pre_contact, 0, "{:?}", cal.logs);
+            assert!(
+                cal.warnings
+                    .iter()
+                    .any(|w| w.contains("no row of the free whisker")),
+                "{:?}",
+                cal.warnings
+            );
+        }
+    }
+    // one row before contact (the first contact's row, where the force is zero, removed):
+    // recognised as the free whisker
+    let mut one = log.clone();
+    let pre: Vec<usize> = (0..one.rows.len())
+        .filter(|&i| (one.rows[i].ax + 5.0).abs() < 1e-9 && one.rows[i].ay.abs() < 1e-9)
+        .collect();
+    assert!(pre.len() >= 11, "{}", pre.len());
+    let keep = pre[0];
+    one.rows = one
+        .rows
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| *i == keep || !pre.contains(i))
+        .map(|(_, r)| *r)
+        .collect();
+    let cal = calibrate(&truth, &[one], &CalibSettings::default()).unwrap();
+    assert_eq!(cal.logs[0].pre_contact, 1, "{:?}", cal.logs);
+    assert!((cal.logs[0].q - 5.0).abs() < 1e-8, "{:?}", cal.logs);
 }
 
 #[test]
@@ -685,4 +752,47 @@ fn diagnose_battery_cases() {
         }
         true
     });
+}
+
+/// A long log (issue 34: 100,000 rows took ~280 s): ten noisy passes (relative noise 1e-4)
+/// of a 10,000-row sweep, calibrated from a wrong start; the progress reports counted.
+/// `CALIB_ROWS=100000` for the issue's size. `cargo test -p profile-recon --test calibrate
+/// long_log -- --ignored --nocapture`.
+#[test]
+#[ignore = "timing: a long log"]
+fn long_log_timing() {
+    let rows: usize = std::env::var("CALIB_ROWS").map_or(100_000, |v| v.parse().unwrap());
+    let case = Case {
+        truth: Whisker::new(0.6, 0.5, 0.3, 20.0),
+        flow: FluidLoad { q: 2.0, alpha: 0.2 },
+        profile: ("g2".into(), Profile::g2()),
+    };
+    let pass = log_of(&case, rows / 10).unwrap();
+    let mut log = pass.clone();
+    log.rows = (0..10)
+        .flat_map(|k| add_noise(&pass.rows, 1e-4, 40 + k))
+        .collect();
+    let n = log.rows.len();
+    let start = Whisker::new(0.8, 0.3, 0.2, 30.0);
+    let reports = std::cell::Cell::new(0usize);
+    let t = std::time::Instant::now();
+    let cal = profile_recon::calibrate::calibrate_with_progress(
+        &start,
+        std::slice::from_ref(&log),
+        &CalibSettings::default(),
+        &|_| reports.set(reports.get() + 1),
+    )
+    .unwrap();
+    let secs = t.elapsed().as_secs_f64();
+    eprintln!(
+        "{n} rows: {secs:.1} s ({:.3} ms a row), {} progress reports, warnings {:?}",
+        1e3 * secs / n as f64,
+        reports.get(),
+        cal.warnings
+    );
+    for (p, e, sd) in errors(&cal, &case.truth) {
+        eprintln!("  {}: off by {e:.2e} = {:.1} stderr", p.name(), e / sd);
+        assert!(e.abs() < 4.0 * sd, "{}", p.name());
+    }
+    assert!(reports.get() > 10);
 }

@@ -142,6 +142,7 @@ fn predict(
         integrator: Dop853::new(1e-12, 1e-12),
         log_noise: settings.noise,
         projection: 0,
+        progress: super::problem::Reporter::new(None),
     };
     let p = prob.pack(&model, &[qf]);
     let mut kinds = vec![kinds];

@@ -15,6 +15,8 @@ pub(crate) trait Problem {
     /// Residuals at `p` starting from `state`, with the state reached; `None` where the
     /// model admits no solution.
     fn residuals(&self, p: &[f64], state: &Self::State) -> Option<(Vec<f64>, Self::State)>;
+    /// Called after every iteration of [`levenberg_marquardt`] with its cost (progress).
+    fn iterated(&self, _iteration: usize, _cost: f64) {}
 }
 
 /// Settings of [`levenberg_marquardt`].
@@ -245,6 +247,7 @@ pub(crate) fn levenberg_marquardt<P: Problem>(
                     let ct = cost(&rt);
                     (p, r, state, c) = (trial, rt, st, ct);
                     history.push(c);
+                    prob.iterated(iterations, c);
                     mu = (mu / 3.0).max(1e-12);
                     break;
                 }

@@ -9,7 +9,7 @@
 //! | `fit` | bounded Levenberg-Marquardt with a finite-difference Jacobian |
 //! | [`ident`] | standard errors, correlation and the identifiability verdict from the singular values of the scaled Jacobian |
 //! | [`design`](mod@design) | advice before any experiment: the standard errors each candidate object would give |
-//! | `screen` | the global search: seeded candidates ranked by a phase-free objective |
+//! | `screen` | the global search: designed and seeded candidates ranked by a phase-free objective |
 //! | `result` | the result: covariance, estimates, flows, rows, warnings |
 //! | `run` | the calibration itself: start values, rounds of fit and phase decision, multi-start, result |
 //! | `polish` | the final fit: polish tolerance, projection, passes without the rows it cannot use |
@@ -40,18 +40,53 @@
 //! noise squared per row that does not average out (at noise 1e-3 it put the truth beyond
 //! 3 standard errors in 7.5 % of the battery's (case, parameter) pairs; 3.8 % with it).
 //!
-//! **Local minima.** Guarded twice: (1) a global search: [`CalibSettings::screen`] seeded
-//! candidates around the start (theta within a factor 2, A, B within 75 % + 0.5, E I within a
-//! factor 2) are ranked by a phase-free objective on a subsample of the rows (each row with
-//! its best hypothesis), and the local fits start from the best-ranked ones; (2) the
-//! residual check: a fit is accepted when the noise level it implies
-//! ([`Calibration::noise_level`]) is within 3 times a model-free noise level of the logs
-//! (third differences along x0, [`Calibration::log_noise`]) and no row was lost; otherwise
-//! the next candidate is fitted (up to [`CalibSettings::starts`] local fits), the fit with
-//! the fewest lost rows and then the lowest cost wins (a row the fitted whisker cannot
-//! evaluate or explain at all is lost, a pre-contact row included), and a fit that still
-//! fails the check is reported in
-//! [`Calibration::warnings`], never passed silently.
+//! **Local minima: a global strategy that does not depend on a lucky start** (issue 37). The
+//! cost is not convex in theta, A, B (a contact row's phase, tip or tangential, and its
+//! root of `m` switch with the parameters), so a local fit from one start lands in whatever
+//! basin holds it; a researcher with a clean log must not depend on where he started. The
+//! strategy follows the model's structure, then searches globally, then proves its answer:
+//! 1. *Structure first.* What the model lets the data give directly is taken from them,
+//!    not searched: the compliance `1/k` by linear least squares of the follicle law over
+//!    every row (`phi0 - pi/2 = -MA / k` [3.21, 3.22]: exact on exact logs, whatever the
+//!    shape), each log's flow from its free rows (`Ax = -q cos alpha`, `Ay = q sin alpha`
+//!    [6.1]; a single free row is recognised, `run::pre_contact`).
+//! 2. *Continuation in the data.* A long log is searched on an evenly spread subsample of
+//!    400 rows (`run::LONG_LOG`), then extended to every row (below, "Long logs").
+//! 3. *Multi-start over a designed set.* The candidates are a grid over the whole range of
+//!    the shape parameters (theta in {0.25, 0.45, 0.7, 1}, A in {-1, 0, 1}, B in {-0.6, 0,
+//!    0.6}: a slender, strongly pre-curved truth is near one of them, however far from the
+//!    start) and [`CalibSettings::screen`] seeded candidates around the start (theta within
+//!    a factor 2, A, B within 75 % + 0.5, E I within a factor 2). All are ranked by a
+//!    phase-free objective on a subsample of the rows (each row with its best hypothesis, no
+//!    phase decision to go wrong), and the local fits start from the best-ranked ones.
+//! 4. *A proof of the result.* A fit is accepted when the noise level it implies
+//!    ([`Calibration::noise_level`]) is within 3 times a model-free noise level of the logs
+//!    (third differences along x0, [`Calibration::log_noise`]) and no row was lost: on an
+//!    exact log that is a cost at the integrator's floor, which only the global minimum
+//!    reaches (every row's four conditions hold); on a noisy one, residuals at the noise of
+//!    the logs. Every free parameter's curvature is checked by the singular values of the
+//!    scaled Jacobian ([`ident`]): a flat direction is reported as not identifiable, with
+//!    the combination that is determined. Otherwise the next candidate is fitted (up to
+//!    [`CalibSettings::starts`] local fits), the fit with the fewest lost rows and then the
+//!    lowest cost wins (a row the fitted whisker cannot evaluate or explain at all is lost,
+//!    a pre-contact row included), and a fit that still fails the check is reported in
+//!    [`Calibration::warnings`] with what was tried, never passed silently.
+//!
+//! **Refusals and warnings** (issue 34). A calibration that asks for more than `k` needs
+//! contact rows: logs whose rows are all the free whisker, or whose contact rows no whisker
+//! on the known contours can fit (rows of two whiskers mixed, all rows at one base
+//! position), are refused ([`ReconError::CalibrationNoContact`]), never answered with the
+//! start values and the distance of no row. Two or three rows are never grouped as free
+//! rows by a noise level they are too few to estimate. [`Calibration::warnings`] names a log
+//! without free rows (its flow fitted from contact rows alone), a log none of whose rows is
+//! in the fit as a contact row, a log with more than a tenth of its contact rows left out,
+//! the parameters not determined, and a fit above the logs' noise.
+//!
+//! **Long logs.** The search (screening, local fits, phase decisions) runs on at most
+//! 400 rows (`run::LONG_LOG`) per log (the free rows, at most 20, and the contact rows
+//! evenly spread in x0); then every row's phase is decided at the search's parameters and
+//! the polish fits all rows. [`calibrate_with_progress`] reports each stage and iteration
+//! (the CLI draws a progress bar from it).
 //!
 //! **E I.** In a dimensionless log the force unit IS E I_b / L^2: `ei` is then 1 by
 //! definition (the CLI refuses to fit it). The library fits `lambda = E I_b / E I_nominal`,
@@ -346,6 +381,41 @@ impl Calibration {
     }
 }
 
+/// The stage of a calibration that a [`Progress`] report comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stage {
+    /// Ranking the designed and seeded candidate starts (module docs, "Local minima").
+    Screen,
+    /// A local fit from a candidate (`done` of `total` local fits at most).
+    Search,
+    /// The fit extended from the subsample to every row of a long log (module docs,
+    /// "Long logs").
+    AllRows,
+    /// The final polish.
+    Polish,
+}
+
+/// A progress report of [`calibrate_with_progress`]: the stage, how far it is (`done` of
+/// `total` steps of that stage: candidates screened, local fits made, iterations) and the
+/// current cost (half the sum of the squared whitened residuals; NaN before any fit).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Progress {
+    /// The stage.
+    pub stage: Stage,
+    /// Steps of the stage done.
+    pub done: usize,
+    /// Steps of the stage at most.
+    pub total: usize,
+    /// Rows in use at this stage.
+    pub rows: usize,
+    /// Current cost.
+    pub cost: f64,
+}
+
+/// A receiver of [`Progress`] reports (a progress bar); `&dyn Fn` so that a calibration
+/// needs no mutable access to it.
+pub type ProgressFn<'a> = &'a dyn Fn(&Progress);
+
 /// Fits the whisker's parameters `settings.fit` to `logs`, starting from `start` (module
 /// docs of [`calibrate`](self)).
 ///
@@ -354,13 +424,30 @@ impl Calibration {
 /// value, [`ReconError::CalibrationRequest`] for an empty or repeated parameter list,
 /// [`ReconError::Model`] for a start whisker out of range, [`ReconError::CalibrationStart`]
 /// when the start whisker cannot evaluate a pre-contact row,
+/// [`ReconError::CalibrationNoContact`] when no row of any log is in contact, or none of
+/// them can be fitted (and a parameter other than `k` is asked for),
 /// [`ReconError::CalibrationUnderdetermined`] with fewer residuals than parameters.
 pub fn calibrate(
     start: &Whisker,
     logs: &[CalibLog],
     settings: &CalibSettings,
 ) -> crate::error::Result<Calibration> {
-    let (mut prob, mut fit, costs) = run::fit(start, logs, settings)?;
+    calibrate_with_progress(start, logs, settings, &|_| {})
+}
+
+/// [`calibrate()`], reporting its progress to `progress` (at every candidate screened, every
+/// Levenberg-Marquardt iteration and every stage; a long log takes a while).
+///
+/// # Errors
+/// Those of [`calibrate()`].
+pub fn calibrate_with_progress(
+    start: &Whisker,
+    logs: &[CalibLog],
+    settings: &CalibSettings,
+    progress: ProgressFn<'_>,
+) -> crate::error::Result<Calibration> {
+    let (mut prob, mut fit, costs) = run::fit(start, logs, settings, progress)?;
     polish::polish(&mut prob, &mut fit, settings)?;
+    run::check_contact(&prob, &fit)?;
     result::summarize(&mut prob, &fit, &costs, start)
 }

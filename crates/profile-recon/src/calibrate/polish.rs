@@ -7,7 +7,7 @@ use super::fit::{cost, levenberg_marquardt, LmSettings, Problem};
 use super::problem::{CalibProblem, Kinds};
 use super::residual::RowKind;
 use super::run::{start_failure, Rounds, OUTLIER, OUTLIER_SHARE};
-use super::CalibSettings;
+use super::{CalibSettings, Stage};
 use crate::error::Result;
 use bvp_solvers::integrator::Dop853;
 
@@ -46,7 +46,10 @@ pub(crate) fn polish(
     };
     // the estimate is the fit of the rows that are in it at the end: a row left out at the
     // fit (no longer evaluable, degenerate, or an outlier) means another pass without it
-    for _ in 0..POLISH_PASSES {
+    let rows = prob.used.iter().map(Vec::len).sum();
+    for pass in 0..POLISH_PASSES {
+        prob.progress
+            .stage(Stage::Polish, pass, POLISH_PASSES, rows, fit.cost);
         let before = skipped(&fit.kinds);
         if let Some(res) = levenberg_marquardt(prob, &fit.p, &fit.kinds, &prob.bounds(), &lm) {
             fit.iterations += res.iterations;

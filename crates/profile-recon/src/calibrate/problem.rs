@@ -7,11 +7,12 @@ use super::residual::{
     row_residuals, tip_force, Model, RowCtx, RowKind, RowResult, DEGENERATE, F_MIN_REL,
 };
 use super::whiten::{judge, projected, whitener, Whitener};
-use super::{CalibLog, CalibParam};
+use super::{CalibLog, CalibParam, Progress, ProgressFn, Stage};
 use crate::common::NoiseScales;
 use beam_model::support::K_MIN;
 use beam_model::whisker::{PRECURVATURE_MAX, THETA_MIN};
 use bvp_solvers::integrator::Dop853;
+use std::cell::Cell;
 
 /// Contact forces below this many standard deviations of their noise are left out
 /// ([`CalibProblem::min_force`]).
@@ -42,6 +43,53 @@ pub(crate) struct CalibProblem<'a> {
     /// Chord-Newton steps that project each row onto the model ([`projected`]; 0: the
     /// first-order whitened residuals).
     pub projection: usize,
+    /// Where progress is reported.
+    pub progress: Reporter<'a>,
+}
+
+/// The receiver of a calibration's [`Progress`] and the stage it is at.
+#[derive(Clone)]
+pub(crate) struct Reporter<'a> {
+    to: Option<ProgressFn<'a>>,
+    at: Cell<(Stage, usize, usize)>,
+}
+
+impl std::fmt::Debug for Reporter<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Reporter")
+            .field("at", &self.at.get())
+            .finish()
+    }
+}
+
+impl<'a> Reporter<'a> {
+    /// Reports to `to` (nowhere for `None`).
+    pub fn new(to: Option<ProgressFn<'a>>) -> Self {
+        Reporter {
+            to,
+            at: Cell::new((Stage::Screen, 0, 0)),
+        }
+    }
+
+    /// Enters `stage` at step `done` of `total`, and reports it with `rows` and `cost`.
+    pub fn stage(&self, stage: Stage, done: usize, total: usize, rows: usize, cost: f64) {
+        self.at.set((stage, done, total));
+        self.report(rows, cost);
+    }
+
+    /// Reports the current stage with `rows` in use and the cost `cost`.
+    pub fn report(&self, rows: usize, cost: f64) {
+        if let Some(f) = self.to {
+            let (stage, done, total) = self.at.get();
+            f(&Progress {
+                stage,
+                done,
+                total,
+                rows,
+                cost,
+            });
+        }
+    }
 }
 
 /// Per log and used row: the row's kind (`s1` of phase B tracked).
@@ -439,6 +487,11 @@ impl<'a> CalibProblem<'a> {
 
 impl Problem for CalibProblem<'_> {
     type State = Kinds;
+
+    fn iterated(&self, _iteration: usize, cost: f64) {
+        let rows = self.used.iter().map(Vec::len).sum();
+        self.progress.report(rows, cost);
+    }
 
     fn residuals(&self, p: &[f64], state: &Kinds) -> Option<(Vec<f64>, Kinds)> {
         let results = self.evaluate(p, state)?;

@@ -5,7 +5,7 @@ use super::fit::jacobian_central;
 use super::ident::analyse;
 use super::problem::{CalibProblem, Kinds};
 use super::residual::{flow_of, Model, RowKind};
-use super::run::{logs_noise, start_failure, Rounds, NOISE_CHECK};
+use super::run::{logs_noise, start_failure, Rounds, NOISE_CHECK, OUTLIER_SHARE};
 use super::whiten::Whitener;
 use super::{CalibParam, Calibration, Combination, LogFit, ParamEstimate, RowFit};
 use crate::error::{ReconError, Result};
@@ -97,8 +97,8 @@ pub(crate) fn summarize(
         .filter(|r| RowKind::is_contact_letter(r.kind))
         .map(|r| r.distance)
         .collect();
-    let rms_distance =
-        (contact.iter().map(|d| d * d).sum::<f64>() / contact.len().max(1) as f64).sqrt();
+    // the distance of no row is none (NaN), not 0
+    let rms_distance = (contact.iter().map(|d| d * d).sum::<f64>() / contact.len() as f64).sqrt();
     let log_noise = logs_noise(prob);
     let mut cal = Calibration {
         whisker: out_model.whisker(),
@@ -282,6 +282,40 @@ fn warnings(cal: &Calibration, fit: &Rounds, costs: &[f64]) -> Vec<String> {
             "{} contact row(s) admit no contact hypothesis with the fitted whisker, or cannot be \
              used by it, and were left out",
             fit.lost
+        ));
+    }
+    for (l, log) in cal.logs.iter().enumerate() {
+        let n = l + 1;
+        if log.pre_contact == 0 && !log.given {
+            w.push(format!(
+                "log {n}: no row of the free whisker (before contact): its flow is fitted from \
+                 its contact rows alone"
+            ));
+        }
+        if log.contact == 0 {
+            w.push(format!(
+                "log {n}: none of its rows is in the fit as a contact row; it gives its flow \
+                 and the follicle law only"
+            ));
+        } else if log.skipped as f64 > OUTLIER_SHARE * (log.contact + log.skipped) as f64 {
+            w.push(format!(
+                "log {n}: {} of its {} contact rows were left out of the fit (contact forces \
+                 within the noise of zero, phase borders, folds or outliers)",
+                log.skipped,
+                log.contact + log.skipped
+            ));
+        }
+    }
+    let unknown: Vec<&str> = cal
+        .parameters
+        .iter()
+        .filter(|p| !p.identifiable)
+        .map(|p| p.param.name())
+        .collect();
+    if !unknown.is_empty() {
+        w.push(format!(
+            "not determined by these logs (start values kept): {}",
+            unknown.join(", ")
         ));
     }
     if cal.noise_level > NOISE_CHECK * cal.log_noise.max(1e-9) {

@@ -2,9 +2,9 @@
 //! rounds of fit and phase decision, the multi-start guard and the result.
 
 use super::fit::{cost, levenberg_marquardt, LmSettings, Problem};
-use super::problem::{CalibProblem, Kinds};
+use super::problem::{CalibProblem, Kinds, Reporter};
 use super::residual::{Model, RowKind};
-use super::{CalibLog, CalibParam, CalibSettings};
+use super::{CalibLog, CalibParam, CalibSettings, ProgressFn, Stage};
 use crate::common::{KnownFlow, NoiseScales};
 use crate::error::{ReconError, Result};
 use crate::identify::smoothness_noise;
@@ -32,9 +32,18 @@ pub(crate) fn fit<'a>(
     start: &Whisker,
     logs: &'a [CalibLog],
     settings: &CalibSettings,
+    progress: ProgressFn<'a>,
 ) -> Result<(CalibProblem<'a>, Rounds, Vec<f64>)> {
     check(start, logs, settings)?;
     let pre: Vec<Vec<bool>> = logs.iter().map(|l| pre_contact(&l.rows)).collect();
+    let contact = pre.iter().flatten().filter(|p| !**p).count();
+    if contact == 0 && needs_contact(settings) {
+        return Err(no_contact(
+            logs,
+            contact,
+            "every row is the free whisker (no row differs from the flow's)",
+        ));
+    }
     let mut base = Model::of(start);
     if settings.fit.contains(&CalibParam::K) {
         if let Some(c) = start_compliance(logs) {
@@ -60,11 +69,131 @@ pub(crate) fn fit<'a>(
         },
         log_noise: 0.0,
         projection: 0,
+        progress: Reporter::new(Some(progress)),
     };
     prob.log_noise = logs_noise(&prob);
     let p0 = prob.pack(&base, &flows);
-    let (fit, costs) = search(&mut prob, &p0, &pre, settings)?;
+    // a long log: the search on an evenly spread subsample, then every row
+    let all = prob.used.clone();
+    prob.used = logs
+        .iter()
+        .zip(&pre)
+        .map(|(l, p)| subsample_rows(&l.rows, p, LONG_LOG))
+        .collect();
+    let (mut fit, costs) = search(&mut prob, &p0, &pre, settings)?;
+    if prob.used != all {
+        prob.used = all;
+        let rows = prob.used.iter().map(Vec::len).sum();
+        prob.progress.stage(Stage::AllRows, 0, 1, rows, fit.cost);
+        let (kinds, lost) = prob.judge_all(&fit.p, &pre);
+        let sub = Rounds {
+            kinds,
+            lost,
+            ..fit.clone()
+        };
+        let evaluations = fit.evaluations;
+        fit = final_rounds(
+            &mut prob,
+            (sub.p.clone(), sub.kinds.clone()),
+            &pre,
+            lost,
+            sub,
+        )?;
+        fit.evaluations = evaluations;
+    }
     Ok((prob, fit, costs))
+}
+
+/// Rows of a log beyond which the search works on an evenly spread subsample of them
+/// (`subsample_rows`), and the polish on all: the parameters of a few hundred rows are
+/// those of all to a few standard errors, from where the polish converges in a few
+/// iterations (module docs, "Long logs").
+pub(crate) const LONG_LOG: usize = 400;
+
+/// Free-whisker rows kept at most in a subsample (they all say the same [6.1]).
+const SUBSAMPLE_PRE: usize = 20;
+
+/// The rows of a log in the search: all of them up to `max`; else at most
+/// [`SUBSAMPLE_PRE`] of its pre-contact rows (`pre`) and its contact rows evenly spread in
+/// x0, `max` in all.
+pub(crate) fn subsample_rows(rows: &[ObservableRow], pre: &[bool], max: usize) -> Vec<usize> {
+    if rows.len() <= max {
+        return (0..rows.len()).collect();
+    }
+    let mut free: Vec<usize> = (0..rows.len()).filter(|&i| pre[i]).collect();
+    let mut contact: Vec<usize> = (0..rows.len()).filter(|&i| !pre[i]).collect();
+    contact.sort_by(|&a, &b| rows[b].x0.total_cmp(&rows[a].x0));
+    free.truncate(SUBSAMPLE_PRE);
+    let want = max.saturating_sub(free.len()).max(1);
+    let n = contact.len();
+    let mut out = free;
+    if n > 0 {
+        // evenly spread, both ends included
+        let picks = want.min(n);
+        out.extend((0..picks).map(|k| {
+            let t = if picks == 1 {
+                0
+            } else {
+                k * (n - 1) / (picks - 1)
+            };
+            contact[t]
+        }));
+    }
+    out.sort_unstable();
+    out.dedup();
+    out
+}
+
+/// Whether the fit asks for a parameter that only contact with the known contour
+/// determines (all but `k`, which the follicle law gives from any row [3.21, 3.22]).
+fn needs_contact(settings: &CalibSettings) -> bool {
+    settings.fit.iter().any(|p| *p != CalibParam::K)
+}
+
+/// The refusal of logs without a contact row to fit.
+fn no_contact(logs: &[CalibLog], contact: usize, reason: &'static str) -> ReconError {
+    ReconError::CalibrationNoContact {
+        reason,
+        logs: logs.len(),
+        rows: logs.iter().map(|l| l.rows.len()).sum(),
+        contact,
+        fitted: 0,
+    }
+}
+
+/// Refuses a fit without any contact row in it (when it asks for more than `k`): its
+/// theta, A, B, E I would be the start values and its distance to the contours that of no
+/// row.
+pub(crate) fn check_contact(prob: &CalibProblem<'_>, fit: &Rounds) -> Result<()> {
+    let fitted = fit
+        .kinds
+        .iter()
+        .flatten()
+        .filter(|k| matches!(k, RowKind::A | RowKind::B { .. }))
+        .count();
+    if fitted > 0 || !prob.free.iter().any(|p| *p != CalibParam::K) {
+        return Ok(());
+    }
+    let pre: usize = fit
+        .kinds
+        .iter()
+        .flatten()
+        .filter(|k| **k == RowKind::Pre)
+        .count();
+    let rows: usize = prob.logs.iter().map(|l| l.rows.len()).sum();
+    let flowless = fit
+        .kinds
+        .iter()
+        .zip(&prob.fixed_flow)
+        .any(|(ks, fixed)| fixed.is_none() && !ks.iter().any(|k| *k == RowKind::Pre));
+    let reason = if flowless {
+        "none of the contact rows can be fitted, and no row of the free whisker gives the \
+         flow (give q and alpha, or rows before contact)"
+    } else {
+        "none of the contact rows can be fitted by one whisker on the known contour(s) (rows \
+         of another whisker or contour, rows all at one base position, or a start far off)"
+    };
+    Err(no_contact(prob.logs, rows - pre, reason))
 }
 
 /// Input checks.
@@ -172,18 +301,37 @@ fn start_compliance(logs: &[CalibLog]) -> Option<f64> {
 /// them, first within 1e-9 of each column's scale (exact logs), else within five noise
 /// deviations of the log's model-free noise level (the free whisker under the flow gives
 /// the same observables wherever the base is [6.1]), among the groups that can be the free
-/// whisker ([`can_be_free`]; the largest group if none can).
+/// whisker ([`can_be_free`]; the largest group if none can). Without such a group, one row
+/// at an end of the log's x0 range that is the free whisker by [`lone_free_row`]. A log
+/// too short for a noise level (fewer than four distinct base positions) is compared
+/// exactly only: two or three contact rows are never taken for the flow's.
 pub(crate) fn pre_contact(rows: &[ObservableRow]) -> Vec<bool> {
     let scales = NoiseScales::of(rows);
     let level = smoothness_noise(rows, &scales);
     for rel in [1e-9, 5.0 * level] {
+        if !rel.is_finite() {
+            break;
+        }
         let tol: Vec<f64> = scales.0.iter().map(|s| rel * s).collect();
         let near = |a: &ObservableRow, b: &ObservableRow| {
             let d = [a.ax - b.ax, a.ay - b.ay, a.ma - b.ma, a.phi0 - b.phi0];
             d.iter().zip(&tol).all(|(d, t)| d.abs() <= *t)
         };
+        // rows sorted by Ax: the rows near one lie in a window of that order (a long log in
+        // O(n log n), not O(n^2))
+        let mut by_ax: Vec<usize> = (0..rows.len()).collect();
+        by_ax.sort_by(|&a, &b| rows[a].ax.total_cmp(&rows[b].ax));
+        let axs: Vec<f64> = by_ax.iter().map(|&i| rows[i].ax).collect();
         let mut groups: Vec<(usize, usize)> = (0..rows.len())
-            .map(|i| (rows.iter().filter(|r| near(&rows[i], r)).count(), i))
+            .map(|i| {
+                let lo = axs.partition_point(|v| *v < rows[i].ax - tol[0]);
+                let hi = axs.partition_point(|v| *v <= rows[i].ax + tol[0]);
+                let n = by_ax[lo..hi]
+                    .iter()
+                    .filter(|&&k| near(&rows[i], &rows[k]))
+                    .count();
+                (n, i)
+            })
             .filter(|g| g.0 >= 2)
             .collect();
         // largest first, the first row of equal groups first
@@ -195,11 +343,83 @@ pub(crate) fn pre_contact(rows: &[ObservableRow]) -> Vec<bool> {
         if let Some(&(_, i)) = pick {
             return rows.iter().map(|r| near(&rows[i], r)).collect();
         }
-        if !rel.is_finite() {
-            break;
-        }
     }
-    vec![false; rows.len()]
+    let mut out = vec![false; rows.len()];
+    if let Some(i) = lone_free_row(rows, &scales, level) {
+        out[i] = true;
+    }
+    out
+}
+
+/// A lone free row: the row at the largest (else the smallest) base position whose
+/// observables leave the smooth curve of the contact rows next to it (the free whisker's
+/// observables are constant in x0 [6.1], the contact branch starts from them with a jump
+/// of its slope at the first contact, so the third divided difference over that row and
+/// its three nearest neighbours exceeds [`KINK`] times that of the next four rows and
+/// [`KINK`] times the log's noise level in some column) and that can be the free whisker
+/// ([`can_be_free`]). Needs four further rows at distinct base positions; `None` without.
+fn lone_free_row(rows: &[ObservableRow], scales: &NoiseScales, level: f64) -> Option<usize> {
+    if !level.is_finite() || rows.len() < 5 {
+        return None;
+    }
+    let mut order: Vec<usize> = (0..rows.len()).collect();
+    order.sort_by(|&a, &b| rows[b].x0.total_cmp(&rows[a].x0));
+    let ends = [
+        order.clone(),
+        order.iter().rev().copied().collect::<Vec<_>>(),
+    ];
+    ends.into_iter().find_map(|ord| {
+        let c = ord[0];
+        // the four nearest further rows, at base positions distinct from the end's and
+        // from each other
+        let mut near: Vec<usize> = vec![c];
+        for &i in &ord[1..] {
+            if near
+                .iter()
+                .all(|&k| (rows[k].x0 - rows[i].x0).abs() > 1e-12)
+            {
+                near.push(i);
+            }
+            if near.len() == 5 {
+                break;
+            }
+        }
+        if near.len() < 5 {
+            return None;
+        }
+        let kink = (0..4).any(|j| {
+            if scales.0[j] == 0.0 {
+                return false;
+            }
+            let end = third_difference(rows, &near[..4], j) / scales.0[j];
+            let next = third_difference(rows, &near[1..], j) / scales.0[j];
+            end > KINK * next && end > KINK * level
+        });
+        (kink && can_be_free(rows, &rows[c], 5.0 * level * scales.0[1])).then_some(c)
+    })
+}
+
+/// A row at an end leaves the contact rows' curve ([`lone_free_row`]) when its third
+/// divided difference exceeds this multiple of the next one's and of the noise level.
+const KINK: f64 = 10.0;
+
+/// The third divided difference of column `j` (`Ax, Ay, MA, phi0`) over the four rows
+/// `idx`, normalised by the norm of its weights (a noise of unit deviation gives one of
+/// unit deviation; the convention of [`smoothness_noise`]).
+fn third_difference(rows: &[ObservableRow], idx: &[usize], j: usize) -> f64 {
+    let col = |r: &ObservableRow| [r.ax, r.ay, r.ma, r.phi0][j];
+    let x: Vec<f64> = idx.iter().map(|&i| rows[i].x0).collect();
+    let w: Vec<f64> = (0..4)
+        .map(|i| {
+            1.0 / (0..4)
+                .filter(|&k| k != i)
+                .map(|k| x[i] - x[k])
+                .product::<f64>()
+        })
+        .collect();
+    let norm = w.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let v: f64 = idx.iter().zip(&w).map(|(&i, wi)| wi * col(&rows[i])).sum();
+    (v / norm).abs()
 }
 
 /// Whether the rows equal to `free` can be the free whisker: then its base forces are the
@@ -608,10 +828,13 @@ fn search(
             .map(Vec::len)
             .sum::<usize>();
     let mut tried = 0;
+    let rows = prob.used.iter().map(Vec::len).sum();
     for (_, p) in cands.iter().take(3 * settings.starts.max(1)) {
         if tried == settings.starts.max(1) {
             break;
         }
+        prob.progress
+            .stage(Stage::Search, tried, settings.starts.max(1), rows, f64::NAN);
         // a candidate that cannot be fitted at all does not count
         let fit = match fit_rounds(prob, p.clone(), pre, settings) {
             Ok(f) => f,

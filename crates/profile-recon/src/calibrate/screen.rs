@@ -11,7 +11,7 @@
 
 use super::problem::CalibProblem;
 use super::residual::{hypotheses, row_residuals, Model, RowCtx, RowKind};
-use super::CalibParam;
+use super::{CalibParam, Stage};
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 
@@ -95,7 +95,10 @@ pub(crate) fn candidates(
     let mut rng = StdRng::seed_from_u64(seed);
     let start: Model = prob.unpack(p0).0;
     let mut out = vec![(objective(prob, p0, &rows), p0.to_vec())];
-    for _ in 0..count {
+    let n_rows = rows.iter().map(Vec::len).sum();
+    for k in 0..count {
+        prob.progress
+            .stage(Stage::Screen, k, count, n_rows, out[0].0);
         let mut p = p0.to_vec();
         for (v, param) in p.iter_mut().zip(&prob.free) {
             *v = match param {
@@ -111,7 +114,51 @@ pub(crate) fn candidates(
         }
         out.push((objective(prob, &p, &rows), p));
     }
+    // the designed set: a grid over the whole range of the shape parameters, so that a
+    // truth far from the start (a slender tip from a uniform start) has a candidate near it
+    if count > 0 {
+        for p in designed(prob, p0) {
+            out.push((objective(prob, &p, &rows), p));
+        }
+    }
     out.sort_by(|a, b| a.0.total_cmp(&b.0));
+    out
+}
+
+/// Grid values of theta, A and B of the designed candidates ([`designed`]).
+const GRID: [&[f64]; 3] = [
+    &[0.25, 0.45, 0.7, 1.0],
+    &[-1.0, 0.0, 1.0],
+    &[-0.6, 0.0, 0.6],
+];
+
+/// The designed candidates: `p0` with its free theta, A, B on every point of [`GRID`] (the
+/// parameters not fitted, k and E I kept; the follicle law gives `1/k` and the flows come
+/// from the free rows).
+pub(crate) fn designed(prob: &CalibProblem<'_>, p0: &[f64]) -> Vec<Vec<f64>> {
+    let slot = |param: CalibParam| prob.free.iter().position(|p| *p == param);
+    let axes = [
+        slot(CalibParam::Theta),
+        slot(CalibParam::A),
+        slot(CalibParam::B),
+    ];
+    let mut out: Vec<Vec<f64>> = vec![p0.to_vec()];
+    for (axis, values) in axes.iter().zip(GRID) {
+        let Some(i) = axis else { continue };
+        out = out
+            .iter()
+            .flat_map(|p| {
+                values.iter().map(move |v| {
+                    let mut q = p.clone();
+                    q[*i] = *v;
+                    q
+                })
+            })
+            .collect();
+    }
+    if axes.iter().all(Option::is_none) {
+        out.clear();
+    }
     out
 }
 
@@ -154,12 +201,15 @@ mod tests {
         let mut off = p0.clone();
         off[1] += 0.1;
         assert!(objective(&prob, &off, &forced) > 1e-6);
-        // the candidates: the start and four seeded ones, sorted, the truth first, the
-        // compliance and the flow kept
+        // the candidates, sorted, the truth first, the compliance and the flow kept
         let c = candidates(&prob, &p0, &pre, 4, 3);
-        assert_eq!(c.len(), 5);
+        // the start, four seeded, and the designed grid over theta and A (4 x 3)
+        assert_eq!(c.len(), 5 + 12);
+        assert_eq!(designed(&prob, &p0).len(), 12);
         assert!(c.windows(2).all(|w| w[0].0 <= w[1].0));
-        assert_eq!(c[0].1, p0);
+        // the truth among them, and nothing screened worse than the best
+        assert!(c.iter().any(|(_, p)| *p == p0));
+        assert!(c[0].0 <= at_truth);
         assert!(c.iter().all(|(_, p)| p[2] == p0[2] && p[3..] == p0[3..]));
         assert!(c.iter().all(|(_, p)| (0.02..=1.0).contains(&p[0])));
     }

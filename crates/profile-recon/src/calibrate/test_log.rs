@@ -72,5 +72,6 @@ pub(crate) fn problem<'a>(
         },
         log_noise: 0.0,
         projection: 0,
+        progress: super::problem::Reporter::new(None),
     }
 }

@@ -5,7 +5,13 @@
 
 use std::path::{Path, PathBuf};
 
-use profile_recon::calibrate::{calibrate, CalibLog, CalibParam, CalibSettings, Calibration};
+use std::io::IsTerminal;
+use std::time::Duration;
+
+use profile_recon::calibrate::{
+    calibrate_with_progress, CalibLog, CalibParam, CalibSettings, Calibration, Progress,
+    ProgressFn, Stage,
+};
 use profile_recon::{KnownFlow, ReconError};
 
 pub use crate::commands::calibrate_inputs::LogInput;
@@ -38,6 +44,7 @@ pub fn run(args: &CalibrateArgs) -> Result<(), CliError> {
         .map(|s| s.1.join(recon_io::SCENE_RON));
     let scene_path = args.scene.clone().or(first_folder.filter(|p| p.is_file()));
     let r = calib_model(args, scene_path.as_deref())?;
+    check_flow_angle(args, &r)?;
     let units = r.units();
     // the request is checked before any log is read
     parse_fit(args.fit.as_deref(), &units)?;
@@ -79,6 +86,23 @@ pub fn run(args: &CalibrateArgs) -> Result<(), CliError> {
         }
     }
     Ok(())
+}
+
+/// Refuses a flow angle outside (-90°, 90°) (spec/cli.md), in degrees and naming where it
+/// was given (`--alpha-deg` or the scene's `loads.alpha_deg`).
+fn check_flow_angle(args: &CalibrateArgs, r: &Resolved) -> Result<(), CliError> {
+    let deg = r.scene.loads.fluid.alpha.to_degrees();
+    if deg.abs() < 90.0 {
+        return Ok(());
+    }
+    let reason = "the flow angle must lie in (-90, 90) degrees: a flow along or against the \
+                  whisker's base direction has no component across it";
+    match &args.fluid.alpha_deg {
+        Some(raw) => Err(CliError::invalid_argument("--alpha-deg", raw, reason)),
+        None => Err(CliError::Usage {
+            reason: format!("the scene's loads.alpha_deg = {deg}: {reason}"),
+        }),
+    }
 }
 
 /// Fits the whisker of `r` (start values, units) to the logs `inputs` as `args` asks
@@ -125,8 +149,54 @@ pub fn fit_inputs(
             })
         })
         .collect::<Result<_, CliError>>()?;
-    let cal = calibrate(&r.scene.whisker, &logs, &settings).map_err(|e| culprit(e, inputs))?;
+    let rows: usize = logs.iter().map(|l| l.rows.len()).sum();
+    let cal = with_progress(rows, |progress| {
+        calibrate_with_progress(&r.scene.whisker, &logs, &settings, progress)
+    })
+    .map_err(|e| culprit(e, inputs))?;
     Ok((cal, logs))
+}
+
+/// Logs of at least this many rows in all show a progress bar (on a terminal).
+pub const PROGRESS_ROWS: usize = 1000;
+
+/// Runs `f` with a progress bar on stderr, driven by the library's [`Progress`] reports,
+/// when stderr is a terminal and the logs have at least [`PROGRESS_ROWS`] rows.
+fn with_progress<T>(rows: usize, f: impl FnOnce(ProgressFn<'_>) -> T) -> T {
+    let bar = (rows >= PROGRESS_ROWS && std::io::stderr().is_terminal()).then(|| {
+        let pb = indicatif::ProgressBar::new(1);
+        pb.set_style(
+            indicatif::ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} ({elapsed})")
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        pb.enable_steady_tick(Duration::from_millis(200));
+        pb
+    });
+    let report = |p: &Progress| {
+        let Some(pb) = &bar else { return };
+        let what = match p.stage {
+            Stage::Screen => "screening candidate starts",
+            Stage::Search => "local fits",
+            Stage::AllRows => "extending the fit to every row",
+            Stage::Polish => "polishing",
+        };
+        let cost = if p.cost.is_finite() {
+            format!(", cost {:.3e}", p.cost)
+        } else {
+            String::new()
+        };
+        pb.set_message(format!(
+            "calibrating {rows} rows: {what} ({} in use{cost})",
+            p.rows
+        ));
+        pb.set_length(p.total.max(1) as u64);
+        pb.set_position(p.done as u64);
+    };
+    let out = f(&report);
+    if let Some(pb) = bar {
+        pb.finish_and_clear();
+    }
+    out
 }
 
 /// Maps a calibration error to its culprit (a log's file and line, or the solver).
@@ -143,6 +213,16 @@ fn culprit(err: ReconError, inputs: &[LogInput]) -> CliError {
                 ),
             },
             None => CliError::solver(err),
+        },
+        ReconError::CalibrationNoContact { .. } => CliError::Usage {
+            reason: format!(
+                "{}: {err}",
+                inputs
+                    .iter()
+                    .map(|i| format!("log `{}`", i.arg))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
         },
         other => CliError::Solver {
             reason: format!("calibration failed: {other}"),

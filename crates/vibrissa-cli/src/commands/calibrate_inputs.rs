@@ -41,6 +41,16 @@ pub(crate) fn split_log_arg(arg: &str) -> Result<(String, PathBuf, Option<String
     }
     if let Some((p, prof)) = arg.rsplit_once('=') {
         let path = PathBuf::from(p);
+        if prof.trim().is_empty() {
+            return Err(CliError::invalid_argument(
+                "LOG",
+                arg,
+                format!(
+                    "no contour after `=`: give `{p}=PROFILE` (e.g. `{p}=circle:0,1.4,0.5`), or \
+                     `{p}` with --profile P"
+                ),
+            ));
+        }
         if path.exists() {
             return Ok((arg.to_string(), path, Some(prof.to_string())));
         }

@@ -16,6 +16,7 @@
 //! | [`shot`] | shooting from the loaded end (observables as initial values) |
 //! | [`methods`] | `fdm`, `rk4`, `accurate`, `auto` and [`solve`] |
 //! | [`scenarios`] | the thesis's load scenarios 1-18 as reference problems |
+//! | [`accuracy`] | the report of an accuracy asked for: one error estimate per item of a result (sweep rows, reconstructed points) |
 //!
 //! ```
 //! use beam_model::{solve, Loads, Method, Scene, TipForce, Whisker};
@@ -25,6 +26,7 @@
 //! assert!((sol.tip.x - 0.30172).abs() < 1e-5 && (sol.tip.y - 0.94357).abs() < 1e-5);
 //! ```
 
+pub mod accuracy;
 pub mod balance;
 pub mod equations;
 pub mod error;
@@ -41,6 +43,7 @@ pub mod trig;
 pub mod units;
 pub mod whisker;
 
+pub use accuracy::AccuracyReport;
 pub use balance::Reactions;
 pub use error::{ModelError, Result};
 pub use loads::{FluidLoad, LoadKind, Loads, TipForce};

@@ -27,8 +27,8 @@
 use crate::branch::{Branch, Node};
 use crate::error::Result;
 use crate::phase::ContactState;
+use beam_model::AccuracyReport;
 use bvp_solvers::dense;
-use serde::{Deserialize, Serialize};
 
 /// Smallest accuracy a sweep can be asked for.
 pub const ACCURACY_MIN: f64 = 1e-12;
@@ -59,31 +59,12 @@ pub fn row_solve_tol(tol: f64) -> f64 {
     (tol / ROW_FACTOR).clamp(1e-12, 1e-10)
 }
 
-/// The accuracy of a sweep run with `SweepSettings::accuracy`.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct SweepAccuracy {
-    /// The accuracy asked for (absolute, dimensionless).
-    pub tol: f64,
-    /// The integrator tolerance of the contact rows.
-    pub row_integration_tol: f64,
-    /// The error estimate of each row of `SweepResult::points` (the rows before contact
-    /// carry the first contact row's, module docs).
-    pub estimates: Vec<f64>,
-}
-
-impl SweepAccuracy {
-    /// The worst row: its 0-based index in `SweepResult::points` and its estimate (`None`
-    /// without rows).
-    pub fn worst(&self) -> Option<(usize, f64)> {
-        self.estimates.iter().copied().enumerate().reduce(|a, b| {
-            if b.1 > a.1 || b.1.is_nan() {
-                b
-            } else {
-                a
-            }
-        })
-    }
-}
+/// The accuracy of a sweep run with `SweepSettings::accuracy`: the workspace's one report
+/// ([`AccuracyReport`]), its `integration_tol` the contact rows' ([`row_integration_tol`]),
+/// one estimate per row of `SweepResult::points` (the rows before contact carry the first
+/// contact row's, module docs). The name the report had before it was shared with
+/// `profile_recon`.
+pub type SweepAccuracy = AccuracyReport;
 
 /// How a row's estimate holds its row in place.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -169,7 +150,7 @@ mod tests {
         assert_eq!(row_solve_tol(1e-2), 1e-10);
         let acc = SweepAccuracy {
             tol: 1e-6,
-            row_integration_tol: 1e-8,
+            integration_tol: 1e-8,
             estimates: vec![1e-9, 3e-8, 2e-8],
         };
         assert_eq!(acc.worst(), Some((1, 3e-8)));

@@ -391,7 +391,7 @@ fn check_accuracy(
 ) -> Result<SweepAccuracy> {
     let acc = SweepAccuracy {
         tol,
-        row_integration_tol,
+        integration_tol: row_integration_tol,
         estimates,
     };
     match acc.worst() {

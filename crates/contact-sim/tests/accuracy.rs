@@ -186,12 +186,12 @@ fn a_row_estimated_above_the_accuracy_asked_for_is_solved_again_tighter() {
     let res = sweep(w, flow, p, &tight).unwrap();
     let acc = res.accuracy.as_ref().unwrap();
     assert!(
-        (acc.row_integration_tol - 1e-13).abs() < 1e-25
-            || ((acc.row_integration_tol - 1e-12).abs() < 1e-24
+        (acc.integration_tol - 1e-13).abs() < 1e-25
+            || ((acc.integration_tol - 1e-12).abs() < 1e-24
                 && acc.estimates.iter().all(|&e| e <= 1e-8)),
         "{}: rows at {:e}",
         scene.name,
-        acc.row_integration_tol
+        acc.integration_tol
     );
     let checked = rows_against(&scene.name, &res, &truth, 1e-8);
     assert!(checked.len() >= 60, "{}", checked.len());

@@ -14,16 +14,17 @@
 //! (where both integrations happen to agree). A point whose estimate exceeds the accuracy
 //! asked for is an error naming its row.
 
-use crate::accurate::{evaluate, RowCtx};
-use crate::common::{KnownFlow, ReconMethod, ReconSettings, Reconstruction};
+use crate::base_shot::{evaluate, RowCtx};
+use crate::common::{KnownFlow, ReconMethod, ReconSettings};
 use crate::error::{ReconError, Result};
 use crate::judge::{flow_sd, Judge};
 use crate::observables::ObservableRow;
 #[cfg(doc)]
 use crate::reconstruct::reconstruct_with;
+use crate::result::Reconstruction;
+use beam_model::AccuracyReport;
 use beam_model::Whisker;
 use bvp_solvers::integrator::Dop853;
-use serde::{Deserialize, Serialize};
 
 /// Smallest accuracy a reconstruction can be asked for.
 pub const ACCURACY_MIN: f64 = 1e-12;
@@ -49,31 +50,11 @@ pub fn integration_tol(tol: f64) -> f64 {
     (tol / 1e4).clamp(1e-13, 1e-10)
 }
 
-/// The accuracy of a reconstruction run by [`reconstruct_to`].
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct ReconAccuracy {
-    /// The accuracy asked for (absolute, dimensionless).
-    pub tol: f64,
-    /// The integrator tolerance of the points.
-    pub integration_tol: f64,
-    /// The error estimate of each point of `Reconstruction::points` (the contact point
-    /// `(x, y)`, absolute).
-    pub estimates: Vec<f64>,
-}
-
-impl ReconAccuracy {
-    /// The worst point: its index in `Reconstruction::points` and its estimate (`None`
-    /// without points).
-    pub fn worst(&self) -> Option<(usize, f64)> {
-        self.estimates.iter().copied().enumerate().reduce(|a, b| {
-            if b.1 > a.1 || b.1.is_nan() {
-                b
-            } else {
-                a
-            }
-        })
-    }
-}
+/// The accuracy of a reconstruction run by [`reconstruct_to`]: the workspace's one report
+/// ([`AccuracyReport`]), its `integration_tol` the points' ([`integration_tol`]), one estimate
+/// per point of `Reconstruction::points`. The name the report had before it was shared with
+/// `contact_sim` (whose sweeps report the same shape).
+pub type ReconAccuracy = AccuracyReport;
 
 /// [`reconstruct_with`] at the accuracy `tol` (absolute error of every contact point, in
 /// [1e-12, 1e-2]): the points at [`integration_tol`]`(tol)` (`settings.tol` is not used),
@@ -139,7 +120,7 @@ pub fn reconstruct_to(
             }
         })
         .collect();
-    let acc = ReconAccuracy {
+    let acc = AccuracyReport {
         tol,
         integration_tol: tight.tol,
         estimates,

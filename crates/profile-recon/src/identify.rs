@@ -19,12 +19,13 @@
 //! given, a log without any pre-contact row is accepted. Nothing depends on the order or the
 //! spacing of the rows.
 
-use crate::accurate::{base_ivp_fast, evaluate, RowCtx, RowEval, K_SIGMA};
+use crate::base_shot::{base_ivp_fast, evaluate, RowCtx, RowEval, K_SIGMA};
+pub use crate::common::NOISE_FLOOR;
 use crate::common::{free_flow, KnownFlow, NoiseScales, ReconSettings};
-pub use crate::common::{Identification, NOISE_FLOOR};
 use crate::error::{ReconError, Result};
 use crate::judge::is_pre_contact;
 use crate::observables::ObservableRow;
+pub use crate::result::Identification;
 use beam_model::{FluidLoad, Whisker};
 use bvp_solvers::integrator::Dop853;
 

@@ -5,10 +5,11 @@
 //! (error estimate, alternatives, evaluations) and the check against
 //! `ReconSettings::consistency_tol`.
 
-use crate::accurate::{RowAt, RowCtx, RowEval, K_SIGMA};
-use crate::common::{KnownFlow, NoiseScales, ReconPoint, ReconSettings, NOISE_FLOOR};
+use crate::base_shot::{RowAt, RowCtx, RowEval, K_SIGMA};
+use crate::common::{KnownFlow, NoiseScales, ReconSettings, NOISE_FLOOR};
 use crate::error::{ReconError, Result};
 use crate::observables::ObservableRow;
+use crate::result::ReconPoint;
 use contact_sim::Phase;
 
 /// Whether an evaluated row is pre-contact at relative noise `level`: its phase-A contact
@@ -102,8 +103,8 @@ fn check(p: &ReconPoint, row: &ObservableRow, z: f64, settings: &ReconSettings) 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::accurate::evaluate;
-    use crate::accurate::tests::g2_sweep;
+    use crate::base_shot::evaluate;
+    use crate::base_shot::tests::g2_sweep;
     use bvp_solvers::integrator::Dop853;
 
     #[test]

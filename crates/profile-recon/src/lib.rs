@@ -6,12 +6,14 @@
 //! | module | concept |
 //! |---|---|
 //! | [`observables`] | the measured rows `(x0, Ax, Ay, MA, phi0)` |
-//! | [`common`] | settings, identification result, points, the force balance [6.8, 6.9], quality measure [6.11], row numbering |
+//! | [`common`] | settings, known flow, the force balance [6.8, 6.9], quality measure [6.11], noise scales, row numbering |
+//! | [`result`] | what a reconstruction returns: identification, points, the accuracy report (below every method) |
 //! | [`identify`](mod@identify) | flow `(q, alpha)`, noise level and pre-contact rows from the model [6.1] (Table 6.1) |
-//! | [`accurate`] | method `accurate`: each row on its own, all phase-B roots bracketed, error estimate |
+//! | [`base_shot`] | method `accurate`: one shot from the base per row, all phase-B roots bracketed, error estimate |
 //! | `judge` | the one per-row decision (pre-contact or contact point, with its statistics) of identification, reconstruction and stream |
 //! | [`thesis`] | method `thesis`: the thesis's five equations [6.5-6.10] |
 //! | [`reconstruct`](mod@reconstruct) | identification then one point per contact row with either method |
+//! | [`accuracy`] | accuracy on demand ([`reconstruct_to`]): the points at the tolerance an accuracy needs, each with its error estimate |
 //! | [`stream`] | rows one at a time, each point as soon as it is known |
 //! | [`noise`] | seeded sensor noise and the error-against-noise study |
 //! | [`calibrate`](mod@calibrate) | the whisker's own parameters from sweeps past known contours; design advice |
@@ -31,7 +33,7 @@
 //! ```
 
 pub mod accuracy;
-pub mod accurate;
+pub mod base_shot;
 pub mod calibrate;
 pub mod common;
 pub mod error;
@@ -41,17 +43,19 @@ mod judge;
 pub mod noise;
 pub mod observables;
 pub mod reconstruct;
+pub mod result;
 pub mod stream;
 pub mod thesis;
 
 pub use accuracy::{reconstruct_to, ReconAccuracy};
+pub use beam_model::AccuracyReport;
 pub use common::{
-    contact_force, contour_error, free_flow, Identification, KnownFlow, NoiseScales, ReconMethod,
-    ReconPoint, ReconSettings, Reconstruction,
+    contact_force, contour_error, free_flow, KnownFlow, NoiseScales, ReconMethod, ReconSettings,
 };
 pub use error::{ReconError, Result};
 pub use identify::identify;
 pub use noise::{add_noise, noise_study, NoiseResult};
 pub use observables::{from_sweep, ObservableRow};
 pub use reconstruct::{reconstruct, reconstruct_with};
+pub use result::{Identification, ReconPoint, Reconstruction};
 pub use stream::Streamer;

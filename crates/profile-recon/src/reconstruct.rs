@@ -1,6 +1,6 @@
 //! Contour reconstruction from an observables log (thesis 6.2): identification of the flow
 //! and the pre-contact rows ([`identify`](crate::identify())), then one contact point per
-//! contact row by the chosen method ([`accurate`](crate::accurate) or
+//! contact row by the chosen method (`accurate`: [`base_shot`](crate::base_shot), or
 //! [`thesis`](crate::thesis)).
 //!
 //! With `consistency_tol` set, a contact row whose best residual exceeds both it and the
@@ -9,12 +9,13 @@
 //! excuse a wrong model) is an error naming the row; otherwise every row gives a point with its residual and error
 //! estimate (at the given or estimated level).
 
-use crate::accurate::{evaluate, RowCtx};
-use crate::common::{KnownFlow, ReconMethod, ReconPoint, ReconSettings, Reconstruction};
+use crate::base_shot::{evaluate, RowCtx};
+use crate::common::{KnownFlow, ReconMethod, ReconSettings};
 use crate::error::{ReconError, Result};
 use crate::identify::{identify_rows, Identified};
 use crate::judge::{flow_sd, Judge};
 use crate::observables::ObservableRow;
+use crate::result::{ReconPoint, Reconstruction};
 use beam_model::Whisker;
 use bvp_solvers::integrator::Dop853;
 

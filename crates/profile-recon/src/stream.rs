@@ -17,8 +17,8 @@
 //! be estimated ahead); the noise scales of the columns are the largest magnitudes seen so
 //! far.
 
-use crate::accurate::{evaluate, RowCtx};
-use crate::common::{free_flow, KnownFlow, NoiseScales, ReconPoint, ReconSettings, NOISE_FLOOR};
+use crate::base_shot::{evaluate, RowCtx};
+use crate::common::{free_flow, KnownFlow, NoiseScales, ReconSettings, NOISE_FLOOR};
 #[cfg(doc)]
 use crate::error::ReconError;
 use crate::error::Result;
@@ -26,6 +26,7 @@ use crate::identify::check_known;
 use crate::judge::{flow_sd, Judge};
 use crate::observables::ObservableRow;
 use crate::reconstruct::reconstruct_with;
+use crate::result::ReconPoint;
 use beam_model::{FluidLoad, Whisker};
 use bvp_solvers::integrator::Dop853;
 

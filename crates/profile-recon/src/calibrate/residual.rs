@@ -1,7 +1,7 @@
 //! The residuals of a calibration: what each row of a log says about the whisker.
 //!
 //! Every row's observables are the initial values of the first-order system at the base
-//! (`accurate`'s [`BaseOde`](crate::accurate), spec/model.md), so one integration from the
+//! (method `accurate`'s `BaseOde`, [`base_shot`](crate::base_shot), spec/model.md), so one integration from the
 //! base per row gives the whole whisker of that row for trial parameters. With the log in
 //! the units of a nominal stiffness, the model's observables are `(Ax, Ay, MA) / lambda`
 //! (`lambda = EI / EI_nominal`, [`Model::lambda`]) and `phi0`. Four residuals per row, all zero
@@ -26,7 +26,7 @@
 //! them is the maximum-likelihood fit of the output error, without one forward contact solve
 //! per row.
 
-use crate::accurate::base_ivp;
+use crate::base_shot::base_ivp;
 use crate::common::force_components;
 use crate::observables::ObservableRow;
 use beam_model::{FluidLoad, Support, Whisker};

@@ -53,11 +53,12 @@
 mod rows;
 mod system;
 
-use crate::common::{ReconPoint, ReconSettings};
+use crate::common::ReconSettings;
 #[cfg(doc)]
 use crate::error::ReconError;
 use crate::error::Result;
 use crate::observables::ObservableRow;
+use crate::result::ReconPoint;
 use beam_model::{FluidLoad, Whisker};
 use rows::{first_row, first_start, RowSolve, SlopeRule, Warm};
 

@@ -3,9 +3,10 @@
 //! the other ([`RowSolve`]), and the start of the first row.
 
 use super::system::{convert, other, RowSystem, Solved};
-use crate::common::{contact_force, ReconPoint, ReconSettings};
+use crate::common::{contact_force, ReconSettings};
 use crate::error::{ReconError, Result};
 use crate::observables::ObservableRow;
+use crate::result::ReconPoint;
 use beam_model::{solve as solve_model, FluidLoad, Loads, Method, Scene, Solution, Whisker};
 use bvp_solvers::BvpError;
 use contact_sim::Phase;

@@ -6,9 +6,10 @@ use super::context::{RowCtx, PROJECT_MIN};
 use super::evaluate::evaluate;
 use super::hypotheses::{Hypothesis, RowEval};
 use super::project::project;
-use crate::common::{free_flow, ReconPoint};
+use crate::common::free_flow;
 use crate::error::Result;
 use crate::observables::ObservableRow;
+use crate::result::ReconPoint;
 use contact_sim::Phase;
 
 /// A row of the log at the relative noise level of its point.

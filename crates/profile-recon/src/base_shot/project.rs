@@ -154,7 +154,7 @@ pub(crate) fn project(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::accurate::evaluate::tests::G2Rows;
+    use crate::base_shot::evaluate::tests::G2Rows;
 
     #[test]
     fn a_noisy_row_is_projected_onto_its_consistent_observables() {

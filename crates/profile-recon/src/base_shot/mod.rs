@@ -1,4 +1,9 @@
-//! Method `accurate`: the observables ARE the initial values of the first-order system at the
+//! Method `accurate` (`ReconMethod::Accurate`), one shot from the base per row: the module is
+//! named for what it does, as `beam_model::shot` shoots from the loaded end, and so that it
+//! does not read as a twin of [`accuracy`](crate::accuracy) (accuracy on demand, which runs
+//! this method at the tolerance an accuracy needs).
+//!
+//! The observables ARE the initial values of the first-order system at the
 //! base, `(phi, m, x, y)(0) = (phi0, -MA, x0, 0)` (spec/model.md, thesis ch. 6 reformulated).
 //!
 //! For a contact at `s1` the internal force at `s < s1` is fixed by the base reaction and the

@@ -1,5 +1,5 @@
 //! The constants of method `accurate` and the context of a row's evaluation ([`RowCtx`]),
-//! shared by its files (re-exported at [`accurate`](super)).
+//! shared by its files (re-exported at [`base_shot`](super)).
 
 use crate::common::NoiseScales;
 use beam_model::{FluidLoad, Whisker};

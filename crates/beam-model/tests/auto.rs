@@ -476,9 +476,14 @@ fn ap_forces_on_soft_springs_meet_the_accuracy_asked_for() {
 }
 
 /// The same on 300 scenes: `cargo test --release -p beam-model --test auto -- --ignored
-/// --nocapture`.
+/// --nocapture`. Known to fail (open, issue 34 item 3): case 90 (theta 0.978, A 0.644,
+/// B 0.336, k 0.545, AP f 3.52 at beta -82.0 degrees) at 1e-6, answered by `accurate`'s
+/// shooting with an error of 2.0e-6 under an estimate of 6.0e-7: its answers carry an
+/// error of ~1e-6 whatever the dense shot's tolerance in 1e-5..1e-7 (2.2e-6, 8.7e-7,
+/// 2.0e-6 at `auto` 1e-4, 1e-5, 1e-6; 5e-11 at 1e-7), so the second solution agrees with
+/// the answer and the estimate misses; the Picard fix does not reach it.
 #[test]
-#[ignore]
+#[ignore = "known to fail on case 90 (accurate's estimate, AP force on a spring k 0.545); run with --ignored"]
 fn ap_forces_on_soft_springs_meet_the_accuracy_asked_for_wide() {
     let (answers, _, _) = ap_soft_springs(0xA9_0034, 300);
     assert!(answers >= 600, "only {answers} answers compared");

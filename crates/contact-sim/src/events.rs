@@ -247,19 +247,19 @@ impl Iv {
     fn point(v: f64) -> Iv {
         Iv { lo: v, hi: v }
     }
-    fn add(self, o: Iv) -> Iv {
+    fn plus(self, o: Iv) -> Iv {
         Iv {
             lo: self.lo + o.lo,
             hi: self.hi + o.hi,
         }
     }
-    fn sub(self, o: Iv) -> Iv {
+    fn minus(self, o: Iv) -> Iv {
         Iv {
             lo: self.lo - o.hi,
             hi: self.hi - o.lo,
         }
     }
-    fn mul(self, o: Iv) -> Iv {
+    fn times(self, o: Iv) -> Iv {
         let p = [
             self.lo * o.lo,
             self.lo * o.hi,
@@ -271,7 +271,7 @@ impl Iv {
             hi: p.iter().copied().fold(f64::NEG_INFINITY, f64::max),
         }
     }
-    fn neg(self) -> Iv {
+    fn negated(self) -> Iv {
         Iv {
             lo: -self.hi,
             hi: -self.lo,
@@ -293,9 +293,9 @@ fn enclose(p: &StepInterpolant<2>, i: usize, (a, b): (f64, f64)) -> Option<(Iv, 
     let (mut w, mut d1) = (Iv::point(rc[7][i]), Iv::point(0.0));
     for j in (0..7).rev() {
         let (t, dt) = if j % 2 == 0 { (th, 1.0) } else { (t1, -1.0) };
-        let dw = if dt > 0.0 { w } else { w.neg() };
-        d1 = dw.add(t.mul(d1));
-        w = Iv::point(rc[j][i]).add(t.mul(w));
+        let dw = if dt > 0.0 { w } else { w.negated() };
+        d1 = dw.plus(t.times(d1));
+        w = Iv::point(rc[j][i]).plus(t.times(w));
     }
     Some((w, d1))
 }
@@ -384,7 +384,7 @@ impl Depth<'_> {
         };
         let graph = match self.slope(x) {
             Some(g1) if da.graph.is_finite() && db.graph.is_finite() => {
-                let d = dy.sub(g1.mul(dx));
+                let d = dy.minus(g1.times(dx));
                 let w = b - a;
                 if d.hi <= 0.0 {
                     da.graph
@@ -415,7 +415,7 @@ impl Depth<'_> {
         let Some(g1) = self.slope(x) else {
             return false;
         };
-        if dy.sub(g1.mul(dx)).hi > 0.0 {
+        if dy.minus(g1.times(dx)).hi > 0.0 {
             return false;
         }
         match *self.profile {

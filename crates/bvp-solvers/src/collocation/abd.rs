@@ -4,7 +4,7 @@
 //!
 //! The unknowns are the node values `y_0, ..., y_{m-1}` (`n` each) and the parameters `p`
 //! (`k`). Interval `j` contributes `n` rows `A_j y_j + C_j y_{j+1} + P_j p = r_j` (the
-//! derivative of the collocation residual [`super::residual`], eq. (2) of the module doc);
+//! derivative of the collocation residual [`super::system::System::collocation`], eq. (2) of the module doc);
 //! the boundary conditions give `n + k` rows `Ba y_0 + Bb y_{m-1} + Bp p = r_bc`, which may
 //! couple both ends (periodic, non-separated) and the parameters.
 //!

@@ -27,7 +27,9 @@ struct Problem {
 }
 
 fn linspace(a: f64, b: f64, m: usize) -> Vec<f64> {
-    (0..m).map(|i| a + (b - a) * i as f64 / (m - 1) as f64).collect()
+    (0..m)
+        .map(|i| a + (b - a) * i as f64 / (m - 1) as f64)
+        .collect()
 }
 
 fn grid_err(sol: &BvpSolution, a: f64, b: f64, exact: impl Fn(f64) -> f64) -> f64 {
@@ -75,7 +77,11 @@ fn winkler_exact(l: f64) -> impl Fn(f64) -> f64 {
 
 fn winkler(l: f64) -> Problem {
     Problem {
-        name: if l == 30.0 { "winkler_L30" } else { "winkler_L50" },
+        name: if l == 30.0 {
+            "winkler_L30"
+        } else {
+            "winkler_L50"
+        },
         f: |_, y, _, d| {
             d[0] = y[1];
             d[1] = y[2];
@@ -331,7 +337,8 @@ fn problems() -> Vec<Problem> {
             singular: None,
             error: |s| {
                 grid_err(s, 0.0, 1.0, |x| {
-                    (-100.0 * x).exp() * (1.0 - (-200.0 * (1.0 - x)).exp()) / (1.0 - (-200.0f64).exp())
+                    (-100.0 * x).exp() * (1.0 - (-200.0 * (1.0 - x)).exp())
+                        / (1.0 - (-200.0f64).exp())
                 })
             },
         },
@@ -378,7 +385,10 @@ fn main() {
             let sol = match run() {
                 Ok(s) => s,
                 Err(e) => {
-                    println!("{{\"problem\":\"{}\",\"tol\":{tol:e},\"error_msg\":\"{e}\"}}", pr.name);
+                    println!(
+                        "{{\"problem\":\"{}\",\"tol\":{tol:e},\"error_msg\":\"{e}\"}}",
+                        pr.name
+                    );
                     continue;
                 }
             };

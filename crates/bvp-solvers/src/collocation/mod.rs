@@ -76,6 +76,10 @@ use crate::BvpError;
 use abd::AbdMatrix;
 use system::{Colloc, Singular, System};
 
+/// Meshes solved before refinement that neither meets `tol` nor exhausts `max_nodes` (node
+/// removal can cycle) is reported as [`BvpError::NoConvergence`].
+pub const MAX_MESHES: usize = 200;
+
 /// Options of [`solve_bvp`]; the defaults are scipy's.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BvpOptions {
@@ -88,6 +92,9 @@ pub struct BvpOptions {
     pub max_nodes: usize,
     /// The `n x n` matrix `S` (row-major) of a singular term `S y / (x - a)`.
     pub singular: Option<Vec<f64>>,
+    /// Remove nodes where the residual is far below `tol` while refining elsewhere (bvp4c's
+    /// rule, [`mesh::removable`]; default `true`). scipy never removes nodes.
+    pub remove_nodes: bool,
     /// Meshes solved without refinement before boundary residuals above `bc_tol` are reported
     /// as [`BvpError::NoConvergence`] (default 10, scipy's `max_iteration`).
     pub max_iterations: usize,
@@ -100,6 +107,7 @@ impl Default for BvpOptions {
             bc_tol: None,
             max_nodes: 1000,
             singular: None,
+            remove_nodes: true,
             max_iterations: 10,
         }
     }
@@ -400,7 +408,19 @@ pub fn solve_bvp_problem<P: BvpProblem + ?Sized>(
             });
         }
         if added > 0 {
-            let xn = mesh::modify_mesh(&x, &insert_1, &insert_2);
+            let mut xn = mesh::modify_mesh(&x, &insert_1, &insert_2);
+            if opts.remove_nodes {
+                let refine: Vec<bool> = rms.iter().map(|&r| r > tol).collect();
+                let drop = mesh::removable(&rms, tol, &refine);
+                xn.retain(|v| drop.binary_search_by(|&j| x[j].total_cmp(v)).is_err());
+            }
+            if sys.stats.mesh_iterations >= MAX_MESHES {
+                return Err(BvpError::NoConvergence {
+                    method: "collocation (mesh refinement)",
+                    iterations: sys.stats.mesh_iterations,
+                    residual: max_rms,
+                });
+            }
             let mut yn = vec![0.0; xn.len() * n];
             for (j, &t) in xn.iter().enumerate() {
                 let i = hermite::interval(&x, t);

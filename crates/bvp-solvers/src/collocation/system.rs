@@ -300,17 +300,27 @@ impl<'a, P: BvpProblem + ?Sized> System<'a, P> {
             let a = &mut mat.a[i * nn..(i + 1) * nn];
             let c = &mut mat.c[i * nn..(i + 1) * nn];
             let (h6, h12) = (h / 6.0, h * h / 12.0);
+            // the products J_m J_0, J_m J_1 row by row (skipping zeros of the often sparse J_m)
             for r in 0..n {
+                let arow = &mut a[r * n..(r + 1) * n];
+                let crow = &mut c[r * n..(r + 1) * n];
                 for q in 0..n {
-                    let mut s0 = 0.0;
-                    let mut s1 = 0.0;
-                    for t in 0..n {
-                        s0 += jm[r * n + t] * j0[t * n + q];
-                        s1 += jm[r * n + t] * j1[t * n + q];
+                    let jmq = 2.0 * jm[r * n + q];
+                    arow[q] = -h6 * (j0[r * n + q] + jmq);
+                    crow[q] = -h6 * (j1[r * n + q] + jmq);
+                }
+                arow[r] -= 1.0;
+                crow[r] += 1.0;
+                for t in 0..n {
+                    let v = jm[r * n + t];
+                    if v == 0.0 {
+                        continue;
                     }
-                    let e = if r == q { 1.0 } else { 0.0 };
-                    a[r * n + q] = -e - h6 * (j0[r * n + q] + 2.0 * jm[r * n + q]) - h12 * s0;
-                    c[r * n + q] = e - h6 * (j1[r * n + q] + 2.0 * jm[r * n + q]) + h12 * s1;
+                    let (w0, w1) = (&j0[t * n..(t + 1) * n], &j1[t * n..(t + 1) * n]);
+                    for q in 0..n {
+                        arow[q] -= h12 * v * w0[q];
+                        crow[q] += h12 * v * w1[q];
+                    }
                 }
             }
             if k > 0 {

@@ -13,18 +13,27 @@ use super::BvpStats;
 /// The singular term `S y / (x - a)`: `S`, `D = (I - S)^+` (the limit `f(a) = D f(a, y(a))`
 /// at `x = a`) and `B = I - S^+ S` (the projector that enforces `S y(a) = 0`), row-major.
 pub struct Singular {
+    /// `S`.
     pub s: Vec<f64>,
+    /// `D = (I - S)^+`.
     pub d: Vec<f64>,
+    /// `B = I - S^+ S`.
     pub b: Vec<f64>,
 }
 
 /// The problem wrapped with its sizes, singular term and evaluation counters.
 pub struct System<'a, P: ?Sized> {
+    /// The user's problem.
     pub prob: &'a P,
+    /// States.
     pub n: usize,
+    /// Unknown parameters.
     pub k: usize,
+    /// The left end (where the singular term is singular).
     pub a: f64,
+    /// The singular term, if any.
     pub sing: Option<Singular>,
+    /// Evaluation counters.
     pub stats: BvpStats,
     buf: Vec<f64>,
     buf2: Vec<f64>,
@@ -55,6 +64,7 @@ pub struct Colloc {
 }
 
 impl<'a, P: BvpProblem + ?Sized> System<'a, P> {
+    /// The system of `prob` with `n` states, `k` parameters, left end `a`.
     pub fn new(prob: &'a P, n: usize, k: usize, a: f64, sing: Option<Singular>) -> Self {
         Self {
             prob,

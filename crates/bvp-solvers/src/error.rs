@@ -80,4 +80,16 @@ pub enum BvpError {
         /// Independent variable (or iteration index) where it appeared.
         s: f64,
     },
+    /// Mesh refinement would exceed the node budget before the residual met its tolerance.
+    #[error("mesh limit: {needed} nodes needed, max_nodes = {max_nodes}; largest relative residual {max_rms_residual:.3e} (tol {tol:.1e})")]
+    MeshLimit {
+        /// The budget (`max_nodes`).
+        max_nodes: usize,
+        /// Nodes the next refinement would have needed.
+        needed: usize,
+        /// The largest relative residual on the last mesh.
+        max_rms_residual: f64,
+        /// The tolerance asked for.
+        tol: f64,
+    },
 }

@@ -16,11 +16,13 @@
 //! | [`roots`] | scalar roots: bisection, Brent (the `fzero` equivalents) and Cauchy |
 //! | [`trust_region`] | small non-linear systems by argmin's trust region (the `fsolve` equivalent) |
 //! | [`shooting`] | shooting: unknown initial values / parameters found so that boundary residuals vanish; Newton with the problem's own sensitivities (what the domain runs), or forward differences and the trust region for bare ODEs |
+//! | [`collocation`] | `solve_bvp`: collocation (3-point Lobatto IIIA, bvp4c/scipy) for first-order systems with unknown parameters, any boundary residuals and a singular term, residual control with mesh refinement, analytic or differenced Jacobians, dense output |
 //! | [`continuation`] | continuation of a solution branch: pseudo-arclength through folds with located events ([`continuation::Arclength`] on a [`continuation::Curve`]), and natural-parameter continuation ([`continuation::Continuation::follow`]) as its special case with the parameter as the one coordinate |
 //!
 //! Every fallible routine returns [`BvpError`], whose variants carry the numbers
 //! (iterations, residual, row, offending value).
 
+pub mod collocation;
 pub mod continuation;
 pub mod cores;
 pub mod dense;

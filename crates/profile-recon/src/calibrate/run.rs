@@ -185,7 +185,7 @@ pub(crate) fn check_contact(prob: &CalibProblem<'_>, fit: &Rounds) -> Result<()>
         .kinds
         .iter()
         .zip(&prob.fixed_flow)
-        .any(|(ks, fixed)| fixed.is_none() && !ks.iter().any(|k| *k == RowKind::Pre));
+        .any(|(ks, fixed)| fixed.is_none() && !ks.contains(&RowKind::Pre));
     let reason = if flowless {
         "none of the contact rows can be fitted, and no row of the free whisker gives the \
          flow (give q and alpha, or rows before contact)"

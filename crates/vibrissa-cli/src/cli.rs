@@ -17,7 +17,8 @@ Examples:
   vibrissa demo --out vibrissa-demo
 
 Exit codes: 0 success, 1 solver failure, 2 usage or input error, 3 no contact (the whisker
-never touches the obstacle).";
+never touches the obstacle), 4 output not delivered (standard output closed by its reader,
+as `| head` does, or full; an --out folder written before stays whole).";
 
 const SOLVE_EXAMPLES: &str = "\
 Examples:

@@ -18,6 +18,7 @@ use crate::commands::shapes::{write_shapes_csv, write_shapes_svg};
 use crate::commands::sweep_events::{sweep_events, sweep_summary, RowCounts};
 use crate::commands::sweep_figures::{write_sweep_figures, FigureContext};
 use crate::error::CliError;
+use crate::printer::Printer;
 use crate::resolve::{
     parse_count, parse_number, profile_arg, resolve_model, LoadedScene, ProfileArg, Resolved,
 };
@@ -64,23 +65,27 @@ pub fn run(args: &SweepArgs) -> Result<(), CliError> {
         write_shapes_csv(&r, &res, &out.path_for("shapes.csv"))?;
     }
     let files = out.commit()?;
+    let mut stdout = Printer::stdout().published(Some(args.out.as_path()));
     if args.json {
         let mut v = sweep_json(&res, points, &units);
         v["profile"] = serde_json::Value::String(profile.spec.clone());
         v["out"] = serde_json::Value::String(args.out.display().to_string());
         v["files"] = serde_json::Value::from(files.len());
-        println!("{v}");
+        stdout.line(v)
     } else {
         // The summary line comes last (spec/cli.md: stdout ends with it).
-        println!("wrote {} files to {}", files.len(), args.out.display());
-        println!(
+        stdout.line(format_args!(
+            "wrote {} files to {}",
+            files.len(),
+            args.out.display()
+        ))?;
+        stdout.line(format_args!(
             "sweep {}: {}{}",
             profile.spec,
             sweep_summary(&res, points, &units),
             accuracy_note(&res)
-        );
+        ))
     }
-    Ok(())
 }
 
 /// The accuracy asked for of a sweep's rows: `--tol` (typed as `raw`), else the scene

@@ -86,7 +86,7 @@ pub struct Cli {
         value_name = "WHICH",
         default_value = "svg"
     )]
-    pub figures: crate::plot::FigureFormats,
+    pub figures: vibrissa_plot::FigureFormats,
     /// The printed size the figures are made for: column (85 mm, one column of a journal
     /// page), page (175 mm, both columns) or slide (254 mm, fonts twice as large). Fonts
     /// print at 7-8.5 pt at that size.
@@ -97,7 +97,7 @@ pub struct Cli {
         value_name = "SIZE",
         default_value = "column"
     )]
-    pub size: crate::plot::FigureSize,
+    pub size: vibrissa_plot::FigureSize,
 }
 
 /// The commands.
@@ -420,4 +420,66 @@ pub struct CalibrateArgs {
     /// Output directory: scene.ron, residuals.csv (+ units), contour-N.svg, residuals.svg.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
+}
+
+// The library's model values (`vibrissa_io::resolve`), as typed, from the flags.
+
+impl From<LoadArg> for vibrissa_io::scene_file::LoadKind {
+    fn from(l: LoadArg) -> Self {
+        match l {
+            LoadArg::Dp => vibrissa_io::scene_file::LoadKind::Dp,
+            LoadArg::Ap => vibrissa_io::scene_file::LoadKind::Ap,
+        }
+    }
+}
+
+impl From<&WhiskerFlags> for vibrissa_io::resolve::WhiskerFlags {
+    fn from(w: &WhiskerFlags) -> Self {
+        vibrissa_io::resolve::WhiskerFlags {
+            theta: w.theta.clone(),
+            a: w.a.clone(),
+            b: w.b.clone(),
+            k: w.k.clone(),
+        }
+    }
+}
+
+impl From<&TipFlags> for vibrissa_io::resolve::TipFlags {
+    fn from(t: &TipFlags) -> Self {
+        vibrissa_io::resolve::TipFlags {
+            f: t.f.clone(),
+            beta_deg: t.beta_deg.clone(),
+            load: t.load.map(Into::into),
+        }
+    }
+}
+
+impl From<&FluidFlags> for vibrissa_io::resolve::FluidFlags {
+    fn from(f: &FluidFlags) -> Self {
+        vibrissa_io::resolve::FluidFlags {
+            q: f.q.clone(),
+            alpha_deg: f.alpha_deg.clone(),
+        }
+    }
+}
+
+impl From<&MethodFlags> for vibrissa_io::resolve::MethodFlags {
+    fn from(m: &MethodFlags) -> Self {
+        vibrissa_io::resolve::MethodFlags {
+            method: m.method.clone(),
+            n: m.n.clone(),
+            tol: m.tol.clone(),
+        }
+    }
+}
+
+impl From<&ModelFlags> for vibrissa_io::resolve::ModelFlags {
+    fn from(m: &ModelFlags) -> Self {
+        vibrissa_io::resolve::ModelFlags {
+            whisker: (&m.whisker).into(),
+            tip: (&m.tip).into(),
+            fluid: (&m.fluid).into(),
+            method: (&m.method).into(),
+        }
+    }
 }

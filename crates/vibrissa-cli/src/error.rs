@@ -162,6 +162,62 @@ impl CliError {
     }
 }
 
+impl From<vibrissa_io::IoError> for CliError {
+    /// The same error, variant for variant (same message, same exit code).
+    fn from(e: vibrissa_io::IoError) -> Self {
+        use vibrissa_io::IoError as E;
+        match e {
+            E::Io { path, source } => CliError::Io { path, source },
+            E::Csv {
+                path,
+                line,
+                column,
+                reason,
+            } => CliError::Csv {
+                path,
+                line,
+                column,
+                reason,
+            },
+            E::Scene {
+                path,
+                line,
+                column,
+                field,
+                reason,
+            } => CliError::Scene {
+                path,
+                line,
+                column,
+                field,
+                reason,
+            },
+            E::InvalidArgument {
+                flag,
+                value,
+                reason,
+            } => CliError::InvalidArgument {
+                flag,
+                value,
+                reason,
+            },
+            E::Usage { reason } => CliError::Usage { reason },
+            E::Solver { reason, source } => CliError::Solver { reason, source },
+        }
+    }
+}
+
+impl From<vibrissa_plot::PlotError> for CliError {
+    /// A figure that could not be drawn is [`CliError::Plot`]; one that could not be
+    /// written, the I/O error.
+    fn from(e: vibrissa_plot::PlotError) -> Self {
+        match e {
+            vibrissa_plot::PlotError::Draw { path, reason } => CliError::Plot { path, reason },
+            vibrissa_plot::PlotError::Io(e) => e.into(),
+        }
+    }
+}
+
 /// Renders "column `name`: " or nothing.
 struct OptColumn<'a>(Option<&'a str>);
 

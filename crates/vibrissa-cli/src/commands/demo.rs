@@ -12,7 +12,7 @@ use contact_sim::{Profile, SweepResult};
 use profile_recon::{contour_error, from_sweep, reconstruct, ReconSettings};
 
 use crate::atomic::OutputDir;
-use crate::cli::{DemoArgs, ModelFlags};
+use crate::cli::DemoArgs;
 use crate::commands::recon_io::{write_reconstruction_csv, RECON_CSV};
 use crate::commands::reconstruct::summary::{
     max_of, phase_counts, row_ranges, rows_without_points,
@@ -23,7 +23,7 @@ use crate::commands::sweep::{run_sweep, write_sweep_outputs, write_sweep_units};
 use crate::commands::sweep_events::sweep_summary;
 use crate::error::CliError;
 use crate::printer::Printer;
-use crate::resolve::{profile_arg, resolve_model, LoadedScene, Resolved};
+use crate::resolve::{profile_arg, resolve_model, LoadedScene, ModelFlags, Resolved};
 use crate::scene_file::SceneFile;
 use crate::units::UnitSystem;
 

@@ -16,7 +16,7 @@ use crate::resolve::{resolve_model, LoadedScene, Resolved};
 /// Runs `vibrissa solve`.
 pub fn run(args: &SolveArgs) -> Result<(), CliError> {
     let file = LoadedScene::load_opt(args.scene.as_deref())?;
-    let r = resolve_model(&args.model, file)?;
+    let r = resolve_model(&(&args.model).into(), file)?;
     let sol = solve(&r.scene, &r.method).map_err(|e| r.culprit(&e))?;
     let mut written = Vec::new();
     if let Some(dir) = &args.out {

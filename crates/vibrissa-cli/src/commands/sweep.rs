@@ -34,9 +34,9 @@ pub fn run(args: &SweepArgs) -> Result<(), CliError> {
         profile_arg(&args.profile, file.as_ref()).ok_or_else(|| missing_profile(file.as_ref()))?;
     let points = sweep_points(args.points.as_deref(), file.as_ref())?;
     let tol = sweep_tol(args.tol.as_deref(), file.as_ref())?;
-    let flags = crate::cli::ModelFlags {
-        whisker: args.whisker.clone(),
-        fluid: args.fluid.clone(),
+    let flags = crate::resolve::ModelFlags {
+        whisker: (&args.whisker).into(),
+        fluid: (&args.fluid).into(),
         ..Default::default()
     };
     let r = resolve_model(&flags, file)?;
@@ -104,7 +104,7 @@ pub fn sweep_tol(raw: Option<&str>, file: Option<&LoadedScene>) -> Result<Option
             Ok(Some(t))
         }
         (None, Some(f)) => match f.file.sweep.as_ref().and_then(|s| s.tol) {
-            Some(t) if !ok(t) => Err(f.error_at("sweep.tol", format!("{RANGE}, got {t}"))),
+            Some(t) if !ok(t) => Err(f.error_at("sweep.tol", format!("{RANGE}, got {t}")).into()),
             t => Ok(t),
         },
         (None, None) => Ok(None),
@@ -142,10 +142,12 @@ pub fn missing_profile(file: Option<&LoadedScene>) -> CliError {
     const KINDS: &str = "g1, g2, ge, parabola:a,xv,yv, cosh:a,c,xv,d, circle:xc,yc,r or \
                          points:FILE.csv";
     match file {
-        Some(f) => f.error_at(
-            "profile",
-            format!("the scene has no obstacle: add `profile: Some(\"g1\")` (or {KINDS}) or give --profile"),
-        ),
+        Some(f) => f
+            .error_at(
+                "profile",
+                format!("the scene has no obstacle: add `profile: Some(\"g1\")` (or {KINDS}) or give --profile"),
+            )
+            .into(),
         None => CliError::Usage {
             reason: format!("a sweep needs an obstacle: give --profile P ({KINDS})"),
         },
@@ -278,7 +280,9 @@ pub fn check_sweep_loads(r: &Resolved) -> Result<(), CliError> {
                 (Origin::Flag { flag, raw }, _) => {
                     CliError::invalid_argument(*flag, raw.clone(), what)
                 }
-                (_, Some(file)) => file.error_at(field, format!("{what}, got {}", p.value)),
+                (_, Some(file)) => file
+                    .error_at(field, format!("{what}, got {}", p.value))
+                    .into(),
                 _ => CliError::invalid_argument(field, p.value.to_string(), what),
             });
         }
@@ -352,7 +356,7 @@ pub fn run_sweep_with(
     if let Some(pb) = bar {
         pb.finish_and_clear();
     }
-    res.map_err(|e| r.contact_culprit(e, profile))
+    res.map_err(|e| r.contact_culprit(e, profile).into())
 }
 
 /// Writes the units sidecar of a sweep's `observables.csv`, `observables.units.csv`, into

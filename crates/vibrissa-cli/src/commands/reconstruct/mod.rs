@@ -142,7 +142,7 @@ fn write(
         units,
         |n| out.path_for(n),
     )?;
-    out.commit()
+    Ok(out.commit()?)
 }
 
 /// Summary: the JSON object (`--json`) or the summary lines.

@@ -79,6 +79,12 @@ impl From<CliError> for Failure {
     }
 }
 
+impl From<vibrissa_io::IoError> for Failure {
+    fn from(e: vibrissa_io::IoError) -> Self {
+        Failure::Run(e.to_string())
+    }
+}
+
 /// The parsed command line.
 #[derive(Debug, PartialEq)]
 enum Task {
@@ -393,7 +399,7 @@ impl Report {
     }
 
     /// Writes the markdown to `path` atomically.
-    fn write(&self, path: &Path) -> Result<(), CliError> {
+    fn write(&self, path: &Path) -> Result<(), vibrissa_io::IoError> {
         let base = path.parent().unwrap_or(Path::new(""));
         write_atomic(path, self.to_markdown(base).as_bytes())
     }

@@ -87,13 +87,28 @@ impl Spline {
                 y.len()
             )));
         }
-        for (i, w) in x.windows(2).enumerate() {
-            if w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Greater) {
-                return Err(bad(format!("x must increase strictly (point {})", i + 2)));
+        // finiteness first: a NaN in x is named as such, not as x failing to increase
+        for (name, values) in [("x", &x), ("y", &y)] {
+            if let Some(i) = values.iter().position(|v| !v.is_finite()) {
+                return Err(bad(format!(
+                    "{name}[{i}] = {} (point {} of {}, 0-based index {i}): every coordinate \
+                     must be a finite number",
+                    values[i],
+                    i + 1,
+                    values.len()
+                )));
             }
         }
-        if let Some(i) = x.iter().chain(&y).position(|v| !v.is_finite()) {
-            return Err(bad(format!("non-finite coordinate (value {})", i + 1)));
+        for (i, w) in x.windows(2).enumerate() {
+            if w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Greater) {
+                return Err(bad(format!(
+                    "x must increase strictly: x[{}] = {} after x[{i}] = {} (point {})",
+                    i + 1,
+                    w[1],
+                    w[0],
+                    i + 2
+                )));
+            }
         }
         let n = x.len();
         let h: Vec<f64> = x.windows(2).map(|w| w[1] - w[0]).collect();

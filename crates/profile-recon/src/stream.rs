@@ -6,7 +6,10 @@
 //! (the free whisker under the flow within the noise [6.1]) or a contact point. Otherwise the
 //! rows are held back until the first row that is the free whisker under its own flow
 //! (`q = hypot(Ax, Ay)`, `alpha = atan2(Ay, -Ax)`, `m(1) = 0` within the noise) fixes the
-//! flow; the held rows are then reconstructed and returned together. Later pre-contact rows
+//! flow; the held rows are then reconstructed and returned together. A row that is no
+//! free whisker under its own flow is held whatever its judge says under that flow (no
+//! consistent contact point there is no verdict: the flow is not that row's), so a log whose
+//! contact rows all come before its free rows reads as the batch reads it. Later pre-contact rows
 //! do not change the flow (the points already returned stay valid). At the end of the stream
 //! ([`Streamer::finish`]) rows still held are reconstructed as a batch log. Without a given
 //! flow the stream therefore depends on the order of the rows (a release row with a force at
@@ -127,7 +130,10 @@ impl Streamer {
             q: self.known.q.unwrap_or(own.q),
             alpha: self.known.alpha.unwrap_or(own.alpha),
         };
-        if self.decide(flow, i, &row)?.is_none() {
+        // A contact row judged under its own (wrong) flow may find no consistent point: that
+        // is no verdict on the row, which waits for the true flow as the batch's rows do
+        // (a log whose contact rows come before its free rows).
+        if matches!(self.decide(flow, i, &row), Ok(None)) {
             self.flow = Some(flow);
             let held = std::mem::take(&mut self.held);
             let mut out = Vec::new();

@@ -52,13 +52,17 @@ fn stream_equals_batch_under_an_oblique_flow() {
         // reversed, flow given: every row decided on arrival
         (
             "reversed",
-            reversed,
+            reversed.clone(),
             KnownFlow {
                 q: Some(3.0),
                 alpha: Some(0.3),
             },
             true,
         ),
+        // reversed, flow identified: every contact row comes before the free rows, held
+        // until the first free row fixes the flow (issue #34: it failed on row 0 with "no
+        // consistent contact point")
+        ("reversed identified", reversed, KnownFlow::default(), true),
     ] {
         let pts = stream(&input, &w, known);
         assert_eq!(pts.len(), batch.points.len(), "{name}");

@@ -17,7 +17,8 @@ Examples:
   vibrissa demo --out vibrissa-demo
 
 Exit codes: 0 success, 1 solver failure, 2 usage or input error, 3 no contact (the whisker
-never touches the obstacle).";
+never touches the obstacle), 4 output not delivered (standard output closed by its reader,
+as `| head` does, or full; an --out folder written before stays whole).";
 
 const SOLVE_EXAMPLES: &str = "\
 Examples:
@@ -85,7 +86,7 @@ pub struct Cli {
         value_name = "WHICH",
         default_value = "svg"
     )]
-    pub figures: crate::plot::FigureFormats,
+    pub figures: vibrissa_plot::FigureFormats,
     /// The printed size the figures are made for: column (85 mm, one column of a journal
     /// page), page (175 mm, both columns) or slide (254 mm, fonts twice as large). Fonts
     /// print at 7-8.5 pt at that size.
@@ -96,7 +97,7 @@ pub struct Cli {
         value_name = "SIZE",
         default_value = "column"
     )]
-    pub size: crate::plot::FigureSize,
+    pub size: vibrissa_plot::FigureSize,
 }
 
 /// The commands.
@@ -419,4 +420,66 @@ pub struct CalibrateArgs {
     /// Output directory: scene.ron, residuals.csv (+ units), contour-N.svg, residuals.svg.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
+}
+
+// The library's model values (`vibrissa_io::resolve`), as typed, from the flags.
+
+impl From<LoadArg> for vibrissa_io::scene_file::LoadKind {
+    fn from(l: LoadArg) -> Self {
+        match l {
+            LoadArg::Dp => vibrissa_io::scene_file::LoadKind::Dp,
+            LoadArg::Ap => vibrissa_io::scene_file::LoadKind::Ap,
+        }
+    }
+}
+
+impl From<&WhiskerFlags> for vibrissa_io::resolve::WhiskerFlags {
+    fn from(w: &WhiskerFlags) -> Self {
+        vibrissa_io::resolve::WhiskerFlags {
+            theta: w.theta.clone(),
+            a: w.a.clone(),
+            b: w.b.clone(),
+            k: w.k.clone(),
+        }
+    }
+}
+
+impl From<&TipFlags> for vibrissa_io::resolve::TipFlags {
+    fn from(t: &TipFlags) -> Self {
+        vibrissa_io::resolve::TipFlags {
+            f: t.f.clone(),
+            beta_deg: t.beta_deg.clone(),
+            load: t.load.map(Into::into),
+        }
+    }
+}
+
+impl From<&FluidFlags> for vibrissa_io::resolve::FluidFlags {
+    fn from(f: &FluidFlags) -> Self {
+        vibrissa_io::resolve::FluidFlags {
+            q: f.q.clone(),
+            alpha_deg: f.alpha_deg.clone(),
+        }
+    }
+}
+
+impl From<&MethodFlags> for vibrissa_io::resolve::MethodFlags {
+    fn from(m: &MethodFlags) -> Self {
+        vibrissa_io::resolve::MethodFlags {
+            method: m.method.clone(),
+            n: m.n.clone(),
+            tol: m.tol.clone(),
+        }
+    }
+}
+
+impl From<&ModelFlags> for vibrissa_io::resolve::ModelFlags {
+    fn from(m: &ModelFlags) -> Self {
+        vibrissa_io::resolve::ModelFlags {
+            whisker: (&m.whisker).into(),
+            tip: (&m.tip).into(),
+            fluid: (&m.fluid).into(),
+            method: (&m.method).into(),
+        }
+    }
 }

@@ -73,6 +73,20 @@ pub enum CliError {
         /// What went wrong.
         reason: String,
     },
+    /// Standard output did not take the command's output: its reader closed the pipe
+    /// early, or the device is full (exit [`EXIT_OUTPUT`](crate::printer::EXIT_OUTPUT)).
+    #[error(
+        "cannot write to standard output: {}{}",
+        crate::printer::stdout_failure(source),
+        Published(published.as_deref())
+    )]
+    Stdout {
+        /// The operating system's error.
+        #[source]
+        source: std::io::Error,
+        /// The output folder already published whole before the write failed, if any.
+        published: Option<PathBuf>,
+    },
     /// A model or solver failed (no convergence, singular system, ...).
     #[error("{reason}")]
     Solver {
@@ -87,10 +101,12 @@ pub enum CliError {
 impl CliError {
     /// The process exit code for this error (spec/cli.md): 3 when the whisker never touches
     /// the obstacle, 1 for other solver failures (and figures that could not be drawn), 2 for
-    /// usage and input errors.
+    /// usage and input errors, 4 ([`EXIT_OUTPUT`](crate::printer::EXIT_OUTPUT)) when standard
+    /// output did not take the output.
     pub fn exit_code(&self) -> i32 {
         match self {
             _ if self.is_no_contact() => 3,
+            CliError::Stdout { .. } => crate::printer::EXIT_OUTPUT,
             CliError::Solver { .. } | CliError::Plot { .. } => 1,
             CliError::Io { .. }
             | CliError::Csv { .. }
@@ -146,6 +162,62 @@ impl CliError {
     }
 }
 
+impl From<vibrissa_io::IoError> for CliError {
+    /// The same error, variant for variant (same message, same exit code).
+    fn from(e: vibrissa_io::IoError) -> Self {
+        use vibrissa_io::IoError as E;
+        match e {
+            E::Io { path, source } => CliError::Io { path, source },
+            E::Csv {
+                path,
+                line,
+                column,
+                reason,
+            } => CliError::Csv {
+                path,
+                line,
+                column,
+                reason,
+            },
+            E::Scene {
+                path,
+                line,
+                column,
+                field,
+                reason,
+            } => CliError::Scene {
+                path,
+                line,
+                column,
+                field,
+                reason,
+            },
+            E::InvalidArgument {
+                flag,
+                value,
+                reason,
+            } => CliError::InvalidArgument {
+                flag,
+                value,
+                reason,
+            },
+            E::Usage { reason } => CliError::Usage { reason },
+            E::Solver { reason, source } => CliError::Solver { reason, source },
+        }
+    }
+}
+
+impl From<vibrissa_plot::PlotError> for CliError {
+    /// A figure that could not be drawn is [`CliError::Plot`]; one that could not be
+    /// written, the I/O error.
+    fn from(e: vibrissa_plot::PlotError) -> Self {
+        match e {
+            vibrissa_plot::PlotError::Draw { path, reason } => CliError::Plot { path, reason },
+            vibrissa_plot::PlotError::Io(e) => e.into(),
+        }
+    }
+}
+
 /// Renders "column `name`: " or nothing.
 struct OptColumn<'a>(Option<&'a str>);
 
@@ -153,6 +225,22 @@ impl fmt::Display for OptColumn<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self.0 {
             Some(c) => write!(f, "column `{c}`: "),
+            None => Ok(()),
+        }
+    }
+}
+
+/// Renders "; the files in DIR are complete" or nothing.
+struct Published<'a>(Option<&'a std::path::Path>);
+
+impl fmt::Display for Published<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.0 {
+            Some(d) => write!(
+                f,
+                "; the files in {} were written before and are complete",
+                d.display()
+            ),
             None => Ok(()),
         }
     }

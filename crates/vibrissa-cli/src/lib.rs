@@ -1,24 +1,21 @@
 //! The `vibrissa` command line: input/output, figures and scene files.
 //!
 //! - [`error`]: [`CliError`], the one-line errors of the binary and their exit codes;
-//! - [`atomic`]: atomic file writes and staged output directories;
-//! - [`csvio`]: round-trip exact CSV writing and lenient, precise CSV reading (`csv` crate);
-//! - [`plot`]: declarative charts, panels and categorical maps rendered to SVG and PNG;
-//! - [`units`]: the units of every output (dimensionless or mm, N, N mm) and their sidecars;
-//! - [`scene_file`]: the RON scene format;
+//! - [`printer`]: standard output that returns its errors (a closed pipe, a full disk);
 //! - [`cli`]: the command-line grammar;
-//! - [`resolve`]: scene file + flags -> model values (physical units included);
 //! - [`commands`]: `solve`, `sweep`, `reconstruct`, `calibrate`, `demo`, one module per
 //!   concept of their outputs.
+//!
+//! The library layers it prints are re-exported under their former paths: [`atomic`],
+//! [`csvio`], [`units`], [`scene_file`], [`resolve`] (crate `vibrissa-io`) and [`plot`]
+//! (crate `vibrissa-plot`).
 
-pub mod atomic;
 pub mod cli;
 pub mod commands;
-pub mod csvio;
 pub mod error;
-pub mod plot;
-pub mod resolve;
-pub mod scene_file;
-pub mod units;
+pub mod printer;
+
+pub use vibrissa_io::{atomic, csvio, resolve, scene_file, units};
+pub use vibrissa_plot as plot;
 
 pub use error::CliError;

@@ -9,7 +9,6 @@ use vibrissa_cli::plot::{
     write_figure, write_svg, write_svg_panels, Chart, HeatMap, Panel, Series, Style,
 };
 use vibrissa_cli::scene_file::{LoadKind, SceneFile, SweepSpec, Units, WhiskerSpec};
-use vibrissa_cli::CliError;
 
 fn csv_err(text: &str, required: &[&str], min_rows: usize) -> String {
     parse_table(text, Path::new("obs.csv"), required, min_rows)
@@ -97,7 +96,7 @@ fn csv_errors_name_file_line_and_column() {
     let t = parse_table("x0,f\n1,NaN\n", Path::new("a"), &["x0"], 1).unwrap();
     assert!(t.column("f").unwrap()[0].is_nan());
     let missing = read_table(Path::new("/nonexistent/obs.csv"), &[], 0).unwrap_err();
-    assert!(matches!(missing, CliError::Io { .. }));
+    assert!(matches!(missing, vibrissa_io::IoError::Io { .. }));
     assert!(missing.to_string().starts_with("/nonexistent/obs.csv: "));
 }
 
@@ -317,7 +316,7 @@ fn scene_malformed_ron_names_line_and_column() {
     )
     .unwrap_err();
     match &e {
-        CliError::Scene { line, column, .. } => assert_eq!((*line, *column), (3, 8)),
+        vibrissa_io::IoError::Scene { line, column, .. } => assert_eq!((*line, *column), (3, 8)),
         other => panic!("unexpected {other:?}"),
     }
     assert!(e.to_string().starts_with("bad.ron:3:8: "), "{e}");

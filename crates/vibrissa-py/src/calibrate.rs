@@ -6,9 +6,9 @@ use std::path::PathBuf;
 
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyTuple};
-use vibrissa_cli::cli::{CalibrateArgs, ModelFlags};
+use vibrissa_cli::cli::CalibrateArgs;
 use vibrissa_cli::commands::calibrate::{fit_inputs, json_of, LogInput};
-use vibrissa_cli::resolve::resolve_model;
+use vibrissa_cli::resolve::{resolve_model, ModelFlags};
 
 use crate::convert::json;
 use crate::errors::{compute, invalid};
@@ -62,8 +62,8 @@ pub fn calibrate<'py>(
     }
     let value = compute(py, move || {
         let model = ModelFlags {
-            whisker: args.whisker.clone(),
-            fluid: args.fluid.clone(),
+            whisker: (&args.whisker).into(),
+            fluid: (&args.fluid).into(),
             ..ModelFlags::default()
         };
         let r = resolve_model(&model, file)?;

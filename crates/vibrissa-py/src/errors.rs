@@ -30,11 +30,12 @@ impl Kind {
         }
     }
 
-    /// The class of a CLI error: its input variants are `InvalidInput`, a sweep that never
+    /// The class of a CLI error: its input and output variants are `InvalidInput`, a sweep that never
     /// touches is `NoContact`, every other solver failure `SolverError`.
     pub fn of(err: &CliError) -> Kind {
         match err {
             CliError::Io { .. }
+            | CliError::Stdout { .. }
             | CliError::Csv { .. }
             | CliError::Scene { .. }
             | CliError::InvalidArgument { .. }

@@ -136,7 +136,9 @@ pub fn units_scene(spec: &Bound<'_, PyDict>) -> PyResult<Option<LoadedScene>> {
         base_diameter_mm: value("base_diameter_mm")?,
         youngs_modulus_gpa: value("youngs_modulus_gpa")?,
     };
-    let text = file.to_ron().map_err(|e| crate::errors::to_py(py, e))?;
+    let text = file
+        .to_ron()
+        .map_err(|e| crate::errors::to_py(py, e.into()))?;
     Ok(Some(LoadedScene {
         file,
         text,
@@ -201,7 +203,7 @@ impl ProfileSpec {
     /// The dimensionless contour in the unit system `units`.
     pub fn parse(&self, units: &UnitSystem) -> Result<Profile, CliError> {
         match self {
-            ProfileSpec::Text(_) => self.arg().parse(units),
+            ProfileSpec::Text(_) => Ok(self.arg().parse(units)?),
             ProfileSpec::Table(x, y) => {
                 let l = 1.0 / units.scale(Quantity::Length);
                 let (x, y) = (
@@ -209,8 +211,8 @@ impl ProfileSpec {
                     y.iter().map(|v| v * l).collect(),
                 );
                 Profile::points(x, y).map_err(|e| match e {
-                    ContactError::ProfileSpec { reason, .. } => self.arg().error(reason),
-                    other => self.arg().error(other.to_string()),
+                    ContactError::ProfileSpec { reason, .. } => self.arg().error(reason).into(),
+                    other => self.arg().error(other.to_string()).into(),
                 })
             }
         }

@@ -21,7 +21,7 @@ pub fn solve<'py>(py: Python<'py>, spec: &Bound<'py, PyDict>) -> PyResult<Bound<
     let flags = model_flags(spec)?;
     let file = units_scene(spec)?;
     let (r, sol) = compute(py, move || {
-        let r = resolve_model(&flags, file)?;
+        let r = resolve_model(&(&flags).into(), file)?;
         let sol = solve_scene(&r.scene, &r.method).map_err(|e| r.culprit(&e))?;
         Ok((r, sol))
     })?;

@@ -30,7 +30,7 @@ pub fn sweep<'py>(py: Python<'py>, spec: &Bound<'py, PyDict>) -> PyResult<Bound<
         let profile = profile.ok_or_else(|| missing_profile(None))?;
         let points = sweep_points(points_raw.as_deref(), None)?;
         let tol = sweep_tol(tol_raw.as_deref(), None)?;
-        let r = resolve_model(&flags, file)?;
+        let r = resolve_model(&(&flags).into(), file)?;
         check_sweep_loads(&r)?;
         let contour = profile.parse(&r.units())?;
         let arg = profile.arg();

@@ -8,12 +8,14 @@ use contact_sim::Profile;
 use profile_recon::calibrate::{CalibParam, CalibSettings};
 use profile_recon::ReconError;
 
-use crate::cli::{CalibrateArgs, ModelFlags};
+use crate::cli::CalibrateArgs;
 use crate::commands::recon_io;
 use crate::commands::reconstruct::{rows_of, REQUIRED_COLUMNS};
 use crate::csvio::{read_table, Table};
 use crate::error::CliError;
-use crate::resolve::{physical_whisker, resolve_model, LoadedScene, ProfileArg, Resolved};
+use crate::resolve::{
+    physical_whisker, resolve_model, LoadedScene, ModelFlags, ProfileArg, Resolved,
+};
 use crate::units::UnitSystem;
 
 /// One log as read: its origin, table (model units), x0 as given and contour. The Python
@@ -197,9 +199,9 @@ pub(crate) fn calib_model(
 ) -> Result<Resolved, CliError> {
     let file = LoadedScene::load_opt(scene)?;
     let flags = ModelFlags {
-        whisker: args.whisker.clone(),
-        fluid: args.fluid.clone(),
+        whisker: (&args.whisker).into(),
+        fluid: (&args.fluid).into(),
         ..ModelFlags::default()
     };
-    resolve_model(&flags, file)
+    Ok(resolve_model(&flags, file)?)
 }

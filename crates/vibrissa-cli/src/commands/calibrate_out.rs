@@ -252,5 +252,9 @@ pub fn write_figures(
             // Each row's distance is its own: points, not a line through them.
             res_chart.with(Series::new(format!("log {}", i + 1), res, Style::Points).color(i));
     }
-    write_svg(&res_chart, &path_for("residuals.svg"), (900, 480))
+    Ok(write_svg(
+        &res_chart,
+        &path_for("residuals.svg"),
+        (900, 480),
+    )?)
 }

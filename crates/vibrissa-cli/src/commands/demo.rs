@@ -12,7 +12,7 @@ use contact_sim::{Profile, SweepResult};
 use profile_recon::{contour_error, from_sweep, reconstruct, ReconSettings};
 
 use crate::atomic::OutputDir;
-use crate::cli::{DemoArgs, ModelFlags};
+use crate::cli::DemoArgs;
 use crate::commands::recon_io::{write_reconstruction_csv, RECON_CSV};
 use crate::commands::reconstruct::summary::{
     max_of, phase_counts, row_ranges, rows_without_points,
@@ -22,7 +22,8 @@ use crate::commands::solve::write_solution_files;
 use crate::commands::sweep::{run_sweep, write_sweep_outputs, write_sweep_units};
 use crate::commands::sweep_events::sweep_summary;
 use crate::error::CliError;
-use crate::resolve::{profile_arg, resolve_model, LoadedScene, Resolved};
+use crate::printer::Printer;
+use crate::resolve::{profile_arg, resolve_model, LoadedScene, ModelFlags, Resolved};
 use crate::scene_file::SceneFile;
 use crate::units::UnitSystem;
 
@@ -77,23 +78,27 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
     reconstruct_step(&r, &contour, &res, &out, &mut summary)?;
     let files = out.commit()?;
 
-    println!(
+    let mut stdout = Printer::stdout().published(Some(args.out.as_path()));
+    stdout.line(format_args!(
         "demo: theta = 0.75, k = 20, q = 5, contour g1 ({} contact rows requested)",
         args.points
-    );
-    println!(
+    ))?;
+    stdout.line(format_args!(
         "  free whisker under the flow: tip ({:.5}, {:.5}), MA = {:.5}, phi0 = {:.5}",
         free.tip.x, free.tip.y, free.base.ma, free.base.phi0
-    );
-    println!(
+    ))?;
+    stdout.line(format_args!(
         "  sweep: {}",
         sweep_summary(&res, args.points, &UnitSystem::DIMENSIONLESS)
-    );
+    ))?;
     for line in &summary {
-        println!("  {line}");
+        stdout.line(format_args!("  {line}"))?;
     }
-    println!("wrote {} files to {}", files.len(), args.out.display());
-    Ok(())
+    stdout.line(format_args!(
+        "wrote {} files to {}",
+        files.len(),
+        args.out.display()
+    ))
 }
 
 /// Identification of q and accurate contour reconstruction from the sweep's observables

@@ -80,7 +80,7 @@ pub fn write_elastica_figure(
     if let Some(loads) = loads {
         chart = load_arrows(chart, sol, loads, l);
     }
-    write_svg(&chart, path, (640, 640))
+    Ok(write_svg(&chart, path, (640, 640))?)
 }
 
 /// The loads of a solve as arrows ending on the whisker (0.2 whisker lengths for the tip

@@ -19,7 +19,7 @@ pub fn write_units_of(
     units: &UnitSystem,
 ) -> Result<(), CliError> {
     let u: Vec<&str> = quantities.iter().map(|q| units.unit(*q)).collect();
-    write_units_sidecar(&units_sidecar_path(csv), header, &u)
+    Ok(write_units_sidecar(&units_sidecar_path(csv), header, &u)?)
 }
 
 /// The scene that produced an output folder, with every parameter as resolved (flags over
@@ -85,7 +85,7 @@ pub fn write_scene_ron(path: &Path, scene: &SceneFile, notes: &[String]) -> Resu
             "the written scene does not read back identically",
         ));
     }
-    write_atomic(path, text.as_bytes())
+    Ok(write_atomic(path, text.as_bytes())?)
 }
 
 /// The comment lines of a written scene that state its units.

@@ -296,7 +296,7 @@ pub(crate) fn write_shapes_svg(
     let (xspan, yspan) = ((b - a).max(0.5), 1.4);
     let plot_w = 1000.0 - 380.0;
     let height = (plot_w * yspan / xspan + 170.0).clamp(420.0, 900.0) as u32;
-    write_svg(&chart, path, (1000, height))
+    Ok(write_svg(&chart, path, (1000, height))?)
 }
 
 #[cfg(test)]

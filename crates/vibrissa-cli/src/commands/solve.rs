@@ -10,12 +10,13 @@ use crate::commands::elastica::{write_elastica_csv, write_elastica_figure};
 use crate::commands::json::json_number as num;
 use crate::commands::outputs::{list_files, output_scene, scene_unit_notes, write_scene_ron};
 use crate::error::CliError;
+use crate::printer::Printer;
 use crate::resolve::{resolve_model, LoadedScene, Resolved};
 
 /// Runs `vibrissa solve`.
 pub fn run(args: &SolveArgs) -> Result<(), CliError> {
     let file = LoadedScene::load_opt(args.scene.as_deref())?;
-    let r = resolve_model(&args.model, file)?;
+    let r = resolve_model(&(&args.model).into(), file)?;
     let sol = solve(&r.scene, &r.method).map_err(|e| r.culprit(&e))?;
     let mut written = Vec::new();
     if let Some(dir) = &args.out {
@@ -26,16 +27,16 @@ pub fn run(args: &SolveArgs) -> Result<(), CliError> {
         write_solution_files(&r, &sol, &out)?;
         written = out.commit()?;
     }
+    let mut stdout = Printer::stdout().published(args.out.as_deref());
     if args.json {
-        let v = solution_json(&r, &sol);
-        println!("{v}");
+        stdout.line(solution_json(&r, &sol))?;
         if !written.is_empty() {
             eprintln!("wrote {}", list_files(&written));
         }
     } else {
-        print!("{}", human_summary(&r, &sol));
+        stdout.text(&human_summary(&r, &sol))?;
         if !written.is_empty() {
-            println!("wrote {}", list_files(&written));
+            stdout.line(format_args!("wrote {}", list_files(&written)))?;
         }
     }
     Ok(())

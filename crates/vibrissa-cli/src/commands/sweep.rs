@@ -18,6 +18,7 @@ use crate::commands::shapes::{write_shapes_csv, write_shapes_svg};
 use crate::commands::sweep_events::{sweep_events, sweep_summary, RowCounts};
 use crate::commands::sweep_figures::{write_sweep_figures, FigureContext};
 use crate::error::CliError;
+use crate::printer::Printer;
 use crate::resolve::{
     parse_count, parse_number, profile_arg, resolve_model, LoadedScene, ProfileArg, Resolved,
 };
@@ -33,9 +34,9 @@ pub fn run(args: &SweepArgs) -> Result<(), CliError> {
         profile_arg(&args.profile, file.as_ref()).ok_or_else(|| missing_profile(file.as_ref()))?;
     let points = sweep_points(args.points.as_deref(), file.as_ref())?;
     let tol = sweep_tol(args.tol.as_deref(), file.as_ref())?;
-    let flags = crate::cli::ModelFlags {
-        whisker: args.whisker.clone(),
-        fluid: args.fluid.clone(),
+    let flags = crate::resolve::ModelFlags {
+        whisker: (&args.whisker).into(),
+        fluid: (&args.fluid).into(),
         ..Default::default()
     };
     let r = resolve_model(&flags, file)?;
@@ -64,23 +65,27 @@ pub fn run(args: &SweepArgs) -> Result<(), CliError> {
         write_shapes_csv(&r, &res, &out.path_for("shapes.csv"))?;
     }
     let files = out.commit()?;
+    let mut stdout = Printer::stdout().published(Some(args.out.as_path()));
     if args.json {
         let mut v = sweep_json(&res, points, &units);
         v["profile"] = serde_json::Value::String(profile.spec.clone());
         v["out"] = serde_json::Value::String(args.out.display().to_string());
         v["files"] = serde_json::Value::from(files.len());
-        println!("{v}");
+        stdout.line(v)
     } else {
         // The summary line comes last (spec/cli.md: stdout ends with it).
-        println!("wrote {} files to {}", files.len(), args.out.display());
-        println!(
+        stdout.line(format_args!(
+            "wrote {} files to {}",
+            files.len(),
+            args.out.display()
+        ))?;
+        stdout.line(format_args!(
             "sweep {}: {}{}",
             profile.spec,
             sweep_summary(&res, points, &units),
             accuracy_note(&res)
-        );
+        ))
     }
-    Ok(())
 }
 
 /// The accuracy asked for of a sweep's rows: `--tol` (typed as `raw`), else the scene
@@ -99,7 +104,7 @@ pub fn sweep_tol(raw: Option<&str>, file: Option<&LoadedScene>) -> Result<Option
             Ok(Some(t))
         }
         (None, Some(f)) => match f.file.sweep.as_ref().and_then(|s| s.tol) {
-            Some(t) if !ok(t) => Err(f.error_at("sweep.tol", format!("{RANGE}, got {t}"))),
+            Some(t) if !ok(t) => Err(f.error_at("sweep.tol", format!("{RANGE}, got {t}")).into()),
             t => Ok(t),
         },
         (None, None) => Ok(None),
@@ -137,10 +142,12 @@ pub fn missing_profile(file: Option<&LoadedScene>) -> CliError {
     const KINDS: &str = "g1, g2, ge, parabola:a,xv,yv, cosh:a,c,xv,d, circle:xc,yc,r or \
                          points:FILE.csv";
     match file {
-        Some(f) => f.error_at(
-            "profile",
-            format!("the scene has no obstacle: add `profile: Some(\"g1\")` (or {KINDS}) or give --profile"),
-        ),
+        Some(f) => f
+            .error_at(
+                "profile",
+                format!("the scene has no obstacle: add `profile: Some(\"g1\")` (or {KINDS}) or give --profile"),
+            )
+            .into(),
         None => CliError::Usage {
             reason: format!("a sweep needs an obstacle: give --profile P ({KINDS})"),
         },
@@ -273,7 +280,9 @@ pub fn check_sweep_loads(r: &Resolved) -> Result<(), CliError> {
                 (Origin::Flag { flag, raw }, _) => {
                     CliError::invalid_argument(*flag, raw.clone(), what)
                 }
-                (_, Some(file)) => file.error_at(field, format!("{what}, got {}", p.value)),
+                (_, Some(file)) => file
+                    .error_at(field, format!("{what}, got {}", p.value))
+                    .into(),
                 _ => CliError::invalid_argument(field, p.value.to_string(), what),
             });
         }
@@ -347,7 +356,7 @@ pub fn run_sweep_with(
     if let Some(pb) = bar {
         pb.finish_and_clear();
     }
-    res.map_err(|e| r.contact_culprit(e, profile))
+    res.map_err(|e| r.contact_culprit(e, profile).into())
 }
 
 /// Writes the units sidecar of a sweep's `observables.csv`, `observables.units.csv`, into

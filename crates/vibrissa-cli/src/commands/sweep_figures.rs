@@ -178,8 +178,15 @@ pub fn write_sweep_figures(
         (3, (1500, 480))
     };
     let observables_path = path_for("observables.svg");
-    let observables =
-        || write_panels_with_heading(&charts, cols, &heading, &observables_path, size);
+    let observables = || -> Result<(), CliError> {
+        Ok(write_panels_with_heading(
+            &charts,
+            cols,
+            &heading,
+            &observables_path,
+            size,
+        )?)
+    };
     let mut written = vec!["observables.svg"];
     let has_contact = res.contact_points().next().is_some();
     let contact = || -> Result<(), CliError> {
@@ -214,7 +221,13 @@ pub fn write_sweep_figures(
             title: "Contact force and contact point along the sweep".to_string(),
             note,
         };
-        write_panels_with_heading(&charts, 3, &heading, &path_for("contact.svg"), (1500, 480))
+        Ok(write_panels_with_heading(
+            &charts,
+            3,
+            &heading,
+            &path_for("contact.svg"),
+            (1500, 480),
+        )?)
     };
     crate::plot::both(observables, contact)?;
     if has_contact {

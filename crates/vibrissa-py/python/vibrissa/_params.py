@@ -49,8 +49,14 @@ def profile_spec(profile: Any) -> Any:
             f"invalid value `{type(profile).__name__}` for `profile`: expected a profile "
             "string (g1, circle:xc,yc,r, points:FILE.csv, ...) or a pair of 1-D arrays (x, y)"
         ) from None
-    x = np.ascontiguousarray(x, dtype=np.float64)
-    y = np.ascontiguousarray(y, dtype=np.float64)
+    try:
+        x = np.ascontiguousarray(x, dtype=np.float64)
+        y = np.ascontiguousarray(y, dtype=np.float64)
+    except (TypeError, ValueError) as e:
+        raise InvalidInput(
+            "invalid value `points:(x, y) arrays` for `profile`: x and y must be 1-D arrays "
+            f"of numbers ({e})"
+        ) from None
     if x.ndim != 1 or y.ndim != 1 or len(x) != len(y):
         raise InvalidInput(
             "invalid value `points:(x, y) arrays` for `profile`: x and y must be 1-D arrays "
@@ -67,7 +73,7 @@ def number(name: str, value: Any) -> Optional[float]:
         raise InvalidInput(f"invalid value `{value!r}` for `--{name.replace('_', '-')}`: not a number")
     try:
         return float(value)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise InvalidInput(
             f"invalid value `{value!r}` for `--{name.replace('_', '-')}`: not a number"
         ) from None

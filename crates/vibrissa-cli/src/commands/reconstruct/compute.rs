@@ -143,7 +143,7 @@ fn recon_culprit(
             reason,
             ..
         } => CliError::invalid_argument("--noise", args.noise.clone().unwrap_or_default(), reason),
-        ReconError::Model(e) => r.culprit(&e),
+        ReconError::Model(e) => r.culprit(&e).into(),
         other => CliError::solver(other),
     }
 }

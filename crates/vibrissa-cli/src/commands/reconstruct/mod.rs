@@ -32,6 +32,7 @@ use crate::cli::ReconstructArgs;
 use crate::commands::recon_io;
 use crate::csvio::{read_table, Table};
 use crate::error::CliError;
+use crate::printer::Printer;
 use crate::resolve::{LoadedScene, ProfileArg, Resolved};
 use crate::units::{Quantity, UnitSystem};
 use summary::unit_suffix;
@@ -63,8 +64,7 @@ pub fn run(args: &ReconstructArgs) -> Result<(), CliError> {
     let rec = reconstruct_log(args, &inputs.opts, &inputs.r, &table)?;
     let errors = inputs.truth.as_ref().map(|p| contour_error(&rec.points, p));
     let files = write(args, &inputs, &rec, errors.as_deref(), &x0_given)?;
-    print_summary(args, &inputs, &rec, &table, errors.as_deref(), files.len());
-    Ok(())
+    print_summary(args, &inputs, &rec, &table, errors.as_deref(), files.len())
 }
 
 /// Parse and resolve: the flags, the log and scene to read (a sweep folder gives both),
@@ -142,7 +142,7 @@ fn write(
         units,
         |n| out.path_for(n),
     )?;
-    out.commit()
+    Ok(out.commit()?)
 }
 
 /// Summary: the JSON object (`--json`) or the summary lines.
@@ -153,30 +153,34 @@ fn print_summary(
     table: &Table,
     errors: Option<&[f64]>,
     files: usize,
-) {
+) -> Result<(), CliError> {
     let (units, method, out_dir) = (&inputs.units, inputs.opts.method, inputs.out_dir);
     let max_error = errors.map(max_of);
+    let mut stdout = Printer::stdout().published(Some(out_dir));
     if args.json {
         let v = recon_json(rec, method, table.rows(), units, max_error, out_dir);
-        println!("{v}");
-        return;
+        return stdout.line(v);
     }
     let title = inputs
         .observables
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_else(|| "observables".to_string());
-    println!(
+    stdout.line(format_args!(
         "reconstruct {}: {}",
         title,
         summary_line(rec, method, table.rows(), units)
-    );
+    ))?;
     if let Some(e) = max_error {
-        println!(
+        stdout.line(format_args!(
             "max contour error e = {:.3e}{} (eq. 6.11)",
             e * units.scale(Quantity::Length),
             unit_suffix(units, Quantity::Length)
-        );
+        ))?;
     }
-    println!("wrote {} files to {}", files, out_dir.display());
+    stdout.line(format_args!(
+        "wrote {} files to {}",
+        files,
+        out_dir.display()
+    ))
 }

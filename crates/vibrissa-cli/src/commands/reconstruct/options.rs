@@ -4,9 +4,9 @@
 
 use profile_recon::{KnownFlow, ReconMethod, ReconSettings};
 
-use crate::cli::{ModelFlags, ReconstructArgs};
+use crate::cli::ReconstructArgs;
 use crate::error::CliError;
-use crate::resolve::{parse_number, resolve_model, LoadedScene, Resolved};
+use crate::resolve::{parse_number, resolve_model, LoadedScene, ModelFlags, Resolved};
 
 /// Default consistency tolerance of the accurate method (exact logs).
 pub const DEFAULT_TOLERANCE_ACCURATE: f64 = 1e-6;
@@ -93,11 +93,11 @@ pub fn recon_model(
     file: Option<LoadedScene>,
 ) -> Result<Resolved, CliError> {
     let mut flags = ModelFlags {
-        whisker: args.whisker.clone(),
+        whisker: (&args.whisker).into(),
         ..ModelFlags::default()
     };
     flags.fluid.q = args.q.clone();
-    resolve_model(&flags, file)
+    Ok(resolve_model(&flags, file)?)
 }
 fn parse_method(raw: Option<&str>) -> Result<ReconMethod, CliError> {
     match raw.map(str::trim) {

@@ -4,7 +4,7 @@
 //! factors of a file's columns ([`recon_io::input_factors`]); each point is a row of
 //! `reconstruction.csv` ([`recon_io::recon_cells`]).
 
-use std::io::{BufRead, Write};
+use std::io::BufRead;
 use std::path::{Path, PathBuf};
 
 use profile_recon::{ObservableRow, ReconError, ReconPoint, Streamer};
@@ -15,6 +15,7 @@ use crate::cli::ReconstructArgs;
 use crate::commands::recon_io;
 use crate::csvio::{Cell, HeaderProblemKind, LineProblem, LineReader};
 use crate::error::CliError;
+use crate::printer::Printer;
 use crate::resolve::LoadedScene;
 use crate::units::UnitSystem;
 
@@ -163,15 +164,17 @@ fn plain_line(cells: &[Cell<'_>]) -> String {
 
 /// The stream's standard output: the header of `reconstruction.csv` (without `error`), then
 /// each point as soon as it is known, flushed, in the scene's units.
+/// A write that fails (the reader closed the pipe) ends the stream with
+/// [`CliError::Stdout`].
 struct StreamOut<'u> {
-    out: std::io::StdoutLock<'static>,
+    out: Printer,
     units: &'u UnitSystem,
 }
 
 impl<'u> StreamOut<'u> {
     fn new(units: &'u UnitSystem) -> Result<Self, CliError> {
         let mut s = StreamOut {
-            out: std::io::stdout().lock(),
+            out: Printer::stdout(),
             units,
         };
         s.line(&recon_io::reconstruction_header(false).join(","))?;
@@ -179,9 +182,7 @@ impl<'u> StreamOut<'u> {
     }
 
     fn line(&mut self, text: &str) -> Result<(), CliError> {
-        writeln!(self.out, "{text}")
-            .and_then(|_| self.out.flush())
-            .map_err(|e| stdin_err(1, format!("cannot write to standard output: {e}")))
+        self.out.line(text)
     }
 
     fn write(&mut self, points: &[ReconPoint]) -> Result<(), CliError> {

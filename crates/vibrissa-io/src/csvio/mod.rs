@@ -29,7 +29,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use crate::atomic::write_atomic;
-use crate::error::CliError;
+use crate::error::IoError;
 
 /// One cell of a row to write.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -106,11 +106,11 @@ impl CsvWriter {
     /// Appends one row.
     ///
     /// # Errors
-    /// [`CliError::InvalidArgument`] if the row does not have as many cells as the header
+    /// [`IoError::InvalidArgument`] if the row does not have as many cells as the header
     /// (a programming error of the caller, reported instead of panicking).
-    pub fn push_row(&mut self, row: &[Cell<'_>]) -> Result<(), CliError> {
+    pub fn push_row(&mut self, row: &[Cell<'_>]) -> Result<(), IoError> {
         if row.len() != self.columns {
-            return Err(CliError::invalid_argument(
+            return Err(IoError::invalid_argument(
                 "csv row",
                 format!("{} cells", row.len()),
                 format!("the header has {} columns", self.columns),
@@ -124,14 +124,14 @@ impl CsvWriter {
             })
             .collect();
         let line = encode_record(&fields)
-            .map_err(|e| CliError::invalid_argument("csv row", fields.join(","), e))?;
+            .map_err(|e| IoError::invalid_argument("csv row", fields.join(","), e))?;
         self.text.push_str(&line);
         Ok(())
     }
 
     /// Appends a row made only of numbers (as [`CsvWriter::push_row`] writes them: a number
     /// never needs quoting, so the fields are joined here without a `csv` writer).
-    pub fn push_numbers(&mut self, row: &[f64]) -> Result<(), CliError> {
+    pub fn push_numbers(&mut self, row: &[f64]) -> Result<(), IoError> {
         if row.len() != self.columns || row.is_empty() {
             let cells: Vec<Cell<'_>> = row.iter().map(|&v| Cell::Num(v)).collect();
             return self.push_row(&cells);
@@ -152,13 +152,13 @@ impl CsvWriter {
     /// table). Nothing is appended if a record fails.
     ///
     /// # Errors
-    /// [`CliError::InvalidArgument`] for the first record that cannot be serialised as one
+    /// [`IoError::InvalidArgument`] for the first record that cannot be serialised as one
     /// row of as many fields as the header.
     pub fn push_records<T: serde::Serialize>(
         &mut self,
         records: impl IntoIterator<Item = T>,
-    ) -> Result<(), CliError> {
-        let bad = |reason: String| CliError::invalid_argument("csv record", "", reason);
+    ) -> Result<(), IoError> {
+        let bad = |reason: String| IoError::invalid_argument("csv record", "", reason);
         let mut w = csv::WriterBuilder::new()
             .has_headers(false)
             .from_writer(Vec::new());
@@ -188,7 +188,7 @@ impl CsvWriter {
     }
 
     /// Writes the table to `path` atomically.
-    pub fn write(&self, path: &Path) -> Result<(), CliError> {
+    pub fn write(&self, path: &Path) -> Result<(), IoError> {
         write_atomic(path, self.text.as_bytes())
     }
 }
@@ -227,7 +227,7 @@ pub fn units_sidecar_path(csv: &Path) -> PathBuf {
 
 /// Writes a units sidecar: the header of the table and one row with each column's unit
 /// (`mm`, `N`, `N mm`, `rad`, `1` for dimensionless, empty for text columns).
-pub fn write_units_sidecar(path: &Path, header: &[&str], units: &[&str]) -> Result<(), CliError> {
+pub fn write_units_sidecar(path: &Path, header: &[&str], units: &[&str]) -> Result<(), IoError> {
     let mut w = CsvWriter::new(header);
     let cells: Vec<Cell<'_>> = units.iter().map(|u| Cell::Text(u)).collect();
     w.push_row(&cells)?;
@@ -236,15 +236,15 @@ pub fn write_units_sidecar(path: &Path, header: &[&str], units: &[&str]) -> Resu
 
 /// Reads a units sidecar written by [`write_units_sidecar`] (or by hand): column name ->
 /// unit. `Ok(None)` if the file does not exist.
-pub fn read_units_sidecar(path: &Path) -> Result<Option<BTreeMap<String, String>>, CliError> {
+pub fn read_units_sidecar(path: &Path) -> Result<Option<BTreeMap<String, String>>, IoError> {
     let text = match std::fs::read_to_string(path) {
         Ok(t) => t,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
-        Err(e) => return Err(CliError::io(path, e)),
+        Err(e) => return Err(IoError::io(path, e)),
     };
     let table = parse_table(&text, path, &[], 1)?;
     if table.rows() != 1 {
-        return Err(CliError::Csv {
+        return Err(IoError::Csv {
             path: path.to_path_buf(),
             line: table.line_of(1).unwrap_or(table.header_line),
             column: None,

@@ -21,7 +21,7 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use crate::error::CliError;
+use crate::error::IoError;
 
 /// A whole scene file.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -197,13 +197,13 @@ impl SceneFile {
     }
 
     /// Reads, parses and validates the scene file `path`.
-    pub fn load(path: &Path) -> Result<SceneFile, CliError> {
-        let text = std::fs::read_to_string(path).map_err(|e| CliError::io(path, e))?;
+    pub fn load(path: &Path) -> Result<SceneFile, IoError> {
+        let text = std::fs::read_to_string(path).map_err(|e| IoError::io(path, e))?;
         Self::parse(&text, path)
     }
 
     /// Parses and validates scene `text`; `path` only names the source in errors.
-    pub fn parse(text: &str, path: &Path) -> Result<SceneFile, CliError> {
+    pub fn parse(text: &str, path: &Path) -> Result<SceneFile, IoError> {
         // a byte-order mark (as some editors write) is not part of the scene
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         let scene: SceneFile = ron_options()
@@ -214,14 +214,14 @@ impl SceneFile {
     }
 
     /// Renders the scene as pretty RON that [`SceneFile::parse`] reads back identically.
-    pub fn to_ron(&self) -> Result<String, CliError> {
+    pub fn to_ron(&self) -> Result<String, IoError> {
         ron::ser::to_string_pretty(self, ron::ser::PrettyConfig::default())
-            .map_err(|e| CliError::invalid_argument("scene", format!("{self:?}"), e.to_string()))
+            .map_err(|e| IoError::invalid_argument("scene", format!("{self:?}"), e.to_string()))
     }
 
     /// Checks every value's range. `text` is the file's text, used to find the line of the
     /// offending field; `path` names the file in errors.
-    pub fn validate(&self, text: &str, path: &Path) -> Result<(), CliError> {
+    pub fn validate(&self, text: &str, path: &Path) -> Result<(), IoError> {
         let fail = |field: &str, reason: String| {
             // The field itself, else the nearest enclosing field that is written out.
             let segments: Vec<&str> = field.split('.').collect();
@@ -229,7 +229,7 @@ impl SceneFile {
                 .rev()
                 .find_map(|n| locate_field(text, &segments[..n]))
                 .unwrap_or((1, 1));
-            CliError::Scene {
+            IoError::Scene {
                 path: path.to_path_buf(),
                 line,
                 column,
@@ -322,9 +322,9 @@ impl SceneFile {
     }
 }
 
-/// Maps a RON parse error to [`CliError::Scene`], naming unknown, missing or duplicate fields
+/// Maps a RON parse error to [`IoError::Scene`], naming unknown, missing or duplicate fields
 /// with their dotted path where the struct is known.
-fn map_ron_error(e: ron::error::SpannedError, path: &Path) -> CliError {
+fn map_ron_error(e: ron::error::SpannedError, path: &Path) -> IoError {
     use ron::error::Error as E;
     let prefix = |outer: &Option<String>| -> String {
         match outer.as_deref() {
@@ -343,7 +343,7 @@ fn map_ron_error(e: ron::error::SpannedError, path: &Path) -> CliError {
         }
         _ => None,
     };
-    CliError::Scene {
+    IoError::Scene {
         path: path.to_path_buf(),
         line: e.position.line.max(1),
         column: e.position.col.max(1),

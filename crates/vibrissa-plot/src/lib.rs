@@ -19,6 +19,7 @@ use std::sync::OnceLock;
 
 mod axis;
 mod draw;
+pub mod error;
 mod layout;
 mod legend;
 mod output;
@@ -27,6 +28,7 @@ mod svg;
 pub use axis::format_tick;
 use axis::*;
 use draw::*;
+pub use error::PlotError;
 pub use layout::*;
 use legend::*;
 pub use output::*;

@@ -19,12 +19,14 @@ use beam_model::{
 };
 use contact_sim::ContactError;
 
-use crate::cli::{FluidFlags, LoadArg, MethodFlags, ModelFlags, TipFlags, WhiskerFlags};
-use crate::error::CliError;
+use crate::error::IoError;
 use crate::scene_file::{self, locate_field, SceneFile, Units};
 use crate::units::UnitSystem;
 
+pub mod flags;
 pub mod profile;
+
+pub use flags::{FluidFlags, MethodFlags, ModelFlags, TipFlags, WhiskerFlags};
 
 pub use profile::{profile_arg, read_points_file, ProfileArg};
 
@@ -41,8 +43,8 @@ pub struct LoadedScene {
 
 impl LoadedScene {
     /// Reads and validates a scene file.
-    pub fn load(path: &Path) -> Result<Self, CliError> {
-        let text = std::fs::read_to_string(path).map_err(|e| CliError::io(path, e))?;
+    pub fn load(path: &Path) -> Result<Self, IoError> {
+        let text = std::fs::read_to_string(path).map_err(|e| IoError::io(path, e))?;
         let file = SceneFile::parse(&text, path)?;
         Ok(LoadedScene {
             file,
@@ -52,18 +54,18 @@ impl LoadedScene {
     }
 
     /// Reads the optional scene file.
-    pub fn load_opt(path: Option<&Path>) -> Result<Option<Self>, CliError> {
+    pub fn load_opt(path: Option<&Path>) -> Result<Option<Self>, IoError> {
         path.map(Self::load).transpose()
     }
 
-    /// A [`CliError::Scene`] at the field `field` (dotted path) of this file.
-    pub fn error_at(&self, field: &str, reason: String) -> CliError {
+    /// A [`IoError::Scene`] at the field `field` (dotted path) of this file.
+    pub fn error_at(&self, field: &str, reason: String) -> IoError {
         let segments: Vec<&str> = field.split('.').collect();
         let (line, column) = (1..=segments.len())
             .rev()
             .find_map(|n| locate_field(&self.text, &segments[..n]))
             .unwrap_or((1, 1));
-        CliError::Scene {
+        IoError::Scene {
             path: self.path.clone(),
             line,
             column,
@@ -108,17 +110,17 @@ impl Param {
 }
 
 /// Parses a number typed for `flag`.
-pub fn parse_number(flag: &'static str, raw: &str) -> Result<f64, CliError> {
+pub fn parse_number(flag: &'static str, raw: &str) -> Result<f64, IoError> {
     raw.trim()
         .parse::<f64>()
-        .map_err(|_| CliError::invalid_argument(flag, raw, "not a number"))
+        .map_err(|_| IoError::invalid_argument(flag, raw, "not a number"))
 }
 
 /// Parses a count typed for `flag`, at least `min`.
-pub fn parse_count(flag: &'static str, raw: &str, min: usize) -> Result<usize, CliError> {
+pub fn parse_count(flag: &'static str, raw: &str, min: usize) -> Result<usize, IoError> {
     let n = parse_count_unbounded(flag, raw, min)?;
     if n > MAX_COUNT {
-        return Err(CliError::invalid_argument(
+        return Err(IoError::invalid_argument(
             flag,
             raw,
             format!("must be at most {MAX_COUNT} (the memory and time of one run are bounded)"),
@@ -131,13 +133,13 @@ pub fn parse_count(flag: &'static str, raw: &str, min: usize) -> Result<usize, C
 /// time.
 pub const MAX_COUNT: usize = 100_000;
 
-fn parse_count_unbounded(flag: &'static str, raw: &str, min: usize) -> Result<usize, CliError> {
+fn parse_count_unbounded(flag: &'static str, raw: &str, min: usize) -> Result<usize, IoError> {
     let n = raw
         .trim()
         .parse::<usize>()
-        .map_err(|_| CliError::invalid_argument(flag, raw, "not a non-negative integer"))?;
+        .map_err(|_| IoError::invalid_argument(flag, raw, "not a non-negative integer"))?;
     if n < min {
-        return Err(CliError::invalid_argument(
+        return Err(IoError::invalid_argument(
             flag,
             raw,
             format!("must be at least {min}"),
@@ -152,7 +154,7 @@ fn param(
     raw: &Option<String>,
     scene: Option<(&'static str, f64)>,
     default: f64,
-) -> Result<Param, CliError> {
+) -> Result<Param, IoError> {
     if let Some(raw) = raw {
         return Ok(Param {
             value: parse_number(flag, raw)?,
@@ -212,7 +214,7 @@ pub struct Resolved {
 }
 
 /// The physical whisker of a scene file's units, if physical.
-pub fn physical_whisker(file: &LoadedScene) -> Result<Option<PhysicalWhisker>, CliError> {
+pub fn physical_whisker(file: &LoadedScene) -> Result<Option<PhysicalWhisker>, IoError> {
     let Units::Physical {
         preset,
         length_mm,
@@ -240,9 +242,37 @@ pub fn physical_whisker(file: &LoadedScene) -> Result<Option<PhysicalWhisker>, C
     let diameter = pick(base_diameter_mm, 1e-3, base.map(|b| b.base_diameter));
     let modulus = pick(youngs_modulus_gpa, 1e9, base.map(|b| b.youngs_modulus));
     match (length, diameter, modulus) {
-        (Some(l), Some(d), Some(e)) => PhysicalWhisker::new(l, d, e)
-            .map(Some)
-            .map_err(|err| file.error_at("units", err.to_string())),
+        (Some(l), Some(d), Some(e)) => {
+            let given = [
+                ("units.length_mm", *length_mm, "mm", 50.0),
+                ("units.base_diameter_mm", *base_diameter_mm, "mm", 0.1),
+                ("units.youngs_modulus_gpa", *youngs_modulus_gpa, "GPa", 3.0),
+            ];
+            let w = PhysicalWhisker::new(l, d, e)
+                .map_err(|err| unusable_units(file, &given, err.to_string()))?;
+            let ei = w.bending_stiffness();
+            let scales = [
+                ("E I", ei, "N m^2"),
+                ("E I / L^2", ei / (l * l), "N"),
+                ("E I / L^3", ei / (l * l * l), "N/m"),
+                ("1 / L", 1.0 / l, "1/m"),
+            ];
+            if let Some((name, v, unit)) = scales
+                .iter()
+                .find(|(_, v, _)| !(v.is_finite() && *v > 0.0 && v.recip().is_finite()))
+            {
+                return Err(unusable_units(
+                    file,
+                    &given,
+                    format!(
+                        "the model's unit {name} = {v:e} {unit} is not a usable scale: forces, \
+                         loads, moments and curvatures cannot be converted (a real whisker is \
+                         10-100 mm long, 0.05-0.5 mm thick, E 1-10 GPa)"
+                    ),
+                ));
+            }
+            Ok(Some(w))
+        }
         _ => Err(file.error_at(
             "units",
             "length_mm, base_diameter_mm and youngs_modulus_gpa are required without a preset"
@@ -251,11 +281,44 @@ pub fn physical_whisker(file: &LoadedScene) -> Result<Option<PhysicalWhisker>, C
     }
 }
 
+/// An error of a physical unit system, at the given dimension whose value lies farthest (in
+/// decades) from a real whisker's (`typical`, in its own unit), named with its value and
+/// unit; at `units` if none was given (a preset's values).
+fn unusable_units(
+    file: &LoadedScene,
+    given: &[(&str, Option<f64>, &str, f64); 3],
+    reason: String,
+) -> IoError {
+    let culprit = given
+        .iter()
+        .filter_map(|(field, v, unit, typical)| {
+            let v = (*v)?;
+            let decades = if v > 0.0 && v.is_finite() {
+                (v / typical).log10().abs()
+            } else {
+                f64::INFINITY
+            };
+            Some((decades, *field, v, *unit))
+        })
+        .max_by(|a, b| a.0.total_cmp(&b.0));
+    match culprit {
+        Some((_, field, v, unit)) => {
+            let v = if (1e-4..1e6).contains(&v.abs()) {
+                format!("{v}")
+            } else {
+                format!("{v:e}")
+            };
+            file.error_at(field, format!("{v} {unit}: {reason}"))
+        }
+        None => file.error_at("units", reason),
+    }
+}
+
 /// Whisker values from flags over the scene file.
 fn given_whisker(
     w: &WhiskerFlags,
     file: Option<&LoadedScene>,
-) -> Result<(Param, Param, Param, Param), CliError> {
+) -> Result<(Param, Param, Param, Param), IoError> {
     let ws = file.map(|f| &f.file.whisker);
     let theta = param(
         "--theta",
@@ -275,7 +338,7 @@ fn given_whisker(
 }
 
 /// Resolves the whisker, loads and method of `solve` and `sweep`.
-pub fn resolve_model(flags: &ModelFlags, file: Option<LoadedScene>) -> Result<Resolved, CliError> {
+pub fn resolve_model(flags: &ModelFlags, file: Option<LoadedScene>) -> Result<Resolved, IoError> {
     let ModelFlags {
         whisker,
         tip,
@@ -291,7 +354,7 @@ fn resolve_parts(
     fluid: &FluidFlags,
     m: &MethodFlags,
     file: Option<LoadedScene>,
-) -> Result<Resolved, CliError> {
+) -> Result<Resolved, IoError> {
     let f_ref = file.as_ref();
     let physical = match f_ref {
         Some(f) => physical_whisker(f)?,
@@ -314,7 +377,9 @@ fn resolve_parts(
         0.0,
     )?;
     let load = match (tip.load, ls.map(|l| l.load)) {
-        (Some(LoadArg::Ap), _) | (None, Some(scene_file::LoadKind::Ap)) => LoadKind::Ap,
+        (Some(scene_file::LoadKind::Ap), _) | (None, Some(scene_file::LoadKind::Ap)) => {
+            LoadKind::Ap
+        }
         _ => LoadKind::Dp,
     };
     let n = given_n(m, f_ref)?;
@@ -350,7 +415,7 @@ fn resolve_parts(
 }
 
 /// The grid size: `--n` over the scene's `method.n`.
-fn given_n(m: &MethodFlags, f_ref: Option<&LoadedScene>) -> Result<Option<Param>, CliError> {
+fn given_n(m: &MethodFlags, f_ref: Option<&LoadedScene>) -> Result<Option<Param>, IoError> {
     Ok(match (&m.n, f_ref.and_then(|f| f.file.method.n)) {
         (Some(raw), _) => Some(Param {
             value: parse_count("--n", raw, 0)? as f64,
@@ -373,7 +438,7 @@ fn resolve_method(
     m: &MethodFlags,
     f_ref: Option<&LoadedScene>,
     given: &Given,
-) -> Result<Method, CliError> {
+) -> Result<Method, IoError> {
     let (name, name_origin) = match (&m.method, f_ref, &m.tol) {
         (Some(name), _, _) => (name.clone(), Some("--method")),
         // --tol asks for the automatic choice.
@@ -387,7 +452,7 @@ fn resolve_method(
             "unknown method: expected accurate, auto, rk4, fdm or fdm-richardson".to_string();
         match (name_origin, f_ref) {
             (None, Some(f)) => f.error_at("method.name", format!("{reason}, got `{name}`")),
-            _ => CliError::invalid_argument("--method", name.clone(), reason),
+            _ => IoError::invalid_argument("--method", name.clone(), reason),
         }
     })?;
     let tol = match (&m.tol, f_ref.and_then(|f| f.file.method.tol)) {
@@ -399,7 +464,7 @@ fn resolve_method(
         match &mut method {
             Method::Auto { tol, .. } => {
                 if !(1e-12..=1e-2).contains(&t) {
-                    return Err(CliError::invalid_argument(
+                    return Err(IoError::invalid_argument(
                         origin,
                         format!("{t:e}"),
                         "the accuracy asked for must be in [1e-12, 1e-2]".to_string(),
@@ -408,7 +473,7 @@ fn resolve_method(
                 *tol = t;
             }
             other => {
-                return Err(CliError::invalid_argument(
+                return Err(IoError::invalid_argument(
                     origin,
                     format!("{t:e}"),
                     format!(
@@ -424,7 +489,7 @@ fn resolve_method(
 
 impl Resolved {
     /// The dimensionless scene from the given values, validated.
-    fn build_scene(&self) -> Result<Scene, CliError> {
+    fn build_scene(&self) -> Result<Scene, IoError> {
         let g = &self.given;
         let (mut a, mut b, mut f, mut q, mut k) =
             (g.a.value, g.b.value, g.f.value, g.q.value, g.k.value);
@@ -473,7 +538,7 @@ impl Resolved {
 
     /// Maps a model error to the flag or scene field that caused it; solver failures are
     /// passed through (they name the method and the residual).
-    pub fn culprit(&self, err: &ModelError) -> CliError {
+    pub fn culprit(&self, err: &ModelError) -> IoError {
         if let ModelError::InvalidParameter {
             name,
             value,
@@ -483,7 +548,7 @@ impl Resolved {
             if let Some((p, field)) = self.param_named(name) {
                 match &p.origin {
                     Origin::Flag { flag, raw } => {
-                        return CliError::invalid_argument(*flag, raw.clone(), *reason)
+                        return IoError::invalid_argument(*flag, raw.clone(), *reason)
                     }
                     Origin::Scene(_) => {
                         if let Some(file) = &self.file {
@@ -493,17 +558,17 @@ impl Resolved {
                     Origin::Default => {}
                 }
             }
-            return CliError::Solver {
+            return IoError::Solver {
                 reason: format!("invalid parameter {name} = {value}: {reason}"),
                 source: Some(Box::new(err.clone())),
             };
         }
-        CliError::solver(err.clone())
+        IoError::solver(err.clone())
     }
 
     /// Maps a contact-sweep error to its culprit (`--profile`, `--points`, a model
     /// parameter) or passes a solver failure through.
-    pub fn contact_culprit(&self, err: ContactError, profile: &ProfileArg) -> CliError {
+    pub fn contact_culprit(&self, err: ContactError, profile: &ProfileArg) -> IoError {
         match err {
             ContactError::Model(e) => self.culprit(&e),
             ContactError::ProfileSpec { reason, .. } => profile.error(reason),
@@ -512,10 +577,10 @@ impl Resolved {
                 name: "points",
                 value,
                 reason,
-            } => CliError::invalid_argument("--points", format!("{value}"), reason),
+            } => IoError::invalid_argument("--points", format!("{value}"), reason),
             ContactError::NoContact { reason } if self.physical.is_some() => {
                 let l = self.units().length_mm().unwrap_or(f64::NAN);
-                CliError::solver(ContactError::NoContact {
+                IoError::solver(ContactError::NoContact {
                     reason: format!(
                         "{reason} (the model's lengths: 1 = the whisker's length, {} mm; the \
                          contour `{}` as given)",
@@ -524,7 +589,7 @@ impl Resolved {
                     ),
                 })
             }
-            other => CliError::solver(other),
+            other => IoError::solver(other),
         }
     }
 

@@ -8,7 +8,7 @@ use contact_sim::{ContactError, Profile};
 
 use super::LoadedScene;
 use crate::csvio::{parse_f64, parse_table};
-use crate::error::CliError;
+use crate::error::IoError;
 use crate::units::{split_name_unit, Quantity, UnitSystem};
 
 /// A profile spec with its origin.
@@ -22,10 +22,10 @@ pub struct ProfileArg {
 
 impl ProfileArg {
     /// An error about this profile, against `--profile` or the scene's `profile` field.
-    pub fn error(&self, reason: String) -> CliError {
+    pub fn error(&self, reason: String) -> IoError {
         match &self.file {
             Some(f) => f.error_at("profile", format!("`{}`: {reason}", self.spec)),
-            None => CliError::invalid_argument("--profile", self.spec.clone(), reason),
+            None => IoError::invalid_argument("--profile", self.spec.clone(), reason),
         }
     }
 
@@ -50,11 +50,19 @@ impl ProfileArg {
     /// see [`read_points_file`]); a relative path in a scene file is taken relative to the
     /// scene file. Convexity is the sweep's business: it checks the part the whisker
     /// touches.
-    pub fn parse(&self, units: &UnitSystem) -> Result<Profile, CliError> {
+    pub fn parse(&self, units: &UnitSystem) -> Result<Profile, IoError> {
         if let Some(path) = self.points_path() {
+            if self.spec.trim()["points:".len()..].trim().is_empty() {
+                // not the empty path's "No such file or directory" (issue #34)
+                return Err(self.error(
+                    "names no table: expected points:FILE.csv, a CSV file whose header names \
+                     the x and y columns"
+                        .to_string(),
+                ));
+            }
             let (x, y) = read_points_file(&path, units)?;
             return Profile::points(x, y).map_err(|e| match e {
-                ContactError::ProfileSpec { reason, .. } => CliError::Csv {
+                ContactError::ProfileSpec { reason, .. } => IoError::Csv {
                     path: path.clone(),
                     line: 1,
                     column: None,
@@ -78,10 +86,10 @@ impl ProfileArg {
 /// `x [m]`); other columns are ignored. Without units the values are in the scene's units
 /// (mm in a physical scene, whisker lengths otherwise). Returns the dimensionless (x, y),
 /// x strictly increasing; every problem names the file, line and column.
-pub fn read_points_file(path: &Path, units: &UnitSystem) -> Result<(Vec<f64>, Vec<f64>), CliError> {
-    let text = std::fs::read_to_string(path).map_err(|e| CliError::io(path, e))?;
+pub fn read_points_file(path: &Path, units: &UnitSystem) -> Result<(Vec<f64>, Vec<f64>), IoError> {
+    let text = std::fs::read_to_string(path).map_err(|e| IoError::io(path, e))?;
     let head = parse_table(&text, path, &[], 0)?;
-    let err = |line: usize, column: Option<&str>, reason: String| CliError::Csv {
+    let err = |line: usize, column: Option<&str>, reason: String| IoError::Csv {
         path: path.to_path_buf(),
         line,
         column: column.map(str::to_string),
@@ -148,7 +156,7 @@ pub fn read_points_file(path: &Path, units: &UnitSystem) -> Result<(Vec<f64>, Ve
                 .factor_from(&unit, Quantity::Length)
                 .map_err(|r| err(table.header_line, Some(name), r))?
         };
-        Ok::<f64, CliError>(f)
+        Ok::<f64, IoError>(f)
     };
     let (fx, fy) = (factor(&xname)?, factor(&yname)?);
     Ok((

@@ -15,7 +15,7 @@ use std::path::Path;
 use beam_model::PhysicalWhisker;
 use contact_sim::Profile;
 
-use crate::error::CliError;
+use crate::error::IoError;
 
 /// The kind of a quantity, which fixes its unit.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -239,12 +239,12 @@ pub fn column_factors(
     columns: &[(&str, Quantity)],
     system: &UnitSystem,
     sidecar: &Path,
-) -> Result<Vec<f64>, CliError> {
+) -> Result<Vec<f64>, IoError> {
     columns
         .iter()
         .map(|(name, q)| match units.get(*name) {
             None => Ok(1.0 / system.scale(*q)),
-            Some(u) => system.factor_from(u, *q).map_err(|reason| CliError::Csv {
+            Some(u) => system.factor_from(u, *q).map_err(|reason| IoError::Csv {
                 path: sidecar.to_path_buf(),
                 line: 2,
                 column: Some(name.to_string()),

@@ -136,7 +136,8 @@ fn render_layout(
 /// The printed size figures are made for: `--size column|page|slide`. The canvas is as
 /// wide in points as the print, so the fonts print at their nominal sizes (7-8.5 pt; on a
 /// slide twice that).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 pub enum FigureSize {
     /// One column of a journal page, 85 mm wide (the command line's default).
     Column,

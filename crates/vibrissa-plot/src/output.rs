@@ -5,12 +5,12 @@ use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
 use super::*;
-use crate::atomic::write_atomic;
-use crate::error::CliError;
+use crate::error::PlotError;
+use vibrissa_io::atomic::write_atomic;
 
 /// Writes `chart` as an SVG of `size` pixels (width, height) to `path` and a PNG twin
 /// beside it ([`png_path`]), atomically.
-pub fn write_svg(chart: &Chart, path: &Path, size: (u32, u32)) -> Result<(), CliError> {
+pub fn write_svg(chart: &Chart, path: &Path, size: (u32, u32)) -> Result<(), PlotError> {
     write_figure(&[Panel::Chart(chart)], 1, path, size)
 }
 
@@ -20,13 +20,14 @@ pub fn write_svg_panels(
     cols: usize,
     path: &Path,
     size: (u32, u32),
-) -> Result<(), CliError> {
+) -> Result<(), PlotError> {
     let panels: Vec<Panel<'_>> = charts.iter().map(Panel::Chart).collect();
     write_figure(&panels, cols, path, size)
 }
 
 /// Which files a figure is written as: `--figures none|svg|png|all`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 pub enum FigureFormats {
     /// No figures (the fastest run; the CSVs and `scene.ron` only).
     None,
@@ -78,12 +79,12 @@ pub fn figure_formats() -> FigureFormats {
 
 /// Writes a rendered SVG at `path` and/or its PNG twin (twice the size) at [`png_path`], as
 /// [`figure_formats`] says; nothing is written if the PNG cannot be rendered.
-fn write_rendered(svg: &str, path: &Path) -> Result<(), CliError> {
+fn write_rendered(svg: &str, path: &Path) -> Result<(), PlotError> {
     let formats = figure_formats();
     let png = if formats.png() {
         Some(
             render_png(svg, (figure_size().png_dpi() / 96.0) as f32).map_err(|reason| {
-                CliError::Plot {
+                PlotError::Draw {
                     path: path.to_path_buf(),
                     reason,
                 }
@@ -96,7 +97,7 @@ fn write_rendered(svg: &str, path: &Path) -> Result<(), CliError> {
         write_atomic(path, svg.as_bytes())?;
     }
     match png {
-        Some(png) => write_atomic(&png_path(path), &png),
+        Some(png) => Ok(write_atomic(&png_path(path), &png)?),
         None => Ok(()),
     }
 }
@@ -105,10 +106,11 @@ fn write_rendered(svg: &str, path: &Path) -> Result<(), CliError> {
 /// and a thread can be started, [`bvp_solvers::cores::both`]; rasterising a PNG is the
 /// costly part) and returns the first error (`a`'s before `b`'s); a panic in either is
 /// passed on.
-pub fn both<A, B>(a: A, b: B) -> Result<(), CliError>
+pub fn both<A, B, E>(a: A, b: B) -> Result<(), E>
 where
-    A: FnOnce() -> Result<(), CliError> + Send,
-    B: FnOnce() -> Result<(), CliError>,
+    A: FnOnce() -> Result<(), E> + Send,
+    B: FnOnce() -> Result<(), E>,
+    E: Send,
 {
     let (rb, ra) = bvp_solvers::cores::both(b, a);
     ra.and(rb)
@@ -137,7 +139,7 @@ pub fn write_panels_with_heading(
     heading: &Heading,
     path: &Path,
     size: (u32, u32),
-) -> Result<(), CliError> {
+) -> Result<(), PlotError> {
     render_and_write(path, || render_figure_with(charts, cols, size, heading))
 }
 
@@ -149,7 +151,7 @@ pub fn write_figure(
     cols: usize,
     path: &Path,
     size: (u32, u32),
-) -> Result<(), CliError> {
+) -> Result<(), PlotError> {
     render_and_write(path, || render_figure(panels, cols, size))
 }
 
@@ -158,11 +160,11 @@ pub fn write_figure(
 fn render_and_write(
     path: &Path,
     render: impl FnOnce() -> Result<String, String>,
-) -> Result<(), CliError> {
+) -> Result<(), PlotError> {
     if figure_formats() == FigureFormats::None {
         return Ok(());
     }
-    let svg = render().map_err(|reason| CliError::Plot {
+    let svg = render().map_err(|reason| PlotError::Draw {
         path: path.to_path_buf(),
         reason,
     })?;

@@ -6,7 +6,7 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use crate::error::CliError;
+use crate::error::IoError;
 
 /// A table read from a CSV file.
 ///
@@ -54,8 +54,8 @@ impl Table {
 
 /// Reads the CSV file `path`, requiring the numeric, finite columns `required` and at least
 /// `min_rows` data rows.
-pub fn read_table(path: &Path, required: &[&str], min_rows: usize) -> Result<Table, CliError> {
-    let text = std::fs::read_to_string(path).map_err(|e| CliError::io(path, e))?;
+pub fn read_table(path: &Path, required: &[&str], min_rows: usize) -> Result<Table, IoError> {
+    let text = std::fs::read_to_string(path).map_err(|e| IoError::io(path, e))?;
     parse_table(&text, path, required, min_rows)
 }
 
@@ -275,8 +275,8 @@ pub fn parse_table(
     path: &Path,
     required: &[&str],
     min_rows: usize,
-) -> Result<Table, CliError> {
-    let err = |line: usize, column: Option<&str>, reason: String| CliError::Csv {
+) -> Result<Table, IoError> {
+    let err = |line: usize, column: Option<&str>, reason: String| IoError::Csv {
         path: path.to_path_buf(),
         line,
         column: column.map(str::to_string),

@@ -33,7 +33,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::thread::JoinHandle;
 
-use crate::error::CliError;
+use crate::error::IoError;
 
 /// At most this many files of one staging folder are flushed at once (a command that
 /// writes hundreds of files, as `cargo xtask reproduce` does, does not start hundreds of
@@ -81,12 +81,12 @@ fn take_flushes(staging: &Path, unregister: bool) -> Vec<Flush> {
 /// folder made there) is written in place, its flush started on a thread of its own
 /// and waited for by [`OutputDir::commit`] (see the module's documentation); on failure
 /// the partial file is removed.
-pub fn write_atomic(path: &Path, contents: &[u8]) -> Result<(), CliError> {
+pub fn write_atomic(path: &Path, contents: &[u8]) -> Result<(), IoError> {
     if is_staged(path) {
         return write_staged(path, contents);
     }
     let name = path.file_name().ok_or_else(|| {
-        CliError::io(
+        IoError::io(
             path,
             std::io::Error::new(std::io::ErrorKind::InvalidInput, "not a file name"),
         )
@@ -95,12 +95,11 @@ pub fn write_atomic(path: &Path, contents: &[u8]) -> Result<(), CliError> {
     tmp_name.push(format!(".tmp-{}", std::process::id()));
     let tmp = path.with_file_name(tmp_name);
     let result = (|| {
-        let mut file = fs::File::create(&tmp).map_err(|e| CliError::io(&tmp, e))?;
-        file.write_all(contents)
-            .map_err(|e| CliError::io(&tmp, e))?;
-        file.sync_all().map_err(|e| CliError::io(&tmp, e))?;
+        let mut file = fs::File::create(&tmp).map_err(|e| IoError::io(&tmp, e))?;
+        file.write_all(contents).map_err(|e| IoError::io(&tmp, e))?;
+        file.sync_all().map_err(|e| IoError::io(&tmp, e))?;
         drop(file);
-        fs::rename(&tmp, path).map_err(|e| CliError::io(path, e))
+        fs::rename(&tmp, path).map_err(|e| IoError::io(path, e))
     })();
     if result.is_err() {
         let _ = fs::remove_file(&tmp);
@@ -113,14 +112,14 @@ pub fn write_atomic(path: &Path, contents: &[u8]) -> Result<(), CliError> {
 /// Writes a file of a staging folder in place and starts its flush (see [`write_atomic`]);
 /// on failure the partial file is removed. A flush that cannot be started on a thread is
 /// left to the commit.
-fn write_staged(path: &Path, contents: &[u8]) -> Result<(), CliError> {
+fn write_staged(path: &Path, contents: &[u8]) -> Result<(), IoError> {
     let written = fs::File::create(path).and_then(|mut f| {
         f.write_all(contents)?;
         Ok(f)
     });
     let file = written.map_err(|e| {
         let _ = fs::remove_file(path);
-        CliError::io(path, e)
+        IoError::io(path, e)
     })?;
     let mut staged = staging_dirs();
     let Some((_, flushes)) = staged.iter_mut().find(|(s, _)| path.starts_with(s)) else {
@@ -145,11 +144,11 @@ fn write_staged(path: &Path, contents: &[u8]) -> Result<(), CliError> {
 /// # Errors
 /// The first file (of `started`, then of `files`) that cannot be opened or flushed;
 /// directory syncs are best effort.
-fn sync_batch(started: Vec<Flush>, files: &[PathBuf], dirs: &[PathBuf]) -> Result<(), CliError> {
+fn sync_batch(started: Vec<Flush>, files: &[PathBuf], dirs: &[PathBuf]) -> Result<(), IoError> {
     let sync = |f: &PathBuf| {
         fs::File::open(f)
             .and_then(|file| file.sync_data())
-            .map_err(|e| CliError::io(f, e))
+            .map_err(|e| IoError::io(f, e))
     };
     let chunk = files.len().div_ceil(MAX_FLUSHES).max(1);
     std::thread::scope(|s| {
@@ -167,7 +166,7 @@ fn sync_batch(started: Vec<Flush>, files: &[PathBuf], dirs: &[PathBuf]) -> Resul
         let mut result = Ok(());
         for (path, h) in started {
             let r = h.join().unwrap_or_else(|p| std::panic::resume_unwind(p));
-            result = result.and(r.map_err(|e| CliError::io(path, e)));
+            result = result.and(r.map_err(|e| IoError::io(path, e)));
         }
         for h in files {
             result = result.and(match h {
@@ -227,7 +226,7 @@ fn process_alive(pid: u32) -> bool {
 /// Takes the lock file `lock` exclusively for this process; `true` if it took over the
 /// stale lock of a process that is gone (a killed run, which may have left its staging
 /// folder behind).
-fn acquire_lock(lock: &Path, target: &Path) -> Result<bool, CliError> {
+fn acquire_lock(lock: &Path, target: &Path) -> Result<bool, IoError> {
     // two attempts: the second after removing a stale lock
     for attempt in 0..2 {
         match fs::OpenOptions::new()
@@ -248,7 +247,7 @@ fn acquire_lock(lock: &Path, target: &Path) -> Result<bool, CliError> {
                         let _ = fs::remove_file(lock);
                     }
                     _ => {
-                        return Err(CliError::io(
+                        return Err(IoError::io(
                             target,
                             std::io::Error::new(
                                 std::io::ErrorKind::WouldBlock,
@@ -263,7 +262,7 @@ fn acquire_lock(lock: &Path, target: &Path) -> Result<bool, CliError> {
                 }
             }
             Err(e) => {
-                return Err(CliError::invalid_argument(
+                return Err(IoError::invalid_argument(
                     "--out",
                     target.display().to_string(),
                     format!(
@@ -274,7 +273,7 @@ fn acquire_lock(lock: &Path, target: &Path) -> Result<bool, CliError> {
             }
         }
     }
-    Err(CliError::io(
+    Err(IoError::io(
         lock,
         std::io::Error::new(std::io::ErrorKind::WouldBlock, "could not take the lock"),
     ))
@@ -307,14 +306,14 @@ fn remove_stale_staging(parent: &Path, name: &std::ffi::OsStr) {
 /// Refuses an output folder that holds one of the files the command reads (`inputs`: what
 /// it is, its path): the output folder is replaced as a whole, so it would destroy its own
 /// input.
-pub fn refuse_over_inputs(out_dir: &Path, inputs: &[(&str, &Path)]) -> Result<(), CliError> {
+pub fn refuse_over_inputs(out_dir: &Path, inputs: &[(&str, &Path)]) -> Result<(), IoError> {
     let Ok(out) = out_dir.canonicalize() else {
         // a folder that does not exist yet holds no input
         return Ok(());
     };
     for (what, input) in inputs {
         if input.canonicalize().is_ok_and(|i| i.starts_with(&out)) {
-            return Err(CliError::invalid_argument(
+            return Err(IoError::invalid_argument(
                 "--out",
                 out_dir.display().to_string(),
                 format!(
@@ -329,11 +328,11 @@ pub fn refuse_over_inputs(out_dir: &Path, inputs: &[(&str, &Path)]) -> Result<()
 }
 
 /// Whether `dir` may be replaced: empty, or written by vibrissa (has [`MARKER`]).
-fn replaceable(dir: &Path) -> Result<bool, CliError> {
+fn replaceable(dir: &Path) -> Result<bool, IoError> {
     if dir.join(MARKER).is_file() {
         return Ok(true);
     }
-    let mut entries = fs::read_dir(dir).map_err(|e| CliError::io(dir, e))?;
+    let mut entries = fs::read_dir(dir).map_err(|e| IoError::io(dir, e))?;
     Ok(entries.next().is_none())
 }
 
@@ -344,9 +343,9 @@ impl OutputDir {
     /// # Errors
     /// `path` is not a usable directory name, exists as a file, exists as a non-empty folder
     /// not written by vibrissa, or is locked by another running writer.
-    pub fn create(path: &Path) -> Result<Self, CliError> {
+    pub fn create(path: &Path) -> Result<Self, IoError> {
         if path.as_os_str() == "-" {
-            return Err(CliError::invalid_argument(
+            return Err(IoError::invalid_argument(
                 "--out",
                 "-",
                 "an output folder is needed, not standard output (--json prints the summary \
@@ -356,7 +355,7 @@ impl OutputDir {
         let name = path
             .file_name()
             .ok_or_else(|| {
-                CliError::io(
+                IoError::io(
                     path,
                     std::io::Error::new(
                         std::io::ErrorKind::InvalidInput,
@@ -366,7 +365,7 @@ impl OutputDir {
             })?
             .to_os_string();
         if path.exists() && !path.is_dir() {
-            return Err(CliError::io(
+            return Err(IoError::io(
                 path,
                 std::io::Error::new(
                     std::io::ErrorKind::AlreadyExists,
@@ -375,7 +374,7 @@ impl OutputDir {
             ));
         }
         if path.is_dir() && !replaceable(path)? {
-            return Err(CliError::io(
+            return Err(IoError::io(
                 path,
                 std::io::Error::new(
                     std::io::ErrorKind::AlreadyExists,
@@ -393,7 +392,7 @@ impl OutputDir {
             .map(Path::to_path_buf)
             .collect();
         fs::create_dir_all(&parent).map_err(|e| {
-            CliError::invalid_argument(
+            IoError::invalid_argument(
                 "--out",
                 path.display().to_string(),
                 format!("cannot create the folder {} for it: {e}", parent.display()),
@@ -412,9 +411,9 @@ impl OutputDir {
         let staging = sibling(&format!(".staging-{}", std::process::id()));
         let prepared = (|| {
             if staging.exists() {
-                fs::remove_dir_all(&staging).map_err(|e| CliError::io(&staging, e))?;
+                fs::remove_dir_all(&staging).map_err(|e| IoError::io(&staging, e))?;
             }
-            fs::create_dir(&staging).map_err(|e| CliError::io(&staging, e))?;
+            fs::create_dir(&staging).map_err(|e| IoError::io(&staging, e))?;
             staging_dirs().push((staging.clone(), Vec::new()));
             write_staged(&staging.join(MARKER), b"written by vibrissa\n")
         })();
@@ -442,7 +441,7 @@ impl OutputDir {
     /// Swaps the staged folder in for the final directory as a whole and returns the final
     /// paths of the files written (the marker excluded), sorted. The earlier folder is
     /// renamed aside first and restored if the swap fails.
-    pub fn commit(mut self) -> Result<Vec<PathBuf>, CliError> {
+    pub fn commit(mut self) -> Result<Vec<PathBuf>, IoError> {
         let mut files = Vec::new();
         let mut dirs = vec![self.staging.clone()];
         collect_files(&self.staging, &mut files, &mut dirs)?;
@@ -463,22 +462,22 @@ impl OutputDir {
         let had_old = self.target.exists();
         if had_old {
             if old.exists() {
-                fs::remove_dir_all(&old).map_err(|e| CliError::io(&old, e))?;
+                fs::remove_dir_all(&old).map_err(|e| IoError::io(&old, e))?;
             }
-            fs::rename(&self.target, &old).map_err(|e| CliError::io(&self.target, e))?;
+            fs::rename(&self.target, &old).map_err(|e| IoError::io(&self.target, e))?;
         }
         if let Err(e) = fs::rename(&self.staging, &self.target) {
             if had_old {
                 let _ = fs::rename(&old, &self.target);
             }
-            return Err(CliError::io(&self.target, e));
+            return Err(IoError::io(&self.target, e));
         }
         self.committed = true;
         if let Some(parent) = self.target.parent() {
             sync_dir(parent);
         }
         if had_old {
-            fs::remove_dir_all(&old).map_err(|e| CliError::io(&old, e))?;
+            fs::remove_dir_all(&old).map_err(|e| IoError::io(&old, e))?;
         }
         let out = files
             .iter()
@@ -522,11 +521,11 @@ fn collect_files(
     dir: &Path,
     out: &mut Vec<PathBuf>,
     dirs: &mut Vec<PathBuf>,
-) -> Result<(), CliError> {
-    for entry in fs::read_dir(dir).map_err(|e| CliError::io(dir, e))? {
-        let entry = entry.map_err(|e| CliError::io(dir, e))?;
+) -> Result<(), IoError> {
+    for entry in fs::read_dir(dir).map_err(|e| IoError::io(dir, e))? {
+        let entry = entry.map_err(|e| IoError::io(dir, e))?;
         let p = entry.path();
-        let ty = entry.file_type().map_err(|e| CliError::io(&p, e))?;
+        let ty = entry.file_type().map_err(|e| IoError::io(&p, e))?;
         if ty.is_dir() {
             dirs.push(p.clone());
             collect_files(&p, out, dirs)?;

@@ -1,0 +1,18 @@
+//! The library layer of vibrissa's inputs and outputs, without a command line: what the CLI,
+//! the Python package and `cargo xtask` share.
+//!
+//! - [`error`]: [`IoError`], the typed errors of this crate (each names its culprit);
+//! - [`atomic`]: atomic file writes and staged output directories;
+//! - [`csvio`]: round-trip exact CSV writing and lenient, precise CSV reading (`csv` crate);
+//! - [`units`]: the units of every output (dimensionless or mm, N, N mm) and their sidecars;
+//! - [`scene_file`]: the RON scene format;
+//! - [`resolve`]: scene file + overrides -> model values (physical units included).
+
+pub mod atomic;
+pub mod csvio;
+pub mod error;
+pub mod resolve;
+pub mod scene_file;
+pub mod units;
+
+pub use error::IoError;

@@ -114,22 +114,12 @@ pub struct AbdLu {
     /// The final dense LU, `(2n+k)^2`, and its row permutation.
     fin: Vec<f64>,
     fin_perm: Vec<usize>,
-    /// Scratch rows of the elimination.
-    work: Vec<f64>,
 }
 
 impl AbdLu {
     /// Factors `mat`; [`BvpError::SingularJacobian`] with the global row (`j * n + step`) and
     /// pivot when a pivot is zero or below `1e-14` of the matrix's largest entry.
     pub fn factor(mat: &AbdMatrix) -> Result<Self, BvpError> {
-        let mut lu = AbdLu::default();
-        lu.refactor(mat)?;
-        Ok(lu)
-    }
-
-    /// [`Self::factor`] into `self`, reusing its storage (the Newton iterations refactor
-    /// matrices of one shape).
-    pub fn refactor(&mut self, mat: &AbdMatrix) -> Result<(), BvpError> {
         let (n, k, m) = (mat.n, mat.k, mat.m);
         let w = 3 * n + k;
         let scale = mat
@@ -150,21 +140,19 @@ impl AbdLu {
         let tiny = 1e-14 * scale;
         let nint = m - 1;
         let nel = nint.saturating_sub(1);
-        self.n = n;
-        self.k = k;
-        self.m = m;
-        self.w = w;
-        self.swaps.clear();
-        self.swaps.resize(nel * n, 0);
-        self.mult.clear();
-        self.mult.resize(nel * n * 2 * n, 0.0);
-        self.piv.clear();
-        self.piv.resize(nel * n * w, 0.0);
-        let lu = self;
+        let mut lu = AbdLu {
+            n,
+            k,
+            m,
+            w,
+            swaps: vec![0; nel * n],
+            mult: vec![0.0; nel * n * 2 * n],
+            piv: vec![0.0; nel * n * w],
+            fin: Vec::new(),
+            fin_perm: Vec::new(),
+        };
         // carry: n rows of width w, columns y_0 | y_cur | (unused) | p
-        let mut work = std::mem::take(&mut lu.work);
-        work.clear();
-        work.resize(2 * n * w, 0.0);
+        let mut work = vec![0.0; 2 * n * w];
         for r in 0..n {
             let row = &mut work[r * w..(r + 1) * w];
             row[..n].copy_from_slice(&mat.a[r * n..(r + 1) * n]);
@@ -239,9 +227,7 @@ impl AbdLu {
         }
         // final system in (y_0, y_{m-1}, p): carry rows then boundary rows
         let nf = 2 * n + k;
-        let mut fin = std::mem::take(&mut lu.fin);
-        fin.clear();
-        fin.resize(nf * nf, 0.0);
+        let mut fin = vec![0.0; nf * nf];
         for r in 0..n {
             let row = &mut fin[r * nf..(r + 1) * nf];
             row[..2 * n].copy_from_slice(&work[r * w..r * w + 2 * n]);
@@ -253,9 +239,7 @@ impl AbdLu {
             row[n..2 * n].copy_from_slice(&mat.bb[r * n..(r + 1) * n]);
             row[2 * n..].copy_from_slice(&mat.bp[r * k..(r + 1) * k]);
         }
-        let mut perm = std::mem::take(&mut lu.fin_perm);
-        perm.clear();
-        perm.extend(0..nf);
+        let mut perm: Vec<usize> = (0..nf).collect();
         for s in 0..nf {
             let mut best = s;
             let mut bv = fin[s * nf + s].abs();
@@ -291,8 +275,7 @@ impl AbdLu {
         }
         lu.fin = fin;
         lu.fin_perm = perm;
-        lu.work = work;
-        Ok(())
+        Ok(lu)
     }
 
     /// Solves `J x = b` in place (`b` ordered as the rows: intervals, then boundary rows; `x`

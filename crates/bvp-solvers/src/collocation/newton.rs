@@ -59,7 +59,7 @@ pub fn solve_newton<P: BvpProblem + ?Sized>(
         if recompute {
             sys.jacobian(x, y, p, col, &bc_res, mat);
             njev += 1;
-            lu.refactor(mat)?;
+            lu = AbdLu::factor(mat)?;
             step.copy_from_slice(&res);
             lu.solve_in_place(&mut step, &mut tmp);
             cost = step.iter().map(|v| v * v).sum();

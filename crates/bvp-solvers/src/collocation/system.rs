@@ -37,8 +37,6 @@ pub struct System<'a, P: ?Sized> {
     pub stats: BvpStats,
     buf: Vec<f64>,
     buf2: Vec<f64>,
-    /// Jacobian scratch: `df/dy`, `df/dp` at the nodes and a midpoint, a perturbed `y`, `p`.
-    jbuf: [Vec<f64>; 6],
 }
 
 fn matvec(a: &[f64], x: &[f64], out: &mut [f64]) {
@@ -77,7 +75,6 @@ impl<'a, P: BvpProblem + ?Sized> System<'a, P> {
             stats: BvpStats::default(),
             buf: vec![0.0; n + k],
             buf2: vec![0.0; 2 * (n + k)],
-            jbuf: Default::default(),
         }
     }
 
@@ -141,9 +138,7 @@ impl<'a, P: BvpProblem + ?Sized> System<'a, P> {
             return;
         }
         self.stats.jacobian_by_differences = true;
-        let mut yy = std::mem::take(&mut self.jbuf[4]);
-        yy.clear();
-        yy.extend_from_slice(y);
+        let mut yy = y.to_vec();
         let mut fnew = std::mem::take(&mut self.buf);
         fnew.resize(n, 0.0);
         for c in 0..n {
@@ -158,9 +153,7 @@ impl<'a, P: BvpProblem + ?Sized> System<'a, P> {
             yy[c] = y[c];
         }
         if k > 0 {
-            let mut pp = std::mem::take(&mut self.jbuf[5]);
-            pp.clear();
-            pp.extend_from_slice(p);
+            let mut pp = p.to_vec();
             for c in 0..k {
                 let hs = fd_step(p[c]);
                 pp[c] = p[c] + hs;
@@ -172,9 +165,7 @@ impl<'a, P: BvpProblem + ?Sized> System<'a, P> {
                 }
                 pp[c] = p[c];
             }
-            self.jbuf[5] = pp;
         }
-        self.jbuf[4] = yy;
         self.buf = fnew;
     }
 
@@ -288,17 +279,8 @@ impl<'a, P: BvpProblem + ?Sized> System<'a, P> {
         self.stats.jacobian_evaluations += 1;
         let nn = n * n;
         let nk = n * k;
-        let [mut jn, mut qn, mut jm, mut qm] =
-            [0, 1, 2, 3].map(|i| std::mem::take(&mut self.jbuf[i]));
-        for (b, len) in [
-            (&mut jn, m * nn),
-            (&mut qn, m * nk),
-            (&mut jm, nn),
-            (&mut qm, nk),
-        ] {
-            b.clear();
-            b.resize(len, 0.0);
-        }
+        let mut jn = vec![0.0; m * nn];
+        let mut qn = vec![0.0; m * nk];
         for i in 0..m {
             let (jy, jp) = (&mut jn[i * nn..(i + 1) * nn], &mut qn[i * nk..(i + 1) * nk]);
             self.fun_jac(
@@ -310,6 +292,8 @@ impl<'a, P: BvpProblem + ?Sized> System<'a, P> {
                 jp,
             );
         }
+        let mut jm = vec![0.0; nn];
+        let mut qm = vec![0.0; nk];
         for i in 0..m - 1 {
             let h = x[i + 1] - x[i];
             let xm = x[i] + 0.5 * h;
@@ -364,10 +348,6 @@ impl<'a, P: BvpProblem + ?Sized> System<'a, P> {
                 }
             }
         }
-        self.jbuf[0] = jn;
-        self.jbuf[1] = qn;
-        self.jbuf[2] = jm;
-        self.jbuf[3] = qm;
         let ya = &y[..n];
         let yb = &y[(m - 1) * n..];
         self.bc_jac(ya, yb, p, bc0, mat);

@@ -19,8 +19,8 @@
 //!
 //! whose Jacobian is the block staircase of `G_j`, `-I`, `H_j` and the boundary blocks
 //! (those by forward differences of `bc`, which costs no integration), solved by its
-//! structure ([`staircase`]-elimination with partial pivoting, `O(m (n + k)^3)`), not as a
-//! dense matrix. The step is damped (halved until the scaled residual falls by Armijo's
+//! structure (staircase elimination with partial pivoting, module `staircase`,
+//! `O(m (n + k)^3)`), not as a dense matrix. The step is damped (halved until the scaled residual falls by Armijo's
 //! factor); a trial point at which a segment fails to integrate only halves the step.
 //!
 //! **Node insertion**: a segment whose growth `|G_j|_inf` exceeds

@@ -99,11 +99,14 @@ pub enum MethodKind {
     Picard,
     /// The cheapest method that meets a requested accuracy (`Method::Auto`).
     Auto,
+    /// Multiple shooting on `[0, s1]` (`Method::MultipleShooting`, `accurate`'s last
+    /// fallback).
+    MultipleShooting,
 }
 
 impl MethodKind {
     /// The name used by the CLI and the charts (`accurate`, `rk4`, `fdm`, `fdm-richardson`,
-    /// `shape`, `picard`, `auto`).
+    /// `shape`, `picard`, `auto`, `multiple-shooting`).
     pub fn name(&self) -> &'static str {
         match self {
             MethodKind::Accurate => "accurate",
@@ -113,6 +116,7 @@ impl MethodKind {
             MethodKind::Shape => "shape",
             MethodKind::Picard => "picard",
             MethodKind::Auto => "auto",
+            MethodKind::MultipleShooting => "multiple-shooting",
         }
     }
 }

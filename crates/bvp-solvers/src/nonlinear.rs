@@ -39,7 +39,9 @@ use crate::trust_region::{self, NonlinearSystem, TrustRegionOptions};
 use crate::BvpError;
 
 mod square;
+mod square_newton;
 pub use square::{solve_square, SquareReport};
+pub use square_newton::{LinearSteps, SquareNewton, SquareNewtonAnswer};
 
 /// Options of [`solve`] and [`solve_square`]: the fast path's policies and the fallback's
 /// options.

@@ -17,6 +17,7 @@ use crate::integrator::{Dop853, OdeSystem, Rk4};
 use crate::newton::{
     newton_guarded, Evaluation, NewtonAnswer, NewtonPolicy, NewtonSystem, Safeguards,
 };
+use crate::nonlinear::SquareNewton;
 use crate::trust_region::{self, NonlinearSystem, TrustRegionOptions};
 use crate::{BvpError, Result};
 
@@ -340,6 +341,36 @@ impl Shooting {
             iterations: sol.iterations,
         })
     }
+
+    /// Solves `R(p) = 0` from `p0` by the square Newton method `newton`
+    /// ([`SquareNewton`]: pivoted LU of the forward-difference Jacobian of `R`, a shot that
+    /// fails at a trial point halves the step, the trust region as its fallback), instead of
+    /// the trust region alone ([`Shooting::solve`], whose results this leaves unchanged);
+    /// `self.options` is not used. `iterations` counts Newton's and the fallback's.
+    ///
+    /// # Errors
+    /// As [`SquareNewton::solve`]: a shot's error at `p0`; `NoConvergence` (method
+    /// `"square-newton"` without a fallback, else the trust region's); `DimensionMismatch`
+    /// if `p0.len() != n_params`.
+    pub fn solve_newton<P: ShootingProblem>(
+        &self,
+        problem: &P,
+        p0: &[f64],
+        newton: &SquareNewton,
+    ) -> Result<ShootingSolution> {
+        let sys = ShootingSystem {
+            problem,
+            integrator: &self.integrator,
+        };
+        let sol = newton.solve(&sys, p0)?;
+        let u_end = sys.shoot(&sol.x)?;
+        Ok(ShootingSolution {
+            params: sol.x,
+            u_end,
+            residual_norm: sol.residual_norm,
+            iterations: (sol.iterations + sol.trust_region_iterations) as u64,
+        })
+    }
 }
 
 #[cfg(test)]
@@ -405,6 +436,92 @@ mod tests {
             dop.solve(&LinearBvp, &[0.0, 1.0]),
             Err(BvpError::DimensionMismatch { .. })
         ));
+    }
+
+    /// The square Newton on the same problem: the answer of the trust region within the
+    /// shot's noise, in no more iterations.
+    #[test]
+    fn square_newton_shooting_agrees_with_the_closed_form() {
+        let b = b();
+        let dop = shooting(ShootingIntegrator::Dop853(Dop853::new(1e-13, 1e-13)));
+        let sol = dop
+            .solve_newton(&LinearBvp, &[0.0], &SquareNewton::new(1e-12))
+            .unwrap();
+        assert!((sol.params[0] - b).abs() < 1e-10, "{}", sol.params[0] - b);
+        let tr = dop.solve(&LinearBvp, &[0.0]).unwrap();
+        assert!((sol.params[0] - tr.params[0]).abs() < 1e-10);
+        assert!(
+            sol.iterations <= tr.iterations,
+            "{} > {}",
+            sol.iterations,
+            tr.iterations
+        );
+        assert!(matches!(
+            dop.solve_newton(&LinearBvp, &[0.0, 1.0], &SquareNewton::new(1e-12)),
+            Err(BvpError::DimensionMismatch { .. })
+        ));
+    }
+
+    /// `y' = y^2`, `y(0) = p`, `y(1/2) = 1`: `y = p / (1 - p s)`, root `p = 2/3`. From
+    /// `p = -3` the full Newton step lands at `p = 10.75`, whose shot blows up at
+    /// `s = 0.093` (an integrator error): the failed trials halve the step and Newton
+    /// reaches `2/3`.
+    struct BlowUp;
+    struct Square;
+    impl OdeSystem for Square {
+        fn dim(&self) -> usize {
+            1
+        }
+        fn rhs(&self, _s: f64, u: &[f64], du: &mut [f64]) {
+            du[0] = u[0] * u[0];
+        }
+    }
+    impl ShootingProblem for BlowUp {
+        type System = Square;
+        fn n_params(&self) -> usize {
+            1
+        }
+        fn system(&self, _p: &[f64]) -> Square {
+            Square
+        }
+        fn span(&self, _p: &[f64]) -> (f64, f64) {
+            (0.0, 0.5)
+        }
+        fn initial_state(&self, p: &[f64], u0: &mut [f64]) {
+            u0[0] = p[0];
+        }
+        fn residual(&self, _p: &[f64], u_end: &[f64], r: &mut [f64]) {
+            r[0] = u_end[0] - 1.0;
+        }
+    }
+
+    #[test]
+    fn a_shot_that_fails_at_a_trial_only_shrinks_the_newton_step() {
+        let dop = shooting(ShootingIntegrator::Dop853(Dop853 {
+            max_steps: 2000,
+            ..Dop853::new(1e-12, 1e-12)
+        }));
+        assert!(dop.shooting_fails_at(&BlowUp, 10.75));
+        let newton = SquareNewton {
+            trust_region: None,
+            ..SquareNewton::new(1e-11)
+        };
+        let sol = dop.solve_newton(&BlowUp, &[-3.0], &newton).unwrap();
+        assert!(
+            (sol.params[0] - 2.0 / 3.0).abs() < 1e-9,
+            "{}",
+            sol.params[0]
+        );
+    }
+
+    impl Shooting {
+        fn shooting_fails_at<P: ShootingProblem>(&self, problem: &P, p: f64) -> bool {
+            let sys = ShootingSystem {
+                problem,
+                integrator: &self.integrator,
+            };
+            sys.shoot(&[p]).is_err()
+        }
     }
 
     /// The same problem with its sensitivity `v = dy/dp` (`v'' = -v`, `v(0) = 0`,

@@ -5,12 +5,14 @@
 //! | [`Method::Fdm`] | central FDM [3.25, 3.27], Newton on the tridiagonal Jacobian | 2 | ch. 4 (its method) |
 //! | [`Method::Rk4`] | RK4 shooting from the loaded end, exact Newton derivatives | 4 | ch. 4 (comparison) |
 //! | [`Method::Accurate`] | adaptive DOP853 shooting from the loaded end | 8 | — |
+//! | [`Method::MultipleShooting`] | DOP853 multiple shooting on `[0, s1]` with node insertion (`bvp_solvers::multiple_shooting`), from the FDM's branch; `accurate`'s last fallback | 8 | — |
 //! | [`Method::Auto`] | the cheapest of: linear theory where its a-priori bound meets the tolerance, the spectral Picard iteration, then `accurate` at the tolerance that suffices | spectral / 8 | — |
 
 pub(crate) mod accurate;
 pub(crate) mod elastica;
 pub(crate) mod fdm;
 pub(crate) mod fixed;
+pub(crate) mod global;
 pub(crate) mod linear_rung;
 pub(crate) mod load_path;
 pub(crate) mod picard;
@@ -48,6 +50,17 @@ pub enum Method {
     FdmRichardson {
         /// Intervals of the coarsest grid per unit length.
         n: usize,
+    },
+    /// Multiple shooting on `[0, s1]` (module `global`): DOP853 with the variational
+    /// equations on each segment, nodes inserted where a segment grows too much, from the
+    /// FDM solution that loading from zero reaches; `tol` is the integrator tolerance, the
+    /// estimate the difference from a second solve at `100 tol`. For slender whiskers under
+    /// tip forces, where single shooting is ill-conditioned.
+    MultipleShooting {
+        /// Integrator tolerance (default 1e-12).
+        tol: f64,
+        /// Output intervals along the whisker (default 100).
+        samples: usize,
     },
     /// Accuracy on demand: the cheapest method whose a-posteriori estimate meets `tol`
     /// (absolute, the norm of [`SolveStats::error_estimate`](crate::SolveStats)). First
@@ -129,13 +142,16 @@ impl Method {
             Method::Fdm { .. } => "fdm",
             Method::FdmRichardson { .. } => "fdm-richardson",
             Method::Auto { .. } => "auto",
+            Method::MultipleShooting { .. } => "multiple-shooting",
         }
     }
 
     /// Grid intervals (fixed-step methods) or output intervals (`accurate`).
     pub fn intervals(&self) -> usize {
         match *self {
-            Method::Accurate { samples, .. } | Method::Auto { samples, .. } => samples,
+            Method::Accurate { samples, .. }
+            | Method::Auto { samples, .. }
+            | Method::MultipleShooting { samples, .. } => samples,
             Method::Rk4 { n } | Method::Fdm { n } | Method::FdmRichardson { n } => n,
         }
     }
@@ -151,6 +167,10 @@ impl Method {
             "rk4" => Some(Method::Rk4 { n }),
             "fdm" => Some(Method::Fdm { n }),
             "fdm-richardson" => Some(Method::FdmRichardson { n }),
+            "multiple-shooting" => Some(Method::MultipleShooting {
+                tol: 1e-12,
+                samples: n,
+            }),
             "auto" => Some(Method::Auto {
                 tol: DEFAULT_AUTO_TOL,
                 samples: n,
@@ -167,6 +187,7 @@ impl Method {
             Method::Fdm { .. } => MethodKind::Fdm,
             Method::FdmRichardson { .. } => MethodKind::FdmRichardson,
             Method::Auto { .. } => MethodKind::Auto,
+            Method::MultipleShooting { .. } => MethodKind::MultipleShooting,
         }
     }
 
@@ -177,7 +198,9 @@ impl Method {
     /// [`FIXED_GRID_TOLERANCE`].
     pub fn tolerance(&self) -> f64 {
         match *self {
-            Method::Accurate { tol, .. } => (1e4 * tol).max(1e-10),
+            Method::Accurate { tol, .. } | Method::MultipleShooting { tol, .. } => {
+                (1e4 * tol).max(1e-10)
+            }
             Method::Auto { tol, .. } => tol,
             _ => FIXED_GRID_TOLERANCE,
         }
@@ -214,7 +237,7 @@ impl Method {
                 });
             }
         }
-        if let Method::Accurate { tol, .. } = *self {
+        if let Method::Accurate { tol, .. } | Method::MultipleShooting { tol, .. } = *self {
             if !(MIN_TOL..=1e-2).contains(&tol) {
                 return Err(ModelError::InvalidParameter {
                     name: "tol",
@@ -273,6 +296,14 @@ pub fn solve(scene: &Scene, method: &Method) -> Result<Solution> {
         }
         Method::FdmRichardson { n } => fdm_richardson_on(scene, n)?,
         Method::Auto { tol, samples } => auto(scene, tol, samples)?,
+        Method::MultipleShooting { tol, samples } => {
+            let n0 = ((2.0 / scene.whisker.theta).ceil() as usize).max(100);
+            let (guess, _) = fdm::solve_from(scene, n0, None)?;
+            let mut sol = global::solve(scene, tol, samples, &guess)?;
+            sol.stats.evaluations += guess.stats.evaluations;
+            sol.stats.continuation_steps = guess.stats.continuation_steps;
+            sol
+        }
     };
     sol.stats.requested = method.kind();
     sol.stats.tolerance = tolerance;
@@ -320,11 +351,26 @@ fn accurate(scene: &Scene, tol: f64, samples: usize, tolerance: f64) -> Result<S
         Ok(sol) => sol.stats.evaluations,
         Err(_) => 0,
     };
+    let fallback = fdm_richardson_adaptive(scene, tolerance);
+    // Where FDM + Richardson does not meet the tolerance either: multiple shooting from the
+    // best solution at hand (the fallback's, else the shot's, else the FDM by continuation)
+    let refused = match &fallback {
+        Ok(sol) => sol.stats.error_estimate.is_nan() || sol.stats.error_estimate > tolerance,
+        Err(_) => true,
+    };
+    if refused {
+        if let Ok(mut sol) = multiple_shooting_fallback(scene, tol, samples, &shot, &fallback) {
+            if sol.stats.error_estimate <= tolerance {
+                sol.stats.evaluations += shooting_evaluations;
+                return Ok(sol);
+            }
+        }
+    }
     // Single shooting is ill-conditioned for thin tips under large loads (the linearised
     // equation grows like exp(sqrt(f)/theta^2) near the tip): fall back to the globally
     // discretised FDM with Richardson extrapolation, refined until its estimate meets the
     // tolerance.
-    let mut sol = match fdm_richardson_adaptive(scene, tolerance) {
+    let mut sol = match fallback {
         Ok(sol) => sol,
         // nothing better: report the shooting failure (or its too large estimate)
         Err(e) => {
@@ -341,6 +387,30 @@ fn accurate(scene: &Scene, tol: f64, samples: usize, tolerance: f64) -> Result<S
         }
     };
     sol.stats.evaluations += shooting_evaluations;
+    Ok(sol)
+}
+
+/// `accurate`'s last fallback: multiple shooting ([`Method::MultipleShooting`]) at the
+/// integrator tolerance `tol` from the FDM + Richardson answer (refused), else the shot's,
+/// else the FDM on `max(100, 2/theta)` intervals by continuation from zero load.
+fn multiple_shooting_fallback(
+    scene: &Scene,
+    tol: f64,
+    samples: usize,
+    shot: &Result<Solution>,
+    fallback: &Result<Solution>,
+) -> Result<Solution> {
+    let fdm_guess;
+    let guess = match (fallback, shot) {
+        (Ok(sol), _) | (Err(_), Ok(sol)) => sol,
+        (Err(_), Err(_)) => {
+            let n0 = ((2.0 / scene.whisker.theta).ceil() as usize).max(100);
+            fdm_guess = fdm::solve_from(scene, n0, None)?.0;
+            &fdm_guess
+        }
+    };
+    let mut sol = global::solve(scene, tol.max(MIN_TOL), samples, guess)?;
+    sol.stats.evaluations += guess.stats.evaluations;
     Ok(sol)
 }
 

@@ -454,20 +454,7 @@ fn auto(scene: &Scene, tol: f64, samples: usize) -> Result<Solution> {
     // Shooting with the estimate's second solution from stage 2's shot at `tol` itself
     // and the dense shot ten to a hundred times tighter; where that estimate does not meet
     // `tol`, the tight scheme (the dense shot at 1e-12 or below).
-    static MM: std::sync::OnceLock<(f64, f64)> = std::sync::OnceLock::new();
-    let (margin, bfac) = *MM.get_or_init(|| {
-        (
-            std::env::var("AUTOM")
-                .ok()
-                .and_then(|v| v.parse().ok())
-                .unwrap_or(accurate::ESTIMATE_MARGIN),
-            std::env::var("AUTOB")
-                .ok()
-                .and_then(|v| v.parse().ok())
-                .unwrap_or(1.0),
-        )
-    });
-    let margin = margin / bfac;
+    let margin = accurate::ESTIMATE_MARGIN;
     let itol = (tol / margin).max(MIN_TOL);
     let cheap = accurate::solve_accurate(
         scene,

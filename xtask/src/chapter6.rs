@@ -7,9 +7,9 @@ use profile_recon::{
     contour_error, from_sweep, identify, reconstruct, KnownFlow, ReconMethod, ReconPoint,
     ReconSettings,
 };
-use vibrissa_cli::atomic::OutputDir;
-use vibrissa_cli::csvio::{Cell, CsvWriter};
-use vibrissa_cli::plot::{Chart, Marker, Series, Style};
+use vibrissa_io::atomic::OutputDir;
+use vibrissa_io::csvio::{Cell, CsvWriter};
+use vibrissa_plot::{Chart, Marker, Series, Style};
 
 use crate::captions::caption;
 use crate::common::{self, md_table, note_err, par_map, pretty, sci, svg_keyed, Ctx, SweepRun};

@@ -9,9 +9,9 @@ use std::time::Instant;
 
 use contact_sim::cases::SweepCase;
 use contact_sim::{SweepResult, SweepSettings};
-use vibrissa_cli::atomic::{write_atomic, OutputDir};
-use vibrissa_cli::csvio::CsvWriter;
-use vibrissa_cli::plot::{
+use vibrissa_io::atomic::{write_atomic, OutputDir};
+use vibrissa_io::csvio::CsvWriter;
+use vibrissa_plot::{
     size_for_this_thread, write_figure, write_panels_with_heading, Chart, FigureSize, Heading,
     Panel,
 };

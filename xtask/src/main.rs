@@ -20,8 +20,8 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
-use vibrissa_cli::atomic::{write_atomic, OutputDir};
-use vibrissa_cli::CliError;
+use vibrissa_io::atomic::{write_atomic, OutputDir};
+use vibrissa_io::IoError as CliError;
 
 use common::Ctx;
 
@@ -79,8 +79,8 @@ impl From<CliError> for Failure {
     }
 }
 
-impl From<vibrissa_io::IoError> for Failure {
-    fn from(e: vibrissa_io::IoError) -> Self {
+impl From<vibrissa_plot::PlotError> for Failure {
+    fn from(e: vibrissa_plot::PlotError) -> Self {
         Failure::Run(e.to_string())
     }
 }
@@ -173,7 +173,7 @@ fn main() -> ExitCode {
 fn reproduce(chapters: &[Chapter], out: &Path) -> Result<(), Failure> {
     let start = Instant::now();
     // The thesis's figures span the page: drawn for both columns (175 mm) at print.
-    vibrissa_cli::plot::set_figure_size(vibrissa_cli::plot::FigureSize::Page);
+    vibrissa_plot::set_figure_size(vibrissa_plot::FigureSize::Page);
     std::fs::create_dir_all(out).map_err(|e| CliError::io(out, e))?;
     let mut report = Report::new("vibrissa: reproduced thesis figures");
     let mut failed = Vec::new();

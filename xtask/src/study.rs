@@ -93,7 +93,9 @@ const AUTO_TOLS: [f64; 5] = [1e-4, 1e-6, 1e-8, 1e-10, 1e-12];
 
 fn setting(method: &Method) -> f64 {
     match *method {
-        Method::Accurate { tol, .. } | Method::Auto { tol, .. } => tol,
+        Method::Accurate { tol, .. }
+        | Method::Auto { tol, .. }
+        | Method::MultipleShooting { tol, .. } => tol,
         Method::Rk4 { n } | Method::Fdm { n } | Method::FdmRichardson { n } => n as f64,
     }
 }

@@ -1,8 +1,8 @@
 //! Tables 4.2 and 4.3: the tip coordinates of the β vibrissa under a concentrated tip
 //! force and under a distributed (fluid) load, ANSYS against the thesis's model and ours.
 
-use vibrissa_cli::atomic::OutputDir;
-use vibrissa_cli::csvio::CsvWriter;
+use vibrissa_io::atomic::OutputDir;
+use vibrissa_io::csvio::CsvWriter;
 use xtask::study;
 
 use crate::captions::caption;

@@ -15,7 +15,7 @@ mod tip_coordinates;
 mod work_precision;
 
 use beam_model::Method;
-use vibrissa_cli::atomic::OutputDir;
+use vibrissa_io::atomic::OutputDir;
 
 use crate::common::{self, Ctx};
 use crate::{Failure, Report};

@@ -3,9 +3,9 @@
 
 use std::time::Instant;
 
-use vibrissa_cli::atomic::OutputDir;
-use vibrissa_cli::csvio::{Cell, CsvWriter};
-use vibrissa_cli::plot::{HeatMap, Panel};
+use vibrissa_io::atomic::OutputDir;
+use vibrissa_io::csvio::{Cell, CsvWriter};
+use vibrissa_plot::{HeatMap, Panel};
 use xtask::study::{self, LoadAxis, Outcome, StabilityMap};
 
 use crate::common::{self, note_err, par_map};

@@ -1,7 +1,7 @@
 //! How the curves of chapter 4 are drawn: the dash and marker of each curve family, and
 //! fdm as a line, accurate as markers on it and rk4 as rings around them.
 
-use vibrissa_cli::plot::{Chart, Dash, Mark, MarkStyle, Marker, Series, Style};
+use vibrissa_plot::{Chart, Dash, Mark, MarkStyle, Marker, Series, Style};
 
 /// The dash patterns of curve families, in order.
 pub(super) const DASHES: [Dash; 5] = [

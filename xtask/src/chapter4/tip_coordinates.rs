@@ -6,9 +6,9 @@ use std::time::Instant;
 
 use beam_model::scenarios::{self, Case};
 use beam_model::{solve, EndState, Method, Scene};
-use vibrissa_cli::atomic::OutputDir;
-use vibrissa_cli::csvio::{Cell, CsvWriter};
-use vibrissa_cli::plot::{Chart, Dash, Marker, Series, Style};
+use vibrissa_io::atomic::OutputDir;
+use vibrissa_io::csvio::{Cell, CsvWriter};
+use vibrissa_plot::{Chart, Dash, Marker, Series, Style};
 
 use super::styles::{draw_method, family_marker, method_key, DASHES};
 use super::{accurate, FDM, GRID, RK4};

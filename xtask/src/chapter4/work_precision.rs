@@ -5,8 +5,8 @@
 use std::time::Instant;
 
 use beam_model::scenarios;
-use vibrissa_cli::atomic::OutputDir;
-use vibrissa_cli::plot::{Chart, Dash, Marker, Series, Style};
+use vibrissa_io::atomic::OutputDir;
+use vibrissa_plot::{Chart, Dash, Marker, Series, Style};
 use xtask::study;
 
 use crate::common::{self, note_err, sci, sig};

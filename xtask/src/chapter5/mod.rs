@@ -10,8 +10,8 @@ mod observables;
 mod sketch;
 
 use contact_sim::Phase;
-use vibrissa_cli::atomic::OutputDir;
-use vibrissa_cli::plot::{size_for_this_thread, Chart, Dash, FigureSize};
+use vibrissa_io::atomic::OutputDir;
+use vibrissa_plot::{size_for_this_thread, Chart, Dash, FigureSize};
 
 use crate::common::{self, Ctx, Layout, SweepRun};
 use crate::{Entry, Failure, Report};

@@ -4,9 +4,9 @@
 //! the per-case table of contact phases.
 
 use contact_sim::{FirstContact, Phase, Separation, SweepPoint, SweepResult};
-use vibrissa_cli::atomic::OutputDir;
-use vibrissa_cli::csvio::CsvWriter;
-use vibrissa_cli::plot::{Chart, Dash, Marker, Series, Style};
+use vibrissa_io::atomic::OutputDir;
+use vibrissa_io::csvio::CsvWriter;
+use vibrissa_plot::{Chart, Dash, Marker, Series, Style};
 
 use super::{figure, phase_style, pretty_label};
 use crate::captions::caption;
@@ -16,8 +16,8 @@ use crate::{Entry, Report};
 /// The observables CSV of a sweep (`x0,Ax,Ay,MA,phi0,f,s1,phase,xc,yc,psi`), as the CLI
 /// writes it.
 fn sweep_csv(points: &[SweepPoint]) -> CsvWriter {
-    vibrissa_cli::commands::observables_csv(points)
-        .unwrap_or_else(|_| CsvWriter::new(&vibrissa_cli::commands::OBSERVABLES_HEADER))
+    vibrissa_io::observables::observables_csv(points)
+        .unwrap_or_else(|_| CsvWriter::new(&vibrissa_io::observables::OBSERVABLES_HEADER))
 }
 
 /// How the contact began, with the phase it began in: `tip (A)`, `tangential (B)`.

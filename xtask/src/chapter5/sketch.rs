@@ -4,9 +4,9 @@
 
 use beam_model::{FluidLoad, Solution};
 use contact_sim::{Phase, SweepPoint, SweepResult};
-use vibrissa_cli::atomic::OutputDir;
-use vibrissa_cli::csvio::{Cell, CsvWriter};
-use vibrissa_cli::plot::{Chart, Marker, Series, Style};
+use vibrissa_io::atomic::OutputDir;
+use vibrissa_io::csvio::{Cell, CsvWriter};
+use vibrissa_plot::{Chart, Marker, Series, Style};
 
 use super::{figure, phase_style, pretty_label};
 use crate::captions::caption;

@@ -6,13 +6,22 @@
 //! - [`csvio`]: round-trip exact CSV writing and lenient, precise CSV reading (`csv` crate);
 //! - [`units`]: the units of every output (dimensionless or mm, N, N mm) and their sidecars;
 //! - [`scene_file`]: the RON scene format;
-//! - [`resolve`]: scene file + overrides -> model values (physical units included).
+//! - [`resolve`]: scene file + overrides -> model values (physical units included), and a
+//!   sweep's settings ([`resolve::sweep`]);
+//! - [`observables`]: `observables.csv`, a sweep's rows ([`observables::SweepRow`]);
+//! - [`sweep_events`]: a sweep's events and row counts;
+//! - [`recon_io`]: a reconstruction's inputs (logs, units) and `reconstruction.csv`;
+//! - [`outputs`]: units sidecars and the `scene.ron` of an output folder.
 
 pub mod atomic;
 pub mod csvio;
 pub mod error;
+pub mod observables;
+pub mod outputs;
+pub mod recon_io;
 pub mod resolve;
 pub mod scene_file;
+pub mod sweep_events;
 pub mod units;
 
 pub use error::IoError;

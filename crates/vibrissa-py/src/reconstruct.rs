@@ -28,7 +28,12 @@ pub const LOG_ORIGIN: &str = "log row";
 /// A log given as columns (read by [`log_table`]) in the model's units, converted from the
 /// scene's `units` (such a log has no units sidecar); returns its x0 column as given.
 pub fn log_to_model_units(table: &mut Table, units: &UnitSystem) -> Result<Vec<f64>, CliError> {
-    to_model_units_with(table, &BTreeMap::new(), units, Path::new(LOG_ORIGIN))
+    Ok(to_model_units_with(
+        table,
+        &BTreeMap::new(),
+        units,
+        Path::new(LOG_ORIGIN),
+    )?)
 }
 
 /// The reconstruct command's arguments from `spec` (`theta, a, b, k, q, alpha_deg, noise,

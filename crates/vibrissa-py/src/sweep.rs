@@ -61,7 +61,7 @@ pub fn sweep<'py>(py: Python<'py>, spec: &Bound<'py, PyDict>) -> PyResult<Bound<
             ("psi", col(|r| r.psi)),
         ],
     )?;
-    let phases: Vec<&str> = rows.iter().map(|r| r.phase).collect();
+    let phases: Vec<&str> = rows.iter().map(|r| r.phase.label()).collect();
     out.set_item("phase", phases)?;
     let mut summary = sweep_json(&res, points, &units);
     summary["profile"] = serde_json::Value::String(arg.spec.clone());

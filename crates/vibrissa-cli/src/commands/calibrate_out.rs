@@ -105,7 +105,7 @@ pub fn write_calibrated_scene(
         "loads.q, loads.alpha_deg and profile are those of the first log.".to_string(),
     ];
     notes.extend(scene_unit_notes(&UnitSystem::new(r.physical)));
-    write_scene_ron(path, &scene, &notes)
+    Ok(write_scene_ron(path, &scene, &notes)?)
 }
 
 fn names(cal: &Calibration, identifiable: bool) -> String {
@@ -152,7 +152,12 @@ pub fn write_residuals(
         ])?;
     }
     w.write(path)?;
-    write_units_of(path, &RESIDUALS_HEADER, &RESIDUALS_QUANTITIES, units)
+    Ok(write_units_of(
+        path,
+        &RESIDUALS_HEADER,
+        &RESIDUALS_QUANTITIES,
+        units,
+    )?)
 }
 
 /// The figures: per log the known contour with the points reconstructed before (the start

@@ -41,7 +41,12 @@ pub fn write_elastica_csv(sol: &Solution, units: &UnitSystem, path: &Path) -> Re
         ])?;
     }
     w.write(path)?;
-    write_units_of(path, &ELASTICA_HEADER, &ELASTICA_QUANTITIES, units)
+    Ok(write_units_of(
+        path,
+        &ELASTICA_HEADER,
+        &ELASTICA_QUANTITIES,
+        units,
+    )?)
 }
 /// Writes the elastica figure in `units` (SVG at `path` and a PNG beside it), with the
 /// `loads` drawn as arrows if given: the tip force at the loaded end (direction [3.16],

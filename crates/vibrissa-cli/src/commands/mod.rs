@@ -26,22 +26,20 @@ pub mod calibrate_summary;
 pub mod demo;
 pub mod elastica;
 pub mod json;
-pub mod observables;
-pub mod outputs;
 pub mod phases;
-pub mod recon_io;
 pub mod reconstruct;
 pub mod shapes;
 pub mod solve;
 pub mod sweep;
-pub mod sweep_events;
 pub mod sweep_figures;
+
+pub use vibrissa_io::{observables, outputs, recon_io, sweep_events};
 
 pub use elastica::{
     write_elastica_csv, write_elastica_figure, ELASTICA_HEADER, ELASTICA_QUANTITIES,
 };
 pub use observables::{
-    observables_csv, observables_csv_in, write_observables_csv, ObservableRecord,
+    observables_csv, observables_csv_in, write_observables_csv, ObservableRecord, SweepRow,
     OBSERVABLES_HEADER, OBSERVABLES_QUANTITIES,
 };
 pub use outputs::{list_files, output_scene, scene_unit_notes, write_scene_ron, write_units_of};

@@ -68,7 +68,7 @@ pub fn write_shapes_csv(
         }
     }
     w.write(path)?;
-    write_units_of(
+    Ok(write_units_of(
         path,
         &SHAPES_HEADER,
         &[
@@ -79,7 +79,7 @@ pub fn write_shapes_csv(
             Quantity::Angle,
         ],
         &units,
-    )
+    )?)
 }
 
 /// The rows whose shapes `shapes.svg` draws: every event and evenly spaced contact rows

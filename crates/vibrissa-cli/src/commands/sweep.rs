@@ -19,13 +19,12 @@ use crate::commands::sweep_events::{sweep_events, sweep_summary, RowCounts};
 use crate::commands::sweep_figures::{write_sweep_figures, FigureContext};
 use crate::error::CliError;
 use crate::printer::Printer;
-use crate::resolve::{
-    parse_count, parse_number, profile_arg, resolve_model, LoadedScene, ProfileArg, Resolved,
-};
+use crate::resolve::{profile_arg, resolve_model, LoadedScene, ProfileArg, Resolved};
 use crate::units::{Quantity, UnitSystem};
 
-/// Default number of contact points.
-pub const DEFAULT_POINTS: usize = 200;
+pub use vibrissa_io::resolve::sweep::{
+    check_sweep_loads, missing_profile, sweep_points, sweep_settings, sweep_tol, DEFAULT_POINTS,
+};
 
 /// Runs `vibrissa sweep`.
 pub fn run(args: &SweepArgs) -> Result<(), CliError> {
@@ -88,39 +87,6 @@ pub fn run(args: &SweepArgs) -> Result<(), CliError> {
     }
 }
 
-/// The accuracy asked for of a sweep's rows: `--tol` (typed as `raw`), else the scene
-/// file's `sweep.tol`, else none; in [1e-12, 1e-2].
-pub fn sweep_tol(raw: Option<&str>, file: Option<&LoadedScene>) -> Result<Option<f64>, CliError> {
-    const RANGE: &str = "the accuracy asked for must be in [1e-12, 1e-2]";
-    let ok = |t: f64| {
-        (contact_sim::accuracy::ACCURACY_MIN..=contact_sim::accuracy::ACCURACY_MAX).contains(&t)
-    };
-    match (raw, file) {
-        (Some(raw), _) => {
-            let t = parse_number("--tol", raw)?;
-            if !ok(t) {
-                return Err(CliError::invalid_argument("--tol", raw, RANGE));
-            }
-            Ok(Some(t))
-        }
-        (None, Some(f)) => match f.file.sweep.as_ref().and_then(|s| s.tol) {
-            Some(t) if !ok(t) => Err(f.error_at("sweep.tol", format!("{RANGE}, got {t}")).into()),
-            t => Ok(t),
-        },
-        (None, None) => Ok(None),
-    }
-}
-
-/// The library's settings of a sweep of `points` contact rows at the accuracy `tol` (none:
-/// the sweep's own).
-pub fn sweep_settings(points: usize, tol: Option<f64>) -> SweepSettings {
-    SweepSettings {
-        points,
-        accuracy: tol,
-        ..SweepSettings::default()
-    }
-}
-
 /// `; worst row estimate E (row r) for --tol T` after the summary of a sweep run with an
 /// accuracy asked for; nothing otherwise.
 pub fn accuracy_note(res: &SweepResult) -> String {
@@ -135,55 +101,6 @@ pub fn accuracy_note(res: &SweepResult) -> String {
         ),
         None => String::new(),
     }
-}
-
-/// The error of a sweep without an obstacle (`file`: the scene file given, if any).
-pub fn missing_profile(file: Option<&LoadedScene>) -> CliError {
-    const KINDS: &str = "g1, g2, ge, parabola:a,xv,yv, cosh:a,c,xv,d, circle:xc,yc,r or \
-                         points:FILE.csv";
-    match file {
-        Some(f) => f
-            .error_at(
-                "profile",
-                format!("the scene has no obstacle: add `profile: Some(\"g1\")` (or {KINDS}) or give --profile"),
-            )
-            .into(),
-        None => CliError::Usage {
-            reason: format!("a sweep needs an obstacle: give --profile P ({KINDS})"),
-        },
-    }
-}
-
-/// The number of contact rows: `--points` (typed as `raw`), else the scene file's
-/// `sweep.points`, else [`DEFAULT_POINTS`]; at least 2 and at most
-/// [`contact_sim::sweep::MAX_POINTS`].
-pub fn sweep_points(raw: Option<&str>, file: Option<&LoadedScene>) -> Result<usize, CliError> {
-    let points = match (raw, file.and_then(|f| f.file.sweep.as_ref())) {
-        (Some(raw), _) => {
-            let n = parse_count("--points", raw, 2)?;
-            if n > contact_sim::sweep::MAX_POINTS {
-                return Err(CliError::invalid_argument(
-                    "--points",
-                    raw,
-                    "at most 100000 contact rows",
-                ));
-            }
-            n
-        }
-        (None, Some(s)) => s.points,
-        (None, None) => DEFAULT_POINTS,
-    };
-    if points > crate::resolve::MAX_COUNT {
-        return Err(CliError::invalid_argument(
-            "sweep.points",
-            points.to_string(),
-            format!(
-                "must be at most {} (the memory and time of one run are bounded)",
-                crate::resolve::MAX_COUNT
-            ),
-        ));
-    }
-    Ok(points)
 }
 
 /// The JSON summary of a sweep (`sweep --json`): `first_contact`, `separation`, `phases`,
@@ -235,59 +152,6 @@ pub fn sweep_json(res: &SweepResult, requested: usize, units: &UnitSystem) -> se
         }
     }
     v
-}
-
-/// The sweep computes the contact force itself: refuses a tip force, and a flow angle outside
-/// (-90, 90) degrees (the flow must push the whisker towards the obstacle's side, +x).
-pub fn check_sweep_loads(r: &Resolved) -> Result<(), CliError> {
-    use crate::resolve::Origin;
-    // The sweep's phase solves are adaptive shooting with exact sensitivities (tolerance
-    // 1e-12); a fixed-grid method or grid size would be silently ignored, so it is refused.
-    if !matches!(r.method, beam_model::Method::Accurate { .. }) {
-        return Err(CliError::invalid_argument(
-            "--method",
-            r.method.name().to_string(),
-            "the sweep always solves its contact phases with `accurate` shooting; leave --method at accurate",
-        ));
-    }
-    if let Some(n) = &r.given.n {
-        if let crate::resolve::Origin::Flag { flag, raw } = &n.origin {
-            return Err(CliError::invalid_argument(
-                *flag,
-                raw.clone(),
-                "the sweep uses adaptive shooting and has no grid: --n does not apply",
-            ));
-        }
-    }
-    let alpha = r.given.alpha_deg.value;
-    let checks = [
-        (
-            &r.given.f,
-            "loads.f",
-            r.given.f.value != 0.0,
-            "a sweep computes the contact force itself; leave the tip force at 0",
-        ),
-        (
-            &r.given.alpha_deg,
-            "loads.alpha_deg",
-            !(alpha > -90.0 && alpha < 90.0),
-            "the sweep's flow angle must lie in (-90, 90) degrees (a flow towards +x)",
-        ),
-    ];
-    for (p, field, bad, what) in checks {
-        if bad {
-            return Err(match (&p.origin, &r.file) {
-                (Origin::Flag { flag, raw }, _) => {
-                    CliError::invalid_argument(*flag, raw.clone(), what)
-                }
-                (_, Some(file)) => file
-                    .error_at(field, format!("{what}, got {}", p.value))
-                    .into(),
-                _ => CliError::invalid_argument(field, p.value.to_string(), what),
-            });
-        }
-    }
-    Ok(())
 }
 
 /// Runs the sweep of `points` contact rows (the sweep's own accuracy) with a spinner on
@@ -362,12 +226,12 @@ pub fn run_sweep_with(
 /// Writes the units sidecar of a sweep's `observables.csv`, `observables.units.csv`, into
 /// `out` (it depends on the scene's units only: written before the sweep).
 pub fn write_sweep_units(r: &Resolved, out: &OutputDir) -> Result<(), CliError> {
-    write_units_of(
+    Ok(write_units_of(
         &out.path_for("observables.csv"),
         &OBSERVABLES_HEADER,
         &OBSERVABLES_QUANTITIES,
         &r.units(),
-    )
+    )?)
 }
 
 /// Writes a sweep's folder into `out` (its units sidecar aside, [`write_sweep_units`]):
@@ -446,7 +310,7 @@ fn write_sweep_data(
     if let (Some(s), Some(acc)) = (scene.sweep.as_mut(), &res.accuracy) {
         s.tol = Some(acc.tol);
     }
-    write_scene_ron(&out.path_for("scene.ron"), &scene, &notes)
+    Ok(write_scene_ron(&out.path_for("scene.ron"), &scene, &notes)?)
 }
 
 /// Names a sweep's scene in figure notes: `contour g1, q = 5, theta = 0.75, k = 20`.

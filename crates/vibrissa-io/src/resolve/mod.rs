@@ -25,6 +25,7 @@ use crate::units::UnitSystem;
 
 pub mod flags;
 pub mod profile;
+pub mod sweep;
 
 pub use flags::{FluidFlags, MethodFlags, ModelFlags, TipFlags, WhiskerFlags};
 

@@ -37,8 +37,7 @@ use crate::resolve::{LoadedScene, ProfileArg, Resolved};
 use crate::units::{Quantity, UnitSystem};
 use summary::unit_suffix;
 
-/// The columns an observables log must have.
-pub const REQUIRED_COLUMNS: [&str; 5] = ["x0", "Ax", "Ay", "MA", "phi0"];
+pub use vibrissa_io::recon_io::REQUIRED_COLUMNS;
 
 /// What `reconstruct LOG` works on once its inputs are resolved.
 struct Inputs<'a> {

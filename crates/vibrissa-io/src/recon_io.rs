@@ -9,11 +9,14 @@ use std::path::{Path, PathBuf};
 
 use profile_recon::ReconPoint;
 
-use crate::commands::outputs::{output_scene, scene_unit_notes, write_scene_ron, write_units_of};
 use crate::csvio::{read_units_sidecar, units_sidecar_path, Cell, CsvWriter, Table};
-use crate::error::CliError;
+use crate::error::IoError;
+use crate::outputs::{output_scene, scene_unit_notes, write_scene_ron, write_units_of};
 use crate::resolve::Resolved;
 use crate::units::{column_factors, Quantity, UnitSystem};
+
+/// The columns an observables log must have.
+pub const REQUIRED_COLUMNS: [&str; 5] = ["x0", "Ax", "Ay", "MA", "phi0"];
 
 /// The file name of a sweep folder's log.
 pub const OBSERVABLES_CSV: &str = "observables.csv";
@@ -26,13 +29,13 @@ pub const SCENE_RON: &str = "scene.ron";
 pub fn resolve_input(
     input: &Path,
     scene: Option<&Path>,
-) -> Result<(PathBuf, Option<PathBuf>), CliError> {
+) -> Result<(PathBuf, Option<PathBuf>), IoError> {
     if !input.is_dir() {
         return Ok((input.to_path_buf(), scene.map(Path::to_path_buf)));
     }
     let log = input.join(OBSERVABLES_CSV);
     if !log.is_file() {
-        return Err(CliError::io(
+        return Err(IoError::io(
             &log,
             std::io::Error::new(
                 std::io::ErrorKind::NotFound,
@@ -47,7 +50,7 @@ pub fn resolve_input(
         None => {
             let s = input.join(SCENE_RON);
             if !s.is_file() {
-                return Err(CliError::io(
+                return Err(IoError::io(
                     &s,
                     std::io::Error::new(
                         std::io::ErrorKind::NotFound,
@@ -79,7 +82,7 @@ const INPUT_QUANTITIES: [(&str, Quantity); 5] = [
 /// Converts the columns x0, Ax, Ay, MA, phi0 of a log to the model's dimensionless variables:
 /// by the units of its sidecar `NAME.units.csv` if there is one, else from the scene's units
 /// (`units`). Returns the x0 column as given, to be copied exactly into the outputs.
-pub fn to_model_units(table: &mut Table, units: &UnitSystem) -> Result<Vec<f64>, CliError> {
+pub fn to_model_units(table: &mut Table, units: &UnitSystem) -> Result<Vec<f64>, IoError> {
     let sidecar = units_sidecar_path(&table.path);
     let given = read_units_sidecar(&sidecar)?.unwrap_or_default();
     to_model_units_with(table, &given, units, &sidecar)
@@ -92,7 +95,7 @@ pub fn to_model_units_with(
     given: &BTreeMap<String, String>,
     units: &UnitSystem,
     origin: &Path,
-) -> Result<Vec<f64>, CliError> {
+) -> Result<Vec<f64>, IoError> {
     let factors = input_factors(given, units, origin)?;
     let x0 = table.column("x0").map(<[f64]>::to_vec).unwrap_or_default();
     for ((name, _), f) in INPUT_QUANTITIES.iter().zip(factors) {
@@ -114,7 +117,7 @@ pub fn input_factors(
     given: &BTreeMap<String, String>,
     units: &UnitSystem,
     origin: &Path,
-) -> Result<[f64; 5], CliError> {
+) -> Result<[f64; 5], IoError> {
     let f = column_factors(given, &INPUT_QUANTITIES, units, origin)?;
     Ok([f[0], f[1], f[2], f[3], f[4]])
 }
@@ -193,7 +196,7 @@ pub fn write_reconstruction_csv(
     units: &UnitSystem,
     x0_given: &[f64],
     path: &Path,
-) -> Result<(), CliError> {
+) -> Result<(), IoError> {
     let header = reconstruction_header(errors.is_some());
     let mut w = CsvWriter::new(&header);
     for (i, p) in points.iter().enumerate() {
@@ -213,7 +216,7 @@ pub fn write_recon_scene(
     profile: Option<String>,
     log: &Path,
     path: &Path,
-) -> Result<(), CliError> {
+) -> Result<(), IoError> {
     let units = r.units();
     let mut scene = output_scene(r, profile, None);
     scene.loads.q = q * units.scale(Quantity::LineLoad);

@@ -4,11 +4,11 @@
 
 use std::path::Path;
 
-use contact_sim::{SweepPoint, SweepResult};
+use contact_sim::{Phase, SweepPoint, SweepResult};
 
-use crate::commands::outputs::write_units_of;
 use crate::csvio::CsvWriter;
-use crate::error::CliError;
+use crate::error::IoError;
+use crate::outputs::write_units_of;
 use crate::units::{Quantity, UnitSystem};
 
 /// The header of `observables.csv` (spec/cli.md).
@@ -29,9 +29,11 @@ pub const OBSERVABLES_QUANTITIES: [Quantity; 11] = [
     Quantity::Length,
     Quantity::Angle,
 ];
-/// One row of `observables.csv` (serde names = the contract's column names).
-#[derive(Debug, Clone, Copy, serde::Serialize)]
-pub struct ObservableRecord<'a> {
+/// One row of `observables.csv` in the scene's units (serde names = the contract's column
+/// names; the facade's `vibrissa::SweepRow`): NaN where the CSV cell is empty (the contact
+/// point of a row before contact).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct SweepRow {
     /// Base position.
     pub x0: f64,
     /// Horizontal base force.
@@ -49,8 +51,9 @@ pub struct ObservableRecord<'a> {
     pub f: f64,
     /// Loaded arc length.
     pub s1: f64,
-    /// `none`, `A` or `B`.
-    pub phase: &'a str,
+    /// `none`, `A` or `B` (written as [`Phase::label`]).
+    #[serde(serialize_with = "serialize_phase")]
+    pub phase: Phase,
     /// Contact point x.
     pub xc: f64,
     /// Contact point y.
@@ -59,7 +62,15 @@ pub struct ObservableRecord<'a> {
     pub psi: f64,
 }
 
-impl ObservableRecord<'static> {
+/// The former name of [`SweepRow`].
+pub type ObservableRecord = SweepRow;
+
+/// Serialises a phase as its label in the CSV files (`none`, `A`, `B`).
+pub fn serialize_phase<S: serde::Serializer>(p: &Phase, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(p.label())
+}
+
+impl SweepRow {
     /// The row of the sweep point `p` in `units` (mm, N, N mm for a physical scene): the one
     /// place where a sweep row is scaled for output (CSV, Python).
     pub fn of(p: &SweepPoint, units: &UnitSystem) -> Self {
@@ -76,7 +87,7 @@ impl ObservableRecord<'static> {
             phi0: p.phi0,
             f: p.f * f,
             s1: p.s1 * l,
-            phase: p.phase.label(),
+            phase: p.phase,
             xc: p.xc * l,
             yc: p.yc * l,
             psi: p.psi,
@@ -86,17 +97,14 @@ impl ObservableRecord<'static> {
 
 /// The rows of `observables.csv` (header [`OBSERVABLES_HEADER`]) for sweep points,
 /// dimensionless.
-pub fn observables_csv(points: &[SweepPoint]) -> Result<CsvWriter, CliError> {
+pub fn observables_csv(points: &[SweepPoint]) -> Result<CsvWriter, IoError> {
     observables_csv_in(points, &UnitSystem::DIMENSIONLESS)
 }
 
 /// The rows of `observables.csv` in `units` (mm, N, N mm for a physical scene).
-pub fn observables_csv_in(
-    points: &[SweepPoint],
-    units: &UnitSystem,
-) -> Result<CsvWriter, CliError> {
+pub fn observables_csv_in(points: &[SweepPoint], units: &UnitSystem) -> Result<CsvWriter, IoError> {
     let mut w = CsvWriter::new(&OBSERVABLES_HEADER);
-    w.push_records(points.iter().map(|p| ObservableRecord::of(p, units)))?;
+    w.push_records(points.iter().map(|p| SweepRow::of(p, units)))?;
     Ok(w)
 }
 /// Writes `observables.csv` of a sweep in `units` and its units sidecar.
@@ -104,7 +112,7 @@ pub fn write_observables_csv(
     res: &SweepResult,
     units: &UnitSystem,
     path: &Path,
-) -> Result<(), CliError> {
+) -> Result<(), IoError> {
     observables_csv_in(&res.points, units)?.write(path)?;
     write_units_of(path, &OBSERVABLES_HEADER, &OBSERVABLES_QUANTITIES, units)
 }

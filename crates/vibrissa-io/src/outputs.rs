@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use crate::atomic::write_atomic;
 use crate::csvio::{units_sidecar_path, write_units_sidecar};
-use crate::error::CliError;
+use crate::error::IoError;
 use crate::resolve::Resolved;
 use crate::scene_file::{self, LoadSpec, MethodSpec, SceneFile, SweepSpec, WhiskerSpec};
 use crate::units::{Quantity, UnitSystem};
@@ -17,9 +17,9 @@ pub fn write_units_of(
     header: &[&str],
     quantities: &[Quantity],
     units: &UnitSystem,
-) -> Result<(), CliError> {
+) -> Result<(), IoError> {
     let u: Vec<&str> = quantities.iter().map(|q| units.unit(*q)).collect();
-    Ok(write_units_sidecar(&units_sidecar_path(csv), header, &u)?)
+    write_units_sidecar(&units_sidecar_path(csv), header, &u)
 }
 
 /// The scene that produced an output folder, with every parameter as resolved (flags over
@@ -66,7 +66,7 @@ pub fn output_scene(r: &Resolved, profile: Option<String>, points: Option<usize>
 
 /// Writes `scene.ron`: `notes` as comment lines, then the scene. Checks that the text
 /// parses back to the same scene.
-pub fn write_scene_ron(path: &Path, scene: &SceneFile, notes: &[String]) -> Result<(), CliError> {
+pub fn write_scene_ron(path: &Path, scene: &SceneFile, notes: &[String]) -> Result<(), IoError> {
     let mut text = String::new();
     for n in notes {
         for line in n.lines() {
@@ -79,13 +79,13 @@ pub fn write_scene_ron(path: &Path, scene: &SceneFile, notes: &[String]) -> Resu
     text.push('\n');
     let back = SceneFile::parse(&text, path)?;
     if &back != scene {
-        return Err(CliError::invalid_argument(
+        return Err(IoError::invalid_argument(
             "scene.ron",
             path.display().to_string(),
             "the written scene does not read back identically",
         ));
     }
-    Ok(write_atomic(path, text.as_bytes())?)
+    write_atomic(path, text.as_bytes())
 }
 
 /// The comment lines of a written scene that state its units.

@@ -1,0 +1,143 @@
+//! The settings of a sweep from a scene file and the values typed over it: the number of
+//! contact rows, the accuracy asked for of every row, the loads a sweep accepts and the
+//! obstacle it needs; each refusal names its culprit (the flag as typed, or the scene
+//! file's field with its line).
+
+use contact_sim::SweepSettings;
+
+use super::{parse_count, parse_number, LoadedScene, Resolved};
+use crate::error::IoError;
+
+/// Default number of contact points.
+pub const DEFAULT_POINTS: usize = 200;
+
+/// The accuracy asked for of a sweep's rows: `--tol` (typed as `raw`), else the scene
+/// file's `sweep.tol`, else none; in [1e-12, 1e-2].
+pub fn sweep_tol(raw: Option<&str>, file: Option<&LoadedScene>) -> Result<Option<f64>, IoError> {
+    const RANGE: &str = "the accuracy asked for must be in [1e-12, 1e-2]";
+    let ok = |t: f64| {
+        (contact_sim::accuracy::ACCURACY_MIN..=contact_sim::accuracy::ACCURACY_MAX).contains(&t)
+    };
+    match (raw, file) {
+        (Some(raw), _) => {
+            let t = parse_number("--tol", raw)?;
+            if !ok(t) {
+                return Err(IoError::invalid_argument("--tol", raw, RANGE));
+            }
+            Ok(Some(t))
+        }
+        (None, Some(f)) => match f.file.sweep.as_ref().and_then(|s| s.tol) {
+            Some(t) if !ok(t) => Err(f.error_at("sweep.tol", format!("{RANGE}, got {t}"))),
+            t => Ok(t),
+        },
+        (None, None) => Ok(None),
+    }
+}
+
+/// The library's settings of a sweep of `points` contact rows at the accuracy `tol` (none:
+/// the sweep's own).
+pub fn sweep_settings(points: usize, tol: Option<f64>) -> SweepSettings {
+    SweepSettings {
+        points,
+        accuracy: tol,
+        ..SweepSettings::default()
+    }
+}
+
+/// The error of a sweep without an obstacle (`file`: the scene file given, if any).
+pub fn missing_profile(file: Option<&LoadedScene>) -> IoError {
+    const KINDS: &str = "g1, g2, ge, parabola:a,xv,yv, cosh:a,c,xv,d, circle:xc,yc,r or \
+                         points:FILE.csv";
+    match file {
+        Some(f) => f.error_at(
+            "profile",
+            format!("the scene has no obstacle: add `profile: Some(\"g1\")` (or {KINDS}) or give --profile"),
+        ),
+        None => IoError::Usage {
+            reason: format!("a sweep needs an obstacle: give --profile P ({KINDS})"),
+        },
+    }
+}
+
+/// The number of contact rows: `--points` (typed as `raw`), else the scene file's
+/// `sweep.points`, else [`DEFAULT_POINTS`]; at least 2 and at most
+/// [`contact_sim::sweep::MAX_POINTS`].
+pub fn sweep_points(raw: Option<&str>, file: Option<&LoadedScene>) -> Result<usize, IoError> {
+    let points = match (raw, file.and_then(|f| f.file.sweep.as_ref())) {
+        (Some(raw), _) => {
+            let n = parse_count("--points", raw, 2)?;
+            if n > contact_sim::sweep::MAX_POINTS {
+                return Err(IoError::invalid_argument(
+                    "--points",
+                    raw,
+                    "at most 100000 contact rows",
+                ));
+            }
+            n
+        }
+        (None, Some(s)) => s.points,
+        (None, None) => DEFAULT_POINTS,
+    };
+    if points > super::MAX_COUNT {
+        return Err(IoError::invalid_argument(
+            "sweep.points",
+            points.to_string(),
+            format!(
+                "must be at most {} (the memory and time of one run are bounded)",
+                super::MAX_COUNT
+            ),
+        ));
+    }
+    Ok(points)
+}
+
+/// The sweep computes the contact force itself: refuses a tip force, and a flow angle outside
+/// (-90, 90) degrees (the flow must push the whisker towards the obstacle's side, +x).
+pub fn check_sweep_loads(r: &Resolved) -> Result<(), IoError> {
+    use super::Origin;
+    // The sweep's phase solves are adaptive shooting with exact sensitivities (tolerance
+    // 1e-12); a fixed-grid method or grid size would be silently ignored, so it is refused.
+    if !matches!(r.method, beam_model::Method::Accurate { .. }) {
+        return Err(IoError::invalid_argument(
+            "--method",
+            r.method.name().to_string(),
+            "the sweep always solves its contact phases with `accurate` shooting; leave --method at accurate",
+        ));
+    }
+    if let Some(n) = &r.given.n {
+        if let super::Origin::Flag { flag, raw } = &n.origin {
+            return Err(IoError::invalid_argument(
+                *flag,
+                raw.clone(),
+                "the sweep uses adaptive shooting and has no grid: --n does not apply",
+            ));
+        }
+    }
+    let alpha = r.given.alpha_deg.value;
+    let checks = [
+        (
+            &r.given.f,
+            "loads.f",
+            r.given.f.value != 0.0,
+            "a sweep computes the contact force itself; leave the tip force at 0",
+        ),
+        (
+            &r.given.alpha_deg,
+            "loads.alpha_deg",
+            !(alpha > -90.0 && alpha < 90.0),
+            "the sweep's flow angle must lie in (-90, 90) degrees (a flow towards +x)",
+        ),
+    ];
+    for (p, field, bad, what) in checks {
+        if bad {
+            return Err(match (&p.origin, &r.file) {
+                (Origin::Flag { flag, raw }, _) => {
+                    IoError::invalid_argument(*flag, raw.clone(), what)
+                }
+                (_, Some(file)) => file.error_at(field, format!("{what}, got {}", p.value)),
+                _ => IoError::invalid_argument(field, p.value.to_string(), what),
+            });
+        }
+    }
+    Ok(())
+}

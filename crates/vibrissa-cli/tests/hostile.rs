@@ -707,8 +707,17 @@ fn profile_cases(rng: &mut Rng, n: usize) -> Vec<Case> {
         if !p.trim().is_empty() {
             c.needles.push(p.clone());
         }
-        if let Some(f) = p.strip_prefix("points:").filter(|f| !f.is_empty()) {
+        if let Some(f) = p
+            .strip_prefix("points:")
+            .map(str::trim)
+            .filter(|f| !f.is_empty())
+        {
             c.needles.push(f.to_string());
+        }
+        if p.starts_with('-') {
+            // a value that starts like a flag is given as --profile=VALUE (as a user must)
+            c.args.retain(|a| a != "--profile" && *a != p);
+            c.args.insert(1, format!("--profile={p}"));
         }
         c.files = files.clone();
         cases.push(c);

@@ -123,15 +123,16 @@ def test_a_study_of_hostile_scenes_has_one_row_each_and_never_raises():
 
 @pytest.mark.parametrize("task", ["solve", "sweep", "reconstruct"])
 def test_study_error_rows_name_the_culprit(task):
+    base = {"profile": "g1", "points": 8} if task != "solve" else {}
     scenes = [
         {"theta": 0.5, "q": 1.0, "profile": "g1", "points": 8} if task != "solve" else {"q": 1.0},
         {"bogus": 1.0},
-        {"theta": "thin"},
-        {"theta": [1, 2]},
+        {"theta": "thin", **base},
+        {"theta": [1, 2], **base},
         {"profile": (["a", "b", "c"], [1, 2, 3])} if task != "solve" else {"units": 5},
         {"profile": ([0.0, math.nan, 1.0], [1.0, 0.5, 1.0])} if task != "solve" else {"load": 7},
         "not a scene",
-        {"theta": -1.0},
+        {"theta": -1.0, **base},
     ]
     df = vibrissa.study(scenes, task=task, workers=1)
     assert len(df) == len(scenes)

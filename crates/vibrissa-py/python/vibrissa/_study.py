@@ -47,7 +47,8 @@ def _scene_problem(scene: Any, task: str) -> Optional[str]:
     for key in scene:
         if not isinstance(key, str) or key not in allowed:
             return (
-                f"invalid value `{_short_repr(key)}` for `scene key`: not a parameter of "
+                f"invalid value `{key if isinstance(key, str) else _short_repr(key)}` for "
+                "`scene key`: not a parameter of "
                 f"vibrissa.{'solve' if task == 'solve' else 'sweep'} (expected "
                 f"{', '.join(allowed)})"
             )

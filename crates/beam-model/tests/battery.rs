@@ -6,9 +6,11 @@
 //! reference's own uncertainty).
 //!
 //! `slender_battery_subset` runs in CI; `slender_battery_full` (#[ignore], ~4 min on one
-//! busy core) covers theta 0.01..1 x loads x supports x pre-curvature (390 cases; measured:
-//! 350 accepted, worst error 8.7e-9, 40 refused or failed at theta <= 0.03 under tip forces,
-//! 6 accepted AP cases without an FDM reference within 1e-6):
+//! busy core) covers theta 0.01..1 x loads x supports x pre-curvature (390 cases; measured
+//! with multiple shooting as `accurate`'s last fallback: 374 accepted, 0 refused, 16 failed
+//! (no start: the FDM fallback's load continuation fails, all at theta <= 0.02 under tip
+//! forces of 5..15), 16 accepted without an FDM reference within 1e-6, worst error /
+//! estimate 0.19):
 //! `cargo test --release -p beam-model --test battery -- --ignored --nocapture`.
 
 mod support;

@@ -92,6 +92,27 @@ pub enum ContactError {
         /// The accuracy asked for.
         tol: f64,
     },
+    /// A frictional sweep reached a tangential contact (phase B), whose frictional model is
+    /// not implemented (crate::friction).
+    #[error("friction in tangential contact is not implemented: the tip contact turns tangential at x0 = {x0:.6} (xc = {xc:.6}); sweep this scene with mu = 0")]
+    FrictionInTangentialContact {
+        /// Base position where the tangential contact begins.
+        x0: f64,
+        /// Its contact point.
+        xc: f64,
+    },
+    /// Neither stick nor slip continues a frictional sweep quasi-statically.
+    #[error("friction (mu = {mu}): no quasi-static continuation at x0 = {x0:.6} (xc = {xc:.6}): {reason}")]
+    FrictionIndeterminate {
+        /// Base position.
+        x0: f64,
+        /// Contact point.
+        xc: f64,
+        /// The friction coefficient.
+        mu: f64,
+        /// Why.
+        reason: String,
+    },
     /// An underlying BVP routine failed.
     #[error(transparent)]
     Bvp(#[from] BvpError),

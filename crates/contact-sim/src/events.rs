@@ -76,7 +76,18 @@ pub(crate) fn penetration(
     profile: &Profile,
     state: &ContactState,
 ) -> Result<f64> {
-    let scene = Scene::new(*whisker, state.loads(flow));
+    penetration_under(whisker, &state.loads(flow), profile, state)
+}
+
+/// [`penetration`] of the whisker under `loads` (a frictional contact's,
+/// [`crate::friction::frictional_loads`]) at `state`'s contact point and tip angle.
+pub(crate) fn penetration_under(
+    whisker: &Whisker,
+    loads: &beam_model::Loads,
+    profile: &Profile,
+    state: &ContactState,
+) -> Result<f64> {
+    let scene = Scene::new(*whisker, *loads);
     let path = shape_path(&scene, state.phi1, SHAPE_TOL)?;
     let pieces = path.pieces();
     // the shape placed with its loaded end on the state's contour point: the shape's own

@@ -11,6 +11,7 @@
 //! | `events` | phase switches, release, snap (x0 turning point), second contact: location |
 //! | [`first_contact`] | the exact first touch of the free whisker (tip or tangential) |
 //! | [`cases`] | the chapter-5 cases as reference problems |
+//! | [`friction`] | the contact law (frictionless, Coulomb): stick and slip in tip contact, their events |
 //! | `rows` | the log's contact rows at evenly spaced base positions: predicted, corrected |
 //! | [`mod@sweep`] | settings, the sweep's course (free whisker, first touch, trace, rows), separation kinds |
 //!
@@ -40,6 +41,7 @@ mod continuation;
 pub mod error;
 mod events;
 pub mod first_contact;
+pub mod friction;
 pub mod phase;
 pub mod profile;
 mod rows;
@@ -47,6 +49,7 @@ pub mod sweep;
 
 pub use accuracy::SweepAccuracy;
 pub use error::{ContactError, Result};
+pub use friction::{ContactLaw, FrictionEvent, FrictionEventKind, SlipState};
 pub use phase::{ContactState, ContourPoint, Phase};
 pub use profile::Profile;
 pub use sweep::{

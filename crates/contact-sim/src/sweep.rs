@@ -54,6 +54,10 @@ pub struct SweepSettings {
     /// (the default): the rows at `integration_tol` and `solve_tol`, without estimates.
     #[serde(default)]
     pub accuracy: Option<f64>,
+    /// The law of the contact force ([`crate::friction`]): frictionless (the default) or
+    /// Coulomb friction; `mu = 0` is the frictionless sweep exactly.
+    #[serde(default)]
+    pub contact_law: crate::friction::ContactLaw,
 }
 
 impl Default for SweepSettings {
@@ -69,6 +73,7 @@ impl Default for SweepSettings {
             max_steps: 20_000,
             max_step: 0.2,
             accuracy: None,
+            contact_law: crate::friction::ContactLaw::Frictionless,
         }
     }
 }
@@ -100,6 +105,17 @@ pub struct SweepPoint {
     pub yc: f64,
     /// Contour angle at the contact point (NaN before contact).
     pub psi: f64,
+    /// Tangential part of the contact force along the boundary's tangent
+    /// `(cos psi, sin psi)` (0 without friction and before contact); `f` is the normal part.
+    #[serde(default)]
+    pub ft: f64,
+    /// Stick, slip, or none (before contact and without friction).
+    #[serde(default)]
+    pub slip: crate::friction::SlipState,
+    /// The touching material point's slip displacement: the signed arc length along the
+    /// contour (towards +x) from the first touch to the contact point (0 without friction).
+    #[serde(default)]
+    pub slip_distance: f64,
 }
 
 /// How the contact ended.
@@ -161,6 +177,10 @@ pub struct SweepResult {
     /// With `SweepSettings::accuracy`: the accuracy asked for and every row's estimate.
     #[serde(default)]
     pub accuracy: Option<SweepAccuracy>,
+    /// The stick/slip switches of a frictional sweep, in the order of the motion (empty
+    /// without friction).
+    #[serde(default)]
+    pub friction_events: Vec<crate::friction::FrictionEvent>,
 }
 
 impl SweepResult {
@@ -198,6 +218,9 @@ impl SweepPoint {
             xc: st.point.xc,
             yc: st.point.yc,
             psi: st.point.psi,
+            ft: 0.0,
+            slip: crate::friction::SlipState::None,
+            slip_distance: 0.0,
         }
     }
 
@@ -207,7 +230,7 @@ impl SweepPoint {
     pub fn loads(&self, flow: FluidLoad) -> Loads {
         match self.phase {
             Phase::None => crate::phase::contact_loads(flow, 0.0, 0.0, 1.0),
-            _ => crate::phase::contact_loads(flow, self.psi, self.f, self.s1),
+            _ => crate::friction::frictional_loads(flow, self.psi, self.f, self.ft, self.s1),
         }
     }
 
@@ -284,6 +307,9 @@ pub fn sweep_with_progress(
     let phi1 = free_tip(whisker, flow, settings.integration_tol, &integration)?;
     let touch = first_touch(whisker, flow, phi1, profile, settings.integration_tol)?;
     profile.convex_at(touch.t)?;
+    if let Some(mu) = settings.contact_law.friction() {
+        return crate::friction::sweep(whisker, flow, profile, settings, (phi1, &touch), mu);
+    }
     let first = first_node(&branch, &touch)?;
     // The branch from the first contact to the separation.
     progress(SweepProgress::Coarse { steps: 0 });
@@ -373,6 +399,7 @@ pub fn sweep_with_progress(
         first_touch: touch,
         separation,
         accuracy,
+        friction_events: Vec::new(),
     })
 }
 
@@ -383,7 +410,7 @@ pub const TIGHTER: f64 = 10.0;
 
 /// The accuracy of a sweep's rows with their `estimates` (rows integrated at
 /// `row_integration_tol`), refused (naming the worst row) when an estimate exceeds `tol`.
-fn check_accuracy(
+pub(crate) fn check_accuracy(
     points: &[SweepPoint],
     estimates: Vec<f64>,
     tol: f64,
@@ -435,7 +462,7 @@ fn separation(end: End) -> (Node, Separation) {
 
 /// The rows before contact (the free whisker of tip angle `phi1` under the flow alone),
 /// spaced `pre_contact_spacing` in x0 before the first contact at `first_x0`.
-fn pre_contact_rows(
+pub(crate) fn pre_contact_rows(
     whisker: &Whisker,
     flow: FluidLoad,
     phi1: f64,
@@ -461,6 +488,9 @@ fn pre_contact_rows(
             xc: f64::NAN,
             yc: f64::NAN,
             psi: f64::NAN,
+            ft: 0.0,
+            slip: crate::friction::SlipState::None,
+            slip_distance: 0.0,
         });
     }
     Ok(points)
@@ -528,6 +558,7 @@ fn check_settings(settings: &SweepSettings, flow: FluidLoad) -> Result<()> {
             "the step budget must lie in [1, 1000000]",
         );
     }
+    settings.contact_law.validate()?;
     let alpha_deg = flow.alpha.to_degrees();
     if !(alpha_deg > -90.0 && alpha_deg < 90.0) {
         return bad(

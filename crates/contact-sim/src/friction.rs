@@ -259,6 +259,10 @@ const NOISE_FLOOR: f64 = 1e-10;
 /// Newton iterations of one corrector solve.
 const MAX_NEWTON: usize = 12;
 
+/// How far in x0 the candidate modes of the first touch are followed to decide between
+/// them ([`Sweeper::first_mode`]).
+const PROBE: f64 = 1e-3;
+
 /// Penetration depth from which a second contact counts (as in the frictionless sweep).
 const PENETRATION_MARGIN: f64 = 1e-10;
 
@@ -797,11 +801,26 @@ impl Sweeper<'_> {
     /// Whether the mode of `n` (a switch's first node, or the first touch) continues with
     /// the law: stick moves the force into the cone, slip slides against `ft`.
     fn check_consistent(&self, n: &Node) -> Result<()> {
+        if self.admissible(n) {
+            Ok(())
+        } else {
+            Err(self.indeterminate(n, "neither stick nor slip continues the path"))
+        }
+    }
+
+    /// Whether the mode of `n` continues with the law as the base moves on: the curve
+    /// follows the base (x0 falls along it at a rate of at least 1e-9 of its unit tangent:
+    /// a pinned tip on a straight whisker whose chord would have to grow cannot), the normal
+    /// force does not fall from zero, and stick keeps the force in the cone (its rate of
+    /// `mu fn - |ft|` not negative where it is on the edge), slip slides against `ft`.
+    fn admissible(&self, n: &Node) -> bool {
         let t = self.b.falling(n);
-        let ok = match n.mode {
+        if dot4(&n.jac[2], &t) > -1e-9 || (n.w[1] <= 0.0 && t[1] < -1e-12) {
+            return false;
+        }
+        match n.mode {
             Mode::Stick { .. } => {
                 let (f, ft) = (n.w[1], n.w[2]);
-                // the rate of mu fn - |ft| along the path (at fn = ft = 0 the direction)
                 let rate = self.b.mu * t[1]
                     - if ft != 0.0 {
                         ft.signum() * t[2]
@@ -811,12 +830,49 @@ impl Sweeper<'_> {
                 rate >= -1e-9 || (self.b.mu * f - ft.abs()) > 1e-12
             }
             Mode::Slip { s } => -s * t[3] >= -1e-9,
-        };
-        if ok {
-            Ok(())
-        } else {
-            Err(self.indeterminate(n, "neither stick nor slip continues the path"))
         }
+    }
+
+    /// The mode the contact starts in at the first touch `n0` (`w0`, `F = 0`): the first of
+    /// stick, slip with `s = +1`, slip with `s = -1` whose curve, followed a short way
+    /// ([`PROBE`] in x0), keeps the law: `fn >= 0`, stick within the cone, slip with the tip
+    /// moving against `ft` (`-s dt >= 0`). The probe decides where the tangent cannot: a
+    /// straight whisker's tip starts to slide at zero speed (its motion along the contour is
+    /// second order in the base's), so both slip curves are tangent to the stick curve there.
+    fn first_mode(&self, n0: &Node, w0: [f64; 4]) -> Result<Node> {
+        let anchor = w0[3];
+        for mode in [
+            Mode::Stick { anchor },
+            Mode::Slip { s: 1.0 },
+            Mode::Slip { s: -1.0 },
+        ] {
+            let (_, n) = self.b.eval(mode, w0, true)?;
+            let t = self.b.tangent(&n, &[0.0; 4]);
+            let rate = dot4(&n.jac[2], &t);
+            if rate.abs() < 1e-9 {
+                continue;
+            }
+            let h = -PROBE / rate;
+            let p = [
+                w0[0] + h * t[0],
+                w0[1] + h * t[1],
+                w0[2] + h * t[2],
+                w0[3] + h * t[3],
+            ];
+            let Ok(m) = self.b.correct(mode, p, Con::Base(n0.x0 - PROBE)) else {
+                continue;
+            };
+            let [_, f, ft, tt] = m.w;
+            let ok = f >= 0.0
+                && match mode {
+                    Mode::Stick { .. } => ft.abs() <= self.b.mu * f,
+                    Mode::Slip { s } => -s * (tt - anchor) >= 0.0,
+                };
+            if ok {
+                return Ok(n);
+            }
+        }
+        Err(self.indeterminate(n0, "neither stick nor slip starts the contact"))
     }
 
     fn indeterminate(&self, n: &Node, reason: &str) -> ContactError {
@@ -944,17 +1000,8 @@ pub(crate) fn frictional_rows(
     };
     // the free whisker at its touch: F = 0; its mode from the stick curve's direction
     let w0 = [touch.phi1, 0.0, 0.0, touch.t];
-    let stick = Mode::Stick { anchor: touch.t };
-    let (_, n0) = sw.b.eval(stick, w0, true)?;
-    let t = sw.b.falling(&n0);
-    let first = if t[1] > 0.0 && t[2].abs() <= set.mu * t[1] {
-        n0
-    } else {
-        let s = if t[2] != 0.0 { t[2].signum() } else { 1.0 };
-        let (_, n) = sw.b.eval(Mode::Slip { s }, w0, true)?;
-        n
-    };
-    sw.check_consistent(&first)?;
+    let (_, n0) = sw.b.eval(Mode::Stick { anchor: touch.t }, w0, true)?;
+    let first = sw.first_mode(&n0, w0)?;
     let tr = sw.trace(first)?;
     let separation = match tr.end {
         End::Tangential => {

@@ -1,0 +1,514 @@
+//! Frictional sweeps (`contact_sim::friction`, tip contact) against independent truth:
+//! - `mu = 0` is the frictionless sweep bit for bit;
+//! - `mu` large: the tip stays pinned where it touched, and every row equals a pinned-tip
+//!   elastica solved here from scratch (RK4 from the base, Newton on `(m0, Fx, Fy)` with
+//!   finite differences);
+//! - the linear limit: a straight uniform clamped whisker pushed along a near-flat inclined
+//!   wall slides from the start (its chord cannot grow), and the force lies on the cone's
+//!   edge with `Fx = 3 (xc - x0)`, so `fn = 3 (xc - x0) / (sin psi + mu cos psi)` to first order;
+//! - a seeded battery: every row re-integrated from its own base observables by the elastica
+//!   written out here (not beam-model's), checked for equilibrium (free-end moment, the tip on
+//!   the contact point), the contact point on the contour, the tip contact's phase condition,
+//!   the follicle law, the observables as the force balance of `F = fn n + ft t`, the force in
+//!   the cone (on its edge in slip), the slip law between consecutive rows, and no penetration.
+//!
+//! `cargo test -p contact-sim --release --test friction -- --ignored --nocapture` runs the full
+//! battery and prints its figures; the default run takes a seeded subset.
+
+use beam_model::{FluidLoad, Whisker};
+use contact_sim::{
+    sweep, ContactError, ContactLaw, Phase, Profile, SlipState, SweepPoint, SweepResult,
+    SweepSettings,
+};
+use std::f64::consts::FRAC_PI_2;
+
+struct Scene {
+    whisker: Whisker,
+    flow: FluidLoad,
+    profile: Profile,
+}
+
+fn settings(mu: f64, points: usize) -> SweepSettings {
+    SweepSettings {
+        points,
+        contact_law: ContactLaw::Coulomb { mu },
+        ..SweepSettings::default()
+    }
+}
+
+/// The force on the whisker `fn n + ft t`, `n = (sin psi, -cos psi)`, `t = (cos psi, sin psi)`.
+fn force(p: &SweepPoint) -> (f64, f64) {
+    let (sp, cp) = p.psi.sin_cos();
+    (p.f * sp + p.ft * cp, -p.f * cp + p.ft * sp)
+}
+
+/// The elastica written out: `phi' = m / e(s)^4 + A s + B`, `m' = Fx sin phi - Fy cos phi +
+/// q (1 - s) sin(phi + alpha)`, `x' = cos phi`, `y' = sin phi` (spec/model.md), the tip force
+/// `(fx, fy)` at `s = 1`, integrated by classical RK4 on `n` steps from the base values
+/// `(phi0, m0, x0, 0)`: samples `(s, phi, m, x, y)`.
+fn elastica(sc: &Scene, (fx, fy): (f64, f64), base: [f64; 4], n: usize) -> Vec<[f64; 5]> {
+    let w = &sc.whisker;
+    let (q, al) = (sc.flow.q, sc.flow.alpha);
+    let rhs = |s: f64, u: &[f64; 4]| -> [f64; 4] {
+        let e = 1.0 + (w.theta - 1.0) * s;
+        let (sp, cp) = u[0].sin_cos();
+        [
+            u[1] / (e * e * e * e) + w.a * s + w.b,
+            fx * sp - fy * cp + q * (1.0 - s) * (u[0] + al).sin(),
+            cp,
+            sp,
+        ]
+    };
+    let h = 1.0 / n as f64;
+    let mut u = base;
+    let mut out = vec![[0.0, u[0], u[1], u[2], u[3]]];
+    for i in 0..n {
+        let s = i as f64 * h;
+        let add = |a: &[f64; 4], k: &[f64; 4], c: f64| {
+            [
+                a[0] + c * k[0],
+                a[1] + c * k[1],
+                a[2] + c * k[2],
+                a[3] + c * k[3],
+            ]
+        };
+        let k1 = rhs(s, &u);
+        let k2 = rhs(s + 0.5 * h, &add(&u, &k1, 0.5 * h));
+        let k3 = rhs(s + 0.5 * h, &add(&u, &k2, 0.5 * h));
+        let k4 = rhs(s + h, &add(&u, &k3, h));
+        for j in 0..4 {
+            u[j] += h / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j]);
+        }
+        out.push([s + h, u[0], u[1], u[2], u[3]]);
+    }
+    out
+}
+
+/// The row's base values `(phi0, m0 = -MA, x0, 0)`.
+fn base_of(p: &SweepPoint) -> [f64; 4] {
+    [p.phi0, -p.ma, p.x0, 0.0]
+}
+
+#[derive(Debug, Default, Clone)]
+struct Figures {
+    rows: usize,
+    stick_rows: usize,
+    slip_rows: usize,
+    events: usize,
+    /// worst (value, scene, row) of each check
+    equilibrium: (f64, usize, usize),
+    on_contour: (f64, usize, usize),
+    phase: (f64, usize, usize),
+    follicle: (f64, usize, usize),
+    balance: (f64, usize, usize),
+    cone: (f64, usize, usize),
+    edge: (f64, usize, usize),
+    stuck: (f64, usize, usize),
+    against: (f64, usize, usize),
+    penetration: (f64, usize, usize),
+}
+
+fn worst(slot: &mut (f64, usize, usize), v: f64, scene: usize, row: usize) {
+    if v > slot.0 || v.is_nan() {
+        *slot = (v, scene, row);
+    }
+}
+
+/// Checks every row of a frictional sweep (tip contact) independently of the sweep's solver.
+fn check(sc: &Scene, mu: f64, r: &SweepResult, id: usize, fig: &mut Figures) {
+    fig.events += r.friction_events.len();
+    let (sa, ca) = sc.flow.alpha.sin_cos();
+    let q = sc.flow.q;
+    let mut prev: Option<&SweepPoint> = None;
+    for (i, p) in r.points.iter().enumerate() {
+        if p.phase == Phase::None {
+            assert_eq!(p.slip, SlipState::None);
+            continue;
+        }
+        assert_eq!(p.phase, Phase::A, "scene {id} row {i}");
+        fig.rows += 1;
+        match p.slip {
+            SlipState::Stick => fig.stick_rows += 1,
+            SlipState::Slip => fig.slip_rows += 1,
+            SlipState::None => panic!("scene {id} row {i}: a contact row without a slip state"),
+        }
+        let scale = 1f64.max(p.f.hypot(p.ft)).max(p.ma.abs());
+        let (fx, fy) = force(p);
+        // the observables are the balance of F and the flow [6.7-6.9]
+        let bal = (p.ax + fx + q * ca).abs().max((p.ay + fy - q * sa).abs());
+        worst(&mut fig.balance, bal / scale, id, i);
+        // the follicle law phi0 = pi/2 - MA / k
+        let k = match sc.whisker.support {
+            beam_model::Support::Spring { k } => k,
+            _ => f64::INFINITY,
+        };
+        worst(
+            &mut fig.follicle,
+            (p.phi0 - FRAC_PI_2 + p.ma / k).abs(),
+            id,
+            i,
+        );
+        // equilibrium: from the base, the free end carries no moment and lies on the contact
+        let n = if sc.whisker.theta < 0.3 { 8000 } else { 3000 };
+        let tr = elastica(sc, (fx, fy), base_of(p), n);
+        let e = tr[n];
+        let eq = e[2].abs().max((e[3] - p.xc).abs()).max((e[4] - p.yc).abs());
+        worst(&mut fig.equilibrium, eq / scale, id, i);
+        worst(
+            &mut fig.on_contour,
+            (p.yc - sc.profile.y(p.xc)).abs(),
+            id,
+            i,
+        );
+        worst(&mut fig.phase, (p.psi - e[1]).max(0.0), id, i);
+        // the force in the cone, on its edge in slip
+        assert!(p.f >= -1e-12, "scene {id} row {i}: fn = {}", p.f);
+        worst(
+            &mut fig.cone,
+            (p.ft.abs() - mu * p.f).max(0.0) / scale,
+            id,
+            i,
+        );
+        if p.slip == SlipState::Slip {
+            worst(&mut fig.edge, (p.ft.abs() - mu * p.f).abs() / scale, id, i);
+        }
+        // the slip law between consecutive rows: the contact point's displacement along the
+        // contour (here the chord, signed by x) is zero from a stuck row, against ft from a
+        // sliding one; the row's slip displacement follows it
+        if let Some(a) = prev {
+            let chord = (p.xc - a.xc).hypot(p.yc - a.yc) * (p.xc - a.xc).signum();
+            let dsd = p.slip_distance - a.slip_distance;
+            assert!(
+                (dsd - chord).abs() <= 0.02 * chord.abs() + 1e-12,
+                "scene {id} row {i}: slip displacement {dsd:e} against the chord {chord:e}"
+            );
+            match a.slip {
+                SlipState::Stick => worst(&mut fig.stuck, chord.abs(), id, i),
+                _ => {
+                    let ft = if p.slip == SlipState::Slip {
+                        p.ft
+                    } else {
+                        a.ft
+                    };
+                    worst(&mut fig.against, chord * ft.signum() / scale, id, i);
+                }
+            }
+        }
+        prev = Some(p);
+        // no penetration away from the tip
+        for v in &tr[..n - n / 500] {
+            let gy = sc.profile.y(v[3]);
+            if gy.is_finite() {
+                let mut depth = v[4] - gy;
+                if let Profile::Circle { xc, r, .. } = sc.profile {
+                    depth = depth.min(r - (v[3] - xc).abs());
+                }
+                worst(&mut fig.penetration, depth, id, i);
+            }
+        }
+    }
+}
+
+/// Asserts the figures of a battery.
+fn assert_figures(f: &Figures) {
+    assert!(f.equilibrium.0 < 1e-7, "{f:?}");
+    assert!(f.on_contour.0 < 1e-10, "{f:?}");
+    assert!(f.phase.0 < 1e-9, "{f:?}");
+    assert!(f.follicle.0 < 1e-9, "{f:?}");
+    assert!(f.balance.0 < 1e-12, "{f:?}");
+    assert!(f.cone.0 < 1e-9, "{f:?}");
+    assert!(f.edge.0 < 1e-9, "{f:?}");
+    assert!(f.stuck.0 < 1e-9, "{f:?}");
+    assert!(f.against.0 < 1e-12, "{f:?}");
+    assert!(f.penetration.0 < 1e-9, "{f:?}");
+}
+
+/// `mu = 0` is the frictionless sweep: the same rows bit for bit, no friction events, every
+/// row `ft = 0`, `slip = none`.
+#[test]
+fn mu_zero_is_the_frictionless_sweep_bit_for_bit() {
+    let scenes = [
+        (
+            Whisker::uniform(),
+            FluidLoad { q: 5.0, alpha: 0.0 },
+            Profile::g1(),
+        ),
+        (
+            Whisker::new(0.6, 0.3, 0.2, 20.0),
+            FluidLoad { q: 2.0, alpha: 0.3 },
+            Profile::g2(),
+        ),
+    ];
+    for (w, flow, p) in scenes {
+        let plain = SweepSettings {
+            points: 25,
+            ..SweepSettings::default()
+        };
+        let a = sweep(&w, flow, &p, &plain).unwrap();
+        let b = sweep(&w, flow, &p, &settings(0.0, 25)).unwrap();
+        // bit for bit (Debug prints the shortest round trip; NaN compares equal here)
+        assert_eq!(format!("{a:?}"), format!("{b:?}"));
+        assert!(b.friction_events.is_empty());
+        assert!(b
+            .points
+            .iter()
+            .all(|r| r.ft == 0.0 && r.slip == SlipState::None && r.slip_distance == 0.0));
+    }
+}
+
+/// A pre-curved rigid whisker (A = 1, B = 0.5, theta 0.3) under a weak flow touches g2 with its
+/// tip inside the cone; at `mu = 10` it never slides: every row has the tip at the first touch
+/// and is the pinned-tip elastica at its base position, solved here from scratch (RK4 from the
+/// base on 20,000 steps, Newton on `(m0, Fx, Fy)` against `m(1) = 0` and the tip at the touch
+/// point, finite-difference Jacobian) from the frictionless first-touch state.
+#[test]
+fn a_large_mu_pins_the_tip() {
+    let sc = Scene {
+        whisker: Whisker::new(0.3, 1.0, 0.5, f64::INFINITY),
+        flow: FluidLoad { q: 0.5, alpha: 0.0 },
+        profile: Profile::g2(),
+    };
+    let r = sweep(&sc.whisker, sc.flow, &sc.profile, &settings(10.0, 12)).unwrap();
+    assert!(r.friction_events.is_empty());
+    let touch = r.first_touch;
+    let rows: Vec<_> = r.contact_points().collect();
+    assert!(rows.len() >= 12);
+    let mut worst_err = 0.0f64;
+    // Newton continued row to row from the free whisker's state at the touch
+    let first = rows[0];
+    let mut u = [-first.ma, 0.0, 0.0];
+    for p in &rows {
+        assert_eq!(p.slip, SlipState::Stick);
+        assert!((p.xc - touch.xc).abs() < 1e-12 && p.slip_distance == 0.0);
+        let n = 20_000;
+        let res = |u: &[f64; 3]| {
+            let tr = elastica(&sc, (u[1], u[2]), [FRAC_PI_2, u[0], p.x0, 0.0], n);
+            let e = tr[n];
+            [e[2], e[3] - touch.xc, e[4] - touch.yc]
+        };
+        for _ in 0..20 {
+            let r0 = res(&u);
+            if r0.iter().all(|v| v.abs() < 1e-12) {
+                break;
+            }
+            let mut j = [[0.0; 3]; 3];
+            for k in 0..3 {
+                let mut v = u;
+                v[k] += 1e-7;
+                let r1 = res(&v);
+                for i in 0..3 {
+                    j[i][k] = (r1[i] - r0[i]) / 1e-7;
+                }
+            }
+            let d = solve3(j, [-r0[0], -r0[1], -r0[2]]);
+            for k in 0..3 {
+                u[k] += d[k];
+            }
+        }
+        let (fx, fy) = force(p);
+        let err = [u[0] + p.ma, u[1] - fx, u[2] - fy]
+            .iter()
+            .fold(0.0f64, |m, v| m.max(v.abs()));
+        if p.x0 == rows[rows.len() - 1].x0 {
+            // the snap: a turning point of x0, where the pinned problem's solution moves as
+            // the square root of a change in x0 (the row's x0 is located to ~1e-11)
+            assert!(err < 1e-5, "{err:e}");
+        } else {
+            worst_err = worst_err.max(err);
+        }
+    }
+    eprintln!(
+        "pinned tip: {} rows, worst difference {worst_err:.2e}",
+        rows.len()
+    );
+    assert!(worst_err < 1e-7, "{worst_err:e}");
+    assert_eq!(r.separation, contact_sim::Separation::Snap);
+}
+
+fn solve3(mut a: [[f64; 3]; 3], mut b: [f64; 3]) -> [f64; 3] {
+    for c in 0..3 {
+        let p = (c..3)
+            .max_by(|&i, &j| a[i][c].abs().total_cmp(&a[j][c].abs()))
+            .unwrap();
+        a.swap(c, p);
+        b.swap(c, p);
+        for r in c + 1..3 {
+            let m = a[r][c] / a[c][c];
+            let row = a[c];
+            for (x, y) in a[r].iter_mut().zip(row) {
+                *x -= m * y;
+            }
+            b[r] -= m * b[c];
+        }
+    }
+    let mut x = [0.0; 3];
+    for c in (0..3).rev() {
+        let s: f64 = (c + 1..3).map(|k| a[c][k] * x[k]).sum();
+        x[c] = (b[c] - s) / a[c][c];
+    }
+    x
+}
+
+/// The linear limit: a straight uniform clamped whisker (no flow) touches a near-flat wall
+/// (a circle of radius 50) inclined at psi with its tip. Its chord cannot grow, so the tip
+/// slides from the first touch, down the wall (its shortening is second order), with the
+/// force on the cone's edge `ft = +mu fn`; to first order the tip deflection is the
+/// cantilever's, `Fx = 3 (xc - x0)`, so `fn = 3 (xc - x0) / (sin psi + mu cos psi)` and
+/// `Fy = fn (mu sin psi - cos psi)`. Checked at the first rows (deflection up to 4e-3),
+/// the relative error below 5 times the deflection.
+#[test]
+fn the_linear_limit_slides_on_the_cone_edge() {
+    for (psi, mu) in [(0.5f64, 0.3), (0.8, 1.0), (0.3, 0.05), (1.0, 1.5)] {
+        let r = 50.0;
+        let spec = format!("circle:{},{},{}", -r * psi.sin(), 1.0 + r * psi.cos(), r);
+        let sc = Scene {
+            whisker: Whisker::new(1.0, 0.0, 0.0, f64::INFINITY),
+            flow: FluidLoad { q: 0.0, alpha: 0.0 },
+            profile: Profile::parse(&spec).unwrap(),
+        };
+        let s = SweepSettings {
+            max_steps: 40,
+            ..settings(mu, 2000)
+        };
+        let res = sweep(&sc.whisker, sc.flow, &sc.profile, &s);
+        let rows: Vec<SweepPoint> = match &res {
+            Ok(r) => r.contact_points().copied().collect(),
+            Err(e) => panic!("psi {psi} mu {mu}: {e}"),
+        };
+        let mut checked = 0;
+        for p in rows.iter().skip(1) {
+            let d = p.xc - p.x0;
+            if d > 4e-3 {
+                break;
+            }
+            assert_eq!(p.slip, SlipState::Slip);
+            let f_lin = 3.0 * d / (p.psi.sin() + mu * p.psi.cos());
+            let rel = (p.f - f_lin).abs() / f_lin;
+            assert!(
+                rel < 5.0 * d,
+                "psi {psi} mu {mu}: fn {} vs {f_lin} at {d:e}",
+                p.f
+            );
+            assert!((p.ft - mu * p.f).abs() < 1e-12 * p.f.max(1e-300) + 1e-15);
+            assert!(p.slip_distance < 0.0, "the tip slides down the wall");
+            let (_, fy) = force(p);
+            let fy_lin = f_lin * (mu * p.psi.sin() - p.psi.cos());
+            assert!(
+                (fy - fy_lin).abs() < 5.0 * d * fy_lin.abs(),
+                "Fy {fy} vs {fy_lin}"
+            );
+            checked += 1;
+        }
+        assert!(checked >= 3, "psi {psi} mu {mu}: {checked} rows checked");
+    }
+}
+
+/// SplitMix64.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    }
+    fn range(&mut self, a: f64, b: f64) -> f64 {
+        a + (b - a) * self.next()
+    }
+}
+
+/// A random scene: theta 0.2..1, pre-curvature of both signs (or none), rigid or a spring,
+/// q 0..3 at -45..45 degrees, g1, g2, a random parabola or a circle, and mu in 0.05..1.5.
+fn random_scene(rng: &mut Rng) -> (Scene, f64) {
+    let theta = rng.range(0.2, 1.0);
+    let (a, b) = if rng.next() < 0.3 {
+        (0.0, 0.0)
+    } else {
+        (rng.range(-0.8, 1.2), rng.range(-0.5, 0.8))
+    };
+    let k = if rng.next() < 0.5 {
+        f64::INFINITY
+    } else {
+        rng.range(5.0, 50.0)
+    };
+    let q = if rng.next() < 0.2 {
+        0.0
+    } else {
+        rng.range(0.0, 3.0)
+    };
+    let alpha = rng.range(-45.0, 45.0).to_radians();
+    let u = rng.next();
+    let profile = if u < 0.15 {
+        Profile::g1()
+    } else if u < 0.3 {
+        Profile::g2()
+    } else if u < 0.45 {
+        let c = rng.range(0.3, 2.0);
+        let x0 = rng.range(-0.5, 0.5);
+        let y0 = rng.range(0.4, 0.9);
+        Profile::parse(&format!("parabola:{c},{x0},{y0}")).unwrap()
+    } else {
+        let r = rng.range(0.2, 1.5);
+        let cx = rng.range(-0.3, 0.6);
+        let cy = rng.range(0.85, 1.2) + r * rng.range(0.3, 0.95);
+        Profile::parse(&format!("circle:{cx},{cy},{r}")).unwrap()
+    };
+    let mu = rng.range(0.05, 1.5);
+    (
+        Scene {
+            whisker: Whisker::new(theta, a, b, k),
+            flow: FluidLoad { q, alpha },
+            profile,
+        },
+        mu,
+    )
+}
+
+/// Runs `count` random scenes from `seed` with `points` rows each; prints the figures.
+fn battery(count: usize, seed: u64, points: usize) -> Figures {
+    let mut rng = Rng(seed);
+    let mut fig = Figures::default();
+    let (mut swept, mut tangential, mut indeterminate, mut no_contact, mut other) = (0, 0, 0, 0, 0);
+    for id in 0..count {
+        let (sc, mu) = random_scene(&mut rng);
+        match sweep(&sc.whisker, sc.flow, &sc.profile, &settings(mu, points)) {
+            Ok(r) => {
+                swept += 1;
+                check(&sc, mu, &r, id, &mut fig);
+            }
+            Err(ContactError::FrictionInTangentialContact { .. }) => tangential += 1,
+            Err(ContactError::FrictionIndeterminate { .. }) => indeterminate += 1,
+            Err(ContactError::NoContact { .. }) => no_contact += 1,
+            Err(e) => {
+                other += 1;
+                eprintln!("scene {id}: {e}");
+            }
+        }
+    }
+    eprintln!(
+        "friction battery (seed {seed:#x}): {count} scenes, {swept} swept ({} rows: {} stick, {} slip; {} switches), {tangential} refused (tangential contact), {indeterminate} refused (no quasi-static continuation), {no_contact} without contact, {other} other errors",
+        fig.rows, fig.stick_rows, fig.slip_rows, fig.events
+    );
+    eprintln!("worst (value, scene, row): {fig:#?}");
+    assert_eq!(other, 0, "sweeps that failed");
+    fig
+}
+
+/// A seeded subset of the battery in the suite (seconds).
+#[test]
+fn friction_battery_subset() {
+    let fig = battery(12, 0xF71C_7100, 16);
+    assert!(fig.rows > 40, "{fig:?}");
+    assert_figures(&fig);
+}
+
+/// The full battery: `cargo test -p contact-sim --release --test friction -- --ignored
+/// --nocapture`.
+#[test]
+#[ignore]
+fn friction_battery_full() {
+    let fig = battery(200, 0xF71C_7100, 40);
+    assert_figures(&fig);
+}

@@ -756,7 +756,20 @@ impl Sweeper<'_> {
                 })
             };
             match ev {
-                Ev::Release => return end(Separation::Release),
+                Ev::Release => {
+                    // on fn = 0 itself (as the frictionless sweep's release)
+                    let p = [at.w[0], 0.0, at.w[2], at.w[3]];
+                    let n = [0.0, 1.0, 0.0, 0.0];
+                    let on = self.b.correct(at.mode, p, Con::Plane { n, p })?;
+                    let mut nodes = nodes.clone();
+                    nodes.pop();
+                    nodes.push(on);
+                    return Ok(Trace {
+                        nodes,
+                        events,
+                        end: End::Separated(Separation::Release),
+                    });
+                }
                 Ev::Snap => return end(Separation::Snap),
                 Ev::Touch | Ev::Depth => return end(Separation::MultiContact { xc: at.geom.x }),
                 Ev::PhaseEnd => {

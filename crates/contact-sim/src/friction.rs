@@ -263,6 +263,10 @@ const MAX_NEWTON: usize = 12;
 /// them ([`Sweeper::first_mode`]).
 const PROBE: f64 = 1e-3;
 
+/// How far in x0 the new mode at a stick/slip switch is followed to check that it keeps the
+/// law ([`Sweeper::probe`]).
+const SWITCH_PROBE: f64 = 1e-4;
+
 /// Penetration depth from which a second contact counts (as in the frictionless sweep).
 const PENETRATION_MARGIN: f64 = 1e-10;
 
@@ -794,7 +798,17 @@ impl Sweeper<'_> {
                         )
                     };
                     let start = self.b.correct(mode, at.w, Con::Base(at.x0))?;
-                    self.check_consistent(&start)?;
+                    if !self.probe(&start, SWITCH_PROBE) {
+                        let reason = match kind {
+                            FrictionEventKind::StickToSlip => {
+                                "the force leaves the cone, and sliding against it does not follow the base (a dynamic slip)"
+                            }
+                            FrictionEventKind::SlipToStick => {
+                                "the sliding stops, and sticking does not keep the force in the cone"
+                            }
+                        };
+                        return Err(self.indeterminate(&start, reason));
+                    }
                     events.push(FrictionEvent {
                         kind,
                         x0: start.x0,
@@ -813,45 +827,12 @@ impl Sweeper<'_> {
 
     /// Whether the mode of `n` (a switch's first node, or the first touch) continues with
     /// the law: stick moves the force into the cone, slip slides against `ft`.
-    fn check_consistent(&self, n: &Node) -> Result<()> {
-        if self.admissible(n) {
-            Ok(())
-        } else {
-            Err(self.indeterminate(n, "neither stick nor slip continues the path"))
-        }
-    }
-
-    /// Whether the mode of `n` continues with the law as the base moves on: the curve
-    /// follows the base (x0 falls along it at a rate of at least 1e-9 of its unit tangent:
-    /// a pinned tip on a straight whisker whose chord would have to grow cannot), the normal
-    /// force does not fall from zero, and stick keeps the force in the cone (its rate of
-    /// `mu fn - |ft|` not negative where it is on the edge), slip slides against `ft`.
-    fn admissible(&self, n: &Node) -> bool {
-        let t = self.b.falling(n);
-        if dot4(&n.jac[2], &t) > -1e-9 || (n.w[1] <= 0.0 && t[1] < -1e-12) {
-            return false;
-        }
-        match n.mode {
-            Mode::Stick { .. } => {
-                let (f, ft) = (n.w[1], n.w[2]);
-                let rate = self.b.mu * t[1]
-                    - if ft != 0.0 {
-                        ft.signum() * t[2]
-                    } else {
-                        t[2].abs()
-                    };
-                rate >= -1e-9 || (self.b.mu * f - ft.abs()) > 1e-12
-            }
-            Mode::Slip { s } => -s * t[3] >= -1e-9,
-        }
-    }
-
     /// The mode the contact starts in at the first touch `n0` (`w0`, `F = 0`): the first of
-    /// stick, slip with `s = +1`, slip with `s = -1` whose curve, followed a short way
-    /// ([`PROBE`] in x0), keeps the law: `fn >= 0`, stick within the cone, slip with the tip
-    /// moving against `ft` (`-s dt >= 0`). The probe decides where the tangent cannot: a
-    /// straight whisker's tip starts to slide at zero speed (its motion along the contour is
-    /// second order in the base's), so both slip curves are tangent to the stick curve there.
+    /// stick, slip with `s = +1`, slip with `s = -1` that keeps the law a short way along
+    /// its curve ([`Sweeper::probe`], [`PROBE`] in x0). The probe decides where the tangent
+    /// cannot: a straight whisker's tip starts to slide at zero speed (its motion along the
+    /// contour is second order in the base's), so both slip curves are tangent to the stick
+    /// curve there.
     fn first_mode(&self, n0: &Node, w0: [f64; 4]) -> Result<Node> {
         let anchor = w0[3];
         for mode in [
@@ -860,32 +841,40 @@ impl Sweeper<'_> {
             Mode::Slip { s: -1.0 },
         ] {
             let (_, n) = self.b.eval(mode, w0, true)?;
-            let t = self.b.tangent(&n, &[0.0; 4]);
-            let rate = dot4(&n.jac[2], &t);
-            if rate.abs() < 1e-9 {
-                continue;
-            }
-            let h = -PROBE / rate;
-            let p = [
-                w0[0] + h * t[0],
-                w0[1] + h * t[1],
-                w0[2] + h * t[2],
-                w0[3] + h * t[3],
-            ];
-            let Ok(m) = self.b.correct(mode, p, Con::Base(n0.x0 - PROBE)) else {
-                continue;
-            };
-            let [_, f, ft, tt] = m.w;
-            let ok = f >= 0.0
-                && match mode {
-                    Mode::Stick { .. } => ft.abs() <= self.b.mu * f,
-                    Mode::Slip { s } => -s * (tt - anchor) >= 0.0,
-                };
-            if ok {
+            if self.probe(&n, PROBE) {
                 return Ok(n);
             }
         }
         Err(self.indeterminate(n0, "neither stick nor slip starts the contact"))
+    }
+
+    /// Whether the law holds along the mode's curve from `n` a step `dx` on in x0 (one
+    /// corrector solve from the tangent's prediction): `fn >= 0`; stick: `|ft| <= mu fn`;
+    /// slip: the tip has moved against `ft`, `-s (t - t(n)) >= 0`. At a switch the two modes'
+    /// curves are tangent (slip -> stick: the sliding speed is zero; the first touch), so
+    /// the tangent alone cannot tell; the step sees the second-order terms.
+    fn probe(&self, n: &Node, dx: f64) -> bool {
+        let t = self.b.tangent(n, &[0.0; 4]);
+        let rate = dot4(&n.jac[2], &t);
+        if rate.abs() < 1e-9 {
+            return false;
+        }
+        let h = -dx / rate;
+        let p = [
+            n.w[0] + h * t[0],
+            n.w[1] + h * t[1],
+            n.w[2] + h * t[2],
+            n.w[3] + h * t[3],
+        ];
+        let Ok(m) = self.b.correct(n.mode, p, Con::Base(n.x0 - dx)) else {
+            return false;
+        };
+        let [_, f, ft, tt] = m.w;
+        f >= 0.0
+            && match n.mode {
+                Mode::Stick { .. } => ft.abs() <= self.b.mu * f + 1e-13,
+                Mode::Slip { s } => -s * (tt - n.w[3]) >= 0.0,
+            }
     }
 
     fn indeterminate(&self, n: &Node, reason: &str) -> ContactError {

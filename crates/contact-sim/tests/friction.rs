@@ -290,6 +290,7 @@ fn mu_to_zero_is_the_frictionless_sweep() {
             assert!((q.ft.abs() - 1e-9 * q.f).abs() <= 1e-20 + 1e-15 * q.f);
         }
     }
+    eprintln!("mu = 1e-9 against the frictionless rows: worst {worst:.2e}");
     assert!(worst < 1e-7, "{worst:e}");
 }
 
@@ -466,6 +467,7 @@ fn the_linear_limit_slides_on_the_cone_edge() {
             Err(e) => panic!("psi {psi} mu {mu}: {e}"),
         };
         let mut checked = 0;
+        let mut worst_rel = 0.0f64;
         for p in rows.iter().skip(1) {
             let d = p.xc - p.x0;
             if d > 4e-3 {
@@ -488,7 +490,11 @@ fn the_linear_limit_slides_on_the_cone_edge() {
                 "Fy {fy} vs {fy_lin}"
             );
             checked += 1;
+            worst_rel = worst_rel.max(rel / d);
         }
+        eprintln!(
+            "psi {psi} mu {mu}: {checked} rows, worst relative error / deflection {worst_rel:.3}"
+        );
         assert!(checked >= 3, "psi {psi} mu {mu}: {checked} rows checked");
     }
 }

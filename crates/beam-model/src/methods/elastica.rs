@@ -59,6 +59,11 @@ pub(crate) fn linearised_shape(
         });
     }
     let sens = shot.d_phi1;
+    let steps = match &path {
+        Some(ShotPath::Dense(sol)) => sol.steps(),
+        Some(ShotPath::Fixed(traj)) => traj.len().saturating_sub(1),
+        None => 0,
+    };
     let moved = Moved {
         phi1,
         d,
@@ -69,16 +74,18 @@ pub(crate) fn linearised_shape(
     Ok(Linearised::Root {
         sol: Box::new(sol),
         sens,
+        steps,
     })
 }
 
 /// What [`linearised_shape`] gives.
 pub(crate) enum Linearised {
     /// The solution at the shot's root, with the shot's sensitivities
-    /// `d(phi0, m0, dx, dy)/dphi1`.
+    /// `d(phi0, m0, dx, dy)/dphi1` and its accepted integration steps.
     Root {
         sol: Box<Solution>,
         sens: BaseValues,
+        steps: usize,
     },
     /// The step `d` to the root was not finite or refused; the shot's sensitivities and the
     /// evaluations spent.
@@ -346,7 +353,7 @@ mod tests {
                 budget: 0,
             };
             let off = phi1 + 1e-7;
-            let Linearised::Root { sol, sens } =
+            let Linearised::Root { sol, sens, .. } =
                 linearised_shape(&scene, off, &run, SolveStats::default(), |d, _| {
                     d.abs() <= 1e-6
                 })

@@ -562,3 +562,85 @@ impl ReconSummary {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::resolve::{resolve_model, ModelFlags, Value};
+
+    fn solved(flags: &ModelFlags) -> (Resolved, Solution) {
+        let r = resolve_model(flags, None).unwrap();
+        let sol = beam_model::solve(&r.scene, &r.method).unwrap();
+        (r, sol)
+    }
+
+    #[test]
+    fn solve_summary_holds_the_published_cantilever() {
+        // Mattiasson (1981), f = 1 on a uniform rigid cantilever [Table 4.1]: the tip moves
+        // 0.30172 L across and 0.05643 L back; the base holds the load, Ax = -f
+        let mut flags = ModelFlags::default();
+        flags.tip.f = Some(Value::Number(1.0));
+        let (r, sol) = solved(&flags);
+        let s = SolveSummary::of(&r, &sol);
+        assert!((s.tip.x - 0.30172).abs() < 1e-5, "{}", s.tip.x);
+        assert!((s.tip.y - 0.94357).abs() < 1e-5, "{}", s.tip.y);
+        assert!((s.base.ax + 1.0).abs() < 1e-9 && s.base.ay.abs() < 1e-9);
+        // the moment balance about the base: the force f across the whisker's axis (x) acts
+        // at the tip's height, |MA| = f * y_tip
+        assert!(
+            (s.base.ma.abs() - s.tip.y).abs() < 1e-9,
+            "{} vs {}",
+            s.base.ma,
+            s.tip.y
+        );
+        assert!(s.stats.error_estimate <= s.stats.tolerance);
+        let v = serde_json::to_value(&s).unwrap();
+        // a rigid support's k = inf is null, as JSON has no infinity; keys as the CLI's
+        assert_eq!(v["scene"]["k"], serde_json::Value::Null);
+        assert_eq!(v["base"]["Ax"], serde_json::json!(s.base.ax));
+        assert_eq!(v["units"], "dimensionless");
+        assert!(v.get("physical").is_none() && v.get("load_path").is_none());
+        assert_eq!(v["method"], "accurate");
+    }
+
+    #[test]
+    fn non_finite_numbers_are_null_and_finite_ones_exact() {
+        #[derive(Serialize)]
+        struct R {
+            #[serde(serialize_with = "finite")]
+            a: f64,
+            #[serde(serialize_with = "finite_opt")]
+            b: Option<f64>,
+            c: Vec<Finite>,
+        }
+        let mut seed = 0x35_u64;
+        for _ in 0..2000 {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            let x = f64::from_bits(seed);
+            let v = serde_json::to_value(R {
+                a: x,
+                b: Some(x),
+                c: vec![Finite(x)],
+            })
+            .unwrap();
+            if x.is_finite() {
+                // float_roundtrip: the number parses back to the same bits
+                let back: f64 = serde_json::from_str(&v["a"].to_string()).unwrap();
+                assert_eq!(back.to_bits(), x.to_bits());
+                assert_eq!(v["b"], v["a"]);
+                assert_eq!(v["c"][0], v["a"]);
+            } else {
+                assert!(v["a"].is_null() && v["b"].is_null() && v["c"][0].is_null());
+            }
+        }
+        let v = serde_json::to_value(R {
+            a: 0.0,
+            b: None,
+            c: vec![],
+        })
+        .unwrap();
+        assert!(v["b"].is_null());
+    }
+}

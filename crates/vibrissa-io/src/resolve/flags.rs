@@ -145,3 +145,65 @@ pub struct ModelFlags {
     /// Method values.
     pub method: MethodFlags,
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// xorshift64*: a seeded stream of bit patterns, no dependency.
+    fn bits(seed: &mut u64) -> u64 {
+        *seed ^= *seed >> 12;
+        *seed ^= *seed << 25;
+        *seed ^= *seed >> 27;
+        seed.wrapping_mul(0x2545_f491_4f6c_dd1d)
+    }
+
+    #[test]
+    fn a_number_given_in_code_is_the_number_typed_bit_for_bit() {
+        // every f64 pattern (NaN payloads aside): the number as given, its message form
+        // typed back as a flag, and the same bits out of both
+        let mut seed = 0x5eed_0035_u64;
+        for _ in 0..20_000 {
+            let x = f64::from_bits(bits(&mut seed));
+            let given = Value::Number(x);
+            let typed = Value::Text(given.raw());
+            let (a, b) = (given.number("--q").unwrap(), typed.number("--q").unwrap());
+            if x.is_nan() {
+                assert!(a.is_nan() && b.is_nan());
+            } else {
+                assert_eq!(a.to_bits(), x.to_bits());
+                assert_eq!(b.to_bits(), x.to_bits(), "{x:?} typed back");
+            }
+        }
+    }
+
+    #[test]
+    fn counts_are_whole_and_named_as_given() {
+        assert_eq!(Value::Integer(7).count("--n", 4).unwrap(), 7);
+        assert_eq!(Value::Number(4.0).count("--starts", 1).unwrap(), 4);
+        assert_eq!(Value::Text(" 12 ".into()).count("--n", 0).unwrap(), 12);
+        let msg = |v: Value| v.count("--n", 4).unwrap_err().to_string();
+        assert_eq!(
+            msg(Value::Integer(-1)),
+            "invalid value `-1` for `--n`: not a non-negative integer"
+        );
+        assert_eq!(
+            msg(Value::Number(2.5)),
+            "invalid value `2.5` for `--n`: not a non-negative integer"
+        );
+        assert_eq!(
+            msg(Value::Number(f64::NAN)),
+            "invalid value `NaN` for `--n`: not a non-negative integer"
+        );
+        assert_eq!(
+            msg(Value::Integer(2)),
+            "invalid value `2` for `--n`: must be at least 4"
+        );
+        assert_eq!(
+            msg(Value::Text("x".into())),
+            "invalid value `x` for `--n`: not a non-negative integer"
+        );
+        assert!(Value::Text(" None ".into()).is_word("none"));
+        assert!(!Value::Number(0.0).is_word("none"));
+    }
+}

@@ -60,3 +60,10 @@ pub use vibrissa_io::scene_file::{
     LoadKind, LoadSpec, MethodSpec, SceneFile, SweepSpec, Units, WhiskerSpec,
 };
 pub use vibrissa_io::units::UnitSystem;
+
+/// The small records of a result, serialisable (serde): what `solve --json`, `sweep --json`
+/// and `calibrate --json` print and the Python package returns as dicts.
+pub mod records {
+    pub use vibrissa_io::calibration::CalibrationReport;
+    pub use vibrissa_io::summary::{ReconSummary, SolveSummary, SweepSummary};
+}

@@ -424,6 +424,11 @@ pub struct CalibrateArgs {
 
 // The library's model values (`vibrissa_io::resolve`), as typed, from the flags.
 
+/// A flag's text as the library's value (parsed, and refused naming the flag, there).
+pub fn text(raw: &Option<String>) -> Option<vibrissa_io::resolve::Value> {
+    raw.clone().map(vibrissa_io::resolve::Value::Text)
+}
+
 impl From<LoadArg> for vibrissa_io::scene_file::LoadKind {
     fn from(l: LoadArg) -> Self {
         match l {
@@ -436,10 +441,10 @@ impl From<LoadArg> for vibrissa_io::scene_file::LoadKind {
 impl From<&WhiskerFlags> for vibrissa_io::resolve::WhiskerFlags {
     fn from(w: &WhiskerFlags) -> Self {
         vibrissa_io::resolve::WhiskerFlags {
-            theta: w.theta.clone(),
-            a: w.a.clone(),
-            b: w.b.clone(),
-            k: w.k.clone(),
+            theta: text(&w.theta),
+            a: text(&w.a),
+            b: text(&w.b),
+            k: text(&w.k),
         }
     }
 }
@@ -447,8 +452,8 @@ impl From<&WhiskerFlags> for vibrissa_io::resolve::WhiskerFlags {
 impl From<&TipFlags> for vibrissa_io::resolve::TipFlags {
     fn from(t: &TipFlags) -> Self {
         vibrissa_io::resolve::TipFlags {
-            f: t.f.clone(),
-            beta_deg: t.beta_deg.clone(),
+            f: text(&t.f),
+            beta_deg: text(&t.beta_deg),
             load: t.load.map(Into::into),
         }
     }
@@ -457,8 +462,8 @@ impl From<&TipFlags> for vibrissa_io::resolve::TipFlags {
 impl From<&FluidFlags> for vibrissa_io::resolve::FluidFlags {
     fn from(f: &FluidFlags) -> Self {
         vibrissa_io::resolve::FluidFlags {
-            q: f.q.clone(),
-            alpha_deg: f.alpha_deg.clone(),
+            q: text(&f.q),
+            alpha_deg: text(&f.alpha_deg),
         }
     }
 }
@@ -467,8 +472,8 @@ impl From<&MethodFlags> for vibrissa_io::resolve::MethodFlags {
     fn from(m: &MethodFlags) -> Self {
         vibrissa_io::resolve::MethodFlags {
             method: m.method.clone(),
-            n: m.n.clone(),
-            tol: m.tol.clone(),
+            n: text(&m.n),
+            tol: text(&m.tol),
         }
     }
 }

@@ -6,11 +6,9 @@ use std::path::PathBuf;
 
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyTuple};
-use vibrissa_cli::cli::CalibrateArgs;
-use vibrissa_cli::commands::calibrate::{fit_inputs, json_of, LogInput};
-use vibrissa_cli::resolve::{resolve_model, ModelFlags};
+use vibrissa_io::calibration::{calib_model, fit_logs, CalibFlags, CalibrationReport, LogInput};
 
-use crate::convert::json;
+use crate::convert::record;
 use crate::errors::{compute, invalid};
 use crate::params::{model_flags, number, string, units_scene, ProfileSpec};
 use crate::reconstruct::{log_table, log_to_model_units, LOG_ORIGIN};
@@ -18,28 +16,21 @@ use crate::reconstruct::{log_table, log_to_model_units, LOG_ORIGIN};
 /// Calibrates the whisker of `spec` (start values `theta, a, b, k`, `units`; `fit` a
 /// comma-separated list; `starts`; `q` with `alpha_deg` to hold the flow fixed) on `logs`, a
 /// list of `(columns, profile)` pairs (a dict of 1-D arrays `x0, Ax, Ay, MA, phi0` in the
-/// scene's units and a profile string or `(x, y)` arrays); returns the `--json` object of
-/// `vibrissa calibrate` (`parameters`, `whisker`, `logs`, `rms_residual`, ...).
+/// scene's units and a profile string or `(x, y)` arrays); returns the library's
+/// [`CalibrationReport`] (that of `vibrissa calibrate --json`: `parameters`, `whisker`,
+/// `logs`, `rms_residual`, ...) as a dict.
 #[pyfunction]
 pub fn calibrate<'py>(
     py: Python<'py>,
     logs: &Bound<'py, PyList>,
     spec: &Bound<'py, PyDict>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let flags = model_flags(spec)?;
-    let args = CalibrateArgs {
-        logs: Vec::new(),
-        scene: None,
-        whisker: flags.whisker.clone(),
-        profile: None,
+    let model = model_flags(spec)?;
+    let flags = CalibFlags {
+        whisker: model.whisker,
+        fluid: model.fluid,
         fit: string(spec, "fit")?,
         starts: number(spec, "starts")?,
-        advise: Vec::new(),
-        fluid: flags.fluid.clone(),
-        noise: None,
-        points: None,
-        json: true,
-        out: None,
     };
     let file = units_scene(spec)?;
     let mut raw = Vec::new();
@@ -61,12 +52,7 @@ pub fn calibrate<'py>(
         raw.push((table, profile));
     }
     let value = compute(py, move || {
-        let model = ModelFlags {
-            whisker: (&args.whisker).into(),
-            fluid: (&args.fluid).into(),
-            ..ModelFlags::default()
-        };
-        let r = resolve_model(&model, file)?;
+        let r = calib_model(&flags, file)?;
         let units = r.units();
         let mut inputs = Vec::with_capacity(raw.len());
         for (i, (mut table, profile)) in raw.into_iter().enumerate() {
@@ -80,8 +66,14 @@ pub fn calibrate<'py>(
                 profile: (profile.arg().spec, parsed),
             });
         }
-        let (cal, _) = fit_inputs(&inputs, &r, &args)?;
-        Ok(json_of(&cal, &inputs, &units, r.physical.as_ref(), None))
+        let (cal, _) = fit_logs(&inputs, &r, &flags, &|_| {})?;
+        Ok(CalibrationReport::of(
+            &cal,
+            &inputs,
+            &units,
+            r.physical.as_ref(),
+            None,
+        ))
     })?;
-    json(py, &value)
+    record(py, &value)
 }

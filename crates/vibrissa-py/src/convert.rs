@@ -1,41 +1,29 @@
 //! Values to and from Python: columns as numpy arrays (one move of the vector, no copy per
-//! element), JSON values (the CLI's summaries) as Python objects.
+//! element), the library's small records (summaries, scenes: serde `Serialize` types) as
+//! Python dicts, lists and numbers (`pythonize`, no JSON text in between).
 
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
-use serde_json::Value;
+use pyo3::types::PyDict;
+use serde::Serialize;
 
 /// A column as a 1-D numpy float64 array (the vector's buffer is handed to numpy).
 pub fn array<'py>(py: Python<'py>, v: Vec<f64>) -> Bound<'py, PyArray1<f64>> {
     PyArray1::from_vec(py, v)
 }
 
-/// A JSON value as a Python object (`null` -> `None`, numbers -> `int` or `float`).
-pub fn json<'py>(py: Python<'py>, v: &Value) -> PyResult<Bound<'py, PyAny>> {
-    Ok(match v {
-        Value::Null => py.None().into_bound(py),
-        Value::Bool(b) => b.into_pyobject(py)?.to_owned().into_any(),
-        Value::Number(n) => match n.as_i64() {
-            Some(i) => i.into_pyobject(py)?.into_any(),
-            None => n.as_f64().unwrap_or(f64::NAN).into_pyobject(py)?.into_any(),
-        },
-        Value::String(s) => s.into_pyobject(py)?.into_any(),
-        Value::Array(items) => {
-            let list = PyList::empty(py);
-            for item in items {
-                list.append(json(py, item)?)?;
-            }
-            list.into_any()
-        }
-        Value::Object(map) => {
-            let dict = PyDict::new(py);
-            for (k, item) in map {
-                dict.set_item(k, json(py, item)?)?;
-            }
-            dict.into_any()
-        }
-    })
+/// A record of the library (a struct: a dict; `None` -> `None`; a non-finite number, which
+/// the records write as `None`, stays `None`) as a Python object.
+pub fn record<'py, T: Serialize + ?Sized>(py: Python<'py>, v: &T) -> PyResult<Bound<'py, PyAny>> {
+    pythonize::pythonize(py, v).map_err(PyErr::from)
+}
+
+/// A record of the library that is a struct, as a Python dict (to add keys to).
+pub fn record_dict<'py, T: Serialize + ?Sized>(
+    py: Python<'py>,
+    v: &T,
+) -> PyResult<Bound<'py, PyDict>> {
+    Ok(record(py, v)?.cast_into::<PyDict>()?)
 }
 
 /// A result dict holding named columns under `"columns"`, as a dict of numpy arrays (the

@@ -1,13 +1,14 @@
-//! The CLI's errors as Python exceptions, and the guard that keeps panics out of Python.
+//! The library's errors as Python exceptions, and the guard that keeps panics out of Python.
 //!
 //! The classes live in `vibrissa._errors` (pure Python, so that `InvalidInput` can also be a
-//! `ValueError` and `SolverError` a `RuntimeError`); the message is the CLI's one line.
+//! `ValueError` and `SolverError` a `RuntimeError`); the message is the one line of
+//! [`IoError`], the same the command line prints.
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use pyo3::prelude::*;
 use pyo3::types::PyType;
-use vibrissa_cli::CliError;
+use vibrissa_io::IoError;
 
 /// The Python class of an error.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -30,18 +31,18 @@ impl Kind {
         }
     }
 
-    /// The class of a CLI error: its input and output variants are `InvalidInput`, a sweep that never
-    /// touches is `NoContact`, every other solver failure `SolverError`.
-    pub fn of(err: &CliError) -> Kind {
+    /// The class of an error (the command line's exit codes 2, 3, 1): its input variants
+    /// are `InvalidInput`, a sweep that never touches is `NoContact`, every other solver
+    /// failure `SolverError`.
+    pub fn of(err: &IoError) -> Kind {
         match err {
-            CliError::Io { .. }
-            | CliError::Stdout { .. }
-            | CliError::Csv { .. }
-            | CliError::Scene { .. }
-            | CliError::InvalidArgument { .. }
-            | CliError::Usage { .. } => Kind::InvalidInput,
+            IoError::Io { .. }
+            | IoError::Csv { .. }
+            | IoError::Scene { .. }
+            | IoError::InvalidArgument { .. }
+            | IoError::Usage { .. } => Kind::InvalidInput,
             _ if err.is_no_contact() => Kind::NoContact,
-            CliError::Solver { .. } | CliError::Plot { .. } => Kind::SolverError,
+            IoError::Solver { .. } => Kind::SolverError,
         }
     }
 }
@@ -58,8 +59,8 @@ pub fn py_error(py: Python<'_>, kind: Kind, message: String) -> PyErr {
     }
 }
 
-/// A CLI error as its Python exception.
-pub fn to_py(py: Python<'_>, err: CliError) -> PyErr {
+/// A library error as its Python exception.
+pub fn to_py(py: Python<'_>, err: IoError) -> PyErr {
     py_error(py, Kind::of(&err), err.to_string())
 }
 
@@ -67,7 +68,7 @@ pub fn to_py(py: Python<'_>, err: CliError) -> PyErr {
 pub fn invalid(py: Python<'_>, name: &str, value: impl std::fmt::Display, reason: &str) -> PyErr {
     to_py(
         py,
-        CliError::invalid_argument(name, value.to_string(), reason.to_string()),
+        IoError::invalid_argument(name, value.to_string(), reason.to_string()),
     )
 }
 
@@ -77,7 +78,7 @@ pub fn invalid(py: Python<'_>, name: &str, value: impl std::fmt::Display, reason
 pub fn compute<T, F>(py: Python<'_>, f: F) -> PyResult<T>
 where
     T: Send,
-    F: FnOnce() -> Result<T, CliError> + Send,
+    F: FnOnce() -> Result<T, IoError> + Send,
 {
     let outcome = py.detach(move || catch_unwind(AssertUnwindSafe(f)));
     match outcome {

@@ -3,13 +3,16 @@
 //!
 //! The Python layer (`python/vibrissa/`) normalises the keyword arguments into a `spec` dict
 //! and wraps the dicts returned here into result classes. Everything numerical goes through
-//! the same functions as the `vibrissa` command line, so that a scene gives the same numbers
-//! and a bad input the same one-line message:
+//! the library the `vibrissa` command line prints (`vibrissa-io` on the model crates; no
+//! command-line crate, no clap), so that a scene gives the same numbers and a bad input the
+//! same one-line message:
 //!
-//! - [`params`]: a `spec` dict -> the CLI's flags and scene (physical units included);
-//! - [`errors`]: the CLI's errors -> `vibrissa.InvalidInput`, `SolverError`, `NoContact`,
-//!   and the guard that keeps panics out of Python;
-//! - [`convert`]: numpy arrays and JSON values to and from Python;
+//! - [`params`]: a `spec` dict -> the library's typed values (floats as floats) and the
+//!   scene that carries the units;
+//! - [`errors`]: the library's errors -> `vibrissa.InvalidInput`, `SolverError`,
+//!   `NoContact`, and the guard that keeps panics out of Python;
+//! - [`convert`]: numpy arrays to and from Python, the library's serialisable records
+//!   (summaries, scenes) as dicts;
 //! - [`solve`], [`sweep`], [`reconstruct`], [`calibrate`], [`stream`], [`scene`]: the functions.
 //!
 //! Every computation runs with the GIL released (`Python::detach`), so threads run in

@@ -1,10 +1,11 @@
 //! A normalised `spec` dict (built by the Python layer from the keyword arguments) turned
-//! into what the command line resolves: its flags, the scene file that carries the units,
-//! the profile.
+//! into the library's typed values (`vibrissa_io`): the model's values over a scene
+//! ([`ModelFlags`] of [`Value::Number`]s: each float reaches the model as is), the scene
+//! that carries the units (a [`SceneFile`] built in memory), the profile.
 //!
-//! Numbers are handed to the CLI's resolution as the flags a user would type, written with
-//! Rust's shortest round-trip formatting, so that a value reaches the model bit for bit and a
-//! value the model refuses is reported as the CLI reports it.
+//! A value the model refuses is reported as the command line reports the same value typed
+//! as a flag (`invalid value `-1.0` for `--theta`: ...`), the number written in Rust's
+//! shortest round-trip form for the message only.
 
 use std::path::PathBuf;
 
@@ -12,11 +13,10 @@ use beam_model::Preset;
 use contact_sim::{ContactError, Profile};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
-use vibrissa_cli::cli::{LoadArg, ModelFlags};
-use vibrissa_cli::resolve::{LoadedScene, ProfileArg};
-use vibrissa_cli::scene_file::{SceneFile, Units, WhiskerSpec};
-use vibrissa_cli::units::{Quantity, UnitSystem};
-use vibrissa_cli::CliError;
+use vibrissa_io::resolve::{LoadedScene, ModelFlags, ProfileArg, Value};
+use vibrissa_io::scene_file::{LoadKind, SceneFile, Units, WhiskerSpec};
+use vibrissa_io::units::{Quantity, UnitSystem};
+use vibrissa_io::IoError;
 
 use crate::errors::invalid;
 
@@ -25,12 +25,17 @@ pub fn item<'py>(spec: &Bound<'py, PyDict>, key: &str) -> PyResult<Option<Bound<
     Ok(spec.get_item(key)?.filter(|v| !v.is_none()))
 }
 
-/// A number of `spec` as a flag would type it (shortest round-trip form), if given.
-pub fn number(spec: &Bound<'_, PyDict>, key: &str) -> PyResult<Option<String>> {
+/// A number of `spec`, if given.
+pub fn number(spec: &Bound<'_, PyDict>, key: &str) -> PyResult<Option<Value>> {
+    Ok(float(spec, key)?.map(Value::Number))
+}
+
+/// A float of `spec`, if given.
+pub fn float(spec: &Bound<'_, PyDict>, key: &str) -> PyResult<Option<f64>> {
     match item(spec, key)? {
         None => Ok(None),
         Some(v) => match v.extract::<f64>() {
-            Ok(x) => Ok(Some(format!("{x:?}"))),
+            Ok(x) => Ok(Some(x)),
             Err(_) => Err(invalid(spec.py(), key, v.repr()?, "not a number")),
         },
     }
@@ -47,12 +52,12 @@ pub fn string(spec: &Bound<'_, PyDict>, key: &str) -> PyResult<Option<String>> {
     }
 }
 
-/// A count of `spec` as a flag would type it, if given.
-pub fn count(spec: &Bound<'_, PyDict>, key: &str) -> PyResult<Option<String>> {
+/// A count of `spec`, if given.
+pub fn count(spec: &Bound<'_, PyDict>, key: &str) -> PyResult<Option<Value>> {
     match item(spec, key)? {
         None => Ok(None),
         Some(v) => match v.extract::<i64>() {
-            Ok(n) => Ok(Some(n.to_string())),
+            Ok(n) => Ok(Some(Value::Integer(n))),
             Err(_) => Err(invalid(
                 spec.py(),
                 key,
@@ -63,8 +68,9 @@ pub fn count(spec: &Bound<'_, PyDict>, key: &str) -> PyResult<Option<String>> {
     }
 }
 
-/// The whisker, load and method flags of `spec` (`theta, a, b, k, f, beta_deg, load, q,
-/// alpha_deg, method, n, tol`).
+/// The whisker, load and method values of `spec` (`theta, a, b, k, f, beta_deg, load, q,
+/// alpha_deg, method, n, tol`); the method's name is checked where the model's methods
+/// are named (`beam_model::Method::from_name`, one place for every front end).
 pub fn model_flags(spec: &Bound<'_, PyDict>) -> PyResult<ModelFlags> {
     let mut flags = ModelFlags::default();
     flags.whisker.theta = number(spec, "theta")?;
@@ -75,8 +81,8 @@ pub fn model_flags(spec: &Bound<'_, PyDict>) -> PyResult<ModelFlags> {
     flags.tip.beta_deg = number(spec, "beta_deg")?;
     flags.tip.load = match string(spec, "load")?.as_deref().map(str::trim) {
         None => None,
-        Some(s) if s.eq_ignore_ascii_case("dp") => Some(LoadArg::Dp),
-        Some(s) if s.eq_ignore_ascii_case("ap") => Some(LoadArg::Ap),
+        Some(s) if s.eq_ignore_ascii_case("dp") => Some(LoadKind::Dp),
+        Some(s) if s.eq_ignore_ascii_case("ap") => Some(LoadKind::Ap),
         Some(other) => {
             return Err(invalid(
                 spec.py(),
@@ -121,9 +127,6 @@ pub fn units_scene(spec: &Bound<'_, PyDict>) -> PyResult<Option<LoadedScene>> {
             ));
         }
     }
-    let value = |key: &str| -> PyResult<Option<f64>> {
-        Ok(number(&units, key)?.map(|s| s.parse::<f64>().unwrap_or(f64::NAN)))
-    };
     let mut file = SceneFile::with_whisker(WhiskerSpec {
         theta: 1.0,
         a: 0.0,
@@ -132,16 +135,14 @@ pub fn units_scene(spec: &Bound<'_, PyDict>) -> PyResult<Option<LoadedScene>> {
     });
     file.units = Units::Physical {
         preset,
-        length_mm: value("length_mm")?,
-        base_diameter_mm: value("base_diameter_mm")?,
-        youngs_modulus_gpa: value("youngs_modulus_gpa")?,
+        length_mm: float(&units, "length_mm")?,
+        base_diameter_mm: float(&units, "base_diameter_mm")?,
+        youngs_modulus_gpa: float(&units, "youngs_modulus_gpa")?,
     };
-    let text = file
-        .to_ron()
-        .map_err(|e| crate::errors::to_py(py, e.into()))?;
+    // a scene built in memory: no text (a message names the field, at line 1)
     Ok(Some(LoadedScene {
         file,
-        text,
+        text: String::new(),
         path: PathBuf::from("<units>"),
     }))
 }
@@ -201,9 +202,9 @@ impl ProfileSpec {
     }
 
     /// The dimensionless contour in the unit system `units`.
-    pub fn parse(&self, units: &UnitSystem) -> Result<Profile, CliError> {
+    pub fn parse(&self, units: &UnitSystem) -> Result<Profile, IoError> {
         match self {
-            ProfileSpec::Text(_) => Ok(self.arg().parse(units)?),
+            ProfileSpec::Text(_) => self.arg().parse(units),
             ProfileSpec::Table(x, y) => {
                 let l = 1.0 / units.scale(Quantity::Length);
                 let (x, y) = (
@@ -211,8 +212,8 @@ impl ProfileSpec {
                     y.iter().map(|v| v * l).collect(),
                 );
                 Profile::points(x, y).map_err(|e| match e {
-                    ContactError::ProfileSpec { reason, .. } => self.arg().error(reason).into(),
-                    other => self.arg().error(other.to_string()).into(),
+                    ContactError::ProfileSpec { reason, .. } => self.arg().error(reason),
+                    other => self.arg().error(other.to_string()),
                 })
             }
         }

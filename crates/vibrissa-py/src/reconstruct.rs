@@ -8,16 +8,15 @@ use std::path::{Path, PathBuf};
 use profile_recon::contour_error;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use vibrissa_cli::cli::ReconstructArgs;
-use vibrissa_cli::commands::recon_io::{recon_values, to_model_units_with};
-use vibrissa_cli::commands::reconstruct::{
-    recon_model, reconstruct_log, ReconOptions, REQUIRED_COLUMNS,
-};
-use vibrissa_cli::csvio::Table;
-use vibrissa_cli::units::{Quantity, UnitSystem};
-use vibrissa_cli::CliError;
+use vibrissa_io::csvio::Table;
+use vibrissa_io::recon::{recon_model, reconstruct_log, ReconFlags, ReconOptions};
+use vibrissa_io::recon_io::{recon_values, to_model_units_with, REQUIRED_COLUMNS};
+use vibrissa_io::resolve::Value;
+use vibrissa_io::summary::ReconSummary;
+use vibrissa_io::units::{Quantity, UnitSystem};
+use vibrissa_io::IoError;
 
-use crate::convert::{json, with_columns};
+use crate::convert::{record, with_columns};
 use crate::errors::{compute, invalid};
 use crate::params::{model_flags, number, string, units_scene, ProfileSpec};
 
@@ -27,36 +26,25 @@ pub const LOG_ORIGIN: &str = "log row";
 
 /// A log given as columns (read by [`log_table`]) in the model's units, converted from the
 /// scene's `units` (such a log has no units sidecar); returns its x0 column as given.
-pub fn log_to_model_units(table: &mut Table, units: &UnitSystem) -> Result<Vec<f64>, CliError> {
-    Ok(to_model_units_with(
-        table,
-        &BTreeMap::new(),
-        units,
-        Path::new(LOG_ORIGIN),
-    )?)
+pub fn log_to_model_units(table: &mut Table, units: &UnitSystem) -> Result<Vec<f64>, IoError> {
+    to_model_units_with(table, &BTreeMap::new(), units, Path::new(LOG_ORIGIN))
 }
 
-/// The reconstruct command's arguments from `spec` (`theta, a, b, k, q, alpha_deg, noise,
-/// method, tolerance`).
-pub fn recon_args(spec: &Bound<'_, PyDict>) -> PyResult<ReconstructArgs> {
+/// The library's values of a reconstruction from `spec` (`theta, a, b, k, q, alpha_deg,
+/// noise, method, tolerance` (a number or `"none"`), `tol`).
+pub fn recon_flags(spec: &Bound<'_, PyDict>) -> PyResult<ReconFlags> {
     let flags = model_flags(spec)?;
-    Ok(ReconstructArgs {
-        observables: None,
-        scene: None,
+    Ok(ReconFlags {
         whisker: flags.whisker,
         q: flags.fluid.q,
         alpha_deg: flags.fluid.alpha_deg,
         noise: number(spec, "noise")?,
-        stream: false,
-        profile: None,
         method: string(spec, "method")?,
         tolerance: match string(spec, "tolerance") {
-            Ok(t) => t,
+            Ok(t) => t.map(Value::Text),
             Err(_) => number(spec, "tolerance")?,
         },
         tol: number(spec, "tol")?,
-        json: false,
-        out: None,
     })
 }
 
@@ -111,24 +99,25 @@ pub fn log_table(py: Python<'_>, log: &Bound<'_, PyDict>) -> PyResult<Table> {
 /// Reconstructs the log `log` (a dict of columns) with the whisker of `spec`; returns
 /// `{"columns": x0, x, y, s1, f, psi, sigma, residual, hypotheses (and error with a
 /// profile), one entry per row of the log in its order (NaN before contact), "phase": [str],
-/// "summary": q, alpha_deg, noise, ...}` in the scene's units.
+/// "summary": the library's [`ReconSummary`] (q, alpha_deg, noise, ...)}` in the scene's
+/// units.
 #[pyfunction]
 pub fn reconstruct<'py>(
     py: Python<'py>,
     log: &Bound<'py, PyDict>,
     spec: &Bound<'py, PyDict>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let args = recon_args(spec)?;
+    let flags = recon_flags(spec)?;
     let file = units_scene(spec)?;
     let truth_spec = ProfileSpec::from_spec(spec, "profile")?;
     let mut table = log_table(py, log)?;
     let (rec, units, x0_given, errors, method) = compute(py, move || {
-        let opts = ReconOptions::parse(&args)?;
-        let r = recon_model(&args, file)?;
+        let opts = ReconOptions::parse(&flags)?;
+        let r = recon_model(&flags, file)?;
         let units = r.units();
         let truth = truth_spec.map(|p| p.parse(&units)).transpose()?;
         let x0_given = log_to_model_units(&mut table, &units)?;
-        let rec = reconstruct_log(&args, &opts, &r, &table)?;
+        let rec = reconstruct_log(&flags, &opts, &r, &table)?;
         let errors = truth.as_ref().map(|p| contour_error(&rec.points, p));
         Ok((rec, units, x0_given, errors, opts.method))
     })?;
@@ -167,32 +156,7 @@ pub fn reconstruct<'py>(
     ];
     let out = with_columns(py, names.iter().copied().zip(cols).collect())?;
     out.set_item("phase", phase)?;
-    let id = &rec.identification;
-    let mut summary = serde_json::json!({
-        "q": id.q * units.scale(Quantity::LineLoad),
-        "q_dimensionless": id.q,
-        "q_given": rec.q_given,
-        "alpha_deg": id.alpha.to_degrees(),
-        "alpha_given": rec.alpha_given,
-        "noise": id.noise,
-        "noise_estimated": id.noise_estimated,
-        "model_mismatch": id.model_mismatch,
-        "points": rec.points.len(),
-        "rows": n,
-        "first_contact_row": id.first_contact_row + 1,
-        "method": method.name(),
-        "units": if units.is_physical() { "physical" } else { "dimensionless" },
-        "length_unit": units.unit(Quantity::Length),
-        "force_unit": units.unit(Quantity::Force),
-    });
-    // with `tol`: the accuracy asked for and the worst point's estimate (dimensionless)
-    if let Some(acc) = &rec.accuracy {
-        summary["tol"] = serde_json::Value::from(acc.tol);
-        if let Some((k, e)) = acc.worst() {
-            summary["max_estimate"] = serde_json::Value::from(e);
-            summary["max_estimate_row"] = serde_json::Value::from(rec.points[k].row + 1);
-        }
-    }
-    out.set_item("summary", json(py, &summary)?)?;
+    let summary = ReconSummary::of(&rec, method, n, &units);
+    out.set_item("summary", record(py, &summary)?)?;
     Ok(out)
 }

@@ -3,14 +3,15 @@
 use std::path::PathBuf;
 
 use pyo3::prelude::*;
-use vibrissa_cli::resolve::{profile_arg, LoadedScene};
+use vibrissa_io::resolve::{profile_arg, LoadedScene};
 
-use crate::convert::json;
+use crate::convert::record;
 use crate::errors::compute;
 
-/// Reads the scene file `path` (checked as the CLI checks it); returns it as JSON-like
-/// Python values (`units`, `whisker`, `loads`, `profile`, `sweep`, `method`), a
-/// `points:FILE.csv` profile with its path made relative to the working directory.
+/// Reads the scene file `path` (checked as the CLI checks it); returns the library's
+/// `SceneFile` as Python values (`units`, `whisker`, `loads`, `profile`, `sweep`,
+/// `method`), a `points:FILE.csv` profile with its path made relative to the working
+/// directory.
 #[pyfunction]
 pub fn load_scene(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyAny>> {
     let file = compute(py, move || {
@@ -22,5 +23,5 @@ pub fn load_scene(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyAny>> {
         }
         Ok(file)
     })?;
-    json(py, &serde_json::to_value(&file).unwrap_or_default())
+    record(py, &file)
 }

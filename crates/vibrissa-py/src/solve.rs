@@ -3,11 +3,11 @@
 use beam_model::solve as solve_scene;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use vibrissa_cli::commands::solve::solution_json;
-use vibrissa_cli::resolve::resolve_model;
-use vibrissa_cli::units::Quantity;
+use vibrissa_io::resolve::resolve_model;
+use vibrissa_io::summary::SolveSummary;
+use vibrissa_io::units::Quantity;
 
-use crate::convert::{json, with_columns};
+use crate::convert::{record, with_columns};
 use crate::errors::compute;
 use crate::params::{model_flags, units_scene};
 
@@ -15,13 +15,14 @@ use crate::params::{model_flags, units_scene};
 /// kappa, m}, "tip", "base", "stats", "scene", "units"}` with lengths, forces and moments in
 /// the scene's units (mm, N, N mm for a physical scene), as `elastica.csv` holds them, and
 /// `"load_path"` (`{"folds": [{lambda, phi1, phi0}], "arrival", "other_equilibria",
-/// "steps"}`) where the load path from zero folds.
+/// "steps"}`) where the load path from zero folds; `stats`, `scene`, `load_path` are the
+/// library's [`SolveSummary`] (that of `solve --json`).
 #[pyfunction]
 pub fn solve<'py>(py: Python<'py>, spec: &Bound<'py, PyDict>) -> PyResult<Bound<'py, PyDict>> {
     let flags = model_flags(spec)?;
     let file = units_scene(spec)?;
     let (r, sol) = compute(py, move || {
-        let r = resolve_model(&(&flags).into(), file)?;
+        let r = resolve_model(&flags, file)?;
         let sol = solve_scene(&r.scene, &r.method).map_err(|e| r.culprit(&e))?;
         Ok((r, sol))
     })?;
@@ -32,7 +33,7 @@ pub fn solve<'py>(py: Python<'py>, spec: &Bound<'py, PyDict>) -> PyResult<Bound<
         units.scale(Quantity::Moment),
         units.scale(Quantity::Curvature),
     );
-    let summary = solution_json(&r, &sol);
+    let summary = SolveSummary::of(&r, &sol);
     let e = sol.elastica;
     let scaled = |v: Vec<f64>, s: f64| v.into_iter().map(|x| x * s).collect::<Vec<_>>();
     let out = with_columns(
@@ -57,12 +58,14 @@ pub fn solve<'py>(py: Python<'py>, spec: &Bound<'py, PyDict>) -> PyResult<Bound<
     base.set_item("MA", sol.base.ma * m)?;
     base.set_item("phi0", sol.base.phi0)?;
     out.set_item("base", base)?;
-    for key in ["stats", "scene", "units", "method", "n"] {
-        out.set_item(key, json(py, &summary[key])?)?;
-    }
+    out.set_item("stats", record(py, &summary.stats)?)?;
+    out.set_item("scene", record(py, &summary.scene)?)?;
+    out.set_item("units", summary.units)?;
+    out.set_item("method", summary.method)?;
+    out.set_item("n", summary.n)?;
     // where the load path from zero folds: its folds and the other equilibria at full load
-    if let Some(path) = summary.get("load_path") {
-        out.set_item("load_path", json(py, path)?)?;
+    if let Some(path) = &summary.load_path {
+        out.set_item("load_path", record(py, path)?)?;
     }
     out.set_item("length_unit", units.unit(Quantity::Length))?;
     out.set_item("force_unit", units.unit(Quantity::Force))?;

@@ -7,12 +7,12 @@ use beam_model::Whisker;
 use profile_recon::{KnownFlow, ObservableRow, ReconPoint, ReconSettings};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use vibrissa_cli::commands::reconstruct::{recon_model, ReconOptions};
-use vibrissa_cli::units::{Quantity, UnitSystem};
-use vibrissa_cli::CliError;
+use vibrissa_io::recon::{recon_model, ReconOptions};
+use vibrissa_io::units::{Quantity, UnitSystem};
+use vibrissa_io::IoError;
 
 use crate::errors::{compute, py_error, to_py, Kind};
-use crate::reconstruct::{recon_args, LOG_ORIGIN};
+use crate::reconstruct::{recon_flags, LOG_ORIGIN};
 
 /// A panic in the stream (an internal error) as a `SolverError`, not a `PanicException`.
 fn internal(py: Python<'_>) -> PyErr {
@@ -65,7 +65,7 @@ impl Streamer {
         };
         to_py(
             py,
-            CliError::Csv {
+            IoError::Csv {
                 path: LOG_ORIGIN.into(),
                 line: row,
                 column: None,
@@ -81,13 +81,13 @@ impl Streamer {
     /// the flow (else the first pre-contact row fixes it), `noise` the relative noise level.
     #[new]
     fn new(py: Python<'_>, spec: &Bound<'_, PyDict>) -> PyResult<Self> {
-        let args = recon_args(spec)?;
+        let flags = recon_flags(spec)?;
         let file = crate::params::units_scene(spec)?;
         let (whisker, known, settings, units): (Whisker, KnownFlow, ReconSettings, UnitSystem) =
             compute(py, move || {
-                let opts = ReconOptions::parse_stream(&args)?;
-                let r = recon_model(&args, file)?;
-                let (known, settings) = (opts.known_flow(&args, &r), opts.settings());
+                let opts = ReconOptions::parse_stream(&flags)?;
+                let r = recon_model(&flags, file)?;
+                let (known, settings) = (opts.known_flow(&flags, &r), opts.settings());
                 Ok((r.scene.whisker, known, settings, r.units()))
             })?;
         let inner = profile_recon::Streamer::new(&whisker, known, &settings)

@@ -4,33 +4,35 @@
 use contact_sim::sweep as run_sweep;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use vibrissa_cli::commands::sweep::{
-    check_sweep_loads, missing_profile, sweep_json, sweep_points, sweep_settings, sweep_tol,
+use vibrissa_io::observables::ObservableRecord;
+use vibrissa_io::outputs::output_scene;
+use vibrissa_io::resolve::resolve_model;
+use vibrissa_io::resolve::sweep::{
+    check_sweep_loads, missing_profile, sweep_points, sweep_settings, sweep_tol,
 };
-use vibrissa_cli::commands::{output_scene, ObservableRecord};
-use vibrissa_cli::resolve::resolve_model;
+use vibrissa_io::summary::SweepSummary;
 
-use crate::convert::{json, with_columns};
+use crate::convert::{record, record_dict, with_columns};
 use crate::errors::compute;
 use crate::params::{count, model_flags, units_scene, ProfileSpec};
 
 /// Sweeps the whisker of `spec` past `spec["profile"]`; returns `{"columns": the
-/// `observables.csv` columns (numbers as arrays), "phase": [str], "summary": the
-/// `sweep --json` object, "scene": the `scene.ron` of the sweep as JSON}`, in the scene's
-/// units.
+/// `observables.csv` columns (numbers as arrays), "phase": [str], "summary": the library's
+/// [`SweepSummary`] (that of `sweep --json`) with the profile, "scene": the `scene.ron` of
+/// the sweep}`, in the scene's units.
 #[pyfunction]
 pub fn sweep<'py>(py: Python<'py>, spec: &Bound<'py, PyDict>) -> PyResult<Bound<'py, PyDict>> {
     let mut flags = model_flags(spec)?;
     // `tol` is the accuracy of the sweep's rows (`sweep --tol`), not a method's
-    let tol_raw = flags.method.tol.take();
+    let tol_given = flags.method.tol.take();
     let file = units_scene(spec)?;
-    let points_raw = count(spec, "points")?;
+    let points_given = count(spec, "points")?;
     let profile = ProfileSpec::from_spec(spec, "profile")?;
     let (r, res, points, arg) = compute(py, move || {
         let profile = profile.ok_or_else(|| missing_profile(None))?;
-        let points = sweep_points(points_raw.as_deref(), None)?;
-        let tol = sweep_tol(tol_raw.as_deref(), None)?;
-        let r = resolve_model(&(&flags).into(), file)?;
+        let points = sweep_points(points_given.as_ref(), None)?;
+        let tol = sweep_tol(tol_given.as_ref(), None)?;
+        let r = resolve_model(&flags, file)?;
         check_sweep_loads(&r)?;
         let contour = profile.parse(&r.units())?;
         let arg = profile.arg();
@@ -63,14 +65,13 @@ pub fn sweep<'py>(py: Python<'py>, spec: &Bound<'py, PyDict>) -> PyResult<Bound<
     )?;
     let phases: Vec<&str> = rows.iter().map(|r| r.phase.label()).collect();
     out.set_item("phase", phases)?;
-    let mut summary = sweep_json(&res, points, &units);
-    summary["profile"] = serde_json::Value::String(arg.spec.clone());
-    out.set_item("summary", json(py, &summary)?)?;
+    let summary = record_dict(py, &SweepSummary::of(&res, points, &units))?;
+    summary.set_item("profile", &arg.spec)?;
+    out.set_item("summary", summary)?;
     let mut scene_file = output_scene(&r, Some(arg.spec), Some(points));
     if let (Some(s), Some(acc)) = (scene_file.sweep.as_mut(), &res.accuracy) {
         s.tol = Some(acc.tol);
     }
-    let scene = serde_json::to_value(scene_file).unwrap_or(serde_json::Value::Null);
-    out.set_item("scene", json(py, &scene)?)?;
+    out.set_item("scene", record(py, &scene_file)?)?;
     Ok(out)
 }

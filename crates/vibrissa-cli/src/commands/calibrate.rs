@@ -8,24 +8,20 @@ use std::path::{Path, PathBuf};
 use std::io::IsTerminal;
 use std::time::Duration;
 
-use profile_recon::calibrate::{
-    calibrate_with_progress, CalibLog, CalibParam, CalibSettings, Calibration, Progress,
-    ProgressFn, Stage,
-};
-use profile_recon::{KnownFlow, ReconError};
+use profile_recon::calibrate::{CalibLog, Calibration, Progress, ProgressFn, Stage};
+use vibrissa_io::calibration::{fit_logs, CalibFlags};
 
-pub use crate::commands::calibrate_inputs::LogInput;
 pub use crate::commands::calibrate_summary::json_of;
+pub use vibrissa_io::calibration::LogInput;
 
 use crate::atomic::OutputDir;
-use crate::cli::CalibrateArgs;
+use crate::cli::{text, CalibrateArgs};
 use crate::commands::calibrate_inputs::{calib_model, parse_fit, read_log, split_log_arg};
 use crate::commands::calibrate_out::{self, RESIDUALS_CSV};
 use crate::commands::calibrate_summary::print_summary;
 use crate::commands::recon_io;
-use crate::commands::reconstruct::rows_of;
 use crate::error::CliError;
-use crate::resolve::{parse_count, Resolved};
+use crate::resolve::Resolved;
 
 /// Runs `vibrissa calibrate`.
 pub fn run(args: &CalibrateArgs) -> Result<(), CliError> {
@@ -99,62 +95,35 @@ fn check_flow_angle(args: &CalibrateArgs, r: &Resolved) -> Result<(), CliError> 
                   whisker's base direction has no component across it";
     match &args.fluid.alpha_deg {
         Some(raw) => Err(CliError::invalid_argument("--alpha-deg", raw, reason)),
-        None => Err(CliError::Usage {
+        None => Err(CliError::Io(vibrissa_io::IoError::Usage {
             reason: format!("the scene's loads.alpha_deg = {deg}: {reason}"),
-        }),
+        })),
+    }
+}
+
+impl From<&CalibrateArgs> for CalibFlags {
+    fn from(args: &CalibrateArgs) -> Self {
+        CalibFlags {
+            whisker: (&args.whisker).into(),
+            fluid: (&args.fluid).into(),
+            fit: args.fit.clone(),
+            starts: text(&args.starts),
+        }
     }
 }
 
 /// Fits the whisker of `r` (start values, units) to the logs `inputs` as `args` asks
-/// (`--fit`, `--starts`, `--q` with `--alpha-deg`): the calibration and the library's logs.
+/// (`--fit`, `--starts`, `--q` with `--alpha-deg`; `vibrissa_io::calibration::fit_logs`)
+/// with a progress bar on a terminal: the calibration and the library's logs.
 pub fn fit_inputs(
     inputs: &[LogInput],
     r: &Resolved,
     args: &CalibrateArgs,
 ) -> Result<(Calibration, Vec<CalibLog>), CliError> {
-    // --q and --alpha-deg given: the flow of every log is known and held fixed; --q alone
-    // starts the fit (the scene's loads are not taken as known)
-    let known = KnownFlow {
-        q: args.fluid.q.as_ref().map(|_| r.scene.loads.fluid.q),
-        alpha: args
-            .fluid
-            .alpha_deg
-            .as_ref()
-            .map(|_| r.scene.loads.fluid.alpha),
-    };
-    let units = r.units();
-    let fit = parse_fit(args.fit.as_deref(), &units)?;
-    if known.q.is_some() && known.alpha.is_some() && fit.contains(&CalibParam::Ei) {
-        return Err(CliError::invalid_argument(
-            "--q",
-            args.fluid.q.clone().unwrap_or_default(),
-            "a flow held fixed cannot be combined with fitting ei (the flow is in units of the \
-             stiffness being fitted): leave out --q/--alpha-deg to fit the flow too",
-        ));
-    }
-    let mut settings = CalibSettings {
-        fit,
-        ..CalibSettings::default()
-    };
-    if let Some(raw) = &args.starts {
-        settings.starts = parse_count("--starts", raw, 1)?;
-    }
-    let logs: Vec<CalibLog> = inputs
-        .iter()
-        .map(|l| {
-            Ok(CalibLog {
-                rows: rows_of(&l.table)?,
-                profile: l.profile.1.clone(),
-                flow: known,
-            })
-        })
-        .collect::<Result<_, CliError>>()?;
-    let rows: usize = logs.iter().map(|l| l.rows.len()).sum();
-    let cal = with_progress(rows, |progress| {
-        calibrate_with_progress(&r.scene.whisker, &logs, &settings, progress)
-    })
-    .map_err(|e| culprit(e, inputs))?;
-    Ok((cal, logs))
+    let rows: usize = inputs.iter().map(|l| l.table.rows()).sum();
+    Ok(with_progress(rows, |progress| {
+        fit_logs(inputs, r, &args.into(), progress)
+    })?)
 }
 
 /// Logs of at least this many rows in all show a progress bar (on a terminal).
@@ -197,36 +166,4 @@ fn with_progress<T>(rows: usize, f: impl FnOnce(ProgressFn<'_>) -> T) -> T {
         pb.finish_and_clear();
     }
     out
-}
-
-/// Maps a calibration error to its culprit (a log's file and line, or the solver).
-fn culprit(err: ReconError, inputs: &[LogInput]) -> CliError {
-    match err {
-        ReconError::CalibrationStart { log, row, x0 } => match inputs.get(log) {
-            Some(l) => CliError::Csv {
-                path: l.path.clone(),
-                line: l.table.line_of(row).unwrap_or(1),
-                column: None,
-                reason: format!(
-                    "x0 = {x0}: the start whisker admits no solution for this row; give start \
-                     values closer to the truth (--theta, --a, --b, --k or a scene)"
-                ),
-            },
-            None => CliError::solver(err),
-        },
-        ReconError::CalibrationNoContact { .. } => CliError::Usage {
-            reason: format!(
-                "{}: {err}",
-                inputs
-                    .iter()
-                    .map(|i| format!("log `{}`", i.arg))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ),
-        },
-        other => CliError::Solver {
-            reason: format!("calibration failed: {other}"),
-            source: Some(Box::new(other)),
-        },
-    }
 }

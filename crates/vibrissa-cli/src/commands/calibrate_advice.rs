@@ -14,9 +14,9 @@ use crate::resolve::{parse_count, parse_number, ProfileArg};
 /// Runs the advice.
 pub fn run(args: &CalibrateArgs) -> Result<(), CliError> {
     if !args.logs.is_empty() {
-        return Err(CliError::Usage {
+        return Err(CliError::Io(vibrissa_io::IoError::Usage {
             reason: "--advise plans an experiment: give no LOG with it".to_string(),
-        });
+        }));
     }
     let r = calib_model(args, args.scene.as_deref())?;
     let units = r.units();

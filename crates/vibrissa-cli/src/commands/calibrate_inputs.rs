@@ -4,35 +4,18 @@
 
 use std::path::{Path, PathBuf};
 
-use contact_sim::Profile;
-use profile_recon::calibrate::{CalibParam, CalibSettings};
+use profile_recon::calibrate::CalibParam;
 use profile_recon::ReconError;
 
 use crate::cli::CalibrateArgs;
 use crate::commands::recon_io;
 use crate::commands::reconstruct::{rows_of, REQUIRED_COLUMNS};
-use crate::csvio::{read_table, Table};
+use crate::csvio::read_table;
 use crate::error::CliError;
-use crate::resolve::{
-    physical_whisker, resolve_model, LoadedScene, ModelFlags, ProfileArg, Resolved,
-};
+use crate::resolve::{physical_whisker, LoadedScene, ProfileArg, Resolved};
 use crate::units::UnitSystem;
 
-/// One log as read: its origin, table (model units), x0 as given and contour. The Python
-/// package builds these from columns in memory (`path` then names the log in messages).
-#[derive(Debug, Clone)]
-pub struct LogInput {
-    /// The argument as given (names the log in the outputs).
-    pub arg: String,
-    /// The observables file (or the origin named in messages).
-    pub path: PathBuf,
-    /// The table (model units).
-    pub table: Table,
-    /// The x0 column as given.
-    pub x0_given: Vec<f64>,
-    /// The known contour: its spec and the parsed, dimensionless profile.
-    pub profile: (String, Profile),
-}
+pub use vibrissa_io::calibration::LogInput;
 
 /// `LOG` or `LOG=PROFILE`: the argument, the path and the profile spec. An argument that
 /// names an existing file or folder as a whole is a path (even with `=` in it).
@@ -71,43 +54,7 @@ pub(crate) fn parse_fit(
     raw: Option<&str>,
     units: &UnitSystem,
 ) -> Result<Vec<CalibParam>, CliError> {
-    let Some(raw) = raw else {
-        return Ok(CalibSettings::default().fit);
-    };
-    let mut out = Vec::new();
-    for name in raw.split(',').map(str::trim).filter(|s| !s.is_empty()) {
-        let p = CalibParam::parse(name).ok_or_else(|| {
-            CliError::invalid_argument(
-                "--fit",
-                raw,
-                format!("unknown parameter `{name}`: expected a list of theta, a, b, k, ei"),
-            )
-        })?;
-        if p == CalibParam::Ei && !units.is_physical() {
-            return Err(CliError::invalid_argument(
-                "--fit",
-                raw,
-                "ei cannot be fitted to a dimensionless log: its forces are in units of E·Ib/L² \
-                 (ei = 1 by definition); give a physical scene (units: Physical(...))",
-            ));
-        }
-        if out.contains(&p) {
-            return Err(CliError::invalid_argument(
-                "--fit",
-                raw,
-                format!("`{name}` is given twice"),
-            ));
-        }
-        out.push(p);
-    }
-    if out.is_empty() {
-        return Err(CliError::invalid_argument(
-            "--fit",
-            raw,
-            "no parameter to fit",
-        ));
-    }
-    Ok(out)
+    Ok(vibrissa_io::calibration::parse_fit(raw, units)?)
 }
 
 /// Reads one log: its observables (a sweep folder's `observables.csv`), converted to model
@@ -130,13 +77,13 @@ pub(crate) fn read_log(
     let folder = LoadedScene::load_opt(folder_scene.as_deref())?;
     if let Some(f) = &folder {
         if physical_whisker(f)? != r.physical {
-            return Err(CliError::Usage {
+            return Err(CliError::Io(vibrissa_io::IoError::Usage {
                 reason: format!(
                     "log `{arg}`: its scene.ron has other units than the calibration's ({}); \
                      calibrate logs of one unit system together",
                     units.describe()
                 ),
-            });
+            }));
         }
     }
     let prof = match (profile, &args.profile) {
@@ -158,12 +105,12 @@ pub(crate) fn read_log(
                 file: Some(f),
             },
             None => {
-                return Err(CliError::Usage {
+                return Err(CliError::Io(vibrissa_io::IoError::Usage {
                     reason: format!(
                         "log `{arg}`: no known contour: give --profile P, `{arg}=PROFILE`, a \
                          sweep folder or a --scene whose scene.ron names its profile"
                     ),
-                })
+                }))
             }
         },
     };
@@ -173,12 +120,14 @@ pub(crate) fn read_log(
     let rows = rows_of(&table)?;
     for (i, row) in rows.iter().enumerate() {
         row.validate(i).map_err(|e| match e {
-            ReconError::NonFinite { row, column, value } => CliError::Csv {
-                path: log_path.clone(),
-                line: table.line_of(row).unwrap_or(1),
-                column: Some(column.to_string()),
-                reason: format!("value `{value}` is not finite"),
-            },
+            ReconError::NonFinite { row, column, value } => {
+                CliError::Io(vibrissa_io::IoError::Csv {
+                    path: log_path.clone(),
+                    line: table.line_of(row).unwrap_or(1),
+                    column: Some(column.to_string()),
+                    reason: format!("value `{value}` is not finite"),
+                })
+            }
             other => CliError::solver(other),
         })?;
     }
@@ -198,10 +147,5 @@ pub(crate) fn calib_model(
     scene: Option<&Path>,
 ) -> Result<Resolved, CliError> {
     let file = LoadedScene::load_opt(scene)?;
-    let flags = ModelFlags {
-        whisker: (&args.whisker).into(),
-        fluid: (&args.fluid).into(),
-        ..ModelFlags::default()
-    };
-    Ok(resolve_model(&flags, file)?)
+    Ok(vibrissa_io::calibration::calib_model(&args.into(), file)?)
 }

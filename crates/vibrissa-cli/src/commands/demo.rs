@@ -56,9 +56,11 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
         text: DEMO_SCENE.to_string(),
         path: path.to_path_buf(),
     };
-    let profile = profile_arg(&None, Some(&file)).ok_or_else(|| CliError::Solver {
-        reason: "demo scene has no profile".to_string(),
-        source: None,
+    let profile = profile_arg(&None, Some(&file)).ok_or_else(|| {
+        CliError::Io(vibrissa_io::IoError::Solver {
+            reason: "demo scene has no profile".to_string(),
+            source: None,
+        })
     })?;
     let r = resolve_model(&ModelFlags::default(), Some(file))?;
     let contour = profile.parse(&r.units())?;
@@ -114,10 +116,10 @@ pub fn reconstruct_step(
     let rows = from_sweep(sweep);
     let settings = ReconSettings::default();
     let rec = reconstruct(&resolved.scene.whisker, &rows, None, &settings).map_err(|e| {
-        CliError::Solver {
+        CliError::Io(vibrissa_io::IoError::Solver {
             reason: format!("demo reconstruction: {e}"),
             source: Some(Box::new(e)),
-        }
+        })
     })?;
     let errors = contour_error(&rec.points, contour);
     let units = UnitSystem::DIMENSIONLESS;

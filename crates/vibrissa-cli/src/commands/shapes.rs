@@ -48,13 +48,15 @@ pub fn write_shapes_csv(
     };
     let mut w = CsvWriter::new(&SHAPES_HEADER);
     for (i, p) in res.points.iter().enumerate() {
-        let sol = row_shape(&r.scene.whisker, flow, p, 100).map_err(|e| CliError::Solver {
-            reason: format!(
-                "shapes.csv: the shape of row {} (x0 = {}): {e}",
-                i + 1,
-                p.x0
-            ),
-            source: Some(Box::new(e)),
+        let sol = row_shape(&r.scene.whisker, flow, p, 100).map_err(|e| {
+            CliError::Io(vibrissa_io::IoError::Solver {
+                reason: format!(
+                    "shapes.csv: the shape of row {} (x0 = {}): {e}",
+                    i + 1,
+                    p.x0
+                ),
+                source: Some(Box::new(e)),
+            })
         })?;
         let e = &sol.elastica;
         for k in 0..e.len() {

@@ -2,12 +2,12 @@
 //! elastica as CSV and SVG.
 
 use beam_model::{solve, Loads, Method, Scene, Solution};
-use serde_json::{json, Value};
+use serde_json::Value;
+use vibrissa_io::summary::SolveSummary;
 
 use crate::atomic::OutputDir;
 use crate::cli::SolveArgs;
 use crate::commands::elastica::{write_elastica_csv, write_elastica_figure};
-use crate::commands::json::json_number as num;
 use crate::commands::outputs::{list_files, output_scene, scene_unit_notes, write_scene_ron};
 use crate::error::CliError;
 use crate::printer::Printer;
@@ -78,82 +78,9 @@ pub fn write_solution_files(r: &Resolved, sol: &Solution, out: &OutputDir) -> Re
     )
 }
 
-/// The JSON object of `solve --json`.
+/// The JSON object of `solve --json`: the library's [`SolveSummary`] serialised.
 pub fn solution_json(r: &Resolved, sol: &Solution) -> Value {
-    let s = &r.scene;
-    let end = |e: &beam_model::EndState| json!({"x": num(e.x), "y": num(e.y), "phi": num(e.phi)});
-    let mut v = json!({
-        "method": r.method.name(),
-        "n": r.method.intervals(),
-        "tip": end(&sol.tip),
-        "loaded_end": end(&sol.loaded_end),
-        "base": {
-            "Ax": num(sol.base.ax),
-            "Ay": num(sol.base.ay),
-            "MA": num(sol.base.ma),
-            "phi0": num(sol.base.phi0),
-        },
-        "stats": {
-            "iterations": sol.stats.iterations,
-            "residual": num(sol.stats.residual),
-            "continuation_steps": sol.stats.continuation_steps,
-            "evaluations": sol.stats.evaluations,
-            "error_estimate": num(sol.stats.error_estimate),
-            "tolerance": num(sol.stats.tolerance),
-            "method_used": sol.stats.method_used.name(),
-            "model_used": sol.stats.model_used.name(),
-            "branch_jumps": sol.stats.branch_jumps,
-        },
-        "scene": {
-            "theta": num(s.whisker.theta),
-            "a": num(s.whisker.a),
-            "b": num(s.whisker.b),
-            "k": num(s.whisker.support.stiffness()),
-            "f": num(s.loads.tip.f),
-            "beta_deg": num(s.loads.tip.beta.to_degrees()),
-            "load": match s.loads.tip.kind {
-                beam_model::LoadKind::Dp => "dp",
-                beam_model::LoadKind::Ap => "ap",
-            },
-            "q": num(s.loads.fluid.q),
-            "alpha_deg": num(s.loads.fluid.alpha.to_degrees()),
-        },
-        "units": if r.physical.is_some() { "physical" } else { "dimensionless" },
-    });
-    if let (Some(p), Some(obj)) = (&sol.load_path, v.as_object_mut()) {
-        obj.insert(
-            "load_path".to_string(),
-            json!({
-                "folds": p.folds.iter().map(|f| json!({
-                    "lambda": num(f.lambda), "phi1": num(f.phi1), "phi0": num(f.phi0),
-                })).collect::<Vec<_>>(),
-                "arrival": {"phi1": num(p.arrival.phi1), "phi0": num(p.arrival.phi0)},
-                "other_equilibria": p.others.iter().map(|e| json!({
-                    "phi1": num(e.phi1), "phi0": num(e.phi0),
-                })).collect::<Vec<_>>(),
-                "steps": p.steps,
-            }),
-        );
-    }
-    if let (Some(p), Some(obj)) = (&r.physical, v.as_object_mut()) {
-        obj.insert(
-            "physical".to_string(),
-            json!({
-                "length_m": num(p.length),
-                "base_diameter_m": num(p.base_diameter),
-                "youngs_modulus_pa": num(p.youngs_modulus),
-                "tip_m": {"x": num(p.length_of(sol.tip.x)), "y": num(p.length_of(sol.tip.y))},
-                "base": {
-                    "Ax_N": num(sol.base.ax * p.force_scale()),
-                    "Ay_N": num(sol.base.ay * p.force_scale()),
-                    "MA_Nm": num(sol.base.ma * p.moment_scale()),
-                },
-                "f_N": num(s.loads.tip.f * p.force_scale()),
-                "q_N_per_m": num(s.loads.fluid.q * p.line_load_scale()),
-            }),
-        );
-    }
-    v
+    serde_json::to_value(SolveSummary::of(r, sol)).unwrap_or(Value::Null)
 }
 
 /// What the summary says about the load path from zero: its folds (load scale and angles

@@ -9,18 +9,18 @@ use contact_sim::{sweep_with_progress, Profile, SweepProgress, SweepResult, Swee
 
 use crate::atomic::{write_atomic, OutputDir};
 use crate::cli::SweepArgs;
-use crate::commands::json::{json_number, json_opt};
 use crate::commands::observables::{
     observables_csv_in, OBSERVABLES_HEADER, OBSERVABLES_QUANTITIES,
 };
 use crate::commands::outputs::{output_scene, scene_unit_notes, write_scene_ron, write_units_of};
 use crate::commands::shapes::{write_shapes_csv, write_shapes_svg};
-use crate::commands::sweep_events::{sweep_events, sweep_summary, RowCounts};
+use crate::commands::sweep_events::{sweep_summary, RowCounts};
 use crate::commands::sweep_figures::{write_sweep_figures, FigureContext};
 use crate::error::CliError;
 use crate::printer::Printer;
 use crate::resolve::{profile_arg, resolve_model, LoadedScene, ProfileArg, Resolved};
 use crate::units::{Quantity, UnitSystem};
+use vibrissa_io::summary::SweepSummary;
 
 pub use vibrissa_io::resolve::sweep::{
     check_sweep_loads, missing_profile, sweep_points, sweep_settings, sweep_tol, DEFAULT_POINTS,
@@ -31,8 +31,8 @@ pub fn run(args: &SweepArgs) -> Result<(), CliError> {
     let file = LoadedScene::load_opt(args.scene.as_deref())?;
     let profile =
         profile_arg(&args.profile, file.as_ref()).ok_or_else(|| missing_profile(file.as_ref()))?;
-    let points = sweep_points(args.points.as_deref(), file.as_ref())?;
-    let tol = sweep_tol(args.tol.as_deref(), file.as_ref())?;
+    let points = sweep_points(crate::cli::text(&args.points).as_ref(), file.as_ref())?;
+    let tol = sweep_tol(crate::cli::text(&args.tol).as_ref(), file.as_ref())?;
     let flags = crate::resolve::ModelFlags {
         whisker: (&args.whisker).into(),
         fluid: (&args.fluid).into(),
@@ -103,55 +103,10 @@ pub fn accuracy_note(res: &SweepResult) -> String {
     }
 }
 
-/// The JSON summary of a sweep (`sweep --json`): `first_contact`, `separation`, `phases`,
-/// `rows` and the row counts and positions of the events, rows numbered from 1 as in
-/// [`RowCounts`], positions and loads in `units`.
+/// The JSON summary of a sweep (`sweep --json`): the library's [`SweepSummary`]
+/// serialised (rows numbered from 1 as in [`RowCounts`], positions and loads in `units`).
 pub fn sweep_json(res: &SweepResult, requested: usize, units: &UnitSystem) -> serde_json::Value {
-    let n = RowCounts::of(res, requested);
-    let l = units.scale(Quantity::Length);
-    let x0_of = |row: Option<usize>| json_opt(row.map(|r| res.points[r - 1].x0 * l));
-    let events: Vec<serde_json::Value> = sweep_events(res)
-        .into_iter()
-        .map(|e| {
-            serde_json::json!({
-                "event": e.label,
-                "row": e.index + 1,
-                "x0": json_number(res.points[e.index].x0 * l),
-            })
-        })
-        .collect();
-    let mut v = serde_json::json!({
-        "first_contact": res.first_contact.label(),
-        "first_contact_row": n.first_contact_row,
-        "first_contact_x0": x0_of(n.first_contact_row),
-        "separation": res.separation.to_string(),
-        "separation_row": n.separation_row,
-        "separation_x0": x0_of(n.separation_row),
-        "phases": res.phase_pattern(),
-        "rows": n.rows,
-        "pre_contact_rows": n.pre_contact,
-        "contact_rows": n.contact,
-        "points_requested": n.requested,
-        "event_rows": n.event_rows,
-        "events": events,
-        "q": json_number(res.q * units.scale(Quantity::LineLoad)),
-        "alpha_deg": json_number(res.alpha.to_degrees()),
-        "units": if units.is_physical() { "physical" } else { "dimensionless" },
-        "length_unit": units.unit(Quantity::Length),
-        "force_unit": units.unit(Quantity::Force),
-        "moment_unit": units.unit(Quantity::Moment),
-    });
-    if let Some(acc) = &res.accuracy {
-        v["tol"] = json_number(acc.tol);
-        // the contact rows are always the elastica's (no linear rung): spec/cli.md's
-        // `model_used` of the accuracy asked for
-        v["model_used"] = serde_json::Value::from(beam_model::ModelKind::Elastica.name());
-        if let Some((row, e)) = acc.worst() {
-            v["max_estimate"] = json_number(e);
-            v["max_estimate_row"] = serde_json::Value::from(row + 1);
-        }
-    }
-    v
+    serde_json::to_value(SweepSummary::of(res, requested, units)).unwrap_or_default()
 }
 
 /// Runs the sweep of `points` contact rows (the sweep's own accuracy) with a spinner on

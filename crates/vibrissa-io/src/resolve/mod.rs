@@ -27,7 +27,7 @@ pub mod flags;
 pub mod profile;
 pub mod sweep;
 
-pub use flags::{FluidFlags, MethodFlags, ModelFlags, TipFlags, WhiskerFlags};
+pub use flags::{FluidFlags, MethodFlags, ModelFlags, TipFlags, Value, WhiskerFlags};
 
 pub use profile::{profile_arg, read_points_file, ProfileArg};
 
@@ -152,16 +152,16 @@ fn parse_count_unbounded(flag: &'static str, raw: &str, min: usize) -> Result<us
 /// A parameter from a flag, else the scene, else the default.
 fn param(
     flag: &'static str,
-    raw: &Option<String>,
+    raw: &Option<Value>,
     scene: Option<(&'static str, f64)>,
     default: f64,
 ) -> Result<Param, IoError> {
     if let Some(raw) = raw {
         return Ok(Param {
-            value: parse_number(flag, raw)?,
+            value: raw.number(flag)?,
             origin: Origin::Flag {
                 flag,
-                raw: raw.clone(),
+                raw: raw.raw(),
             },
         });
     }
@@ -419,10 +419,10 @@ fn resolve_parts(
 fn given_n(m: &MethodFlags, f_ref: Option<&LoadedScene>) -> Result<Option<Param>, IoError> {
     Ok(match (&m.n, f_ref.and_then(|f| f.file.method.n)) {
         (Some(raw), _) => Some(Param {
-            value: parse_count("--n", raw, 0)? as f64,
+            value: raw.count("--n", 0)? as f64,
             origin: Origin::Flag {
                 flag: "--n",
-                raw: raw.clone(),
+                raw: raw.raw(),
             },
         }),
         (None, Some(n)) => Some(Param {
@@ -457,7 +457,7 @@ fn resolve_method(
         }
     })?;
     let tol = match (&m.tol, f_ref.and_then(|f| f.file.method.tol)) {
-        (Some(raw), _) => Some((parse_number("--tol", raw)?, "--tol")),
+        (Some(raw), _) => Some((raw.number("--tol")?, "--tol")),
         (None, Some(t)) if name_origin.is_none() => Some((t, "method.tol")),
         _ => None,
     };

@@ -5,7 +5,7 @@
 
 use contact_sim::SweepSettings;
 
-use super::{parse_count, parse_number, LoadedScene, Resolved};
+use super::{LoadedScene, Resolved, Value};
 use crate::error::IoError;
 
 /// Default number of contact points.
@@ -13,16 +13,16 @@ pub const DEFAULT_POINTS: usize = 200;
 
 /// The accuracy asked for of a sweep's rows: `--tol` (typed as `raw`), else the scene
 /// file's `sweep.tol`, else none; in [1e-12, 1e-2].
-pub fn sweep_tol(raw: Option<&str>, file: Option<&LoadedScene>) -> Result<Option<f64>, IoError> {
+pub fn sweep_tol(raw: Option<&Value>, file: Option<&LoadedScene>) -> Result<Option<f64>, IoError> {
     const RANGE: &str = "the accuracy asked for must be in [1e-12, 1e-2]";
     let ok = |t: f64| {
         (contact_sim::accuracy::ACCURACY_MIN..=contact_sim::accuracy::ACCURACY_MAX).contains(&t)
     };
     match (raw, file) {
         (Some(raw), _) => {
-            let t = parse_number("--tol", raw)?;
+            let t = raw.number("--tol")?;
             if !ok(t) {
-                return Err(IoError::invalid_argument("--tol", raw, RANGE));
+                return Err(IoError::invalid_argument("--tol", raw.raw(), RANGE));
             }
             Ok(Some(t))
         }
@@ -62,14 +62,14 @@ pub fn missing_profile(file: Option<&LoadedScene>) -> IoError {
 /// The number of contact rows: `--points` (typed as `raw`), else the scene file's
 /// `sweep.points`, else [`DEFAULT_POINTS`]; at least 2 and at most
 /// [`contact_sim::sweep::MAX_POINTS`].
-pub fn sweep_points(raw: Option<&str>, file: Option<&LoadedScene>) -> Result<usize, IoError> {
+pub fn sweep_points(raw: Option<&Value>, file: Option<&LoadedScene>) -> Result<usize, IoError> {
     let points = match (raw, file.and_then(|f| f.file.sweep.as_ref())) {
         (Some(raw), _) => {
-            let n = parse_count("--points", raw, 2)?;
+            let n = raw.count("--points", 2)?;
             if n > contact_sim::sweep::MAX_POINTS {
                 return Err(IoError::invalid_argument(
                     "--points",
-                    raw,
+                    raw.raw(),
                     "at most 100000 contact rows",
                 ));
             }

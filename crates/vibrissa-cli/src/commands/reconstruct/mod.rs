@@ -21,7 +21,7 @@ pub use super::recon_io::{RECONSTRUCTION_HEADER, RECON_CSV};
 pub use compute::{reconstruct_log, rows_of};
 pub use figures::write_reconstruction_figures;
 pub use options::{
-    recon_model, ReconOptions, DEFAULT_TOLERANCE_ACCURATE, DEFAULT_TOLERANCE_THESIS,
+    recon_model, ReconFlags, ReconOptions, DEFAULT_TOLERANCE_ACCURATE, DEFAULT_TOLERANCE_THESIS,
 };
 pub use summary::{
     max_of, phase_counts, recon_json, row_ranges, rows_without_points, summary_line,
@@ -76,7 +76,7 @@ fn resolve(args: &ReconstructArgs) -> Result<Inputs<'_>, CliError> {
             "the observables log and --out are needed (or --stream)",
         ));
     };
-    let opts = ReconOptions::parse(args)?;
+    let opts = ReconOptions::parse(&args.into())?;
     let (log_path, scene_path) = recon_io::resolve_input(observables, args.scene.as_deref())?;
     crate::atomic::refuse_over_inputs(out_dir, &[("log", &log_path)])?;
     let file = LoadedScene::load_opt(scene_path.as_deref())?;

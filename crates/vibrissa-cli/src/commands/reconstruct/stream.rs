@@ -28,13 +28,13 @@ const STDIN: &str = "<stdin>";
 pub fn run_stream(args: &ReconstructArgs) -> Result<(), CliError> {
     // parse and resolve: the one positional argument is the scene (a sweep folder gives
     // its scene.ron)
-    let opts = ReconOptions::parse_stream(args)?;
+    let opts = ReconOptions::parse_stream(&args.into())?;
     let scene = stream_scene(args.scene.as_deref().or(args.observables.as_deref()))?;
     let file = LoadedScene::load_opt(scene.as_deref())?;
     let r = recon_model(args, file)?;
     let units = r.units();
     let factor = recon_io::input_factors(&Default::default(), &units, Path::new(STDIN))?;
-    let (flow, settings) = (opts.known_flow(args, &r), opts.settings());
+    let (flow, settings) = (opts.known_flow(&args.into(), &r), opts.settings());
     let mut stream = Streamer::new(&r.scene.whisker, flow, &settings)
         .map_err(|e| stdin_err(1, e.to_string()))?;
     // compute and write, row by row
@@ -83,12 +83,12 @@ pub fn run_stream(args: &ReconstructArgs) -> Result<(), CliError> {
 
 /// An error at line `line` of standard input.
 fn stdin_err(line: usize, reason: String) -> CliError {
-    CliError::Csv {
+    CliError::Io(vibrissa_io::IoError::Csv {
         path: PathBuf::from(STDIN),
         line,
         column: None,
         reason,
-    }
+    })
 }
 
 /// The message of a problem of the reader at line `n` (`line`: its text).

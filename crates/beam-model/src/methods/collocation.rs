@@ -65,12 +65,22 @@ pub const MIN_STEP: f64 = 1e-7;
 pub const MIN_RESIDUAL_TOL: f64 = 1e-10;
 
 /// The first of the final pair of solves runs at this multiple of the accuracy asked for
-/// (measured on moderate scenes: the observables' error is about `1e-2` times the
-/// residual tolerance).
-pub const RESIDUAL_PER_ERROR: f64 = 10.0;
+/// (measured on moderate and slender scenes: the difference of the pair, the estimate, is
+/// about `1.4e-2` times the first one's residual tolerance, so it lands near `0.4 tol`).
+pub const RESIDUAL_PER_ERROR: f64 = 30.0;
 
-/// Largest mesh of one solve.
-pub const MAX_NODES: usize = 200_000;
+/// Largest mesh of one final solve.
+pub const MAX_NODES: usize = 100_000;
+
+/// Largest mesh of one load step of the continuation (at [`STEP_TOL`] the slender DP cases
+/// need a few thousand nodes; an AP force on `theta <= 0.02` curls the tip into a spiral
+/// that needs more than 50,000 and is given up early).
+pub const MAX_STEP_NODES: usize = 20_000;
+
+/// Largest number of collocation solves of one continuation (accepted and rejected steps):
+/// bounds the time of a hopeless case (an AP force on `theta <= 0.02` curls the thin tip
+/// into a spiral that no mesh below [`MAX_NODES`] resolves) to seconds.
+pub const MAX_ATTEMPTS: usize = 40;
 
 /// Nodes of the uniform starting mesh on `[0, s1]`.
 const START_NODES: usize = 21;
@@ -216,12 +226,18 @@ fn work(s: &BvpSolution) -> usize {
     s.stats.rhs_evaluations + s.stats.jacobian_evaluations
 }
 
-fn solve_at(scene: &Scene, lambda: f64, start: &Start, tol: f64) -> Result<BvpSolution> {
+fn solve_at(
+    scene: &Scene,
+    lambda: f64,
+    start: &Start,
+    tol: f64,
+    max_nodes: usize,
+) -> Result<BvpSolution> {
     let prob = WhiskerColloc::new(scene, lambda);
     debug_assert_eq!(start.p.len(), prob.k());
     let opts = BvpOptions {
         tol,
-        max_nodes: MAX_NODES.max(start.x.len()),
+        max_nodes: max_nodes.max(start.x.len()),
         ..BvpOptions::default()
     };
     solve_bvp_problem(&prob, &start.x, &start.y, &start.p, &opts).map_err(|source| {
@@ -258,16 +274,18 @@ fn angle_jump(a: &BvpSolution, b: &BvpSolution) -> f64 {
 fn continuation(scene: &Scene) -> Result<(BvpSolution, usize, usize)> {
     let ap = scene.loads.tip.kind == LoadKind::Ap && scene.loads.tip.f != 0.0;
     let start = unloaded(scene, ap);
-    let mut current = solve_at(scene, 0.0, &start, STEP_TOL)?;
+    let mut current = solve_at(scene, 0.0, &start, STEP_TOL, MAX_STEP_NODES)?;
     let mut spent = work(&current);
     let sev = severity(&scene.whisker, &scene.loads);
     let mut lambda = 0.0;
     let mut step = if sev <= 1.0 { 1.0 } else { 1.0 / sev };
     let mut steps = 0;
     let mut last_err: Option<ModelError> = None;
+    let mut attempts = 0;
     while lambda < 1.0 {
         step = step.min(1.0 - lambda);
-        if step < MIN_STEP {
+        attempts += 1;
+        if step < MIN_STEP || attempts > MAX_ATTEMPTS {
             return Err(ModelError::ContinuationFailed {
                 method: METHOD,
                 load_scale: lambda,
@@ -281,7 +299,14 @@ fn continuation(scene: &Scene) -> Result<(BvpSolution, usize, usize)> {
             });
         }
         let next = lambda + step;
-        match solve_at(scene, next, &Start::from(&current), STEP_TOL) {
+        let tried = solve_at(
+            scene,
+            next,
+            &Start::from(&current),
+            STEP_TOL,
+            MAX_STEP_NODES,
+        );
+        match tried {
             Ok(sol) => {
                 spent += work(&sol);
                 let jump = angle_jump(&current, &sol);
@@ -316,11 +341,11 @@ fn continuation(scene: &Scene) -> Result<(BvpSolution, usize, usize)> {
 pub(crate) fn solve(scene: &Scene, tolerance: f64, samples: usize) -> Result<Solution> {
     let (reached, steps, mut spent) = continuation(scene)?;
     let mut r = (RESIDUAL_PER_ERROR * tolerance).clamp(100.0 * MIN_RESIDUAL_TOL, STEP_TOL);
-    let mut coarse = solve_at(scene, 1.0, &Start::from(&reached), r)?;
+    let mut coarse = solve_at(scene, 1.0, &Start::from(&reached), r, MAX_NODES)?;
     spent += work(&coarse);
     loop {
         let r_fine = (r * 1e-2).max(MIN_RESIDUAL_TOL);
-        let fine = solve_at(scene, 1.0, &Start::from(&coarse), r_fine)?;
+        let fine = solve_at(scene, 1.0, &Start::from(&coarse), r_fine, MAX_NODES)?;
         spent += work(&fine);
         let stats = SolveStats {
             iterations: fine.stats.newton_iterations,
@@ -493,5 +518,22 @@ mod tests {
         );
         assert!(c.stats.error_estimate <= 1e-8);
         assert!(d <= 1e-8 + r.stats.error_estimate, "{d:e}");
+    }
+
+    /// The CLI's name and the accuracy's range: `collocation` with the default accuracy
+    /// 1e-8, refused outside `[1e-12, 1e-2]` with the culprit named.
+    #[test]
+    fn name_and_tolerance() {
+        let m = Method::from_name("collocation", Some(50)).unwrap();
+        assert_eq!(m, colloc_n(1e-8, 50));
+        assert_eq!(m.name(), "collocation");
+        assert_eq!(m.tolerance(), 1e-8);
+        let scene = Scene::new(Whisker::uniform(), Loads::tip(TipForce::dp(1.0, 0.0)));
+        let e = solve(&scene, &colloc(1e-13)).unwrap_err().to_string();
+        assert!(e.contains("tol"), "{e}");
+    }
+
+    fn colloc_n(tol: f64, samples: usize) -> Method {
+        Method::Collocation { tol, samples }
     }
 }

@@ -95,7 +95,8 @@ fn setting(method: &Method) -> f64 {
     match *method {
         Method::Accurate { tol, .. }
         | Method::Auto { tol, .. }
-        | Method::MultipleShooting { tol, .. } => tol,
+        | Method::MultipleShooting { tol, .. }
+        | Method::Collocation { tol, .. } => tol,
         Method::Rk4 { n } | Method::Fdm { n } | Method::FdmRichardson { n } => n as f64,
     }
 }

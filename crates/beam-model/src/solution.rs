@@ -102,11 +102,14 @@ pub enum MethodKind {
     /// Multiple shooting on `[0, s1]` (`Method::MultipleShooting`, `accurate`'s last
     /// fallback).
     MultipleShooting,
+    /// Collocation with load continuation on `[0, s1]` (`Method::Collocation`, `accurate`'s
+    /// last fallback after multiple shooting).
+    Collocation,
 }
 
 impl MethodKind {
     /// The name used by the CLI and the charts (`accurate`, `rk4`, `fdm`, `fdm-richardson`,
-    /// `shape`, `picard`, `auto`, `multiple-shooting`).
+    /// `shape`, `picard`, `auto`, `multiple-shooting`, `collocation`).
     pub fn name(&self) -> &'static str {
         match self {
             MethodKind::Accurate => "accurate",
@@ -117,6 +120,7 @@ impl MethodKind {
             MethodKind::Picard => "picard",
             MethodKind::Auto => "auto",
             MethodKind::MultipleShooting => "multiple-shooting",
+            MethodKind::Collocation => "collocation",
         }
     }
 }

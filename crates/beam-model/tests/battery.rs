@@ -7,10 +7,13 @@
 //!
 //! `slender_battery_subset` runs in CI; `slender_battery_full` (#[ignore], ~4 min on one
 //! busy core) covers theta 0.01..1 x loads x supports x pre-curvature (390 cases; measured
-//! with multiple shooting as `accurate`'s last fallback: 374 accepted, 0 refused, 16 failed
-//! (no start: the FDM fallback's load continuation fails, all at theta <= 0.02 under tip
-//! forces of 5..15), 16 accepted without an FDM reference within 1e-6, worst error /
-//! estimate 0.19):
+//! with multiple shooting, then collocation (`Method::Collocation`, its own load
+//! continuation) as `accurate`'s last fallbacks: 375 accepted, 0 refused, 15 failed (12 AP
+//! forces f = 5, 15 on theta <= 0.02, whose thin tip curls into a spiral no mesh below
+//! 50,000 nodes resolves; 3 axial forces `f=10,b=90,q=10,a=-30` on theta = 0.01, a
+//! bifurcation of the tip where every continuation stalls), 17 accepted without an FDM
+//! reference within 1e-6, worst error 7.8e-8, worst error / estimate 0.19; 16 min wall on a
+//! loaded 2-core machine):
 //! `cargo test --release -p beam-model --test battery -- --ignored --nocapture`.
 
 mod support;

@@ -184,8 +184,11 @@ pub struct MethodFlags {
     /// the tolerance that suffices), accurate (adaptive DOP853 shooting, error estimated by a second shot;
     /// falls back to fdm-richardson on refined grids where shooting is ill-conditioned, as
     /// `stats.method_used` says; refused when the estimate exceeds 1e-8), rk4 (fixed-step
-    /// shooting), fdm (finite differences, the thesis's method) or fdm-richardson (FDM on n,
-    /// 2n, 4n with two Richardson levels, order 6); the fixed-grid methods are refused when
+    /// shooting), fdm (finite differences, the thesis's method), fdm-richardson (FDM on n,
+    /// 2n, 4n with two Richardson levels, order 6), multiple-shooting (DOP853 on segments,
+    /// from the FDM's branch) or collocation (Lobatto IIIA with mesh refinement and its own
+    /// load continuation; --tol its accuracy, default 1e-8; accurate's last fallback for
+    /// slender whiskers under tip forces); the fixed-grid methods are refused when
     /// their error estimate (the same solve on a grid twice as fine, compared) exceeds 5e-2
     /// [default: accurate]
     #[arg(long, value_name = "M")]

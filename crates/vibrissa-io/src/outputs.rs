@@ -57,7 +57,8 @@ pub fn output_scene(r: &Resolved, profile: Option<String>, points: Option<usize>
             name: r.method.name().to_string(),
             n: g.n.as_ref().map(|n| n.value as usize),
             tol: match r.method {
-                beam_model::Method::Auto { tol, .. } => Some(tol),
+                beam_model::Method::Auto { tol, .. }
+                | beam_model::Method::Collocation { tol, .. } => Some(tol),
                 _ => None,
             },
         },

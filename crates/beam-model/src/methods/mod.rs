@@ -6,9 +6,11 @@
 //! | [`Method::Rk4`] | RK4 shooting from the loaded end, exact Newton derivatives | 4 | ch. 4 (comparison) |
 //! | [`Method::Accurate`] | adaptive DOP853 shooting from the loaded end | 8 | — |
 //! | [`Method::MultipleShooting`] | DOP853 multiple shooting on `[0, s1]` with node insertion (`bvp_solvers::multiple_shooting`), from the FDM's branch; `accurate`'s last fallback | 8 | — |
+//! | [`Method::Collocation`] | 3-point Lobatto IIIA collocation on `[0, s1]` with residual control and mesh refinement (`bvp_solvers::collocation`), its own load continuation from zero; `accurate`'s (and so `auto`'s) last fallback | 4 | — |
 //! | [`Method::Auto`] | the cheapest of: linear theory where its a-priori bound meets the tolerance, the spectral Picard iteration, then `accurate` at the tolerance that suffices | spectral / 8 | — |
 
 pub(crate) mod accurate;
+pub(crate) mod collocation;
 pub(crate) mod elastica;
 pub(crate) mod fdm;
 pub(crate) mod fixed;
@@ -58,6 +60,18 @@ pub enum Method {
     /// tip forces, where single shooting is ill-conditioned.
     MultipleShooting {
         /// Integrator tolerance (default 1e-12).
+        tol: f64,
+        /// Output intervals along the whisker (default 100).
+        samples: usize,
+    },
+    /// Collocation on `[0, s1]` (module `collocation`: 3-point Lobatto IIIA with residual
+    /// control and mesh refinement, `bvp_solvers::collocation::solve_bvp_problem`) with its
+    /// own load continuation from zero load; `tol` is the accuracy asked for (absolute, as
+    /// `auto`'s), the estimate the difference from a second solve at a residual 100 times
+    /// smaller on the refined mesh. For slender whiskers under tip forces, where shooting
+    /// is ill-conditioned and the FDM's continuation fails.
+    Collocation {
+        /// The accuracy asked for, in `[1e-12, 1e-2]` (default 1e-8).
         tol: f64,
         /// Output intervals along the whisker (default 100).
         samples: usize,
@@ -143,6 +157,7 @@ impl Method {
             Method::FdmRichardson { .. } => "fdm-richardson",
             Method::Auto { .. } => "auto",
             Method::MultipleShooting { .. } => "multiple-shooting",
+            Method::Collocation { .. } => "collocation",
         }
     }
 
@@ -151,7 +166,8 @@ impl Method {
         match *self {
             Method::Accurate { samples, .. }
             | Method::Auto { samples, .. }
-            | Method::MultipleShooting { samples, .. } => samples,
+            | Method::MultipleShooting { samples, .. }
+            | Method::Collocation { samples, .. } => samples,
             Method::Rk4 { n } | Method::Fdm { n } | Method::FdmRichardson { n } => n,
         }
     }
@@ -171,6 +187,10 @@ impl Method {
                 tol: 1e-12,
                 samples: n,
             }),
+            "collocation" => Some(Method::Collocation {
+                tol: DEFAULT_AUTO_TOL,
+                samples: n,
+            }),
             "auto" => Some(Method::Auto {
                 tol: DEFAULT_AUTO_TOL,
                 samples: n,
@@ -188,6 +208,7 @@ impl Method {
             Method::FdmRichardson { .. } => MethodKind::FdmRichardson,
             Method::Auto { .. } => MethodKind::Auto,
             Method::MultipleShooting { .. } => MethodKind::MultipleShooting,
+            Method::Collocation { .. } => MethodKind::Collocation,
         }
     }
 
@@ -201,7 +222,7 @@ impl Method {
             Method::Accurate { tol, .. } | Method::MultipleShooting { tol, .. } => {
                 (1e4 * tol).max(1e-10)
             }
-            Method::Auto { tol, .. } => tol,
+            Method::Auto { tol, .. } | Method::Collocation { tol, .. } => tol,
             _ => FIXED_GRID_TOLERANCE,
         }
     }
@@ -228,7 +249,7 @@ impl Method {
                 reason: "at least 4 grid intervals are needed",
             });
         }
-        if let Method::Auto { tol, .. } = *self {
+        if let Method::Auto { tol, .. } | Method::Collocation { tol, .. } = *self {
             if !(1e-12..=1e-2).contains(&tol) {
                 return Err(ModelError::InvalidParameter {
                     name: "tol",
@@ -304,6 +325,7 @@ pub fn solve(scene: &Scene, method: &Method) -> Result<Solution> {
             sol.stats.continuation_steps = guess.stats.continuation_steps;
             sol
         }
+        Method::Collocation { tol, samples } => collocation::solve(scene, tol, samples)?,
     };
     sol.stats.requested = method.kind();
     sol.stats.tolerance = tolerance;
@@ -360,6 +382,13 @@ fn accurate(scene: &Scene, tol: f64, samples: usize, tolerance: f64) -> Result<S
     };
     if refused {
         if let Ok(mut sol) = multiple_shooting_fallback(scene, tol, samples, &shot, &fallback) {
+            if sol.stats.error_estimate <= tolerance {
+                sol.stats.evaluations += shooting_evaluations;
+                return Ok(sol);
+            }
+        }
+        // last: collocation, which needs no start (its own load continuation from zero)
+        if let Ok(mut sol) = collocation::solve(scene, tolerance, samples) {
             if sol.stats.error_estimate <= tolerance {
                 sol.stats.evaluations += shooting_evaluations;
                 return Ok(sol);

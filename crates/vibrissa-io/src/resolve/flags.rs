@@ -125,7 +125,8 @@ pub struct FluidFlags {
 /// Method values (`--method`, `--n`, `--tol`).
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct MethodFlags {
-    /// Method name (`accurate`, `auto`, `rk4`, `fdm`, `fdm-richardson`).
+    /// Method name (`accurate`, `auto`, `rk4`, `fdm`, `fdm-richardson`,
+    /// `multiple-shooting`, `collocation`).
     pub method: Option<String>,
     /// Grid intervals.
     pub n: Option<Value>,

@@ -450,7 +450,7 @@ fn resolve_method(
     let n_value = given.n.as_ref().map(|p| p.value as usize);
     let mut method = Method::from_name(name.trim(), n_value).ok_or_else(|| {
         let reason =
-            "unknown method: expected accurate, auto, rk4, fdm or fdm-richardson".to_string();
+            "unknown method: expected accurate, auto, rk4, fdm, fdm-richardson, multiple-shooting or collocation".to_string();
         match (name_origin, f_ref) {
             (None, Some(f)) => f.error_at("method.name", format!("{reason}, got `{name}`")),
             _ => IoError::invalid_argument("--method", name.clone(), reason),
@@ -463,7 +463,7 @@ fn resolve_method(
     };
     if let Some((t, origin)) = tol {
         match &mut method {
-            Method::Auto { tol, .. } => {
+            Method::Auto { tol, .. } | Method::Collocation { tol, .. } => {
                 if !(1e-12..=1e-2).contains(&t) {
                     return Err(IoError::invalid_argument(
                         origin,
@@ -478,7 +478,7 @@ fn resolve_method(
                     origin,
                     format!("{t:e}"),
                     format!(
-                        "--tol asks for the automatic choice (--method auto), not {}",
+                        "--tol asks for the automatic choice (--method auto) or collocation, not {}",
                         other.name()
                     ),
                 ));

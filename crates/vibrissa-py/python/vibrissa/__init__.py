@@ -122,7 +122,9 @@ def solve(
     Cesaro pre-curvature kappa0(s) = a s + b, ``k`` the base spring (None or ``math.inf``:
     rigid), ``f, beta_deg, load`` the tip force, its angle and kind (``"dp"`` direction- or
     ``"ap"`` angle-preserving), ``q, alpha_deg`` the fluid load per length and its angle,
-    ``method`` (``"accurate"``, ``"fdm"``, ``"fdm-richardson"``, ``"rk4"``), ``n`` grid
+    ``method`` (``"accurate"``, ``"fdm"``, ``"fdm-richardson"``, ``"rk4"``,
+    ``"multiple-shooting"``, ``"collocation"``: Lobatto collocation with its own load
+    continuation, ``tol`` its accuracy, default 1e-8), ``n`` grid
     intervals (output intervals for ``accurate``; default 100), ``units`` (module docs).
     ``tol``: the accuracy asked for (absolute, in [1e-12, 1e-2]); with ``method="accurate"``
     (the default) it selects ``"auto"``, the cheapest model and method whose error

@@ -10,7 +10,7 @@
 //! dimensionless) plays the experiment: it is swept and its log written as `vibrissa sweep`
 //! writes it (`observables.csv`, [`vibrissa::io::write_observables`]); the log is read back
 //! ([`vibrissa::io::read_observables`]) and the whisker's own parameters theta, A, B, k are
-//! fitted to it from a start 25-40 % off, knowing only the object's contour (the scene's
+//! fitted to it from a start 10-60 % off, knowing only the object's contour (the scene's
 //! profile) and not the flow ([`vibrissa::profile_recon::calibrate::calibrate`]).
 //!
 //! The check is against the truth the calibration never sees (the scene's whisker): every
@@ -94,7 +94,7 @@ fn run(path: &str) -> Result<(), Box<dyn Error>> {
         log_path.display()
     );
 
-    // The calibration: theta, A, B, k from a start 25-40 % off; the flow unknown.
+    // The calibration: theta, A, B, k from a start 10-60 % off; the flow unknown.
     let k_start = if truth.support.stiffness().is_finite() {
         1.4 * truth.support.stiffness()
     } else {

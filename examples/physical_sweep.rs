@@ -13,11 +13,19 @@
 
 use vibrissa::{Error, Scene};
 
+/// The scene swept when none is given.
+const DEFAULT_SCENE: &str = "scenes/physical-beta-g1.ron";
+
 fn main() -> Result<(), Error> {
     let path = std::env::args()
         .nth(1)
-        .unwrap_or_else(|| "scenes/physical-beta-g1.ron".into());
-    let scene = Scene::load(&path)?;
+        .unwrap_or_else(|| DEFAULT_SCENE.into());
+    run(&path)
+}
+
+/// Sweeps the scene file `path`, reconstructs its log and checks the points.
+fn run(path: &str) -> Result<(), Error> {
+    let scene = Scene::load(path)?;
     let sweep = scene.sweep()?;
     let rows = sweep.rows();
     let (first, _) = sweep.first_contact();
@@ -53,4 +61,9 @@ fn main() -> Result<(), Error> {
     assert!(rec.rows.len() + 2 >= contact, "rows lost");
     assert!(worst < 1e-6, "reconstruction off by {worst:e}");
     Ok(())
+}
+
+#[test]
+fn example_checks_pass() {
+    run(DEFAULT_SCENE).expect("the example's checks");
 }

@@ -12,11 +12,19 @@
 
 use vibrissa::{Error, Scene};
 
+/// The scene solved when none is given.
+const DEFAULT_SCENE: &str = "scenes/s18-combined-tapered-precurved-elastic.ron";
+
 fn main() -> Result<(), Error> {
     let path = std::env::args()
         .nth(1)
-        .unwrap_or_else(|| "scenes/s18-combined-tapered-precurved-elastic.ron".into());
-    let scene = Scene::load(&path)?;
+        .unwrap_or_else(|| DEFAULT_SCENE.into());
+    run(&path)
+}
+
+/// Solves the scene file `path` and prints its tip and base observables.
+fn run(path: &str) -> Result<(), Error> {
+    let scene = Scene::load(path)?;
     let sol = scene.solve()?;
     println!(
         "{path}: tip ({:.10}, {:.10}), phi1 {:.10}",
@@ -34,4 +42,9 @@ fn main() -> Result<(), Error> {
     let est = sol.stats.error_estimate;
     assert!(est.is_finite() && est < 1e-6, "error estimate {est:e}");
     Ok(())
+}
+
+#[test]
+fn example_checks_pass() {
+    run(DEFAULT_SCENE).expect("the example's checks");
 }

@@ -18,8 +18,8 @@ fn cli(args: &[&str]) {
         ["vibrissa", "--figures", "none"].iter().chain(args.iter()),
     )
     .expect("a valid command line");
-    vibrissa_cli::plot::set_figure_formats(cli.figures);
-    vibrissa_cli::commands::run(cli.command).expect("the CLI succeeds");
+    let style = cli.figure_style();
+    vibrissa_cli::commands::run(cli.command, style).expect("the CLI succeeds");
 }
 
 /// The CSV file as header and rows of cells.

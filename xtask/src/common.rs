@@ -11,12 +11,16 @@ use contact_sim::cases::SweepCase;
 use contact_sim::{SweepResult, SweepSettings};
 use vibrissa_io::atomic::{write_atomic, OutputDir};
 use vibrissa_io::csvio::CsvWriter;
-use vibrissa_plot::{
-    size_for_this_thread, write_figure, write_panels_with_heading, Chart, FigureSize, Heading,
-    Panel,
-};
+use vibrissa_plot::{Chart, FigureFormats, FigureSize, FigureStyle, Heading, Panel};
 
 use crate::Entry;
+
+/// How the reproduced figures are written: the thesis's figures span the page, so they are
+/// drawn for both columns (175 mm) at print, as SVG and PNG.
+pub const PAGE: FigureStyle = FigureStyle::new(FigureSize::Page, FigureFormats::All);
+
+/// A one-panel figure one journal column (85 mm) wide among the page-wide ones.
+pub const COLUMN: FigureStyle = PAGE.sized(FigureSize::Column);
 
 /// Contact points per chapter-5 sweep (the 200).
 pub const SWEEP_POINTS: usize = 200;
@@ -89,7 +93,7 @@ pub fn par_map<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec
     results.into_inner().unwrap_or_else(|e| e.into_inner())
 }
 
-/// Writes a figure of chart panels to `name` (staged) and records it in `entry`.
+/// Writes a figure of chart panels to `name` (staged, [`PAGE`]) and records it in `entry`.
 pub fn svg(
     out: &OutputDir,
     entry: &mut Entry,
@@ -98,11 +102,24 @@ pub fn svg(
     cols: usize,
 ) -> Result<(), String> {
     let panels: Vec<Panel<'_>> = charts.iter().map(Panel::Chart).collect();
-    svg_panels(out, entry, name, &panels, cols)
+    svg_panels_in(PAGE, out, entry, name, &panels, cols)
 }
 
-/// Writes a figure of panels (charts or maps) to `name` and records it in `entry`.
+/// Writes a figure of panels (charts or maps) to `name` ([`PAGE`]) and records it in
+/// `entry`.
 pub fn svg_panels(
+    out: &OutputDir,
+    entry: &mut Entry,
+    name: &str,
+    panels: &[Panel<'_>],
+    cols: usize,
+) -> Result<(), String> {
+    svg_panels_in(PAGE, out, entry, name, panels, cols)
+}
+
+/// Writes a figure of panels to `name` as `style` says and records it in `entry`.
+fn svg_panels_in(
+    style: FigureStyle,
     out: &OutputDir,
     entry: &mut Entry,
     name: &str,
@@ -113,21 +130,22 @@ pub fn svg_panels(
     let rows = panels.len().div_ceil(cols).max(1);
     let size = (560 * cols as u32, 420 * rows as u32);
     let path = staged_path(out, name)?;
-    write_figure(panels, cols, &path, size).map_err(|e| e.to_string())?;
+    style
+        .write_figure(panels, cols, &path, size)
+        .map_err(|e| e.to_string())?;
     entry.file(path);
     Ok(())
 }
 
-/// Writes one chart as a figure one journal column (85 mm) wide instead of the page, to
-/// `name`, and records it in `entry`.
+/// Writes one chart as a figure one journal column (85 mm) wide instead of the page
+/// ([`COLUMN`]), to `name`, and records it in `entry`.
 pub fn svg_column(
     out: &OutputDir,
     entry: &mut Entry,
     name: &str,
     chart: &Chart,
 ) -> Result<(), String> {
-    let _size = size_for_this_thread(FigureSize::Column);
-    svg(out, entry, name, std::slice::from_ref(chart), 1)
+    svg_panels_in(COLUMN, out, entry, name, &[Panel::Chart(chart)], 1)
 }
 
 /// The staged path of the output file `name`, its directory created.
@@ -349,7 +367,7 @@ pub fn svg_keyed(
         title,
         note: "",
     };
-    svg_headed(out, entry, name, charts, &layout)
+    svg_headed(PAGE, out, entry, name, charts, &layout)
 }
 
 /// How the panels of a figure under one heading are laid out.
@@ -366,8 +384,10 @@ pub struct Layout<'a> {
 }
 
 /// Writes charts as the panels of one figure laid out by `layout`, under its heading and
-/// one key for all panels (the first chart's legend), and records the file in `entry`.
+/// one key for all panels (the first chart's legend), written as `style` says, and records
+/// the file in `entry`.
 pub fn svg_headed(
+    style: FigureStyle,
     out: &OutputDir,
     entry: &mut Entry,
     name: &str,
@@ -379,7 +399,8 @@ pub fn svg_headed(
         title: layout.title.to_string(),
         note: layout.note.to_string(),
     };
-    write_panels_with_heading(charts, layout.cols, &heading, &path, layout.size)
+    style
+        .write_panels_with_heading(charts, layout.cols, &heading, &path, layout.size)
         .map_err(|e| e.to_string())?;
     entry.file(path);
     Ok(())

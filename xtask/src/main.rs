@@ -172,8 +172,6 @@ fn main() -> ExitCode {
 /// if any chapter failed.
 fn reproduce(chapters: &[Chapter], out: &Path) -> Result<(), Failure> {
     let start = Instant::now();
-    // The thesis's figures span the page: drawn for both columns (175 mm) at print.
-    vibrissa_plot::set_figure_size(vibrissa_plot::FigureSize::Page);
     std::fs::create_dir_all(out).map_err(|e| CliError::io(out, e))?;
     let mut report = Report::new("vibrissa: reproduced thesis figures");
     let mut failed = Vec::new();

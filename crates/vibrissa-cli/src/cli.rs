@@ -100,6 +100,14 @@ pub struct Cli {
     pub size: vibrissa_plot::FigureSize,
 }
 
+impl Cli {
+    /// How the command's figures are written: `--size` and `--figures`, handed to the
+    /// command ([`crate::commands::run`]), not set for the process.
+    pub fn figure_style(&self) -> vibrissa_plot::FigureStyle {
+        vibrissa_plot::FigureStyle::new(self.size, self.figures)
+    }
+}
+
 /// The commands.
 #[derive(Debug, Subcommand)]
 pub enum Command {

@@ -118,9 +118,8 @@ fn main() {
             }
         },
     };
-    vibrissa_cli::plot::set_figure_formats(cli.figures);
-    vibrissa_cli::plot::set_figure_size(cli.size);
-    if let Err(e) = commands::run(cli.command) {
+    let style = cli.figure_style();
+    if let Err(e) = commands::run(cli.command, style) {
         eprintln!("error: {e}");
         std::process::exit(e.exit_code());
     }

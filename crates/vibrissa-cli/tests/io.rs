@@ -5,9 +5,7 @@ use std::path::Path;
 
 use vibrissa_cli::atomic::{write_atomic, OutputDir};
 use vibrissa_cli::csvio::{parse_table, read_table, Cell, CsvWriter};
-use vibrissa_cli::plot::{
-    write_figure, write_svg, write_svg_panels, Chart, HeatMap, Panel, Series, Style,
-};
+use vibrissa_cli::plot::{Chart, FigureStyle, HeatMap, Panel, Series, Style};
 use vibrissa_cli::scene_file::{LoadKind, SceneFile, SweepSpec, Units, WhiskerSpec};
 
 fn csv_err(text: &str, required: &[&str], min_rows: usize) -> String {
@@ -340,7 +338,9 @@ fn svg_chart_is_written_with_series_names() {
         .with(Series::new("with gap", gap, Style::Dashed).color(1))
         .with(Series::new("only NaN", vec![(f64::NAN, 1.0)], Style::Points).color(2))
         .equal_aspect();
-    write_svg(&chart, &p, (640, 480)).unwrap();
+    FigureStyle::default()
+        .write_svg(&chart, &p, (640, 480))
+        .unwrap();
     let svg = fs::read_to_string(&p).unwrap();
     assert!(svg.starts_with("<svg"), "{}", &svg[..50]);
     assert!(svg.trim_end().ends_with("</svg>"));
@@ -355,10 +355,14 @@ fn svg_chart_is_written_with_series_names() {
             Style::LinePoints,
         ));
     let p2 = dir.path().join("panels.svg");
-    write_svg_panels(&[chart.clone(), wp.clone(), wp, chart], 2, &p2, (1000, 800)).unwrap();
+    FigureStyle::default()
+        .write_svg_panels(&[chart.clone(), wp.clone(), wp, chart], 2, &p2, (1000, 800))
+        .unwrap();
     let svg = fs::read_to_string(&p2).unwrap();
     assert!(svg.contains("Work precision") && svg.contains("fdm"));
-    let err = write_svg_panels(&[], 2, &dir.path().join("none.svg"), (100, 100)).unwrap_err();
+    let err = FigureStyle::default()
+        .write_svg_panels(&[], 2, &dir.path().join("none.svg"), (100, 100))
+        .unwrap_err();
     assert!(err
         .to_string()
         .ends_with("none.svg: cannot draw the figure: no panels to draw"));
@@ -382,18 +386,24 @@ fn svg_heatmap_checks_its_shape() {
             ("no contact".into(), (220, 220, 220)),
         ],
     };
-    write_figure(&[Panel::HeatMap(&map)], 1, &p, (600, 400)).unwrap();
+    FigureStyle::default()
+        .write_figure(&[Panel::HeatMap(&map)], 1, &p, (600, 400))
+        .unwrap();
     let svg = fs::read_to_string(&p).unwrap();
     assert!(svg.contains("no contact") && svg.contains("Stability"));
     map.cells[1][2] = 7;
-    let e = write_figure(&[Panel::HeatMap(&map)], 1, &p, (600, 400)).unwrap_err();
+    let e = FigureStyle::default()
+        .write_figure(&[Panel::HeatMap(&map)], 1, &p, (600, 400))
+        .unwrap_err();
     assert!(
         e.to_string()
             .ends_with("cells row 1 uses category 7 but only 3 categories are defined"),
         "{e}"
     );
     map.cells.pop();
-    let e = write_figure(&[Panel::HeatMap(&map)], 1, &p, (600, 400)).unwrap_err();
+    let e = FigureStyle::default()
+        .write_figure(&[Panel::HeatMap(&map)], 1, &p, (600, 400))
+        .unwrap_err();
     assert!(e
         .to_string()
         .ends_with("cells has 1 rows but y_values has 2 values"));

@@ -3,12 +3,14 @@
 
 use super::*;
 
-/// Renders charts under a [`Heading`] (what [`write_panels_with_heading`] writes).
+/// Renders charts under a [`Heading`] (what [`FigureStyle::write_panels_with_heading`]
+/// writes), printed at `print`.
 pub fn render_figure_with(
     charts: &[Chart],
     cols: usize,
     size: (u32, u32),
     heading: &Heading,
+    print: FigureSize,
 ) -> Result<String, String> {
     let Some(first) = charts.first() else {
         return Err("no panels to draw".to_string());
@@ -21,7 +23,7 @@ pub fn render_figure_with(
         c.hide_legend = true;
     }
     let panels_hidden: Vec<Panel<'_>> = hidden.iter().map(Panel::Chart).collect();
-    render_layout(&panels_hidden, cols, size, top, |svg, w| {
+    render_layout(&panels_hidden, cols, size, print, top, |svg, w| {
         let full = Rect {
             x: 0.0,
             y: 0.0,
@@ -33,16 +35,18 @@ pub fn render_figure_with(
     })
 }
 
-/// Renders a figure to an SVG string (what [`write_figure`] writes).
+/// Renders a figure to an SVG string (what [`FigureStyle::write_figure`] writes), printed
+/// at `print`.
 pub fn render_figure(
     panels: &[Panel<'_>],
     cols: usize,
     size: (u32, u32),
+    print: FigureSize,
 ) -> Result<String, String> {
-    render_layout(panels, cols, size, |_| 0.0, |_, _| {})
+    render_layout(panels, cols, size, print, |_| 0.0, |_, _| {})
 }
 
-/// The canvas of a figure at the [`figure_size`] in force: as wide (in points) as the
+/// The canvas of a figure printed at `fs`: as wide (in points) as the
 /// printed column, page or slide; panels in at most `cols` columns (fewer where a panel
 /// would be narrower than 115 pt), each plot as high as the design `size` (its aspect) or,
 /// for one equal-aspect chart, the data ask; `top` is the height of what goes above.
@@ -50,6 +54,7 @@ fn render_layout(
     panels: &[Panel<'_>],
     cols: usize,
     size: (u32, u32),
+    fs: FigureSize,
     top: impl Fn(f64) -> f64,
     draw_top: impl FnOnce(&mut Svg, f64),
 ) -> Result<String, String> {
@@ -63,7 +68,6 @@ fn render_layout(
         return Err(format!("size {}x{} is too small", size.0, size.1));
     }
     let n = panels.len();
-    let fs = figure_size();
     let w = fs.canvas_width();
     let design_cols = cols.min(n);
     let design_rows = n.div_ceil(design_cols);
@@ -136,10 +140,12 @@ fn render_layout(
 /// The printed size figures are made for: `--size column|page|slide`. The canvas is as
 /// wide in points as the print, so the fonts print at their nominal sizes (7-8.5 pt; on a
 /// slide twice that).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 #[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 pub enum FigureSize {
-    /// One column of a journal page, 85 mm wide (the command line's default).
+    /// One column of a journal page, 85 mm wide (the command line's and the library's
+    /// default).
+    #[default]
     Column,
     /// Both columns of a journal page, 175 mm wide.
     Page,
@@ -172,53 +178,5 @@ impl FigureSize {
             FigureSize::Slide => 150.0,
             _ => 300.0,
         }
-    }
-
-    fn code(self) -> u8 {
-        self as u8
-    }
-
-    fn from_code(c: u8) -> Self {
-        match c {
-            0 => FigureSize::Column,
-            1 => FigureSize::Page,
-            _ => FigureSize::Slide,
-        }
-    }
-}
-
-static SIZE: std::sync::atomic::AtomicU8 = std::sync::atomic::AtomicU8::new(0);
-
-/// Sets the printed size of every figure of this process (`--size`).
-pub fn set_figure_size(s: FigureSize) {
-    SIZE.store(s.code(), std::sync::atomic::Ordering::Relaxed);
-}
-
-/// The printed size figures are made for: this thread's [`size_for_this_thread`] if one
-/// is in force, else the process's ([`FigureSize::Column`] unless set).
-pub fn figure_size() -> FigureSize {
-    SIZE_HERE
-        .with(std::cell::Cell::get)
-        .unwrap_or_else(|| FigureSize::from_code(SIZE.load(std::sync::atomic::Ordering::Relaxed)))
-}
-
-thread_local! {
-    static SIZE_HERE: std::cell::Cell<Option<FigureSize>> = const { std::cell::Cell::new(None) };
-}
-
-/// Draws the figures of this thread at `size` while the guard lives (e.g. a one-panel
-/// figure one column wide among page-wide ones), then as before; other threads are not
-/// affected.
-pub fn size_for_this_thread(size: FigureSize) -> SizeGuard {
-    SizeGuard(SIZE_HERE.with(|c| c.replace(Some(size))))
-}
-
-/// Restores this thread's figure size when dropped ([`size_for_this_thread`]).
-#[derive(Debug)]
-pub struct SizeGuard(Option<FigureSize>);
-
-impl Drop for SizeGuard {
-    fn drop(&mut self) {
-        SIZE_HERE.with(|c| c.set(self.0));
     }
 }

@@ -5,14 +5,21 @@
 //! automatic ranges, optional log axes (non-positive values are skipped), an optional equal
 //! aspect ratio for beam shapes, [`Mark`]s (labelled vertical event lines, highlighted
 //! points, arrows) and a note line under the title. NaN points are skipped and split lines.
-//! [`write_svg_panels`] puts several charts in one figure; [`HeatMap`] draws categorical
-//! maps (stability maps).
+//! [`FigureStyle::write_svg_panels`] puts several charts in one figure; [`HeatMap`] draws
+//! categorical maps (stability maps).
 //!
 //! What a reader of a paper needs: coordinates are written with 1/100 pixel resolution (no
 //! jagged curves), text is measured with the embedded DejaVu Sans font, so legends and
 //! labels are sized to their text and placed outside the plotting area (they never cover
 //! data), event labels sit in a band above the plot, staggered when close. The PNG is
 //! rendered at twice the SVG's size with the same embedded font (no system fonts).
+//!
+//! No process-wide mutable state: the printed size and the formats of a figure are a
+//! [`FigureStyle`] value handed to each writer (its methods), so threads and tests draw at
+//! different sizes side by side. The only statics are immutable caches of the embedded font
+//! (its parsed face and the font database of [`render_png`], each built once in a
+//! `OnceLock`, and the memo of glyph advances, each slot written once with the font's own
+//! value): whatever the order of calls, they answer the same.
 
 use std::fmt::Write as _;
 use std::sync::OnceLock;
@@ -588,24 +595,65 @@ mod tests {
             vec![(0.0, 0.0), (1.0, 1.0)],
             Style::Line,
         ));
-        let svg = render_figure(&[Panel::Chart(&chart)], 1, (800, 500)).unwrap();
-        assert!(svg.contains("width=\"85mm\""), "{}", &svg[..200]);
+        for (size, mm) in [
+            (FigureSize::Column, "85mm"),
+            (FigureSize::Page, "175mm"),
+            (FigureSize::Slide, "254mm"),
+        ] {
+            let svg = render_figure(&[Panel::Chart(&chart)], 1, (800, 500), size).unwrap();
+            assert!(svg.contains(&format!("width=\"{mm}\"")), "{}", &svg[..200]);
+        }
     }
 
+    /// Two threads write at two styles at once, each figure at its own size and in its
+    /// own formats (with a process-wide setting one of them would take the other's).
     #[test]
-    fn a_thread_draws_at_its_own_size_and_others_do_not_see_it() {
-        let global = figure_size();
-        {
-            let _page = size_for_this_thread(FigureSize::Page);
-            assert_eq!(figure_size(), FigureSize::Page);
-            {
-                let _slide = size_for_this_thread(FigureSize::Slide);
-                assert_eq!(figure_size(), FigureSize::Slide);
+    fn threads_write_figures_in_their_own_styles_at_once() {
+        let dir = std::env::temp_dir().join(format!("vibrissa-plot-styles-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let chart = Chart::new("t", "x", "y").with(Series::new(
+            "s",
+            vec![(0.0, 0.0), (1.0, 2.0)],
+            Style::Line,
+        ));
+        let styles = [
+            FigureStyle::new(FigureSize::Page, FigureFormats::Svg),
+            FigureStyle::new(FigureSize::Slide, FigureFormats::All),
+            FigureStyle::default().sized(FigureSize::Column),
+            FigureStyle::new(FigureSize::Page, FigureFormats::None),
+        ];
+        std::thread::scope(|s| {
+            for (i, style) in styles.iter().enumerate() {
+                let (chart, dir) = (&chart, &dir);
+                s.spawn(move || {
+                    for k in 0..5 {
+                        let p = dir.join(format!("f{i}-{k}.svg"));
+                        style.write_svg(chart, &p, (640, 480)).unwrap();
+                    }
+                });
             }
-            assert_eq!(figure_size(), FigureSize::Page);
-            let other = std::thread::spawn(figure_size).join().unwrap();
-            assert_eq!(other, global);
+        });
+        for (i, style) in styles.iter().enumerate() {
+            for k in 0..5 {
+                let p = dir.join(format!("f{i}-{k}.svg"));
+                assert_eq!(p.exists(), style.formats.svg(), "{}", p.display());
+                assert_eq!(
+                    png_path(&p).exists(),
+                    style.formats.png(),
+                    "{}",
+                    p.display()
+                );
+                if style.formats.svg() {
+                    let svg = std::fs::read_to_string(&p).unwrap();
+                    let mm = format!("width=\"{}mm\"", style.size.print_mm());
+                    assert!(svg.contains(&mm), "{}: {}", p.display(), &svg[..200]);
+                }
+            }
         }
-        assert_eq!(figure_size(), global);
+        // the slide's PNG at 150 dpi of 254 mm: 1500 pixels wide
+        let png = std::fs::read(png_path(&dir.join("f1-0.svg"))).unwrap();
+        let width = u32::from_be_bytes([png[16], png[17], png[18], png[19]]);
+        assert!(width.abs_diff(1500) <= 1, "{width} pixels");
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -11,7 +11,7 @@ mod sketch;
 
 use contact_sim::Phase;
 use vibrissa_io::atomic::OutputDir;
-use vibrissa_plot::{size_for_this_thread, Chart, Dash, FigureSize};
+use vibrissa_plot::{Chart, Dash};
 
 use crate::common::{self, Ctx, Layout, SweepRun};
 use crate::{Entry, Failure, Report};
@@ -111,6 +111,6 @@ fn figure(
     layout: &Layout<'_>,
     column: bool,
 ) -> Result<(), String> {
-    let _width = column.then(|| size_for_this_thread(FigureSize::Column));
-    common::svg_headed(out, entry, name, charts, layout)
+    let style = if column { common::COLUMN } else { common::PAGE };
+    common::svg_headed(style, out, entry, name, charts, layout)
 }

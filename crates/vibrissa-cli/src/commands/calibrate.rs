@@ -21,10 +21,11 @@ use crate::commands::calibrate_out::{self, RESIDUALS_CSV};
 use crate::commands::calibrate_summary::print_summary;
 use crate::commands::recon_io;
 use crate::error::CliError;
+use crate::plot::FigureStyle;
 use crate::resolve::Resolved;
 
-/// Runs `vibrissa calibrate`.
-pub fn run(args: &CalibrateArgs) -> Result<(), CliError> {
+/// Runs `vibrissa calibrate`, its figures written as `style` says.
+pub fn run(args: &CalibrateArgs, style: FigureStyle) -> Result<(), CliError> {
     if !args.advise.is_empty() {
         return crate::commands::calibrate_advice::run(args);
     }
@@ -64,7 +65,9 @@ pub fn run(args: &CalibrateArgs) -> Result<(), CliError> {
             &out.path_for(recon_io::SCENE_RON),
         )?;
         calibrate_out::write_residuals(&cal, &inputs, &units, &out.path_for(RESIDUALS_CSV))?;
-        calibrate_out::write_figures(&cal, &inputs, &logs, &start, &units, |n| out.path_for(n))?;
+        calibrate_out::write_figures(&cal, &inputs, &logs, &start, &units, style, |n| {
+            out.path_for(n)
+        })?;
         out.commit()?;
     }
     if args.json {

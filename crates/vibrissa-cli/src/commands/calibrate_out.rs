@@ -12,7 +12,7 @@ use crate::commands::outputs::{scene_unit_notes, write_scene_ron, write_units_of
 use crate::commands::phases::{is_contact_symbol, symbol_label};
 use crate::csvio::{Cell, CsvWriter};
 use crate::error::CliError;
-use crate::plot::{write_svg, Chart, Series, Style};
+use crate::plot::{Chart, FigureStyle, Series, Style};
 use crate::resolve::Resolved;
 use crate::scene_file::{LoadSpec, MethodSpec, SceneFile, Units, WhiskerSpec};
 use crate::units::{Quantity, UnitSystem};
@@ -161,13 +161,15 @@ pub fn write_residuals(
 }
 
 /// The figures: per log the known contour with the points reconstructed before (the start
-/// whisker) and after calibration, and the residual of every row against x0.
+/// whisker) and after calibration, and the residual of every row against x0, written as
+/// `style` says.
 pub fn write_figures(
     cal: &Calibration,
     inputs: &[LogInput],
     logs: &[CalibLog],
     start: &Whisker,
     units: &UnitSystem,
+    style: FigureStyle,
     path_for: impl Fn(&str) -> PathBuf,
 ) -> Result<(), CliError> {
     let l = units.scale(Quantity::Length);
@@ -237,7 +239,7 @@ pub fn write_figures(
             let top = chart.series.remove(line);
             chart.series.push(top);
         }
-        write_svg(
+        style.write_svg(
             &chart,
             &path_for(&format!("contour-{}.svg", i + 1)),
             (720, 640),
@@ -257,9 +259,5 @@ pub fn write_figures(
             // Each row's distance is its own: points, not a line through them.
             res_chart.with(Series::new(format!("log {}", i + 1), res, Style::Points).color(i));
     }
-    Ok(write_svg(
-        &res_chart,
-        &path_for("residuals.svg"),
-        (900, 480),
-    )?)
+    Ok(style.write_svg(&res_chart, &path_for("residuals.svg"), (900, 480))?)
 }

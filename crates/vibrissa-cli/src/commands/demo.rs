@@ -22,6 +22,7 @@ use crate::commands::solve::write_solution_files;
 use crate::commands::sweep::{run_sweep, write_sweep_outputs, write_sweep_units};
 use crate::commands::sweep_events::sweep_summary;
 use crate::error::CliError;
+use crate::plot::FigureStyle;
 use crate::printer::Printer;
 use crate::resolve::{profile_arg, resolve_model, LoadedScene, ModelFlags, Resolved};
 use crate::scene_file::SceneFile;
@@ -41,8 +42,8 @@ pub const DEMO_SCENE: &str = "\
 )
 ";
 
-/// Runs `vibrissa demo`.
-pub fn run(args: &DemoArgs) -> Result<(), CliError> {
+/// Runs `vibrissa demo`, its figures written as `style` says.
+pub fn run(args: &DemoArgs, style: FigureStyle) -> Result<(), CliError> {
     if args.points < 2 {
         return Err(CliError::invalid_argument(
             "--points",
@@ -72,12 +73,12 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
 
     let out = OutputDir::create(&args.out)?;
     // write_sweep_outputs writes scene.ron with the points actually used.
-    write_solution_files(&r, &free, &out)?;
+    write_solution_files(&r, &free, &out, style)?;
     write_sweep_units(&r, &out)?;
-    write_sweep_outputs(&r, &contour, &res, &profile, args.points, &out)?;
+    write_sweep_outputs(&r, &contour, &res, &profile, args.points, &out, style)?;
     // 3. Identification and reconstruction.
     let mut summary = Vec::new();
-    reconstruct_step(&r, &contour, &res, &out, &mut summary)?;
+    reconstruct_step(&r, &contour, &res, &out, &mut summary, style)?;
     let files = out.commit()?;
 
     let mut stdout = Printer::stdout().published(Some(args.out.as_path()));
@@ -105,13 +106,15 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
 
 /// Identification of q and accurate contour reconstruction from the sweep's observables
 /// alone: writes `reconstruction.csv` (with the error column against the true contour),
-/// `reconstruction.svg` and `error.svg`, and pushes the results to `summary`.
+/// `reconstruction.svg` and `error.svg` (as `style` says), and pushes the results to
+/// `summary`.
 pub fn reconstruct_step(
     resolved: &Resolved,
     contour: &Profile,
     sweep: &SweepResult,
     out: &OutputDir,
     summary: &mut Vec<String>,
+    style: FigureStyle,
 ) -> Result<(), CliError> {
     let rows = from_sweep(sweep);
     let settings = ReconSettings::default();
@@ -137,6 +140,7 @@ pub fn reconstruct_step(
         "demo: contour g1, q = 5",
         &units,
         |n| out.path_for(n),
+        style,
     )?;
     let q_true = resolved.q();
     let id = &rec.identification;

@@ -8,7 +8,7 @@ use beam_model::Solution;
 use crate::commands::outputs::write_units_of;
 use crate::csvio::CsvWriter;
 use crate::error::CliError;
-use crate::plot::{write_svg, Chart, Mark, Series, Style};
+use crate::plot::{Chart, FigureStyle, Mark, Series, Style};
 use crate::units::{Quantity, UnitSystem};
 
 /// The header of `elastica.csv`.
@@ -48,7 +48,8 @@ pub fn write_elastica_csv(sol: &Solution, units: &UnitSystem, path: &Path) -> Re
         units,
     )?)
 }
-/// Writes the elastica figure in `units` (SVG at `path` and a PNG beside it), with the
+/// Writes the elastica figure in `units` (SVG at `path` and/or a PNG beside it, as `style`
+/// says), with the
 /// `loads` drawn as arrows if given: the tip force at the loaded end (direction [3.16],
 /// rotated with the end if angle preserving) and the flow, `q (cos α, −sin α)`, along the
 /// loaded part.
@@ -59,6 +60,7 @@ pub fn write_elastica_figure(
     title: &str,
     units: &UnitSystem,
     path: &Path,
+    style: FigureStyle,
 ) -> Result<(), CliError> {
     let l = units.scale(Quantity::Length);
     let pts = |s: &Solution| -> Vec<(f64, f64)> {
@@ -85,7 +87,7 @@ pub fn write_elastica_figure(
     if let Some(loads) = loads {
         chart = load_arrows(chart, sol, loads, l);
     }
-    Ok(write_svg(&chart, path, (640, 640))?)
+    Ok(style.write_svg(&chart, path, (640, 640))?)
 }
 
 /// The loads of a solve as arrows ending on the whisker (0.2 whisker lengths for the tip

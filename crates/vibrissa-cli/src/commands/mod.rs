@@ -49,14 +49,16 @@ pub use sweep_figures::{write_sweep_figures, FigureContext};
 
 use crate::cli::Command;
 use crate::error::CliError;
+use crate::plot::FigureStyle;
 
-/// Runs one command.
-pub fn run(command: Command) -> Result<(), CliError> {
+/// Runs one command, its figures written as `style` says (`--size`, `--figures`:
+/// [`crate::cli::Cli::figure_style`]).
+pub fn run(command: Command, style: FigureStyle) -> Result<(), CliError> {
     match command {
-        Command::Solve(args) => solve::run(&args),
-        Command::Sweep(args) => sweep::run(&args),
-        Command::Reconstruct(args) => reconstruct::run(&args),
-        Command::Demo(args) => demo::run(&args),
-        Command::Calibrate(args) => calibrate::run(&args),
+        Command::Solve(args) => solve::run(&args, style),
+        Command::Sweep(args) => sweep::run(&args, style),
+        Command::Reconstruct(args) => reconstruct::run(&args, style),
+        Command::Demo(args) => demo::run(&args, style),
+        Command::Calibrate(args) => calibrate::run(&args, style),
     }
 }

@@ -13,7 +13,7 @@ use crate::commands::sweep_events::{sweep_events, SweepEvent};
 use crate::commands::sweep_figures::FigureContext;
 use crate::csvio::CsvWriter;
 use crate::error::CliError;
-use crate::plot::{write_svg, Chart, Mark, MarkStyle, Marker, Series, Style};
+use crate::plot::{Chart, Mark, MarkStyle, Marker, Series, Style};
 use crate::resolve::Resolved;
 use crate::units::Quantity;
 
@@ -298,7 +298,7 @@ pub(crate) fn write_shapes_svg(
     let (xspan, yspan) = ((b - a).max(0.5), 1.4);
     let plot_w = 1000.0 - 380.0;
     let height = (plot_w * yspan / xspan + 170.0).clamp(420.0, 900.0) as u32;
-    Ok(write_svg(&chart, path, (1000, height))?)
+    Ok(ctx.style.write_svg(&chart, path, (1000, height))?)
 }
 
 #[cfg(test)]

@@ -10,11 +10,12 @@ use crate::cli::SolveArgs;
 use crate::commands::elastica::{write_elastica_csv, write_elastica_figure};
 use crate::commands::outputs::{list_files, output_scene, scene_unit_notes, write_scene_ron};
 use crate::error::CliError;
+use crate::plot::FigureStyle;
 use crate::printer::Printer;
 use crate::resolve::{resolve_model, LoadedScene, Resolved};
 
-/// Runs `vibrissa solve`.
-pub fn run(args: &SolveArgs) -> Result<(), CliError> {
+/// Runs `vibrissa solve`, its figure written as `style` says.
+pub fn run(args: &SolveArgs, style: FigureStyle) -> Result<(), CliError> {
     let file = LoadedScene::load_opt(args.scene.as_deref())?;
     let r = resolve_model(&(&args.model).into(), file)?;
     let sol = solve(&r.scene, &r.method).map_err(|e| r.culprit(&e))?;
@@ -24,7 +25,7 @@ pub fn run(args: &SolveArgs) -> Result<(), CliError> {
             crate::atomic::refuse_over_inputs(dir, &[("scene file", scene)])?;
         }
         let out = OutputDir::create(dir)?;
-        write_solution_files(&r, &sol, &out)?;
+        write_solution_files(&r, &sol, &out, style)?;
         written = out.commit()?;
     }
     let mut stdout = Printer::stdout().published(args.out.as_deref());
@@ -42,8 +43,14 @@ pub fn run(args: &SolveArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-/// Writes `elastica.csv` and `elastica.svg` of a solution into the staged directory.
-pub fn write_solution_files(r: &Resolved, sol: &Solution, out: &OutputDir) -> Result<(), CliError> {
+/// Writes `elastica.csv` and `elastica.svg` (as `style` says) of a solution into the staged
+/// directory.
+pub fn write_solution_files(
+    r: &Resolved,
+    sol: &Solution,
+    out: &OutputDir,
+    style: FigureStyle,
+) -> Result<(), CliError> {
     let units = r.units();
     write_elastica_csv(sol, &units, &out.path_for("elastica.csv"))?;
     write_scene_ron(
@@ -75,6 +82,7 @@ pub fn write_solution_files(r: &Resolved, sol: &Solution, out: &OutputDir) -> Re
         &title,
         &units,
         &out.path_for("elastica.svg"),
+        style,
     )
 }
 

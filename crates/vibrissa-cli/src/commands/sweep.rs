@@ -17,6 +17,7 @@ use crate::commands::shapes::{write_shapes_csv, write_shapes_svg};
 use crate::commands::sweep_events::{sweep_summary, RowCounts};
 use crate::commands::sweep_figures::{write_sweep_figures, FigureContext};
 use crate::error::CliError;
+use crate::plot::FigureStyle;
 use crate::printer::Printer;
 use crate::resolve::{profile_arg, resolve_model, LoadedScene, ProfileArg, Resolved};
 use crate::units::{Quantity, UnitSystem};
@@ -26,8 +27,8 @@ pub use vibrissa_io::resolve::sweep::{
     check_sweep_loads, missing_profile, sweep_points, sweep_settings, sweep_tol, DEFAULT_POINTS,
 };
 
-/// Runs `vibrissa sweep`.
-pub fn run(args: &SweepArgs) -> Result<(), CliError> {
+/// Runs `vibrissa sweep`, its figures written as `style` says.
+pub fn run(args: &SweepArgs, style: FigureStyle) -> Result<(), CliError> {
     let file = LoadedScene::load_opt(args.scene.as_deref())?;
     let profile =
         profile_arg(&args.profile, file.as_ref()).ok_or_else(|| missing_profile(file.as_ref()))?;
@@ -59,7 +60,7 @@ pub fn run(args: &SweepArgs) -> Result<(), CliError> {
     let out = OutputDir::create(&args.out)?;
     write_sweep_units(&r, &out)?;
     let res = run_sweep_with(&r, &contour, &profile, &sweep_settings(points, tol))?;
-    write_sweep_outputs(&r, &contour, &res, &profile, points, &out)?;
+    write_sweep_outputs(&r, &contour, &res, &profile, points, &out, style)?;
     if args.shapes {
         write_shapes_csv(&r, &res, &out.path_for("shapes.csv"))?;
     }
@@ -192,7 +193,7 @@ pub fn write_sweep_units(r: &Resolved, out: &OutputDir) -> Result<(), CliError> 
 /// Writes a sweep's folder into `out` (its units sidecar aside, [`write_sweep_units`]):
 /// `observables.csv` (in the scene's units), `scene.ron` (every parameter, units included, the
 /// true point count; a points profile is copied beside it as `profile.csv`), and the figures
-/// `observables`, `contact` and `shapes` (as `--figures` says).
+/// `observables`, `contact` and `shapes` (as `style` says: `--figures`, `--size`).
 pub fn write_sweep_outputs(
     r: &Resolved,
     contour: &Profile,
@@ -200,8 +201,9 @@ pub fn write_sweep_outputs(
     profile: &ProfileArg,
     points: usize,
     out: &OutputDir,
+    style: FigureStyle,
 ) -> Result<(), CliError> {
-    if crate::plot::figure_formats() == crate::plot::FigureFormats::None {
+    if !style.draws() {
         // no figure to draw: neither the shapes solved for them nor their threads
         return write_sweep_data(r, res, profile, points, out);
     }
@@ -209,6 +211,7 @@ pub fn write_sweep_outputs(
         units: r.units(),
         scene: scene_title(r, &profile.spec),
         rigid: r.scene.whisker.support.stiffness().is_infinite(),
+        style,
     };
     // The shapes (eight whiskers solved, then drawn: the longest of the figures) on a
     // thread of their own from the start; the data files, then the other two figures (on

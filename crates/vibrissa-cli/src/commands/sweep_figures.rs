@@ -9,7 +9,7 @@ use contact_sim::{Phase, SweepResult};
 use crate::commands::phases::{phase_color, phase_dash, phase_name, NamedOnce};
 use crate::commands::sweep_events::sweep_events;
 use crate::error::CliError;
-use crate::plot::{write_panels_with_heading, Chart, Heading, Mark, Series, Style};
+use crate::plot::{Chart, FigureStyle, Heading, Mark, Series, Style};
 use crate::units::{Quantity, UnitSystem};
 
 /// Series of `value` against x0, one per run of equal phase (coloured by phase; runs
@@ -96,6 +96,8 @@ pub struct FigureContext {
     pub scene: String,
     /// A rigid support: phi0 is pi/2 throughout and its panel is left out.
     pub rigid: bool,
+    /// How the figures are written (`--size`, `--figures`).
+    pub style: FigureStyle,
 }
 
 /// Whether phi0 varies beyond rounding over the rows.
@@ -110,8 +112,7 @@ fn phi0_varies(res: &SweepResult) -> bool {
     hi - lo > 1e-8
 }
 
-/// Writes the figures of a sweep into `dir` (staging paths), in the formats of
-/// [`crate::plot::figure_formats`]:
+/// Writes the figures of a sweep into `dir` (staging paths), as `ctx.style` says:
 /// `observables.svg` (Ax, Ay, MA and, unless the support is rigid, phi0 against x0, thesis
 /// Figs. 5.9/5.10) and `contact.svg` (f and s1 against x0, Fig. 5.11), with the events
 /// marked. Returns the SVG file names written.
@@ -179,13 +180,9 @@ pub fn write_sweep_figures(
     };
     let observables_path = path_for("observables.svg");
     let observables = || -> Result<(), CliError> {
-        Ok(write_panels_with_heading(
-            &charts,
-            cols,
-            &heading,
-            &observables_path,
-            size,
-        )?)
+        Ok(ctx
+            .style
+            .write_panels_with_heading(&charts, cols, &heading, &observables_path, size)?)
     };
     let mut written = vec!["observables.svg"];
     let has_contact = res.contact_points().next().is_some();
@@ -221,7 +218,7 @@ pub fn write_sweep_figures(
             title: "Contact force and contact point along the sweep".to_string(),
             note,
         };
-        Ok(write_panels_with_heading(
+        Ok(ctx.style.write_panels_with_heading(
             &charts,
             3,
             &heading,

@@ -9,7 +9,7 @@ use profile_recon::ReconPoint;
 
 use crate::commands::phases::{phase_color, phase_name};
 use crate::error::CliError;
-use crate::plot::{write_svg, Chart, Series, Style};
+use crate::plot::{Chart, FigureStyle, Series, Style};
 use crate::units::{Quantity, UnitSystem};
 
 /// The true contour over the x range of the points (5 % beyond each end, within its
@@ -110,7 +110,7 @@ fn error_chart(points: &[ReconPoint], errors: Option<&[f64]>, units: &UnitSystem
 
 /// Writes `reconstruction.svg` (the reconstructed points, with the true contour if known,
 /// over the error panel) and, with errors, `error.svg` (e against x, log scale), the axes in
-/// `units` (in the formats `--figures` asks for). Returns the SVG file names written.
+/// `units` (as `style` says: `--figures`, `--size`). Returns the SVG file names written.
 pub fn write_reconstruction_figures(
     points: &[ReconPoint],
     truth: Option<&Profile>,
@@ -118,10 +118,11 @@ pub fn write_reconstruction_figures(
     title: &str,
     units: &UnitSystem,
     path_for: impl Fn(&str) -> PathBuf,
+    style: FigureStyle,
 ) -> Result<Vec<&'static str>, CliError> {
     let chart = contour_chart(points, truth, title, units);
     let resid = error_chart(points, errors, units);
-    crate::plot::write_svg_panels(
+    style.write_svg_panels(
         &[chart, resid.clone()],
         1,
         &path_for("reconstruction.svg"),
@@ -129,7 +130,7 @@ pub fn write_reconstruction_figures(
     )?;
     let mut written = vec!["reconstruction.svg"];
     if errors.is_some() {
-        write_svg(&resid, &path_for("error.svg"), (800, 480))?;
+        style.write_svg(&resid, &path_for("error.svg"), (800, 480))?;
         written.push("error.svg");
     }
     Ok(written)

@@ -32,6 +32,7 @@ use crate::cli::ReconstructArgs;
 use crate::commands::recon_io;
 use crate::csvio::{read_table, Table};
 use crate::error::CliError;
+use crate::plot::FigureStyle;
 use crate::printer::Printer;
 use crate::resolve::{LoadedScene, ProfileArg, Resolved};
 use crate::units::{Quantity, UnitSystem};
@@ -52,8 +53,8 @@ struct Inputs<'a> {
     truth: Option<Profile>,
 }
 
-/// Runs `vibrissa reconstruct`.
-pub fn run(args: &ReconstructArgs) -> Result<(), CliError> {
+/// Runs `vibrissa reconstruct`, its figures written as `style` says.
+pub fn run(args: &ReconstructArgs, style: FigureStyle) -> Result<(), CliError> {
     if args.stream {
         return stream::run_stream(args);
     }
@@ -62,7 +63,7 @@ pub fn run(args: &ReconstructArgs) -> Result<(), CliError> {
     let x0_given = recon_io::to_model_units(&mut table, &inputs.units)?;
     let rec = reconstruct_log(args, &inputs.opts, &inputs.r, &table)?;
     let errors = inputs.truth.as_ref().map(|p| contour_error(&rec.points, p));
-    let files = write(args, &inputs, &rec, errors.as_deref(), &x0_given)?;
+    let files = write(args, &inputs, &rec, errors.as_deref(), &x0_given, style)?;
     print_summary(args, &inputs, &rec, &table, errors.as_deref(), files.len())
 }
 
@@ -104,13 +105,14 @@ fn resolve(args: &ReconstructArgs) -> Result<Inputs<'_>, CliError> {
 }
 
 /// Write: `reconstruction.csv`, `scene.ron` and the figures into the output folder, all or
-/// nothing; returns the files written.
+/// nothing (the figures as `style` says); returns the files written.
 fn write(
     args: &ReconstructArgs,
     inputs: &Inputs<'_>,
     rec: &Reconstruction,
     errors: Option<&[f64]>,
     x0_given: &[f64],
+    style: FigureStyle,
 ) -> Result<Vec<PathBuf>, CliError> {
     let units = &inputs.units;
     let out = OutputDir::create(inputs.out_dir)?;
@@ -140,6 +142,7 @@ fn write(
         ),
         units,
         |n| out.path_for(n),
+        style,
     )?;
     Ok(out.commit()?)
 }

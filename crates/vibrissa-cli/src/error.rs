@@ -202,6 +202,10 @@ impl From<vibrissa_io::IoError> for CliError {
                 reason,
             },
             E::Usage { reason } => CliError::Usage { reason },
+            // an output folder refused: a usage error, its message as is
+            e @ (E::Locked { .. } | E::ForeignFile { .. }) => CliError::Usage {
+                reason: e.to_string(),
+            },
             E::Solver { reason, source } => CliError::Solver { reason, source },
         }
     }

@@ -47,6 +47,14 @@ impl ReconOptions {
     /// row on its own).
     pub fn parse_stream(args: &ReconstructArgs) -> Result<Self, CliError> {
         let opts = Self::parse(args)?;
+        if let Some(out) = &args.out {
+            return Err(CliError::invalid_argument(
+                "--out",
+                out.display().to_string(),
+                "the stream writes each contact point to standard output; leave --out out \
+                 with --stream (or reconstruct the log as a file into --out)",
+            ));
+        }
         if let Some(raw) = &args.tol {
             return Err(CliError::invalid_argument(
                 "--tol",

@@ -1,31 +1,23 @@
-//! Independent rows in two fixed halves, the second on a thread of its own where a second
-//! core exists: the rows of a log are evaluated and judged each on its own, so the numbers
-//! are the same either way (and the same as one pass in order).
+//! Independent rows on rayon's pool: the rows of a log are evaluated and judged each on its
+//! own, so the numbers are the same on any number of threads (and the same as one pass in
+//! order).
 
-use std::ops::Range;
+use rayon::prelude::*;
 
-/// `f(i)` for `i` in `0..n`, in order: the halves `0..n/2` and `n/2..n` (the second on a
-/// scoped thread where [`bvp_solvers::cores::second_core`] says so). The first error
-/// in row order is returned, as one pass in order would return it.
+/// `f(i)` for `i` in `0..n`, in order, the rows shared out over rayon's pool. The first
+/// error in row order is returned, as one pass in order would return it (every row is
+/// evaluated; an error is the exception, not worth a cancellation).
 ///
 /// # Errors
 /// The first error of `f` in row order.
-pub(crate) fn in_halves<T, E, F>(n: usize, f: F) -> Result<Vec<T>, E>
+pub(crate) fn map_rows<T, E, F>(n: usize, f: F) -> Result<Vec<T>, E>
 where
     T: Send,
     E: Send,
     F: Fn(usize) -> Result<T, E> + Sync,
 {
-    let run = |range: Range<usize>| range.map(&f).collect::<Result<Vec<T>, E>>();
-    let mid = n / 2;
-    let (first, second) = if mid > 0 {
-        bvp_solvers::cores::both(|| run(0..mid), || run(mid..n))
-    } else {
-        (run(0..mid), run(mid..n))
-    };
-    let mut out = first?;
-    out.extend(second?);
-    Ok(out)
+    let all: Vec<Result<T, E>> = (0..n).into_par_iter().map(&f).collect();
+    all.into_iter().collect()
 }
 
 #[cfg(test)]
@@ -33,16 +25,26 @@ mod tests {
     use super::*;
 
     /// In order, every row once, and the first error in row order (not the first to occur
-    /// in time).
+    /// in time), on the global pool and on pools of 1 and 3 threads.
     #[test]
     fn rows_come_back_in_order_with_the_first_error() {
-        let squares = in_halves(101, |i| Ok::<_, usize>(i * i)).unwrap();
-        assert_eq!(squares, (0..101).map(|i| i * i).collect::<Vec<_>>());
-        let err = in_halves(100, |i| if i == 20 || i == 70 { Err(i) } else { Ok(i) });
-        assert_eq!(err, Err(20));
-        let err = in_halves(100, |i| if i == 70 { Err(i) } else { Ok(i) });
-        assert_eq!(err, Err(70));
-        assert_eq!(in_halves(0, Ok::<_, ()>), Ok(vec![]));
-        assert_eq!(in_halves(1, Ok::<_, ()>), Ok(vec![0]));
+        let check = || {
+            let squares = map_rows(101, |i| Ok::<_, usize>(i * i)).unwrap();
+            assert_eq!(squares, (0..101).map(|i| i * i).collect::<Vec<_>>());
+            let err = map_rows(100, |i| if i == 20 || i == 70 { Err(i) } else { Ok(i) });
+            assert_eq!(err, Err(20));
+            let err = map_rows(100, |i| if i == 70 { Err(i) } else { Ok(i) });
+            assert_eq!(err, Err(70));
+            assert_eq!(map_rows(0, Ok::<_, ()>), Ok(vec![]));
+            assert_eq!(map_rows(1, Ok::<_, ()>), Ok(vec![0]));
+        };
+        check();
+        for threads in [1, 3] {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(check);
+        }
     }
 }

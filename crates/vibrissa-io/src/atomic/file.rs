@@ -7,7 +7,7 @@
 //! is flushed so that the rename is durable: a reader or a crash sees the old file or the
 //! new one, never a half-written one.
 //!
-//! Inside the staging folder of an [`OutputDir`](super::OutputDir) a file is written in place,
+//! Inside the staging folder of an [`OutputDir`] a file is written in place,
 //! without a temporary or a rename: the staging folder is already the temporary, seen by no
 //! one until the commit. Its flush starts at once on a thread of its own (a flush waits on the
 //! disk, not on the processor; such threads are not a compute pool's work), while the command

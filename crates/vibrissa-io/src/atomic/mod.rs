@@ -1,7 +1,7 @@
 //! Atomic output: a file is either fully written or not there at all, and an output folder
 //! is the earlier one or the complete new one, never a mix, never absent.
 //!
-//! - [`write_atomic`] ([`file`]): one file through a temporary sibling
+//! - [`write_atomic`] ([`file`](mod@file)): one file through a temporary sibling
 //!   (`tempfile::NamedTempFile::new_in` its folder), flushed (`fsync`) and persisted (renamed)
 //!   over the final name; inside a staging folder, in place with its flush started at once.
 //! - [`OutputDir`] ([`folder`]): the files of one command staged in a sibling folder and
@@ -33,7 +33,7 @@
 //!    folder holding a manifest (ours by name and by content; with the lock held, no live
 //!    writer uses them). Nothing else beside the folder is touched.
 //! 5. **Stage.** The command writes into `P/.NAME.staging-PID`; each file's flush
-//!    (`fdatasync`) starts at once on a thread of its own ([`file`]).
+//!    (`fdatasync`) starts at once on a thread of its own ([`file`](mod@file)).
 //! 6. **Publish.** [`OutputDir::commit`] writes the manifest, waits for the flushes, flushes
 //!    the folders, and swaps the staging folder in ([`swap`]): on Linux by one
 //!    `renameat2(RENAME_EXCHANGE)` (an existing `P/NAME` and the staging folder trade

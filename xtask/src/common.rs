@@ -7,6 +7,8 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 use std::time::Instant;
 
+use rayon::prelude::*;
+
 use contact_sim::cases::SweepCase;
 use contact_sim::{SweepResult, SweepSettings};
 use vibrissa_io::atomic::{write_atomic, OutputDir};
@@ -25,9 +27,10 @@ pub const COLUMN: FigureStyle = PAGE.sized(FigureSize::Column);
 /// Contact points per chapter-5 sweep (the 200).
 pub const SWEEP_POINTS: usize = 200;
 
-/// Worker threads of [`par_map`]: the available parallelism, at most 8.
+/// Worker threads of [`par_map`]: those of rayon's global pool (the available
+/// parallelism, or `RAYON_NUM_THREADS`).
 pub fn threads() -> usize {
-    std::thread::available_parallelism().map_or(1, |n| n.get().clamp(1, 8))
+    rayon::current_num_threads()
 }
 
 /// The step being computed, named in the progress lines of [`par_map`].
@@ -43,13 +46,12 @@ pub fn step(chapter: u32, i: usize, n: usize, what: &str) {
     }
 }
 
-/// Maps `f` over `items` on [`threads`] threads, keeping the order. A panic inside `f` is
-/// caught and gives `None` for that item (the others continue). A map that runs longer than
-/// a second prints its count of items done on stderr, at most once a second.
+/// Maps `f` over `items` on rayon's pool ([`threads`] threads), keeping the order. A panic
+/// inside `f` is caught and gives `None` for that item (the others continue). A map that
+/// runs longer than a second prints its count of items done on stderr, at most once a
+/// second.
 pub fn par_map<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<Option<R>> {
     let n = items.len();
-    let workers = threads().min(n.max(1));
-    let next = AtomicUsize::new(0);
     let done = AtomicUsize::new(0);
     let started = Instant::now();
     let last_print = Mutex::new(started);
@@ -67,30 +69,16 @@ pub fn par_map<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec
             }
         }
     };
-    let results: Mutex<Vec<Option<R>>> = Mutex::new((0..n).map(|_| None).collect());
-    let work = || loop {
-        let i = next.fetch_add(1, Ordering::Relaxed);
-        if i >= n {
-            break;
-        }
-        let r = catch_unwind(AssertUnwindSafe(|| f(&items[i]))).ok();
-        if let Ok(mut g) = results.lock() {
-            g[i] = r;
-        }
-        report(done.fetch_add(1, Ordering::Relaxed) + 1);
-    };
-    if workers <= 1 {
-        work();
-    } else {
-        std::thread::scope(|s| {
-            let handles: Vec<_> = (0..workers).map(|_| s.spawn(work)).collect();
-            for h in handles {
-                // `work` catches panics of `f`; a join error cannot carry a result anyway.
-                let _ = h.join();
-            }
-        });
-    }
-    results.into_inner().unwrap_or_else(|e| e.into_inner())
+    items
+        .par_iter()
+        // one item a job: the items are whole solves or sweeps, of very unequal cost
+        .with_max_len(1)
+        .map(|item| {
+            let r = catch_unwind(AssertUnwindSafe(|| f(item))).ok();
+            report(done.fetch_add(1, Ordering::Relaxed) + 1);
+            r
+        })
+        .collect()
 }
 
 /// Writes a figure of chart panels to `name` (staged, [`PAGE`]) and records it in `entry`.

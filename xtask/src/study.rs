@@ -17,6 +17,7 @@ use beam_model::error::finite;
 use beam_model::methods::{solve, Method, DEFAULT_INTERVALS};
 use beam_model::{Loads, ModelError, Preset, Result, Scene, Solution, Support, TipForce, Whisker};
 
+use rayon::prelude::*;
 use std::fmt::Write as _;
 use std::time::{Duration, Instant};
 
@@ -433,7 +434,7 @@ fn converged(sol: &Solution) -> Outcome {
 /// base of stiffness `k` (`inf`: rigid) under the load `kind` of each magnitude. Every solve
 /// starts cold, as [`solve`] does for a user. A failed solve is recorded as
 /// [`Outcome::Failed`]; only an invalid grid is an error. The cells are shared out over
-/// `std::thread::available_parallelism()` threads (at most 4).
+/// rayon's pool (each cell on its own: the maps do not depend on the number of threads).
 pub fn stability_maps(
     methods: &[Method],
     kind: LoadAxis,
@@ -454,36 +455,15 @@ pub fn stability_maps(
     let cells: Vec<(usize, usize)> = (0..loads.len())
         .flat_map(|i| (0..thetas.len()).map(move |j| (i, j)))
         .collect();
-    let threads = std::thread::available_parallelism()
-        .map_or(1, |n| n.get())
-        .clamp(1, 4)
-        .min(cells.len());
-    let compute = |t: usize| -> Vec<(usize, usize, bool, Vec<Outcome>)> {
-        cells
-            .iter()
-            .skip(t)
-            .step_by(threads)
-            .map(|&(i, j)| {
-                let scene = map_scene(kind, loads[i], thetas[j], support);
-                let (ok, outcomes) = map_cell(methods, &reference_method, &scene);
-                (i, j, ok, outcomes)
-            })
-            .collect()
-    };
-    let results: Vec<(usize, usize, bool, Vec<Outcome>)> = if threads <= 1 {
-        compute(0)
-    } else {
-        std::thread::scope(|scope| {
-            let handles: Vec<_> = (0..threads)
-                .map(|t| scope.spawn(move || compute(t)))
-                .collect();
-            handles
-                .into_iter()
-                // A worker only panics if a solver panics; re-raise it unchanged.
-                .flat_map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
-                .collect()
+    let results: Vec<(usize, usize, bool, Vec<Outcome>)> = cells
+        .par_iter()
+        .with_max_len(1)
+        .map(|&(i, j)| {
+            let scene = map_scene(kind, loads[i], thetas[j], support);
+            let (ok, outcomes) = map_cell(methods, &reference_method, &scene);
+            (i, j, ok, outcomes)
         })
-    };
+        .collect();
     let mut maps: Vec<StabilityMap> = methods
         .iter()
         .map(|m| StabilityMap {

@@ -25,7 +25,6 @@
 
 pub mod collocation;
 pub mod continuation;
-pub mod cores;
 pub mod dense;
 pub mod error;
 pub mod fdm;
@@ -35,6 +34,7 @@ pub mod interp;
 pub mod multiple_shooting;
 pub mod newton;
 pub mod nonlinear;
+pub mod parallel;
 pub mod richardson;
 pub mod roots;
 pub mod shooting;

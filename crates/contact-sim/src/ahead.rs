@@ -1,13 +1,19 @@
-//! Checks run ahead on a second core: a sequence of items (the trace's accepted nodes) is
-//! checked on another thread while the caller goes on as if every check passed. Each item
-//! is submitted with the caller's state from before it was accepted; the results are
-//! collected in order, without waiting as a rule, and the first item that fails its check
-//! comes back with that state, so that the caller can return to it and go on as if the
-//! check had been made before the item was accepted. Nothing else depends on the thread:
+//! Checks run ahead on another thread of rayon's pool: a sequence of items (the trace's
+//! accepted nodes) is checked on another thread while the caller goes on as if every check
+//! passed. Each item is submitted with the caller's state from before it was accepted; the
+//! results are collected in order, without waiting as a rule, and the first item that fails
+//! its check comes back with that state, so that the caller can return to it and go on as
+//! if the check had been made before the item was accepted. Nothing else depends on the thread:
 //! the caller's result is the same with the checks run ahead or in line.
 //!
 //! The caller waits only where it must decide (an event, an error, the end): then every
 //! check still out is collected first.
+//!
+//! The checking loop is one job spawned on rayon's pool for the length of the trace (it
+//! waits on a channel between items). It is spawned only where the caller is not itself a
+//! worker of the pool ([`bvp_solvers::parallel::pool_beside_caller`]): a worker that waited
+//! on a job queued behind it could wait for ever, and a computation inside the pool is one
+//! of many sharing it (a parallel study), where checking in line costs nothing.
 
 use crate::error::Result;
 use std::collections::VecDeque;
@@ -28,8 +34,8 @@ pub(crate) struct Ahead<T, S> {
     pending: VecDeque<(T, S)>,
 }
 
-/// Runs `body` with checks by `check` (`true`: the item fails) on a thread of their own
-/// where a second core is offered and a thread can be started (`Some`), in line otherwise
+/// Runs `body` with checks by `check` (`true`: the item fails) on another thread of rayon's
+/// pool where [`bvp_solvers::parallel::pool_beside_caller`] (`Some`), in line otherwise
 /// (`None`: the caller checks).
 pub(crate) fn with_checks<T, S, R>(
     check: impl Fn(&T) -> Result<bool> + Send,
@@ -38,21 +44,21 @@ pub(crate) fn with_checks<T, S, R>(
 where
     T: Copy + Send,
 {
-    if !bvp_solvers::cores::second_core() {
+    if !bvp_solvers::parallel::pool_beside_caller() {
         return body(None);
     }
     let (to_check, items) = channel::<T>();
     let (found, results) = channel();
-    std::thread::scope(|scope| {
-        let started = std::thread::Builder::new().spawn_scoped(scope, move || {
+    rayon::in_place_scope(|scope| {
+        // ends when `body` is done with its `Ahead` (the channel closed)
+        scope.spawn(move |_| {
             while let Ok(item) = receive(&items) {
                 if found.send(check(&item)).is_err() {
                     break;
                 }
             }
         });
-        // a thread that cannot be started is no error: the caller checks in line
-        body(started.is_ok().then(|| Ahead {
+        body(Some(Ahead {
             to_check,
             results,
             pending: VecDeque::new(),
@@ -139,7 +145,7 @@ mod tests {
                     ahead.collect(true).unwrap()
                 },
             );
-            if bvp_solvers::cores::second_core() {
+            if bvp_solvers::parallel::pool_beside_caller() {
                 assert_eq!(got, Some((7, 70)));
             }
             let none = with_checks(

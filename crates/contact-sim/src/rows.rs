@@ -30,7 +30,7 @@ pub(crate) fn rows(
         .map(|k| x_start - span * k as f64 / (points - 1) as f64)
         .collect();
     // two fixed halves, each its own chain of predictions: the numbers do not depend on
-    // whether the second half runs on a thread of its own (where a second core exists)
+    // whether the second half runs on another thread of rayon's pool
     let (near, far) = targets.split_at(targets.len() / 2);
     let (a, b) = if far.is_empty() {
         let near_half = chain((branch, loose), nodes, &[first], near, &mut |k| {
@@ -38,7 +38,7 @@ pub(crate) fn rows(
         });
         (near_half, Ok(Vec::new()))
     } else {
-        bvp_solvers::cores::both(
+        bvp_solvers::parallel::both(
             || {
                 chain((branch, loose), nodes, &[first], near, &mut |k| {
                     progress(k, points)

@@ -289,8 +289,6 @@ pub fn sweep_with_progress(
     settings: &SweepSettings,
     progress: &mut dyn FnMut(SweepProgress),
 ) -> Result<SweepResult> {
-    // one computation that may split over two cores (bvp_solvers::cores)
-    let _claim = bvp_solvers::cores::Claim::new();
     whisker.validate()?;
     Loads::fluid(flow.q, flow.alpha).validate()?;
     check_settings(settings, flow)?;

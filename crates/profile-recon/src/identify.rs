@@ -290,7 +290,7 @@ impl Passes<'_> {
             scales: self.scales,
             integrator: self.integrator,
         };
-        crate::halves::in_halves(self.rows.len(), |i| evaluate(&ctx, &self.rows[i]))
+        crate::rows_par::map_rows(self.rows.len(), |i| evaluate(&ctx, &self.rows[i]))
     }
 
     /// Step (3): the given noise level, else the estimate capped by the reference.

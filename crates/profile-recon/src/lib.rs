@@ -37,13 +37,13 @@ pub mod base_shot;
 pub mod calibrate;
 pub mod common;
 pub mod error;
-mod halves;
 pub mod identify;
 mod judge;
 pub mod noise;
 pub mod observables;
 pub mod reconstruct;
 pub mod result;
+mod rows_par;
 pub mod stream;
 pub mod thesis;
 

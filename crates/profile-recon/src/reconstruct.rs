@@ -57,8 +57,6 @@ pub(crate) fn reconstruct_identified(
     known: KnownFlow,
     settings: &ReconSettings,
 ) -> Result<(Reconstruction, Identified)> {
-    // one computation that may split over two cores (bvp_solvers::cores)
-    let _claim = bvp_solvers::cores::Claim::new();
     let ided = identify_rows(whisker, rows, known, settings)?;
     let id = &ided.id;
     let contact: Vec<usize> = (0..rows.len())
@@ -106,9 +104,9 @@ fn accurate_points(
         flow_sd: flow_sd(known, level, &ided.scales, id.pre_contact.len()),
         settings,
     };
-    // each row on its own ([`crate::halves`])
+    // each row on its own ([`crate::rows_par`])
     let judged =
-        crate::halves::in_halves(rows.len(), |i| judge.judge(i, &rows[i], &ided.evals[i]))?;
+        crate::rows_par::map_rows(rows.len(), |i| judge.judge(i, &rows[i], &ided.evals[i]))?;
     Ok(judged.into_iter().flatten().collect())
 }
 

@@ -18,7 +18,13 @@ Examples:
 
 Exit codes: 0 success, 1 solver failure, 2 usage or input error, 3 no contact (the whisker
 never touches the obstacle), 4 output not delivered (standard output closed by its reader,
-as `| head` does, or full; an --out folder written before stays whole).";
+as `| head` does, or full; an --out folder written before stays whole).
+
+Output folders (--out DIR): written whole or not at all (staged beside DIR, then swapped in);
+DIR lists what vibrissa wrote in DIR/.vibrissa-output, and a DIR holding anything else is
+refused (exit 2, naming one such file), never emptied; a symbolic link DIR is followed (the
+folder it points to is replaced, the link stays a link); a second run into DIR while one
+writes it is refused (exit 2).";
 
 const SOLVE_EXAMPLES: &str = "\
 Examples:
@@ -244,7 +250,8 @@ pub struct SolveArgs {
     #[arg(long)]
     pub json: bool,
     /// Write elastica.csv (s,x,y,phi,kappa,m, with elastica.units.csv), scene.ron and the
-    /// figure elastica.svg/.png into DIR (mm, N mm for a physical scene).
+    /// figure elastica.svg/.png into DIR (mm, N mm for a physical scene). A symbolic link
+    /// is followed; a DIR holding files vibrissa did not write is refused.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
 }
@@ -289,7 +296,8 @@ pub struct SweepArgs {
     pub json: bool,
     /// Output directory: observables.csv (+ observables.units.csv), scene.ron (every
     /// parameter, to reconstruct the folder with `vibrissa reconstruct DIR`), and the
-    /// figures observables, contact, shapes (as `--figures` says: SVG by default).
+    /// figures observables, contact, shapes (as `--figures` says: SVG by default). A
+    /// symbolic link is followed; a DIR holding files vibrissa did not write is refused.
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
 }
@@ -349,7 +357,8 @@ pub struct ReconstructArgs {
     #[arg(long)]
     pub json: bool,
     /// Output directory: reconstruction.csv, reconstruction.svg (and error.svg with
-    /// --profile); not with --stream.
+    /// --profile); not with --stream. A symbolic link is followed; a DIR holding files
+    /// vibrissa did not write is refused.
     #[arg(long, value_name = "DIR", required_unless_present = "stream")]
     pub out: Option<PathBuf>,
 }
@@ -357,7 +366,8 @@ pub struct ReconstructArgs {
 /// `vibrissa demo`.
 #[derive(Debug, Clone, Args)]
 pub struct DemoArgs {
-    /// Output directory.
+    /// Output directory (a symbolic link is followed; a DIR holding files vibrissa did not
+    /// write is refused).
     #[arg(long, value_name = "DIR", default_value = "vibrissa-demo")]
     pub out: PathBuf,
     /// Contact rows of the demo sweep (event rows are added, as for `sweep --points`).
@@ -428,7 +438,8 @@ pub struct CalibrateArgs {
     /// Print one JSON object on stdout instead of a human summary.
     #[arg(long)]
     pub json: bool,
-    /// Output directory: scene.ron, residuals.csv (+ units), contour-N.svg, residuals.svg.
+    /// Output directory: scene.ron, residuals.csv (+ units), contour-N.svg, residuals.svg. A
+    /// symbolic link is followed; a DIR holding files vibrissa did not write is refused.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
 }

@@ -74,6 +74,8 @@ fn install_panic_hook() {
 
 fn main() {
     install_panic_hook();
+    // rayon's pool, or the main thread alone where no thread can be started
+    bvp_solvers::parallel::start_pool();
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) => match e.kind() {

@@ -19,7 +19,10 @@
 //! cells replaced, truncated, garbage, reordered rows) for `reconstruct` and `--stream`,
 //! flags with extreme values (`1e300`, `-0`, `NaN`, `inf`, huge `--points` and `--n`),
 //! profile strings, closed pipes and `/dev/full` for every command, and concurrent writers
-//! to one `--out`.
+//! to one `--out`. Output folders (issue #34 item 6) have tests of their own at the end: a
+//! symbolic link followed, files vibrissa did not write refused, two live writers, a writer
+//! killed mid-run (SIGKILL and SIGTERM), a read-only parent, `--out` naming a file, and
+//! `--stream` with `--out`.
 //!
 //! The seed is `VIBRISSA_HOSTILE_SEED` (default below); `VIBRISSA_HOSTILE_CASES` scales the
 //! random families. The counts per class are printed (`cargo test --test hostile --
@@ -960,6 +963,13 @@ fn judge(case: &Case, dir: &Path, o: &Outcome, before: &BTreeMap<PathBuf, Vec<u8
     if staging_left {
         bad.push("a staging folder was left behind".into());
     }
+    let lock_left = fs::read_dir(dir).unwrap().flatten().any(|e| {
+        let n = e.file_name().to_string_lossy().into_owned();
+        n.starts_with('.') && n.ends_with(".lock")
+    });
+    if lock_left {
+        bad.push("a lock file was left behind".into());
+    }
     if code != 0 {
         let lines: Vec<&str> = err.trim_end().lines().collect();
         if lines.len() != 1 {
@@ -1203,4 +1213,316 @@ fn concurrent_writers_to_one_out_leave_one_whole_folder() {
         let name = e.file_name().to_string_lossy().into_owned();
         assert!(!name.contains("staging"), "{name} left behind");
     }
+}
+
+// ---------------------------------------------------------------------------------------
+// Output folders (issue #34 item 6): each outcome's class (exit code, message, files)
+// ---------------------------------------------------------------------------------------
+
+/// A sweep past g1 into `out` (q and points as given, no figures), run in `dir`.
+fn sweep_into(dir: &Path, q: &str, points: &str, out: &str) -> Command {
+    let mut c = Command::new(bin());
+    c.args([
+        "sweep",
+        "--profile",
+        "g1",
+        "--q",
+        q,
+        "--points",
+        points,
+        "--figures",
+        "none",
+        "--out",
+        out,
+    ])
+    .current_dir(dir)
+    .env_remove("RUST_BACKTRACE");
+    c
+}
+
+/// Runs `c` to its end: (exit code, stderr).
+fn finish(c: &mut Command) -> (Option<i32>, String) {
+    let o = c.output().unwrap();
+    (
+        o.status.code(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    )
+}
+
+/// Exit 2 and one `error: ` line holding every needle.
+fn assert_refused((code, err): &(Option<i32>, String), needles: &[&str]) {
+    assert_eq!(*code, Some(2), "{err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(err.starts_with("error: "), "{err}");
+    for n in needles {
+        assert!(err.contains(n), "{err:?} lacks {n:?}");
+    }
+}
+
+/// The names in `dir` that a run leaves beside its output: staging folders, old folders set
+/// aside, lock files.
+fn leftovers(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = fs::read_dir(dir)
+        .unwrap()
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.contains(".staging-") || n.contains(".old-") || n.ends_with(".lock"))
+        .collect();
+    v.sort();
+    v
+}
+
+/// The q a sweep folder's `scene.ron` records.
+fn q_of(folder: &Path) -> String {
+    let scene = fs::read_to_string(folder.join("scene.ron")).unwrap();
+    let at = scene.find("q: ").expect("scene.ron names q");
+    scene[at + 3..]
+        .split(|c: char| c == ',' || c.is_whitespace())
+        .next()
+        .unwrap()
+        .to_string()
+}
+
+/// A symbolic link `--out` is followed: the folder it points to is replaced whole (its stale
+/// files gone), the link stays a link to it. A link to nothing or to a file is refused.
+#[cfg(unix)]
+#[test]
+fn a_symlinked_out_is_followed_and_stays_a_link() {
+    use std::os::unix::fs::symlink;
+    let root = tempfile::tempdir().unwrap();
+    let dir = root.path();
+    assert_eq!(finish(&mut sweep_into(dir, "3", "6", "real")).0, Some(0));
+    // a stale file of an earlier run, listed in the manifest as if vibrissa wrote it
+    let manifest = fs::read_to_string(dir.join("real/.vibrissa-output")).unwrap();
+    fs::write(dir.join("real/shapes.csv"), "row,s\n").unwrap();
+    fs::write(
+        dir.join("real/.vibrissa-output"),
+        format!("{manifest}shapes.csv\n"),
+    )
+    .unwrap();
+    symlink("real", dir.join("link")).unwrap();
+    let (code, err) = finish(&mut sweep_into(dir, "5", "6", "link"));
+    assert_eq!(code, Some(0), "{err}");
+    let meta = fs::symlink_metadata(dir.join("link")).unwrap();
+    assert!(meta.file_type().is_symlink(), "the link was replaced");
+    assert_eq!(fs::read_link(dir.join("link")).unwrap(), Path::new("real"));
+    assert_eq!(q_of(&dir.join("real")), "5.0");
+    assert!(!dir.join("real/shapes.csv").exists(), "stale output left");
+    whole_csv(&dir.join("link/observables.csv")).unwrap();
+    assert_eq!(leftovers(dir), Vec::<String>::new());
+    // a link to nothing, a link to a file: refused, left as they are
+    symlink("nowhere", dir.join("dangling")).unwrap();
+    assert_refused(
+        &finish(&mut sweep_into(dir, "5", "6", "dangling")),
+        &["`dangling` for `--out`", "symbolic link to nowhere"],
+    );
+    assert!(!dir.join("nowhere").exists());
+    fs::write(dir.join("file.txt"), "mine").unwrap();
+    symlink("file.txt", dir.join("to-file")).unwrap();
+    assert_refused(
+        &finish(&mut sweep_into(dir, "5", "6", "to-file")),
+        &["`to-file` for `--out`", "not a folder"],
+    );
+    assert_eq!(fs::read_to_string(dir.join("file.txt")).unwrap(), "mine");
+    assert!(fs::symlink_metadata(dir.join("to-file"))
+        .unwrap()
+        .file_type()
+        .is_symlink());
+}
+
+/// A folder holding a file vibrissa did not write is refused, naming the file, and nothing
+/// in it changes: a user's file added to an earlier output folder (on top or in a
+/// subfolder), a user's own folder; an empty folder is used.
+#[test]
+fn a_folder_with_files_vibrissa_did_not_write_is_refused_naming_one() {
+    let root = tempfile::tempdir().unwrap();
+    let dir = root.path();
+    assert_eq!(finish(&mut sweep_into(dir, "3", "6", "d")).0, Some(0));
+    fs::write(dir.join("d/notes.txt"), "my notes").unwrap();
+    let before = snapshot(&dir.join("d"));
+    assert_refused(
+        &finish(&mut sweep_into(dir, "5", "6", "d")),
+        &["`d` for `--out`", "d/notes.txt", "vibrissa did not write"],
+    );
+    assert_eq!(snapshot(&dir.join("d")), before, "the folder changed");
+    fs::remove_file(dir.join("d/notes.txt")).unwrap();
+    fs::create_dir(dir.join("d/mine")).unwrap();
+    fs::write(dir.join("d/mine/data.csv"), "1").unwrap();
+    assert_refused(&finish(&mut sweep_into(dir, "5", "6", "d")), &["d/mine"]);
+    assert_eq!(
+        fs::read_to_string(dir.join("d/mine/data.csv")).unwrap(),
+        "1"
+    );
+    fs::remove_dir_all(dir.join("d/mine")).unwrap();
+    // nothing foreign left: replaced
+    assert_eq!(finish(&mut sweep_into(dir, "5", "6", "d")).0, Some(0));
+    assert_eq!(q_of(&dir.join("d")), "5.0");
+    // a user's folder (no manifest) with a file: refused; empty: used
+    fs::create_dir(dir.join("home")).unwrap();
+    fs::write(dir.join("home/thesis.tex"), "\\documentclass").unwrap();
+    assert_refused(
+        &finish(&mut sweep_into(dir, "5", "6", "home")),
+        &["home/thesis.tex"],
+    );
+    assert!(dir.join("home/thesis.tex").exists());
+    fs::create_dir(dir.join("empty")).unwrap();
+    assert_eq!(finish(&mut sweep_into(dir, "5", "6", "empty")).0, Some(0));
+    whole_csv(&dir.join("empty/observables.csv")).unwrap();
+    assert_eq!(leftovers(dir), Vec::<String>::new());
+}
+
+/// Waits (at most 60 s) until `path` exists.
+fn wait_for(path: &Path) {
+    let t0 = Instant::now();
+    while !path.exists() {
+        assert!(
+            t0.elapsed() < Duration::from_secs(60),
+            "{} never came",
+            path.display()
+        );
+        std::thread::sleep(Duration::from_millis(2));
+    }
+}
+
+/// The staging folder of the writer `pid` into `dir/NAME`, once it holds its manifest.
+fn staging_of(dir: &Path, name: &str, pid: u32) -> PathBuf {
+    let staging = dir.join(format!(".{name}.staging-{pid}"));
+    wait_for(&staging.join(".vibrissa-output"));
+    staging
+}
+
+/// Sends `signal` (`KILL`, `TERM`, `STOP`, `CONT`) to the process `pid`.
+fn signal(pid: u32, signal: &str) {
+    let sent = Command::new("kill")
+        .args([format!("-{signal}"), pid.to_string()])
+        .status()
+        .unwrap();
+    assert!(sent.success(), "kill -{signal} {pid}");
+}
+
+/// Two processes into one `--out`: while the first writes (held still by SIGSTOP once its
+/// staging folder is there, so that it is surely alive), the second is refused at once with
+/// exit 2, "D is being written by another vibrissa process"; the first, let go, ends 0 and
+/// its folder is whole; then the second may write.
+#[cfg(unix)]
+#[test]
+fn a_second_live_writer_is_refused_and_the_first_completes() {
+    let root = tempfile::tempdir().unwrap();
+    let dir = root.path();
+    let first = sweep_into(dir, "3", "400", "d")
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    staging_of(dir, "d", first.id());
+    signal(first.id(), "STOP");
+    let second = finish(&mut sweep_into(dir, "5", "6", "d"));
+    signal(first.id(), "CONT");
+    let o = first.wait_with_output().unwrap();
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert_refused(&second, &["d is being written by another vibrissa process"]);
+    assert_eq!(q_of(&dir.join("d")), "3.0");
+    whole_csv(&dir.join("d/observables.csv")).unwrap();
+    assert_eq!(leftovers(dir), Vec::<String>::new());
+    assert_eq!(finish(&mut sweep_into(dir, "5", "6", "d")).0, Some(0));
+    assert_eq!(q_of(&dir.join("d")), "5.0");
+}
+
+/// A writer killed mid-run (SIGKILL, then SIGTERM: neither lets it clean up) leaves the
+/// earlier folder as it was, and its lock file and staging folder; the lock held nothing
+/// after its death, so the next run writes at once, removes what was left and replaces the
+/// folder.
+#[cfg(unix)]
+#[test]
+fn a_killed_writer_blocks_nothing_and_its_leftovers_go() {
+    let root = tempfile::tempdir().unwrap();
+    let dir = root.path();
+    assert_eq!(finish(&mut sweep_into(dir, "3", "6", "d")).0, Some(0));
+    let before = snapshot(&dir.join("d"));
+    for sig in ["KILL", "TERM"] {
+        let mut writer = sweep_into(dir, "5", "100000", "d")
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap();
+        let staging = staging_of(dir, "d", writer.id());
+        signal(writer.id(), sig);
+        let status = writer.wait().unwrap();
+        assert_eq!(status.code(), None, "{sig}: the writer ended on its own");
+        // the earlier folder is intact; the killed run's lock file and staging are left
+        assert_eq!(snapshot(&dir.join("d")), before, "{sig}: d changed");
+        assert!(dir.join(".d.lock").exists() && staging.exists(), "{sig}");
+    }
+    let t0 = Instant::now();
+    let (code, err) = finish(&mut sweep_into(dir, "5", "6", "d"));
+    assert_eq!(code, Some(0), "{err}");
+    assert!(
+        t0.elapsed() < Duration::from_secs(30),
+        "the next run waited"
+    );
+    assert_eq!(q_of(&dir.join("d")), "5.0");
+    whole_csv(&dir.join("d/observables.csv")).unwrap();
+    assert_eq!(leftovers(dir), Vec::<String>::new());
+}
+
+/// A parent folder that cannot be written, and `--out` naming a file: refused (exit 2,
+/// naming `--out`), nothing made, nothing changed.
+#[cfg(unix)]
+#[test]
+fn an_unwritable_parent_and_a_file_as_out_are_refused() {
+    use std::os::unix::fs::PermissionsExt;
+    let root = tempfile::tempdir().unwrap();
+    let dir = root.path();
+    fs::write(dir.join("notes.txt"), "mine").unwrap();
+    assert_refused(
+        &finish(&mut sweep_into(dir, "5", "6", "notes.txt")),
+        &["`notes.txt` for `--out`", "not a folder"],
+    );
+    assert_eq!(fs::read_to_string(dir.join("notes.txt")).unwrap(), "mine");
+    // a parent that is a file (refused for root too)
+    assert_refused(
+        &finish(&mut sweep_into(dir, "5", "6", "notes.txt/d")),
+        &[
+            "`notes.txt/d` for `--out`",
+            "cannot make the folder notes.txt",
+        ],
+    );
+    assert_eq!(fs::read_to_string(dir.join("notes.txt")).unwrap(), "mine");
+    let ro = dir.join("ro");
+    fs::create_dir(&ro).unwrap();
+    assert_eq!(finish(&mut sweep_into(&ro, "3", "6", "d")).0, Some(0));
+    let before = snapshot(&ro);
+    fs::set_permissions(&ro, fs::Permissions::from_mode(0o555)).unwrap();
+    // (root writes anyway: then there is nothing to refuse)
+    let writable = fs::write(ro.join("probe"), "").is_ok();
+    let r = finish(&mut sweep_into(&ro, "5", "6", "d"));
+    let r2 = finish(&mut sweep_into(dir, "5", "6", "ro/new/d"));
+    fs::set_permissions(&ro, fs::Permissions::from_mode(0o755)).unwrap();
+    if !writable {
+        assert_refused(&r, &["`d` for `--out`", "Permission denied"]);
+        assert_refused(&r2, &["`ro/new/d` for `--out`", "Permission denied"]);
+        assert_eq!(snapshot(&ro), before);
+        assert_eq!(leftovers(&ro), Vec::<String>::new());
+    }
+}
+
+/// `reconstruct --stream` writes to standard output: `--out` with it is refused, naming it,
+/// and no folder is made.
+#[test]
+fn the_stream_refuses_out() {
+    let root = tempfile::tempdir().unwrap();
+    let dir = root.path();
+    let r = finish(
+        Command::new(bin())
+            .args(["reconstruct", "--stream", "--theta", "0.75", "--out", "D"])
+            .current_dir(dir)
+            .stdin(Stdio::null()),
+    );
+    assert_refused(&r, &["`D` for `--out`", "--stream"]);
+    assert!(!dir.join("D").exists());
 }

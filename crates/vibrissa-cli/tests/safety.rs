@@ -109,23 +109,38 @@ fn out_dash_is_refused_not_a_folder_named_dash() {
     assert!(!cwd.join("-").exists());
 }
 
+/// What a killed run leaves (its lock file, its staging folder holding the manifest, the
+/// earlier folder set aside) is removed by the next run; a folder of the same pattern that
+/// is not ours (no manifest) stays.
 #[test]
 fn a_killed_runs_staging_folder_is_removed_by_the_next_run() {
     let dir = tempfile::tempdir().unwrap();
     let cwd = dir.path();
-    // pid 4194304 is above Linux's pid_max: no live process has it
     let stale = cwd.join(".d.staging-4194304");
     fs::create_dir(&stale).unwrap();
     fs::write(stale.join("observables.csv"), "half written").unwrap();
-    fs::write(cwd.join(".d.lock"), "4194304").unwrap();
+    fs::write(stale.join(".vibrissa-output"), "# vibrissa output folder\n").unwrap();
+    let aside = cwd.join(".d.old-4194304");
+    fs::create_dir(&aside).unwrap();
+    fs::write(aside.join(".vibrissa-output"), "# vibrissa output folder\n").unwrap();
+    let not_ours = cwd.join(".d.staging-mine");
+    fs::create_dir(&not_ours).unwrap();
+    fs::write(not_ours.join("notes.txt"), "mine").unwrap();
+    fs::write(cwd.join(".d.lock"), "").unwrap();
     sweep_folder(cwd, "d", &[]);
     assert!(!stale.exists(), "the stale staging folder is still there");
+    assert!(!aside.exists(), "the old folder set aside is still there");
     assert!(!cwd.join(".d.lock").exists());
-    let left: Vec<String> = fs::read_dir(cwd)
+    let mut left: Vec<String> = fs::read_dir(cwd)
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
         .collect();
-    assert_eq!(left, vec!["d".to_string()], "{left:?}");
+    left.sort();
+    assert_eq!(left, vec![".d.staging-mine".to_string(), "d".to_string()]);
+    assert_eq!(
+        fs::read_to_string(not_ours.join("notes.txt")).unwrap(),
+        "mine"
+    );
 }
 
 #[test]

@@ -66,6 +66,32 @@ pub enum IoError {
         /// What is missing and how to give it.
         reason: String,
     },
+    /// An output folder (`--out`) is being written by another live process, which holds its
+    /// lock ([`crate::atomic::lock`]).
+    #[error(
+        "{} is being written by another vibrissa process; wait for it to end or choose another --out",
+        dir.display()
+    )]
+    Locked {
+        /// The output folder, as named by the user.
+        dir: PathBuf,
+    },
+    /// An existing output folder (`--out`) holds an entry vibrissa did not write (not listed
+    /// in its manifest, [`crate::atomic::manifest`]): it is not replaced.
+    #[error(
+        "invalid value `{}` for `--out`: it holds {}, which vibrissa did not write (not listed \
+         in its {}); the folder would be replaced as a whole: move that file away or choose \
+         another folder",
+        dir.display(),
+        file.display(),
+        crate::atomic::MANIFEST
+    )]
+    ForeignFile {
+        /// The output folder, as named by the user.
+        dir: PathBuf,
+        /// One entry in it that vibrissa did not write.
+        file: PathBuf,
+    },
     /// A model or solver failed (no convergence, singular system, ...).
     #[error("{reason}")]
     Solver {
@@ -88,7 +114,9 @@ impl IoError {
             | IoError::Csv { .. }
             | IoError::Scene { .. }
             | IoError::InvalidArgument { .. }
-            | IoError::Usage { .. } => 2,
+            | IoError::Usage { .. }
+            | IoError::Locked { .. }
+            | IoError::ForeignFile { .. } => 2,
         }
     }
 

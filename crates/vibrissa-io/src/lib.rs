@@ -3,7 +3,8 @@
 //!
 //! - [`error`]: [`IoError`], the typed errors of this crate (each names its culprit);
 //! - [`calibration`]: a calibration's values, logs, fit and report (serialisable);
-//! - [`atomic`]: atomic file writes and staged output directories;
+//! - [`atomic`]: atomic file writes and staged output folders (an OS lock, a manifest of
+//!   what vibrissa wrote, symbolic links followed, an atomic swap);
 //! - [`csvio`]: round-trip exact CSV writing and lenient, precise CSV reading (`csv` crate);
 //! - [`units`]: the units of every output (dimensionless or mm, N, N mm) and their sidecars;
 //! - [`scene_file`]: the RON scene format;

@@ -156,8 +156,8 @@ fn write_rendered(svg: &str, path: &Path, style: FigureStyle) -> Result<(), Plot
     }
 }
 
-/// Runs two figure writers at once (`a` on a second thread where a second core is offered
-/// and a thread can be started, [`bvp_solvers::cores::both`]; rasterising a PNG is the
+/// Runs two figure writers at once (`a` on another thread of rayon's pool,
+/// [`bvp_solvers::parallel::both`]; rasterising a PNG is the
 /// costly part) and returns the first error (`a`'s before `b`'s); a panic in either is
 /// passed on.
 pub fn both<A, B, E>(a: A, b: B) -> Result<(), E>
@@ -166,7 +166,7 @@ where
     B: FnOnce() -> Result<(), E>,
     E: Send,
 {
-    let (rb, ra) = bvp_solvers::cores::both(b, a);
+    let (rb, ra) = bvp_solvers::parallel::both(b, a);
     ra.and(rb)
 }
 

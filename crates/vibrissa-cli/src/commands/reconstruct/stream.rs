@@ -28,6 +28,14 @@ const STDIN: &str = "<stdin>";
 pub fn run_stream(args: &ReconstructArgs) -> Result<(), CliError> {
     // parse and resolve: the one positional argument is the scene (a sweep folder gives
     // its scene.ron)
+    if let Some(out) = &args.out {
+        return Err(CliError::invalid_argument(
+            "--out",
+            out.display().to_string(),
+            "the stream writes each contact point to standard output; leave --out out \
+             with --stream (or reconstruct the log as a file into --out)",
+        ));
+    }
     let opts = ReconOptions::parse_stream(&args.into())?;
     let scene = stream_scene(args.scene.as_deref().or(args.observables.as_deref()))?;
     let file = LoadedScene::load_opt(scene.as_deref())?;

@@ -40,7 +40,9 @@ impl Kind {
             | IoError::Csv { .. }
             | IoError::Scene { .. }
             | IoError::InvalidArgument { .. }
-            | IoError::Usage { .. } => Kind::InvalidInput,
+            | IoError::Usage { .. }
+            | IoError::Locked { .. }
+            | IoError::ForeignFile { .. } => Kind::InvalidInput,
             _ if err.is_no_contact() => Kind::NoContact,
             IoError::Solver { .. } => Kind::SolverError,
         }

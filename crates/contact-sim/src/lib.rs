@@ -37,7 +37,9 @@ pub mod accuracy;
 mod ahead;
 mod branch;
 pub mod cases;
+pub mod contact_law;
 mod continuation;
+pub mod driver;
 pub mod error;
 mod events;
 pub mod first_contact;
@@ -48,11 +50,11 @@ mod rows;
 pub mod sweep;
 
 pub use accuracy::SweepAccuracy;
+pub use contact_law::{ContactLaw, FrictionEvent, FrictionEventKind, SlipState};
+pub use driver::{sweep, sweep_with_progress};
 pub use error::{ContactError, Result};
-pub use friction::{ContactLaw, FrictionEvent, FrictionEventKind, SlipState};
 pub use phase::{ContactState, ContourPoint, Phase};
 pub use profile::Profile;
 pub use sweep::{
-    sweep, sweep_with_progress, FirstContact, FirstTouch, Separation, SweepPoint, SweepProgress,
-    SweepResult, SweepSettings,
+    FirstContact, FirstTouch, Separation, SweepPoint, SweepProgress, SweepResult, SweepSettings,
 };

@@ -10,7 +10,7 @@ use crate::accuracy::{row_integration_tol, row_solve_tol, SweepAccuracy, ESTIMAT
 use crate::branch::{Branch, Node};
 use crate::continuation::{trace_tightened, End, StepControl};
 use crate::error::{ContactError, Result};
-use crate::first_contact::{first_node, first_touch, free_tip};
+use crate::first_contact::first_node;
 pub use crate::first_contact::{FirstContact, FirstTouch};
 use crate::phase::{ContactState, Phase};
 use crate::profile::Profile;
@@ -57,7 +57,7 @@ pub struct SweepSettings {
     /// The law of the contact force ([`crate::friction`]): frictionless (the default) or
     /// Coulomb friction; `mu = 0` is the frictionless sweep exactly.
     #[serde(default)]
-    pub contact_law: crate::friction::ContactLaw,
+    pub contact_law: crate::contact_law::ContactLaw,
 }
 
 impl Default for SweepSettings {
@@ -73,7 +73,7 @@ impl Default for SweepSettings {
             max_steps: 20_000,
             max_step: 0.2,
             accuracy: None,
-            contact_law: crate::friction::ContactLaw::Frictionless,
+            contact_law: crate::contact_law::ContactLaw::Frictionless,
         }
     }
 }
@@ -111,7 +111,7 @@ pub struct SweepPoint {
     pub ft: f64,
     /// Stick, slip, or none (before contact and without friction).
     #[serde(default)]
-    pub slip: crate::friction::SlipState,
+    pub slip: crate::contact_law::SlipState,
     /// The touching material point's slip displacement: the signed arc length along the
     /// contour (towards +x) from the first touch to the contact point (0 without friction).
     #[serde(default)]
@@ -180,7 +180,7 @@ pub struct SweepResult {
     /// The stick/slip switches of a frictional sweep, in the order of the motion (empty
     /// without friction).
     #[serde(default)]
-    pub friction_events: Vec<crate::friction::FrictionEvent>,
+    pub friction_events: Vec<crate::contact_law::FrictionEvent>,
 }
 
 impl SweepResult {
@@ -219,7 +219,7 @@ impl SweepPoint {
             yc: st.point.yc,
             psi: st.point.psi,
             ft: 0.0,
-            slip: crate::friction::SlipState::None,
+            slip: crate::contact_law::SlipState::None,
             slip_distance: 0.0,
         }
     }
@@ -230,7 +230,7 @@ impl SweepPoint {
     pub fn loads(&self, flow: FluidLoad) -> Loads {
         match self.phase {
             Phase::None => crate::phase::contact_loads(flow, 0.0, 0.0, 1.0),
-            _ => crate::friction::frictional_loads(flow, self.psi, self.f, self.ft, self.s1),
+            _ => crate::contact_law::frictional_loads(flow, self.psi, self.f, self.ft, self.s1),
         }
     }
 
@@ -254,7 +254,7 @@ impl SweepPoint {
     }
 }
 
-/// Progress of a running sweep, reported to [`sweep_with_progress`]'s callback.
+/// Progress of a running sweep, reported to [`crate::driver::sweep_with_progress`]'s callback.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SweepProgress {
     /// The continuation along the contact branch towards the separation: steps done.
@@ -271,28 +271,17 @@ pub enum SweepProgress {
     },
 }
 
-/// Sweeps a whisker under the fluid load `flow` past `profile` (thesis Fig. 5.6).
-pub fn sweep(
+/// The frictionless contact branch of a sweep ([`crate::driver::sweep_with_progress`]) from
+/// its exact first touch `touch` (the free whisker's tip angle `phi1`): followed to the
+/// separation, then its rows at evenly spaced base positions with their estimates.
+pub(crate) fn frictionless(
     whisker: &Whisker,
     flow: FluidLoad,
     profile: &Profile,
     settings: &SweepSettings,
-) -> Result<SweepResult> {
-    sweep_with_progress(whisker, flow, profile, settings, &mut |_| {})
-}
-
-/// [`sweep`] reporting its progress to `progress` (e.g. for a progress bar).
-pub fn sweep_with_progress(
-    whisker: &Whisker,
-    flow: FluidLoad,
-    profile: &Profile,
-    settings: &SweepSettings,
+    (phi1, touch): (f64, FirstTouch),
     progress: &mut dyn FnMut(SweepProgress),
 ) -> Result<SweepResult> {
-    whisker.validate()?;
-    Loads::fluid(flow.q, flow.alpha).validate()?;
-    check_settings(settings, flow)?;
-    profile.check_reachable_convex()?;
     let integration = Integration::adaptive(settings.integration_tol);
     let branch = Branch {
         whisker,
@@ -301,13 +290,6 @@ pub fn sweep_with_progress(
         integration: &integration,
         tol: settings.solve_tol,
     };
-    // The free whisker under the flow, then its exact first touch.
-    let phi1 = free_tip(whisker, flow, settings.integration_tol, &integration)?;
-    let touch = first_touch(whisker, flow, phi1, profile, settings.integration_tol)?;
-    profile.convex_at(touch.t)?;
-    if let Some(mu) = settings.contact_law.friction() {
-        return crate::friction::sweep(whisker, flow, profile, settings, (phi1, &touch), mu);
-    }
     let first = first_node(&branch, &touch)?;
     // The branch from the first contact to the separation.
     progress(SweepProgress::Coarse { steps: 0 });
@@ -487,7 +469,7 @@ pub(crate) fn pre_contact_rows(
             yc: f64::NAN,
             psi: f64::NAN,
             ft: 0.0,
-            slip: crate::friction::SlipState::None,
+            slip: crate::contact_law::SlipState::None,
             slip_distance: 0.0,
         });
     }
@@ -495,7 +477,7 @@ pub(crate) fn pre_contact_rows(
 }
 
 /// Refuses settings the sweep cannot honour, naming the culprit.
-fn check_settings(settings: &SweepSettings, flow: FluidLoad) -> Result<()> {
+pub(crate) fn check_settings(settings: &SweepSettings, flow: FluidLoad) -> Result<()> {
     let bad = |name, value: f64, reason| {
         Err(ContactError::InvalidParameter {
             name,
@@ -571,6 +553,7 @@ fn check_settings(settings: &SweepSettings, flow: FluidLoad) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::driver::sweep;
 
     /// Every row's shape passes through its contact point, and before contact its base
     /// moment is the row's (the shape is the row's equilibrium).

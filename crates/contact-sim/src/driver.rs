@@ -1,0 +1,44 @@
+//! The sweep's entry (thesis Fig. 5.6): the inputs checked, the free whisker under the flow
+//! and its exact first touch, then the contact branch handed to the law of the contact
+//! ([`crate::contact_law::ContactLaw`]): frictionless ([`crate::sweep`]) or Coulomb friction
+//! ([`crate::friction`]).
+
+use crate::error::Result;
+use crate::first_contact::{first_touch, free_tip};
+use crate::profile::Profile;
+use crate::sweep::{check_settings, frictionless, SweepProgress, SweepResult, SweepSettings};
+use beam_model::shot::Integration;
+use beam_model::{FluidLoad, Loads, Whisker};
+
+/// Sweeps a whisker under the fluid load `flow` past `profile` (thesis Fig. 5.6).
+pub fn sweep(
+    whisker: &Whisker,
+    flow: FluidLoad,
+    profile: &Profile,
+    settings: &SweepSettings,
+) -> Result<SweepResult> {
+    sweep_with_progress(whisker, flow, profile, settings, &mut |_| {})
+}
+
+/// [`sweep`] reporting its progress to `progress` (e.g. for a progress bar).
+pub fn sweep_with_progress(
+    whisker: &Whisker,
+    flow: FluidLoad,
+    profile: &Profile,
+    settings: &SweepSettings,
+    progress: &mut dyn FnMut(SweepProgress),
+) -> Result<SweepResult> {
+    whisker.validate()?;
+    Loads::fluid(flow.q, flow.alpha).validate()?;
+    check_settings(settings, flow)?;
+    profile.check_reachable_convex()?;
+    let integration = Integration::adaptive(settings.integration_tol);
+    // The free whisker under the flow, then its exact first touch.
+    let phi1 = free_tip(whisker, flow, settings.integration_tol, &integration)?;
+    let touch = first_touch(whisker, flow, phi1, profile, settings.integration_tol)?;
+    profile.convex_at(touch.t)?;
+    if let Some(mu) = settings.contact_law.friction() {
+        return crate::friction::sweep(whisker, flow, profile, settings, (phi1, &touch), mu);
+    }
+    frictionless(whisker, flow, profile, settings, (phi1, touch), progress)
+}

@@ -1,7 +1,7 @@
 //! The law of the contact force (spec/model.md, "Friction at the contact"): frictionless or
 //! Coulomb with coefficient mu, the slip state of a row, the stick/slip events, and the loads
 //! and base observables of a force `F = fn n + ft t` at the contact. The sweep
-//! ([`crate::sweep`]) and the frictional tip contact ([`crate::friction`]) both build on it.
+//! ([`mod@crate::sweep`]) and the frictional tip contact ([`crate::friction`]) both build on it.
 
 use crate::error::ContactError;
 use crate::error::Result;

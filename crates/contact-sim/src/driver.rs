@@ -1,6 +1,6 @@
 //! The sweep's entry (thesis Fig. 5.6): the inputs checked, the free whisker under the flow
 //! and its exact first touch, then the contact branch handed to the law of the contact
-//! ([`crate::contact_law::ContactLaw`]): frictionless ([`crate::sweep`]) or Coulomb friction
+//! ([`crate::contact_law::ContactLaw`]): frictionless ([`mod@crate::sweep`]) or Coulomb friction
 //! ([`crate::friction`]).
 
 use crate::error::Result;

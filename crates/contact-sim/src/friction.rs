@@ -812,7 +812,7 @@ fn arc_length(profile: &Profile, a: f64, b: f64) -> f64 {
     s
 }
 
-/// What the frictional sweep returns to [`crate::sweep`].
+/// What the frictional sweep returns to [`crate::driver::sweep`].
 pub(crate) struct FrictionalRows {
     /// The contact rows and their estimates (NaN without an accuracy asked for).
     pub rows: Vec<(SweepPoint, f64)>,

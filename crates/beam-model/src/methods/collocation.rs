@@ -39,13 +39,12 @@
 //! (down to the residual floor [`MIN_RESIDUAL_TOL`]).
 
 use super::shooting::severity;
-use crate::equations::{state_rate, FreeSegment, MomentLaw};
+use crate::equations::{state_rate, MomentLaw};
 use crate::error::{ModelError, Result};
 use crate::loads::{LoadKind, Loads};
 use crate::scene::Scene;
-use crate::solution::{BaseObservables, Elastica, EndState, MethodKind, Solution, SolveStats};
+use crate::solution::{MethodKind, Solution, SolveStats};
 use bvp_solvers::collocation::{solve_bvp_problem, BvpOptions, BvpProblem, BvpSolution};
-use bvp_solvers::integrator::Dop853;
 use std::f64::consts::FRAC_PI_2;
 
 const METHOD: &str = "collocation";
@@ -372,10 +371,8 @@ pub(crate) fn solve(scene: &Scene, tolerance: f64, samples: usize) -> Result<Sol
     }
 }
 
-/// The solution from a collocation answer: the elastica sampled on `samples` intervals of
-/// `[0, 1]` (the dense output on `[0, s1]`, the load-free segment beyond by DOP853 at
-/// `tol`), the ends and the base observables (`MA = -m(0)`, `phi0 = phi(0)`, the reactions
-/// from the balance at `phi1`).
+/// The solution from a collocation answer ([`super::global::assemble_dense`] on its nodes
+/// and its dense output; the load-free segment at no less than `MIN_TOL`).
 fn assemble(
     scene: &Scene,
     bs: &BvpSolution,
@@ -383,70 +380,17 @@ fn assemble(
     samples: usize,
     stats: SolveStats,
 ) -> Result<Solution> {
-    let w = &scene.whisker;
-    let s1 = scene.loads.s1;
-    let end = bs.y.last().cloned().unwrap_or_default();
-    let start = &bs.y[0];
-    let phi1 = end[0];
-    let loaded_end = EndState {
-        x: end[2],
-        y: end[3],
-        phi: phi1,
-    };
-    let free = FreeSegment {
-        whisker: *w,
-        s1,
-        phi1,
-    };
+    let last = bs.y.last().cloned().unwrap_or_default();
+    let eval = |s: f64| bs.eval(s);
     let tol = tol.max(super::MIN_TOL);
-    let free_sol = if s1 < 1.0 {
-        Some(
-            Dop853::new(tol, tol)
-                .with_dense(true)
-                .integrate(&free, s1, 1.0, &[end[2], end[3]])
-                .map_err(|source| ModelError::Solver {
-                    method: METHOD,
-                    source,
-                })?,
-        )
-    } else {
-        None
-    };
-    let mut el = Elastica::with_capacity(samples + 1);
-    for i in 0..=samples {
-        let s = i as f64 / samples as f64;
-        if s <= s1 {
-            let u = bs.eval(s);
-            let e2 = w.diameter(s).powi(2);
-            let kappa = u[1] / (e2 * e2) + w.kappa0(s);
-            el.push(s, u[2], u[3], u[0], kappa, u[1]);
-        } else if let Some(fs) = &free_sol {
-            let xy = fs.eval(s).unwrap_or_else(|| vec![f64::NAN; 2]);
-            el.push(s, xy[0], xy[1], free.phi(s), w.kappa0(s), 0.0);
-        }
-    }
-    let tip = match &free_sol {
-        Some(fs) => EndState {
-            x: fs.u_end[0],
-            y: fs.u_end[1],
-            phi: free.phi(1.0),
-        },
-        None => loaded_end,
-    };
-    let (ax, ay) = scene.base_reactions(phi1);
-    Ok(Solution {
-        elastica: el,
-        tip,
-        loaded_end,
-        base: BaseObservables {
-            ax,
-            ay,
-            ma: -start[1],
-            phi0: start[0],
-        },
+    super::global::assemble_dense(
+        scene,
+        (&bs.y[0], &last),
+        &eval,
+        (tol, samples),
         stats,
-        load_path: None,
-    })
+        METHOD,
+    )
 }
 
 #[cfg(test)]

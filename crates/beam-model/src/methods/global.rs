@@ -213,10 +213,8 @@ pub(crate) fn solve(scene: &Scene, tol: f64, samples: usize, guess: &Solution) -
     Ok(sol)
 }
 
-/// The solution from a multiple-shooting answer: the elastica sampled on `samples`
-/// intervals of `[0, 1]` (the dense output on `[0, s1]`, the load-free segment beyond by
-/// DOP853 at `tol`), the ends and the base observables (`MA = -m(0)`, `phi0 = phi(0)`, the
-/// reactions from the balance at `phi1`).
+/// The solution from a multiple-shooting answer ([`assemble_dense`] on its nodes and its
+/// dense output).
 fn assemble(
     scene: &Scene,
     ms: &MultipleShootingSolution,
@@ -224,10 +222,35 @@ fn assemble(
     samples: usize,
     stats: SolveStats,
 ) -> Result<Solution> {
+    let last = ms.y.last().cloned().unwrap_or_default();
+    let eval = |s: f64| ms.eval(s);
+    assemble_dense(
+        scene,
+        (&ms.y[0], &last),
+        &eval,
+        (tol, samples),
+        stats,
+        METHOD,
+    )
+}
+
+/// The solution from a dense answer on the loaded segment `[0, s1]` (states `(phi, m, x,
+/// y)`, `first` at s = 0 and `last` at s1, `eval` between): the elastica sampled on
+/// `samples` intervals of `[0, 1]` (`kappa = m / e^4 + kappa0` [3.8] on `[0, s1]`, the
+/// load-free segment beyond by DOP853 at `tol`), the ends and the base observables
+/// (`MA = -m(0)`, `phi0 = phi(0)`, the reactions from the balance at `phi1`). Shared by
+/// multiple shooting and collocation.
+pub(super) fn assemble_dense(
+    scene: &Scene,
+    (first, last): (&[f64], &[f64]),
+    eval: &dyn Fn(f64) -> Vec<f64>,
+    (tol, samples): (f64, usize),
+    stats: SolveStats,
+    method: &'static str,
+) -> Result<Solution> {
     let w = &scene.whisker;
     let s1 = scene.loads.s1;
-    let end = ms.y.last().cloned().unwrap_or_default();
-    let start = &ms.y[0];
+    let end = last;
     let phi1 = end[0];
     let loaded_end = EndState {
         x: end[2],
@@ -244,10 +267,7 @@ fn assemble(
             Dop853::new(tol, tol)
                 .with_dense(true)
                 .integrate(&free, s1, 1.0, &[end[2], end[3]])
-                .map_err(|source| ModelError::Solver {
-                    method: METHOD,
-                    source,
-                })?,
+                .map_err(|source| ModelError::Solver { method, source })?,
         )
     } else {
         None
@@ -256,7 +276,7 @@ fn assemble(
     for i in 0..=samples {
         let s = i as f64 / samples as f64;
         if s <= s1 {
-            let u = ms.eval(s);
+            let u = eval(s);
             let e2 = w.diameter(s).powi(2);
             let kappa = u[1] / (e2 * e2) + w.kappa0(s);
             el.push(s, u[2], u[3], u[0], kappa, u[1]);
@@ -281,8 +301,8 @@ fn assemble(
         base: BaseObservables {
             ax,
             ay,
-            ma: -start[1],
-            phi0: start[0],
+            ma: -first[1],
+            phi0: first[0],
         },
         stats,
         load_path: None,

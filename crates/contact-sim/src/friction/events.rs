@@ -1,0 +1,149 @@
+//! The events of the frictional path and their location on it.
+
+use super::branch::{dot4, norm4, state_of, sub4, Con, Mode, Node};
+use super::trace::Sweeper;
+use crate::contact_law::frictional_loads;
+use crate::error::Result;
+
+/// Penetration depth from which a second contact counts (as in the frictionless sweep).
+pub(super) const PENETRATION_MARGIN: f64 = 1e-10;
+
+/// The events checked after each step of the frictional trace.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Ev {
+    /// `mu fn - |ft|` (stick only).
+    Cone,
+    /// `-s dt/dpath` (slip only).
+    Sliding,
+    /// `fn`.
+    Release,
+    /// `phi1 - psi`: the tip contact ends (tangential contact follows).
+    PhaseEnd,
+    /// `cos((phi1 - psi) / 2)`: the segment next to the tip touches.
+    Touch,
+    /// `-dx0/dpath`.
+    Snap,
+    /// `margin - depth`.
+    Depth,
+}
+
+impl Sweeper<'_> {
+    pub(super) fn condition(&self, ev: Ev, n: &Node, dir: &[f64; 4]) -> Result<f64> {
+        let [phi1, f, ft, _] = n.w;
+        Ok(match ev {
+            Ev::Cone => self.b.mu * f - ft.abs(),
+            Ev::Sliding => match n.mode {
+                Mode::Slip { s } => -s * self.b.tangent(n, dir)[3],
+                Mode::Stick { .. } => 1.0,
+            },
+            Ev::Release => f,
+            Ev::PhaseEnd => phi1 - n.geom.psi,
+            Ev::Touch => (0.5 * (phi1 - n.geom.psi)).cos(),
+            Ev::Snap => -dot4(&n.jac[2], &self.b.tangent(n, dir)),
+            Ev::Depth => {
+                if self.check_penetration {
+                    PENETRATION_MARGIN - self.depth(n)?
+                } else {
+                    1.0
+                }
+            }
+        })
+    }
+
+    pub(super) fn depth(&self, n: &Node) -> Result<f64> {
+        let st = state_of(n);
+        let loads = frictional_loads(self.b.flow, n.geom.psi, n.w[1], n.w[2], 1.0);
+        crate::events::penetration_under(self.b.whisker, &loads, self.b.profile, &st)
+    }
+
+    pub(super) fn events_of(&self, mode: Mode) -> &'static [Ev] {
+        match mode {
+            Mode::Stick { .. } => &[
+                Ev::Cone,
+                Ev::Release,
+                Ev::PhaseEnd,
+                Ev::Touch,
+                Ev::Snap,
+                Ev::Depth,
+            ],
+            Mode::Slip { .. } => &[
+                Ev::Sliding,
+                Ev::Release,
+                Ev::PhaseEnd,
+                Ev::Touch,
+                Ev::Snap,
+                Ev::Depth,
+            ],
+        }
+    }
+
+    /// The node on the chord's hyperplane at fraction `th` from `a` to `b`.
+    pub(super) fn on_chord(&self, a: &Node, b: &Node, th: f64) -> Result<Node> {
+        let d = sub4(&b.w, &a.w);
+        let len = norm4(&d);
+        let n = d.map(|v| v / len);
+        let p = [
+            a.w[0] + th * d[0],
+            a.w[1] + th * d[1],
+            a.w[2] + th * d[2],
+            a.w[3] + th * d[3],
+        ];
+        self.b.correct(a.mode, p, Con::Plane { n, p })
+    }
+
+    /// Locates the zero of `ev`'s condition between `a` (>= 0) and `b` (< 0) by regula
+    /// falsi (Illinois) along the chord; the located node and its chord fraction.
+    pub(super) fn locate(
+        &self,
+        ev: Ev,
+        a: &Node,
+        b: &Node,
+        ca: f64,
+        cb: f64,
+    ) -> Result<(f64, Node)> {
+        let dir = sub4(&b.w, &a.w);
+        let len = norm4(&dir);
+        let (mut lo, mut hi, mut flo, mut fhi) = (0.0, 1.0, ca, cb);
+        let mut best = (1.0, *b, cb.abs());
+        let mut side = 0i32;
+        for _ in 0..80 {
+            if (hi - lo) * len <= self.event_tol {
+                break;
+            }
+            let mut th = (lo * fhi - hi * flo) / (fhi - flo);
+            if !(th > lo && th < hi) || (hi - lo) * len > 0.05 {
+                th = if (hi - lo) * len > 0.05 {
+                    0.5 * (lo + hi)
+                } else {
+                    th.clamp(lo, hi)
+                };
+            }
+            let n = self.on_chord(a, b, th)?;
+            let c = self.condition(ev, &n, &dir)?;
+            if c.abs() <= best.2 || (c < 0.0 && best.2 > 0.0 && c.abs() < 1e-14) {
+                best = (th, n, c.abs());
+            }
+            if c == 0.0 {
+                return Ok((th, n));
+            }
+            if c > 0.0 {
+                lo = th;
+                flo = c;
+                if side == 1 {
+                    fhi *= 0.5;
+                }
+                side = 1;
+            } else {
+                hi = th;
+                fhi = c;
+                if side == -1 {
+                    flo *= 0.5;
+                }
+                side = -1;
+            }
+        }
+        // the bracket's end on the event's far side at the tolerance; the best point
+        let n = self.on_chord(a, b, best.0)?;
+        Ok((best.0, n))
+    }
+}

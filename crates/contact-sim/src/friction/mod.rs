@@ -1,0 +1,251 @@
+//! Coulomb friction at the contact (spec/model.md, "Friction at the contact"; beyond the
+//! thesis, whose ch. 7 names frictional contact as the model's next step).
+//!
+//! **The contact law is a value of its own**, [`ContactLaw`], part of the sweep's settings
+//! (`SweepSettings::contact_law`): [`ContactLaw::Frictionless`] (the default) and
+//! [`ContactLaw::Coulomb`] with `mu = 0` run the frictionless sweep unchanged (same code path,
+//! the same rows bit for bit; callgrind on the bench scene +0.65 %, docs/friction.md);
+//! `mu > 0` runs the frictional sweep of this module. The base motion (translation towards -x) stays the sweep's, so a later change of
+//! the base pose does not touch the law.
+//!
+//! **The model.** Boundary tangent `t = (cos psi, sin psi)`, outward normal
+//! `n = (sin psi, -cos psi)`; the force on the whisker `F = fn n + ft t`, `fn >= 0`. It is
+//! applied as a direction-preserving tip force of size `|F|` at angle `beta` with
+//! `F = |F| (cos beta, -sin beta)`; with `ft = 0` this is the frictionless
+//! `beta = pi/2 - psi` [5.4-5.10]. Quasi-static Coulomb law with `u` the velocity along `t` of
+//! the whisker's touching material point relative to the obstacle as the base moves:
+//! - stick (`u = 0`): `|ft| <= mu fn`;
+//! - slip (`u != 0`): `ft = -mu fn sign(u)`.
+//!
+//! **Phase A (tip contact)** is what this module solves. The state is
+//! `w = (phi1, fn, ft, t)` (tip angle, force components, contour parameter of the contact
+//! point, [`Profile::at`]). Two equations hold in every mode, the base condition
+//! `R0 = phi(0) - pi/2 - m(0)/k = 0` [3.21, 3.22] and the tip on the contour
+//! `R1 = y(1) - y(0) - yc(t) = 0`; the mode adds a third:
+//! - stick: `t = t*`, the anchor (the tip is the material point, pinned where it stuck);
+//! - slip: `ft = s mu fn` with `s = -sign(u)`; in phase A `u` has the sign of `dt` along the
+//!   path (the contour parameter rises with x, the direction of `t`).
+//!
+//! so each mode is a curve in `w`, followed by pseudo-arclength continuation in the direction
+//! of falling base position `x0 = xc(t) - (x(1) - x(0))`, its Jacobian from the shot's exact
+//! sensitivities (`d/dFx`, `d/dFy` from `d/df`, `d/dbeta`; at `F = 0` from two shots along
+//! the axes).
+//!
+//! **Events**, each located on the curve by regula falsi along the chord (every trial an exact
+//! equilibrium on a hyperplane across it) to `event_tol` in `w`:
+//! - stick -> slip where `mu fn - |ft|` falls to zero (either edge of the cone: a sliding
+//!   reversal is a slip -> stick -> slip sequence through the cone's interior);
+//! - slip -> stick where the sliding velocity vanishes (`-s dt/dpath` falls to zero);
+//! - release (`fn = 0`), snap (x0 at a turning point), a second contact (the depth of
+//!   `events`), the segment next to the tip touching, the end of the contour — as in
+//!   the frictionless sweep.
+//!
+//! At each switch the new mode is checked to be consistent (stick: the force moves into the
+//! cone; slip: the sliding is against `ft`); where neither mode is, the quasi-static problem
+//! has no continuation and the sweep says so ([`ContactError::FrictionIndeterminate`]) rather
+//! than return a row that breaks the law. At the first touch (`F = 0`) the mode is the
+//! stick branch's if its force direction lies in the cone (`|dft| <= mu dfn`), slip with
+//! `s = sign(dft)` otherwise.
+//!
+//! **Phase B (tangential contact) with friction is not implemented**: a frictional sweep
+//! whose tip contact reaches `phi1 = psi`, or whose first touch is tangential, ends with
+//! [`ContactError::FrictionInTangentialContact`]. The decision for it (docs/friction.md):
+//! the touching material point of an inextensible whisker on a fixed obstacle moves along `t`
+//! at `d sigma - d s1` (sigma the contact point's arc length along the boundary), so stick in
+//! phase B is rolling without sliding, `sigma - s1` constant, with the four unknowns
+//! `fn, ft, s1, sigma` against position (2), tangency (1) and rolling (1); the spec's
+//! "s1 and the contact point stay put" would add a fifth condition to four unknowns.
+//!
+//! **Rows** at evenly spaced base positions from the first touch to the separation, one more
+//! at each stick/slip switch, each solved in the mode of its stretch of the path (the anchor
+//! is the sweep's state) from the bracketing nodes; each row carries `ft`, the
+//! [`SlipState`] and the tip's slip displacement, the signed arc length along the contour
+//! from the first touch to the contact point (constant while stuck).
+
+mod branch;
+mod events;
+mod rows;
+mod start;
+mod trace;
+
+use crate::accuracy::{row_integration_tol, row_solve_tol, ESTIMATE_FACTOR};
+pub use crate::contact_law::{ContactLaw, FrictionEvent, FrictionEventKind, SlipState, MAX_MU};
+use crate::error::{ContactError, Result};
+use crate::first_contact::{FirstContact, FirstTouch};
+use crate::profile::Profile;
+use crate::sweep::{
+    check_accuracy, pre_contact_rows, Separation, SweepPoint, SweepResult, SweepSettings,
+};
+use beam_model::shot::Integration;
+use beam_model::{FluidLoad, Whisker};
+use branch::{Mode, TipBranch};
+use rows::rows;
+use trace::{End, Sweeper};
+
+/// What the frictional sweep returns to [`crate::driver::sweep`].
+pub(crate) struct FrictionalRows {
+    /// The contact rows and their estimates (NaN without an accuracy asked for).
+    pub rows: Vec<(SweepPoint, f64)>,
+    pub events: Vec<FrictionEvent>,
+    pub separation: Separation,
+    /// x0 of the first touch.
+    pub first_x0: f64,
+}
+
+/// Settings of the frictional sweep handed down from [`crate::sweep::SweepSettings`].
+pub(crate) struct FrictionSettings {
+    pub mu: f64,
+    pub points: usize,
+    pub integration_tol: f64,
+    pub solve_tol: f64,
+    pub event_tol: f64,
+    pub check_penetration: bool,
+    pub max_steps: usize,
+    pub max_step: f64,
+    /// Rows' integrator and residual tolerances and the estimate's integrator tolerance,
+    /// with an accuracy asked for.
+    pub rows_at: Option<(f64, f64, f64)>,
+}
+
+/// The frictional sweep's contact rows from the first touch `touch` (phase A only).
+pub(crate) fn frictional_rows(
+    whisker: &Whisker,
+    flow: FluidLoad,
+    profile: &Profile,
+    touch: &FirstTouch,
+    set: &FrictionSettings,
+) -> Result<FrictionalRows> {
+    if touch.kind == FirstContact::Tangential {
+        return Err(ContactError::FrictionInTangentialContact {
+            x0: touch.x0,
+            xc: touch.xc,
+        });
+    }
+    let sw = Sweeper {
+        b: TipBranch {
+            whisker,
+            flow,
+            profile,
+            integration: Integration::adaptive(set.integration_tol),
+            tol: set.solve_tol,
+            mu: set.mu,
+        },
+        event_tol: set.event_tol,
+        max_step: set.max_step.min(0.05),
+        max_steps: set.max_steps,
+        check_penetration: set.check_penetration,
+    };
+    // the free whisker at its touch: F = 0; its mode from the stick curve's direction
+    let w0 = [touch.phi1, 0.0, 0.0, touch.t];
+    let (_, n0) = sw.b.eval(Mode::Stick { anchor: touch.t }, w0, true)?;
+    let first = sw.first_mode(&n0, w0)?;
+    let tr = sw.trace(first)?;
+    let separation = match tr.end {
+        End::Tangential => {
+            let at = tr.nodes.last().copied().unwrap_or(first);
+            return Err(ContactError::FrictionInTangentialContact {
+                x0: at.x0,
+                xc: at.geom.x,
+            });
+        }
+        End::Separated(s) => s,
+    };
+    let rows = rows(&sw, &tr, set, touch)?;
+    Ok(FrictionalRows {
+        rows,
+        events: tr.events,
+        separation,
+        first_x0: first.x0,
+    })
+}
+
+/// The frictional sweep (`mu > 0`) from the free whisker's tip angle `phi1` and its first
+/// touch: the pre-contact rows of the frictionless sweep, then the frictional contact rows
+/// ([`frictional_rows`]), with the accuracy asked for (`SweepSettings::accuracy`) every row's
+/// estimate, the sweep refused where one exceeds it (no second, tighter pass here).
+pub(crate) fn sweep(
+    whisker: &Whisker,
+    flow: FluidLoad,
+    profile: &Profile,
+    settings: &SweepSettings,
+    (phi1, touch): (f64, &FirstTouch),
+    mu: f64,
+) -> Result<SweepResult> {
+    let set = FrictionSettings {
+        mu,
+        points: settings.points,
+        integration_tol: settings.integration_tol,
+        solve_tol: settings.solve_tol,
+        event_tol: settings.event_tol,
+        check_penetration: settings.check_penetration,
+        max_steps: settings.max_steps,
+        max_step: settings.max_step,
+        rows_at: settings.accuracy.map(|t| {
+            (
+                row_integration_tol(t),
+                row_solve_tol(t),
+                row_integration_tol(t) * ESTIMATE_FACTOR,
+            )
+        }),
+    };
+    let fr = frictional_rows(whisker, flow, profile, touch, &set)?;
+    let mut points = pre_contact_rows(whisker, flow, phi1, fr.first_x0, settings)?;
+    let pre = points.len();
+    points.extend(fr.rows.iter().map(|r| r.0));
+    let accuracy = settings
+        .accuracy
+        .map(|tol| {
+            let first = fr.rows.first().map_or(f64::NAN, |r| r.1);
+            let mut estimates = vec![first; pre];
+            estimates.extend(fr.rows.iter().map(|r| r.1));
+            check_accuracy(&points, estimates, tol, row_integration_tol(tol))
+        })
+        .transpose()?;
+    Ok(SweepResult {
+        q: flow.q,
+        alpha: flow.alpha,
+        points,
+        first_contact: touch.kind,
+        first_touch: *touch,
+        separation: fr.separation,
+        accuracy,
+        friction_events: fr.events,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact_law::{force, frictional_loads};
+
+    /// `F = fn n + ft t` as a tip force: the loads' vector is the force, and `ft = 0` gives
+    /// the frictionless loads bit for bit.
+    #[test]
+    fn the_frictional_force_is_the_tip_force() {
+        let flow = FluidLoad { q: 1.0, alpha: 0.2 };
+        for (psi, f, ft) in [(0.3, 2.0, 0.5), (-0.7, 1.0, -0.9), (1.2, 0.4, 0.0)] {
+            let l = frictional_loads(flow, psi, f, ft, 1.0);
+            let (fx, fy) = force(psi, f, ft);
+            let (sb, cb) = l.tip.beta.sin_cos();
+            assert!((l.tip.f * cb - fx).abs() < 1e-15 && (-l.tip.f * sb - fy).abs() < 1e-15);
+            // the normal and tangential parts of the force
+            let (sp, cp) = psi.sin_cos();
+            assert!((fx * sp - fy * cp - f).abs() < 1e-15);
+            assert!((fx * cp + fy * sp - ft).abs() < 1e-15);
+        }
+        let l = frictional_loads(flow, 0.4, 1.5, 0.0, 0.8);
+        assert_eq!(l, crate::phase::contact_loads(flow, 0.4, 1.5, 0.8));
+    }
+
+    /// `ContactLaw` refuses a negative or non-finite coefficient and names it.
+    #[test]
+    fn the_law_refuses_bad_coefficients() {
+        assert!(ContactLaw::Coulomb { mu: 0.5 }.validate().is_ok());
+        assert_eq!(ContactLaw::Coulomb { mu: 0.0 }.friction(), None);
+        assert_eq!(ContactLaw::default().mu(), 0.0);
+        for mu in [-0.1, f64::NAN, f64::INFINITY, 11.0] {
+            let e = ContactLaw::Coulomb { mu }.validate().unwrap_err();
+            assert!(e.to_string().contains("mu"), "{e}");
+        }
+    }
+}

@@ -1,0 +1,206 @@
+//! The frictional sweep's rows: their base positions, solves, estimates and slip displacement.
+
+use super::branch::{Con, Mode, Node, TipBranch};
+use super::trace::{End, Sweeper, Trace};
+use super::FrictionSettings;
+use crate::accuracy::ESTIMATE_MARGIN;
+use crate::contact_law::frictional_observables;
+use crate::error::Result;
+use crate::first_contact::FirstTouch;
+use crate::phase::Phase;
+use crate::profile::Profile;
+use crate::sweep::{Separation, SweepPoint};
+use beam_model::shot::Integration;
+use beam_model::FluidLoad;
+
+/// Signed arc length of the contour from parameter `a` to `b` (Gauss-Legendre, 5 points on
+/// pieces of at most 0.05 in `t`).
+pub(super) fn arc_length(profile: &Profile, a: f64, b: f64) -> f64 {
+    const X: [f64; 5] = [
+        -0.906_179_845_938_664,
+        -0.538_469_310_105_683,
+        0.0,
+        0.538_469_310_105_683,
+        0.906_179_845_938_664,
+    ];
+    const W: [f64; 5] = [
+        0.236_926_885_056_189,
+        0.478_628_670_499_366,
+        0.568_888_888_888_889,
+        0.478_628_670_499_366,
+        0.236_926_885_056_189,
+    ];
+    let pieces = ((b - a).abs() / 0.05).ceil().max(1.0) as usize;
+    let h = (b - a) / pieces as f64;
+    let mut s = 0.0;
+    for k in 0..pieces {
+        let mid = a + (k as f64 + 0.5) * h;
+        for (x, w) in X.iter().zip(W) {
+            let g = profile.at(mid + 0.5 * h * x);
+            s += w * 0.5 * h * g.dx.hypot(g.dy);
+        }
+    }
+    s
+}
+
+/// The rows: `points` evenly spaced in x0 from the first touch to the end, and one at every
+/// switch (the new mode's node); each solved in its stretch's mode from the bracketing
+/// nodes (linear prediction in x0, Newton at the row's base position).
+pub(super) fn rows(
+    sw: &Sweeper,
+    tr: &Trace,
+    set: &FrictionSettings,
+    touch: &FirstTouch,
+) -> Result<Vec<(SweepPoint, f64)>> {
+    let nodes = &tr.nodes;
+    let last = nodes.len() - 1;
+    let (xa, xb) = (nodes[0].x0, nodes[last].x0);
+    let row_branch = set.rows_at.map(|(it, st, _)| TipBranch {
+        integration: Integration::adaptive(it),
+        tol: st,
+        ..sw.b.clone_shallow()
+    });
+    let loose = set.rows_at.map(|(_, _, lt)| TipBranch {
+        integration: Integration::adaptive(lt),
+        ..sw.b.clone_shallow()
+    });
+    let rb = row_branch.as_ref().unwrap_or(&sw.b);
+    // targets: (x0, the node index of a switch or of the ends)
+    let n = set.points;
+    let mut targets: Vec<(f64, Option<usize>)> = (0..n)
+        .map(|k| match k {
+            0 => (xa, Some(0)),
+            _ if k + 1 == n => (xb, Some(last)),
+            _ => (xa + (xb - xa) * k as f64 / (n - 1) as f64, None),
+        })
+        .collect();
+    for i in 1..last {
+        if nodes[i].mode != nodes[i + 1].mode {
+            targets.push((nodes[i + 1].x0, Some(i + 1)));
+        }
+    }
+    targets.sort_by(|a, b| b.0.total_cmp(&a.0));
+    targets.dedup_by(|b, a| {
+        if a.0 == b.0 {
+            a.1 = a.1.or(b.1);
+            true
+        } else {
+            false
+        }
+    });
+    let mut out: Vec<(SweepPoint, f64)> = Vec::with_capacity(targets.len());
+    let mut seg = 0;
+    for (x, at) in targets {
+        let (node, hold) = match at {
+            Some(i) if i == last => {
+                let n = &nodes[i];
+                (
+                    rb.correct(n.mode, n.w, end_hold(n, &tr.end))?,
+                    end_hold(n, &tr.end),
+                )
+            }
+            Some(i) => (
+                rb.correct(nodes[i].mode, nodes[i].w, Con::Base(x))?,
+                Con::Base(x),
+            ),
+            None => {
+                while seg + 1 < last
+                    && (nodes[seg + 1].x0 > x || nodes[seg].mode != nodes[seg + 1].mode)
+                {
+                    seg += 1;
+                }
+                let (a, b) = (&nodes[seg], &nodes[seg + 1]);
+                let wth = (x - a.x0) / (b.x0 - a.x0);
+                let p = [
+                    a.w[0] + wth * (b.w[0] - a.w[0]),
+                    a.w[1] + wth * (b.w[1] - a.w[1]),
+                    a.w[2] + wth * (b.w[2] - a.w[2]),
+                    a.w[3] + wth * (b.w[3] - a.w[3]),
+                ];
+                (rb.correct(a.mode, p, Con::Base(x))?, Con::Base(x))
+            }
+        };
+        let est = match &loose {
+            Some(l) => estimate(l, &node, hold)?,
+            None => f64::NAN,
+        };
+        out.push((row_of(sw.b.flow, sw.b.profile, touch, &node), est));
+    }
+    Ok(out)
+}
+
+/// How the row at the end of the path is held when it is solved again: the release at
+/// `fn = 0`, any other end at its contour point (in stick, whose contour point the mode
+/// holds, at its normal force).
+pub(super) fn end_hold(n: &Node, end: &End) -> Con {
+    let release = matches!(end, End::Separated(Separation::Release));
+    let axis = match n.mode {
+        Mode::Slip { .. } if !release => [0.0, 0.0, 0.0, 1.0],
+        _ => [0.0, 1.0, 0.0, 0.0],
+    };
+    Con::Plane { n: axis, p: n.w }
+}
+
+/// A row's error estimate: the row solved again with the looser integration of `loose`
+/// (Newton from the row, at its base position; at its contour point where the row ends the
+/// path), twice the largest change of its observables and contact point.
+pub(super) fn estimate(loose: &TipBranch, n: &Node, hold: Con) -> Result<f64> {
+    let m = loose.correct(n.mode, n.w, hold)?;
+    let obs = |n: &Node| {
+        let (ax, ay, ma) =
+            frictional_observables(loose.flow, n.geom.psi, n.w[1], n.w[2], 1.0, n.m0);
+        [n.x0, ax, ay, ma, n.phi0, n.geom.x, n.geom.y]
+    };
+    let (a, b) = (obs(n), obs(&m));
+    Ok(ESTIMATE_MARGIN
+        * a.iter()
+            .zip(b)
+            .map(|(x, y)| (x - y).abs())
+            .fold(0.0, f64::max))
+}
+
+/// A log row of a node: the observables of `F = fn n + ft t`, the slip state and the tip's
+/// slip displacement along the contour since the first touch.
+pub(super) fn row_of(
+    flow: FluidLoad,
+    profile: &Profile,
+    touch: &FirstTouch,
+    n: &Node,
+) -> SweepPoint {
+    let [phi1, f, ft, t] = n.w;
+    let (ax, ay, ma) = frictional_observables(flow, n.geom.psi, f, ft, 1.0, n.m0);
+    SweepPoint {
+        x0: n.x0,
+        ax,
+        ay,
+        ma,
+        phi0: n.phi0,
+        f,
+        s1: 1.0,
+        phi1,
+        phase: Phase::A,
+        xc: n.geom.x,
+        yc: n.geom.y,
+        psi: n.geom.psi,
+        ft,
+        slip: n.mode.slip_state(),
+        slip_distance: arc_length(profile, touch.t, t),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The contour's arc length: a circle's is `r dt`, a parabola's the closed form
+    /// `[x sqrt(1 + x^2) + asinh x] / 2` (g2: `y = 1/2 + x^2/2`).
+    #[test]
+    fn arc_lengths_are_the_closed_forms() {
+        let c = Profile::parse("circle:0.2,1.3,0.5").unwrap();
+        assert!((arc_length(&c, -0.3, 0.9) - 0.5 * 1.2).abs() < 1e-14);
+        let g2 = Profile::g2();
+        let exact = |x: f64| 0.5 * (x * (1.0 + x * x).sqrt() + x.asinh());
+        let s = arc_length(&g2, -0.4, 1.3);
+        assert!((s - (exact(1.3) - exact(-0.4))).abs() < 1e-13, "{s}");
+    }
+}

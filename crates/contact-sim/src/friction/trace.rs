@@ -1,0 +1,212 @@
+//! The frictional path followed from its first node to its end.
+
+use super::branch::{dot4, norm4, sub4, Con, Mode, Node, TipBranch};
+use super::events::Ev;
+use crate::contact_law::{FrictionEvent, FrictionEventKind};
+use crate::error::{ContactError, Result};
+use crate::phase::Phase;
+use crate::sweep::Separation;
+
+/// How far in x0 the new mode at a stick/slip switch is followed to check that it keeps the
+/// law ([`Sweeper::probe`]).
+pub(super) const SWITCH_PROBE: f64 = 1e-4;
+
+/// How the frictional trace ended.
+pub(super) enum End {
+    Separated(Separation),
+    Tangential,
+}
+
+/// The traced path: nodes in the order of the motion (a switch node appears twice, once in
+/// each mode), the switch events, and the end.
+pub(super) struct Trace {
+    pub(super) nodes: Vec<Node>,
+    pub(super) events: Vec<FrictionEvent>,
+    pub(super) end: End,
+}
+
+pub(super) struct Sweeper<'a> {
+    pub(super) b: TipBranch<'a>,
+    pub(super) event_tol: f64,
+    pub(super) max_step: f64,
+    pub(super) max_steps: usize,
+    pub(super) check_penetration: bool,
+}
+
+impl Sweeper<'_> {
+    /// Follows the path from `first` (in `mode`) to the separation.
+    pub(super) fn trace(&self, first: Node) -> Result<Trace> {
+        let mut nodes = vec![first];
+        let mut events = Vec::new();
+        let mut cur = first;
+        let mut dir = self.b.falling(&cur);
+        let mut h = 0.01f64.min(self.max_step);
+        let mut steps = 0;
+        let mut zero_stretch = 0;
+        loop {
+            if steps >= self.max_steps {
+                return Ok(Trace {
+                    nodes,
+                    events,
+                    end: End::Separated(Separation::NotReached { steps }),
+                });
+            }
+            steps += 1;
+            let scale = [1.0, 1.0 / cur.w[1].abs().max(1.0), 1.0, 1.0];
+            let scale = [scale[0], scale[1], scale[1], scale[3]];
+            let tn = self.b.tangent(&cur, &dir);
+            let sn = norm4(&[
+                tn[0] * scale[0],
+                tn[1] * scale[1],
+                tn[2] * scale[2],
+                tn[3] * scale[3],
+            ]);
+            let raw = h / sn;
+            let p = [
+                cur.w[0] + raw * tn[0],
+                cur.w[1] + raw * tn[1],
+                cur.w[2] + raw * tn[2],
+                cur.w[3] + raw * tn[3],
+            ];
+            let next = match self.b.correct(cur.mode, p, Con::Plane { n: tn, p }) {
+                Ok(n) if dot4(&self.b.tangent(&n, &tn), &tn) > 0.95 => Ok(n),
+                Ok(_) => Err(None),
+                Err(e) => Err(Some(e)),
+            };
+            let next = match next {
+                Ok(n) => n,
+                Err(e) => {
+                    h *= 0.5;
+                    if h < 1e-9 {
+                        return match e {
+                            Some(ContactError::LeftContour { .. }) => Ok(Trace {
+                                nodes,
+                                events,
+                                end: End::Separated(Separation::EndOfContour),
+                            }),
+                            Some(e) => Err(e),
+                            None => Err(self.stalled(&cur, h, "the path turns too sharply")),
+                        };
+                    }
+                    continue;
+                }
+            };
+            // events between cur and next: the earliest
+            let chord = sub4(&next.w, &cur.w);
+            let mut first_ev: Option<(f64, Ev, Node)> = None;
+            for &ev in self.events_of(cur.mode) {
+                let cb = self.condition(ev, &next, &chord)?;
+                if cb >= 0.0 {
+                    continue;
+                }
+                let ca = self.condition(ev, &cur, &chord)?;
+                if ca < 0.0 {
+                    // already across at the start: only a switch that was just made
+                    continue;
+                }
+                let (th, at) = self.locate(ev, &cur, &next, ca, cb)?;
+                if first_ev.as_ref().is_none_or(|f| th < f.0) {
+                    first_ev = Some((th, ev, at));
+                }
+            }
+            let Some((_, ev, at)) = first_ev else {
+                dir = self.b.tangent(&next, &tn);
+                nodes.push(next);
+                cur = next;
+                zero_stretch = 0;
+                h = (h * 1.5).min(self.max_step);
+                continue;
+            };
+            nodes.push(at);
+            let end = |s| {
+                Ok(Trace {
+                    nodes: nodes.clone(),
+                    events: events.clone(),
+                    end: End::Separated(s),
+                })
+            };
+            match ev {
+                Ev::Release => {
+                    // on fn = 0 itself (as the frictionless sweep's release)
+                    let p = [at.w[0], 0.0, at.w[2], at.w[3]];
+                    let n = [0.0, 1.0, 0.0, 0.0];
+                    let on = self.b.correct(at.mode, p, Con::Plane { n, p })?;
+                    let mut nodes = nodes.clone();
+                    nodes.pop();
+                    nodes.push(on);
+                    return Ok(Trace {
+                        nodes,
+                        events,
+                        end: End::Separated(Separation::Release),
+                    });
+                }
+                Ev::Snap => return end(Separation::Snap),
+                Ev::Touch | Ev::Depth => return end(Separation::MultiContact { xc: at.geom.x }),
+                Ev::PhaseEnd => {
+                    return Ok(Trace {
+                        nodes,
+                        events,
+                        end: End::Tangential,
+                    })
+                }
+                Ev::Cone | Ev::Sliding => {
+                    zero_stretch += 1;
+                    if zero_stretch > 2 {
+                        return Err(self.indeterminate(&at, "stick and slip alternate on the spot"));
+                    }
+                    let (kind, mode) = if ev == Ev::Cone {
+                        let s = at.w[2].signum();
+                        (FrictionEventKind::StickToSlip, Mode::Slip { s })
+                    } else {
+                        (
+                            FrictionEventKind::SlipToStick,
+                            Mode::Stick { anchor: at.w[3] },
+                        )
+                    };
+                    let start = self.b.correct(mode, at.w, Con::Base(at.x0))?;
+                    if !self.probe(&start, SWITCH_PROBE) {
+                        let reason = match kind {
+                            FrictionEventKind::StickToSlip => {
+                                "the force leaves the cone, and sliding against it does not follow the base (a dynamic slip)"
+                            }
+                            FrictionEventKind::SlipToStick => {
+                                "the sliding stops, and sticking does not keep the force in the cone"
+                            }
+                        };
+                        return Err(self.indeterminate(&start, reason));
+                    }
+                    events.push(FrictionEvent {
+                        kind,
+                        x0: start.x0,
+                        xc: start.geom.x,
+                        f: start.w[1],
+                        ft: start.w[2],
+                    });
+                    nodes.push(start);
+                    dir = self.b.falling(&start);
+                    cur = start;
+                    h = 0.01f64.min(self.max_step);
+                }
+            }
+        }
+    }
+
+    pub(super) fn indeterminate(&self, n: &Node, reason: &str) -> ContactError {
+        ContactError::FrictionIndeterminate {
+            x0: n.x0,
+            xc: n.geom.x,
+            mu: self.b.mu,
+            reason: reason.into(),
+        }
+    }
+
+    pub(super) fn stalled(&self, n: &Node, step: f64, reason: &str) -> ContactError {
+        ContactError::BranchStalled {
+            phase: Phase::A,
+            x0: n.x0,
+            xc: n.geom.x,
+            step,
+            reason: reason.into(),
+        }
+    }
+}

@@ -92,8 +92,9 @@ pub enum ContactError {
         /// The accuracy asked for.
         tol: f64,
     },
-    /// A frictional sweep reached a tangential contact (phase B), whose frictional model is
-    /// not implemented (crate::friction).
+    /// A frictional sweep reached a tangential contact (phase B) without a frictional model
+    /// for it. No longer returned: phase B has friction (crate::friction); kept so that
+    /// callers matching it still build.
     #[error("friction in tangential contact is not implemented: the tip contact turns tangential at x0 = {x0:.6} (xc = {xc:.6}); sweep this scene with mu = 0")]
     FrictionInTangentialContact {
         /// Base position where the tangential contact begins.

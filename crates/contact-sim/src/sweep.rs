@@ -112,8 +112,10 @@ pub struct SweepPoint {
     /// Stick, slip, or none (before contact and without friction).
     #[serde(default)]
     pub slip: crate::contact_law::SlipState,
-    /// The touching material point's slip displacement: the signed arc length along the
-    /// contour (towards +x) from the first touch to the contact point (0 without friction).
+    /// The touching material point's slip displacement since the first touch: the signed
+    /// arc length along the contour (towards +x) it has slid, `sigma - s1` less its value at
+    /// the touch (`sigma` the contact point's arc length; in tip contact the contact point's
+    /// arc length from the first touch); constant while stuck, 0 without friction.
     #[serde(default)]
     pub slip_distance: f64,
 }

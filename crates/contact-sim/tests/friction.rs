@@ -43,27 +43,44 @@ fn force(p: &SweepPoint) -> (f64, f64) {
 }
 
 /// The elastica written out: `phi' = m / e(s)^4 + A s + B`, `m' = Fx sin phi - Fy cos phi +
-/// q (1 - s) sin(phi + alpha)`, `x' = cos phi`, `y' = sin phi` (spec/model.md), the tip force
-/// `(fx, fy)` at `s = 1`, integrated by classical RK4 on `n` steps from the base values
-/// `(phi0, m0, x0, 0)`: samples `(s, phi, m, x, y)`.
+/// q (s1 - s) sin(phi + alpha)` on `[0, s1]`, `x' = cos phi`, `y' = sin phi` (spec/model.md),
+/// the force `(fx, fy)` at `s = 1`, integrated by classical RK4 on `n` steps from the base
+/// values `(phi0, m0, x0, 0)`: samples `(s, phi, m, x, y)`.
 fn elastica(sc: &Scene, (fx, fy): (f64, f64), base: [f64; 4], n: usize) -> Vec<[f64; 5]> {
+    elastica_to(sc, (fx, fy), base, n, 1.0)
+}
+
+/// [`elastica`] with the force at `s1 <= 1` (the flow on `[0, s1]`), then the unloaded segment
+/// beyond it (`m' = 0`) on `n - n s1` more steps: the sample at `s1` is the `n`-th.
+fn elastica_to(
+    sc: &Scene,
+    (fx, fy): (f64, f64),
+    base: [f64; 4],
+    n: usize,
+    s1: f64,
+) -> Vec<[f64; 5]> {
     let w = &sc.whisker;
     let (q, al) = (sc.flow.q, sc.flow.alpha);
-    let rhs = |s: f64, u: &[f64; 4]| -> [f64; 4] {
+    let rhs = |s: f64, u: &[f64; 4], loaded: bool| -> [f64; 4] {
         let e = 1.0 + (w.theta - 1.0) * s;
         let (sp, cp) = u[0].sin_cos();
-        [
-            u[1] / (e * e * e * e) + w.a * s + w.b,
-            fx * sp - fy * cp + q * (1.0 - s) * (u[0] + al).sin(),
-            cp,
-            sp,
-        ]
+        let dm = if loaded {
+            fx * sp - fy * cp + q * (s1 - s) * (u[0] + al).sin()
+        } else {
+            0.0
+        };
+        [u[1] / (e * e * e * e) + w.a * s + w.b, dm, cp, sp]
     };
-    let h = 1.0 / n as f64;
+    let beyond = ((1.0 - s1) * n as f64).ceil() as usize;
     let mut u = base;
     let mut out = vec![[0.0, u[0], u[1], u[2], u[3]]];
-    for i in 0..n {
-        let s = i as f64 * h;
+    for i in 0..n + beyond {
+        let (s, h) = if i < n {
+            (s1 * i as f64 / n as f64, s1 / n as f64)
+        } else {
+            let h = (1.0 - s1) / beyond as f64;
+            (s1 + (i - n) as f64 * h, h)
+        };
         let add = |a: &[f64; 4], k: &[f64; 4], c: f64| {
             [
                 a[0] + c * k[0],
@@ -72,14 +89,20 @@ fn elastica(sc: &Scene, (fx, fy): (f64, f64), base: [f64; 4], n: usize) -> Vec<[
                 a[3] + c * k[3],
             ]
         };
-        let k1 = rhs(s, &u);
-        let k2 = rhs(s + 0.5 * h, &add(&u, &k1, 0.5 * h));
-        let k3 = rhs(s + 0.5 * h, &add(&u, &k2, 0.5 * h));
-        let k4 = rhs(s + h, &add(&u, &k3, h));
+        let k1 = rhs(s, &u, i < n);
+        let k2 = rhs(s + 0.5 * h, &add(&u, &k1, 0.5 * h), i < n);
+        let k3 = rhs(s + 0.5 * h, &add(&u, &k2, 0.5 * h), i < n);
+        let k4 = rhs(s + h, &add(&u, &k3, h), i < n);
         for j in 0..4 {
             u[j] += h / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j]);
         }
-        out.push([s + h, u[0], u[1], u[2], u[3]]);
+        if i + 1 == n {
+            // the unloaded segment carries no moment: m(s1) = 0 is checked on the sample
+            out.push([s1, u[0], u[1], u[2], u[3]]);
+            u[1] = 0.0;
+        } else {
+            out.push([s + h, u[0], u[1], u[2], u[3]]);
+        }
     }
     out
 }
@@ -94,16 +117,28 @@ struct Figures {
     rows: usize,
     stick_rows: usize,
     slip_rows: usize,
+    /// rows in tangential contact, and of those stuck
+    b_rows: usize,
+    b_stick_rows: usize,
+    /// sweeps whose first touch is tangential
+    tangential_touch: usize,
     events: usize,
+    /// intervals between two stuck rows in tangential contact, the largest change of s1 and
+    /// of the contact point's arc length over one of them (the rolling moves both)
+    b_stick_intervals: usize,
+    rolled_s1: f64,
+    rolled_sigma: f64,
     /// worst (value, scene, row) of each check
     equilibrium: (f64, usize, usize),
     on_contour: (f64, usize, usize),
     phase: (f64, usize, usize),
+    tangency: (f64, usize, usize),
     follicle: (f64, usize, usize),
     balance: (f64, usize, usize),
     cone: (f64, usize, usize),
     edge: (f64, usize, usize),
     stuck: (f64, usize, usize),
+    rolling: (f64, usize, usize),
     against: (f64, usize, usize),
     penetration: (f64, usize, usize),
 }
@@ -114,9 +149,29 @@ fn worst(slot: &mut (f64, usize, usize), v: f64, scene: usize, row: usize) {
     }
 }
 
-/// Checks every row of a frictional sweep (tip contact) independently of the sweep's solver.
+/// The signed arc length of the contour from `xa` to `xb` (towards +x), as the length of a
+/// polyline of 4000 chords on the graph `y(x)` (error ~ kappa^2 h^2 / 24 of the length).
+fn contour_arc(profile: &Profile, xa: f64, xb: f64) -> f64 {
+    let n = 4000;
+    let h = (xb - xa) / n as f64;
+    let mut len = 0.0;
+    let mut prev = (xa, profile.y(xa));
+    for k in 1..=n {
+        let x = if k == n { xb } else { xa + k as f64 * h };
+        let p = (x, profile.y(x));
+        len += (p.0 - prev.0).hypot(p.1 - prev.1);
+        prev = p;
+    }
+    len * (xb - xa).signum()
+}
+
+/// Checks every row of a frictional sweep (tip and tangential contact) independently of the
+/// sweep's solver.
 fn check(sc: &Scene, mu: f64, r: &SweepResult, id: usize, fig: &mut Figures) {
     fig.events += r.friction_events.len();
+    if r.first_contact == contact_sim::FirstContact::Tangential {
+        fig.tangential_touch += 1;
+    }
     let (sa, ca) = sc.flow.alpha.sin_cos();
     let q = sc.flow.q;
     let mut prev: Option<&SweepPoint> = None;
@@ -125,8 +180,20 @@ fn check(sc: &Scene, mu: f64, r: &SweepResult, id: usize, fig: &mut Figures) {
             assert_eq!(p.slip, SlipState::None);
             continue;
         }
-        assert_eq!(p.phase, Phase::A, "scene {id} row {i}");
+        assert!(matches!(p.phase, Phase::A | Phase::B), "scene {id} row {i}");
+        let tangential = p.phase == Phase::B;
+        assert!(
+            tangential || p.s1 == 1.0,
+            "scene {id} row {i}: tip contact at s1 {}",
+            p.s1
+        );
         fig.rows += 1;
+        if tangential {
+            fig.b_rows += 1;
+            if p.slip == SlipState::Stick {
+                fig.b_stick_rows += 1;
+            }
+        }
         match p.slip {
             SlipState::Stick => fig.stick_rows += 1,
             SlipState::Slip => fig.slip_rows += 1,
@@ -134,8 +201,10 @@ fn check(sc: &Scene, mu: f64, r: &SweepResult, id: usize, fig: &mut Figures) {
         }
         let scale = 1f64.max(p.f.hypot(p.ft)).max(p.ma.abs());
         let (fx, fy) = force(p);
-        // the observables are the balance of F and the flow [6.7-6.9]
-        let bal = (p.ax + fx + q * ca).abs().max((p.ay + fy - q * sa).abs());
+        // the observables are the balance of F and the flow on [0, s1] [6.7-6.9]
+        let bal = (p.ax + fx + q * p.s1 * ca)
+            .abs()
+            .max((p.ay + fy - q * p.s1 * sa).abs());
         worst(&mut fig.balance, bal / scale, id, i);
         // the follicle law phi0 = pi/2 - MA / k
         let k = match sc.whisker.support {
@@ -148,9 +217,10 @@ fn check(sc: &Scene, mu: f64, r: &SweepResult, id: usize, fig: &mut Figures) {
             id,
             i,
         );
-        // equilibrium: from the base, the free end carries no moment and lies on the contact
+        // equilibrium: from the base, the loaded end s1 carries no moment and lies on the
+        // contact point (the force there, the segment beyond unloaded)
         let n = if sc.whisker.theta < 0.3 { 8000 } else { 3000 };
-        let tr = elastica(sc, (fx, fy), base_of(p), n);
+        let tr = elastica_to(sc, (fx, fy), base_of(p), n, p.s1);
         let e = tr[n];
         let eq = e[2].abs().max((e[3] - p.xc).abs()).max((e[4] - p.yc).abs());
         worst(&mut fig.equilibrium, eq / scale, id, i);
@@ -160,7 +230,14 @@ fn check(sc: &Scene, mu: f64, r: &SweepResult, id: usize, fig: &mut Figures) {
             id,
             i,
         );
-        worst(&mut fig.phase, (p.psi - e[1]).max(0.0), id, i);
+        if tangential {
+            // tangency phi(s1) = psi, and the contact point strictly inside the whisker
+            worst(&mut fig.tangency, (e[1] - p.psi).abs(), id, i);
+            assert!(p.s1 > 0.0 && p.s1 < 1.0, "scene {id} row {i}: s1 {}", p.s1);
+        } else {
+            // tip contact: the tip steeper than the contour
+            worst(&mut fig.phase, (p.psi - e[1]).max(0.0), id, i);
+        }
         // the force in the cone, on its edge in slip
         assert!(p.f >= -1e-12, "scene {id} row {i}: fn = {}", p.f);
         worst(
@@ -172,17 +249,27 @@ fn check(sc: &Scene, mu: f64, r: &SweepResult, id: usize, fig: &mut Figures) {
         if p.slip == SlipState::Slip {
             worst(&mut fig.edge, (p.ft.abs() - mu * p.f).abs() / scale, id, i);
         }
-        // the slip law between consecutive rows: the contact point's displacement along the
-        // contour (here the chord, signed by x) is zero from a stuck row, against ft from a
-        // sliding one; the row's slip displacement follows it
+        // the slip law between consecutive rows: the touching material point's displacement
+        // along the contour, d(sigma) - d(s1) (sigma the contour's arc length towards +x,
+        // measured here on the contour's graph; s1 = 1 in tip contact), is zero from a stuck
+        // row (in tangential contact: rolling), against ft from a sliding one; the row's slip
+        // displacement follows it
         if let Some(a) = prev {
-            let chord = (p.xc - a.xc).hypot(p.yc - a.yc) * (p.xc - a.xc).signum();
+            let dsigma = contour_arc(&sc.profile, a.xc, p.xc);
+            let chord = dsigma - (p.s1 - a.s1);
             let dsd = p.slip_distance - a.slip_distance;
             assert!(
-                (dsd - chord).abs() <= 0.02 * chord.abs() + 1e-12,
-                "scene {id} row {i}: slip displacement {dsd:e} against the chord {chord:e}"
+                (dsd - chord).abs() <= 1e-6 * dsigma.abs() + 1e-9,
+                "scene {id} row {i}: slip displacement {dsd:e} against the material point's {chord:e}"
             );
             match a.slip {
+                SlipState::Stick if a.phase == Phase::B && p.phase == Phase::B => {
+                    fig.b_stick_intervals += 1;
+                    fig.rolled_s1 = fig.rolled_s1.max((p.s1 - a.s1).abs());
+                    fig.rolled_sigma = fig.rolled_sigma.max(dsigma.abs());
+                    worst(&mut fig.rolling, chord.abs(), id, i);
+                    worst(&mut fig.stuck, chord.abs(), id, i);
+                }
                 SlipState::Stick => worst(&mut fig.stuck, chord.abs(), id, i),
                 _ => {
                     // the interval slides with the sign of ft of its slip mode: both rows
@@ -194,8 +281,10 @@ fn check(sc: &Scene, mu: f64, r: &SweepResult, id: usize, fig: &mut Figures) {
             }
         }
         prev = Some(p);
-        // no penetration away from the tip
-        for v in &tr[..n - n / 500] {
+        // no penetration away from the contact point (the whole whisker, the unloaded segment
+        // beyond a tangential contact too)
+        let near = |v: &[f64; 5]| (v[0] - p.s1).abs() < 2e-3;
+        for v in tr.iter().filter(|v| !near(v)) {
             let gy = sc.profile.y(v[3]);
             if gy.is_finite() {
                 let mut depth = v[4] - gy;
@@ -213,6 +302,8 @@ fn assert_figures(f: &Figures) {
     assert!(f.equilibrium.0 < 1e-7, "{f:?}");
     assert!(f.on_contour.0 < 1e-10, "{f:?}");
     assert!(f.phase.0 < 1e-9, "{f:?}");
+    assert!(f.tangency.0 < 1e-8, "{f:?}");
+    assert!(f.rolling.0 < 1e-9, "{f:?}");
     assert!(f.follicle.0 < 1e-9, "{f:?}");
     assert!(f.balance.0 < 1e-12, "{f:?}");
     assert!(f.cone.0 < 1e-9, "{f:?}");
@@ -516,7 +607,7 @@ impl Rng {
 }
 
 /// A random scene: theta 0.2..1, pre-curvature of both signs (or none), rigid or a spring,
-/// q 0..3 at -45..45 degrees, g1, g2, a random parabola or a circle, and mu in 0.05..1.5.
+/// q 0..5 at -45..45 degrees, g1, g2, a random parabola or a circle, and mu in 0.05..1.5.
 fn random_scene(rng: &mut Rng) -> (Scene, f64) {
     let theta = rng.range(0.2, 1.0);
     let (a, b) = if rng.next() < 0.3 {
@@ -532,7 +623,7 @@ fn random_scene(rng: &mut Rng) -> (Scene, f64) {
     let q = if rng.next() < 0.2 {
         0.0
     } else {
-        rng.range(0.0, 3.0)
+        rng.range(0.0, 5.0)
     };
     let alpha = rng.range(-45.0, 45.0).to_radians();
     let u = rng.next();
@@ -566,7 +657,7 @@ fn random_scene(rng: &mut Rng) -> (Scene, f64) {
 fn battery(count: usize, seed: u64, points: usize) -> Figures {
     let mut rng = Rng(seed);
     let mut fig = Figures::default();
-    let (mut swept, mut tangential, mut indeterminate, mut no_contact, mut other) = (0, 0, 0, 0, 0);
+    let (mut swept, mut with_b, mut indeterminate, mut no_contact, mut other) = (0, 0, 0, 0, 0);
     for id in 0..count {
         let (sc, mu) = random_scene(&mut rng);
         let sweep_result = sweep(&sc.whisker, sc.flow, &sc.profile, &settings(mu, points));
@@ -576,6 +667,9 @@ fn battery(count: usize, seed: u64, points: usize) -> Figures {
         match sweep_result {
             Ok(r) => {
                 swept += 1;
+                if r.phase_pattern().contains('B') {
+                    with_b += 1;
+                }
                 if !r.friction_events.is_empty() {
                     let kinds: Vec<_> = r.friction_events.iter().map(|e| e.kind).collect();
                     eprintln!(
@@ -586,7 +680,6 @@ fn battery(count: usize, seed: u64, points: usize) -> Figures {
                 }
                 check(&sc, mu, &r, id, &mut fig);
             }
-            Err(ContactError::FrictionInTangentialContact { .. }) => tangential += 1,
             Err(ContactError::FrictionIndeterminate { .. }) => indeterminate += 1,
             Err(ContactError::NoContact { .. }) => no_contact += 1,
             Err(e) => {
@@ -596,12 +689,89 @@ fn battery(count: usize, seed: u64, points: usize) -> Figures {
         }
     }
     eprintln!(
-        "friction battery (seed {seed:#x}): {count} scenes, {swept} swept ({} rows: {} stick, {} slip; {} switches), {tangential} refused (tangential contact), {indeterminate} refused (no quasi-static continuation), {no_contact} without contact, {other} other errors",
-        fig.rows, fig.stick_rows, fig.slip_rows, fig.events
+        "friction battery (seed {seed:#x}): {count} scenes, {swept} swept ({with_b} reach tangential contact, {} touch tangentially first; {} rows: {} stick, {} slip; {} in tangential contact, {} of them stuck; {} switches), {indeterminate} refused (no quasi-static continuation), {no_contact} without contact, {other} other errors",
+        fig.tangential_touch, fig.rows, fig.stick_rows, fig.slip_rows, fig.b_rows, fig.b_stick_rows, fig.events
     );
     eprintln!("worst (value, scene, row): {fig:#?}");
     assert_eq!(other, 0, "sweeps that failed");
     fig
+}
+
+/// Thesis case 1 with friction: the uniform rigid whisker under q = 5 past g1 at mu = 0.5
+/// reaches tangential contact (its frictionless pattern is ABA), and every row passes the
+/// battery's checks (equilibrium, tangency, m(s1) = 0, the cone, the slip law with rolling in
+/// a tangential stick, no penetration).
+#[test]
+fn thesis_case_1_with_friction_passes_the_checks() {
+    let sc = Scene {
+        whisker: Whisker::uniform(),
+        flow: FluidLoad { q: 5.0, alpha: 0.0 },
+        profile: Profile::g1(),
+    };
+    let r = sweep(&sc.whisker, sc.flow, &sc.profile, &settings(0.5, 30)).unwrap();
+    let mut fig = Figures::default();
+    check(&sc, 0.5, &r, 0, &mut fig);
+    eprintln!(
+        "g1, q 5, mu 0.5: {} {}, events {:?}; {fig:#?}",
+        r.phase_pattern(),
+        r.separation,
+        r.friction_events
+    );
+    assert!(r.phase_pattern().contains('B'), "{}", r.phase_pattern());
+    assert!(fig.b_rows > 3, "{fig:?}");
+    assert_figures(&fig);
+}
+
+/// The limit `mu -> 0` through tangential contact: thesis case 1 (ABA) at `mu = 1e-8` gives
+/// the frictionless rows to 1e-6 (the frictional solver, slipping throughout, `|ft| = mu fn`),
+/// row for row at the same base positions.
+#[test]
+fn mu_to_zero_in_tangential_contact_is_the_frictionless_sweep() {
+    let (w, flow, p) = (
+        Whisker::uniform(),
+        FluidLoad { q: 5.0, alpha: 0.0 },
+        Profile::g1(),
+    );
+    let plain = SweepSettings {
+        points: 20,
+        ..SweepSettings::default()
+    };
+    let a = sweep(&w, flow, &p, &plain).unwrap();
+    let b = sweep(&w, flow, &p, &settings(1e-8, 20)).unwrap();
+    assert_eq!(a.phase_pattern(), b.phase_pattern());
+    assert_eq!(a.separation, b.separation);
+    let (ra, rb): (Vec<_>, Vec<_>) = (a.contact_points().collect(), b.contact_points().collect());
+    let mut worst = 0.0f64;
+    let mut compared = 0;
+    for q in &rb {
+        assert_eq!(q.slip, SlipState::Slip);
+        assert!((q.ft.abs() - 1e-8 * q.f).abs() <= 1e-20 + 1e-14 * q.f);
+        // the frictionless row at the same base position (the grids share their ends to
+        // ~1e-8; switch rows have no partner)
+        let Some(p) = ra
+            .iter()
+            .find(|p| (p.x0 - q.x0).abs() < 1e-6 && p.phase == q.phase)
+        else {
+            continue;
+        };
+        let d = [
+            p.x0 - q.x0,
+            p.ax - q.ax,
+            p.ay - q.ay,
+            p.ma - q.ma,
+            p.phi0 - q.phi0,
+            p.f - q.f,
+            p.s1 - q.s1,
+        ];
+        let dev = d.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        worst = worst.max(dev);
+        compared += 1;
+    }
+    eprintln!(
+        "mu = 1e-8 against the frictionless ABA rows: {compared} compared, worst {worst:.2e}"
+    );
+    assert!(compared >= 15, "{compared}");
+    assert!(worst < 1e-6, "{worst:e}");
 }
 
 /// A seeded subset of the battery in the suite (seconds).

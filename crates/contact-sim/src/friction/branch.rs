@@ -1,6 +1,21 @@
-//! The frictional contact equations of one scene: the state `w`, the mode (stick or slip)
-//! and its equation, the corrector and the curve's tangent.
+//! The frictional contact equations of one scene in both phases: the state
+//! `w = (v, fn, ft, t)` (`v = phi1` in tip contact, `v = s1` in tangential contact), the mode
+//! (stick or slip) and its equation, the corrector and the curve's tangent.
+//!
+//! Two equations hold in every phase and mode, the base condition
+//! `R0 = phi(0) - pi/2 - m(0)/k = 0` [3.21, 3.22] and the contact point on the contour
+//! `R1 = y(s1) - y(0) - yc(t) = 0` [5.4-5.10], the force `F = fn n + ft t` applied at `s1` as a
+//! direction-preserving force (the segment beyond `s1` unloaded, so `m(s1) = 0`); in phase B the
+//! tangency `phi(s1) = psi(t)` is built in (the shot starts from `phi1 = psi(t)`). The mode adds
+//! the third:
+//! - phase A, stick: `t = t*` (the tip is the material point, pinned where it stuck);
+//! - phase B, stick (rolling without sliding): `sigma(t) - s1 = sigma(t*) - s1*`, `sigma` the
+//!   contour's arc length oriented with the whisker (`phi(s1) = psi`: the whisker's tangent at
+//!   `s1` is the contour's `t`); the touching material point moves along `t` at
+//!   `d sigma - d s1`, zero while it sticks;
+//! - slip (both phases): `ft = s mu fn`, `s = -sign(u)`.
 
+use super::rows::arc_length;
 use crate::contact_law::force;
 use crate::contact_law::SlipState;
 use crate::error::{ContactError, Result};
@@ -13,8 +28,9 @@ use beam_model::{FluidLoad, LoadKind, Loads, TipForce, Whisker};
 /// The mode of a stretch of the frictional path.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) enum Mode {
-    /// The tip pinned at contour parameter `anchor`.
-    Stick { anchor: f64 },
+    /// The material point stuck: in phase A the tip at contour parameter `anchor`; in phase
+    /// B rolling from the contact point `anchor` at arc length `s1` (`sigma - s1` constant).
+    Stick { anchor: f64, s1: f64 },
     /// Sliding with `ft = s mu fn`, `s = -sign(u)`.
     Slip { s: f64 },
 }
@@ -28,11 +44,13 @@ impl Mode {
     }
 }
 
-/// A point of the frictional tip-contact path.
+/// A point of the frictional contact path.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Node {
+    /// Tip (A) or tangential (B) contact.
+    pub(super) phase: Phase,
     pub(super) mode: Mode,
-    /// `(phi1, fn, ft, t)`.
+    /// `(phi1 or s1, fn, ft, t)`.
     pub(super) w: [f64; 4],
     pub(super) x0: f64,
     pub(super) phi0: f64,
@@ -42,8 +60,8 @@ pub(super) struct Node {
     pub(super) jac: [[f64; 4]; 3],
 }
 
-/// The frictional tip-contact equations of one scene.
-pub(super) struct TipBranch<'a> {
+/// The frictional contact equations of one scene.
+pub(super) struct FrictionBranch<'a> {
     pub(super) whisker: &'a Whisker,
     pub(super) flow: FluidLoad,
     pub(super) profile: &'a Profile,
@@ -67,8 +85,8 @@ pub(super) fn lin(a: f64, x: &BaseValues, b: f64, y: &BaseValues) -> BaseValues 
     }
 }
 
-impl TipBranch<'_> {
-    pub(super) fn loads(&self, fx: f64, fy: f64) -> Loads {
+impl FrictionBranch<'_> {
+    pub(super) fn loads(&self, fx: f64, fy: f64, s1: f64) -> Loads {
         Loads {
             tip: TipForce {
                 f: fx.hypot(fy),
@@ -76,7 +94,7 @@ impl TipBranch<'_> {
                 kind: LoadKind::Dp,
             },
             fluid: self.flow,
-            s1: 1.0,
+            s1,
         }
     }
 
@@ -89,9 +107,16 @@ impl TipBranch<'_> {
         Ok(shoot(self.whisker, loads, phi1, sens, &self.integration)?)
     }
 
-    /// The equations at `w`: residual `(R0, R1)`, and the node (Jacobian rows if `jac`).
-    pub(super) fn eval(&self, mode: Mode, w: [f64; 4], jac: bool) -> Result<([f64; 2], Node)> {
-        let [phi1, f, ft, t] = w;
+    /// The equations at `w` in `phase`: residual `(R0, R1)`, and the node (Jacobian rows if
+    /// `jac`).
+    pub(super) fn eval(
+        &self,
+        phase: Phase,
+        mode: Mode,
+        w: [f64; 4],
+        jac: bool,
+    ) -> Result<([f64; 2], Node)> {
+        let [v, f, ft, t] = w;
         let (lo, hi) = self.profile.param_range();
         if !(t >= lo && t <= hi) {
             return Err(ContactError::LeftContour {
@@ -99,17 +124,21 @@ impl TipBranch<'_> {
                 t,
             });
         }
-        if !(phi1.is_finite() && f.is_finite() && ft.is_finite()) {
+        let g = self.profile.at(t);
+        let (phi1, s1) = match phase {
+            Phase::B => (g.psi, v),
+            _ => (v, 1.0),
+        };
+        if !(phi1.is_finite() && f.is_finite() && ft.is_finite() && s1 > 1e-6 && s1 <= 1.5) {
             return Err(ContactError::PhaseSolve {
-                phase: Phase::A,
+                phase,
                 xc: f64::NAN,
                 iterations: 0,
                 residual: f64::NAN,
             });
         }
-        let g = self.profile.at(t);
         let (fx, fy) = force(g.psi, f, ft);
-        let loads = self.loads(fx, fy);
+        let loads = self.loads(fx, fy, s1);
         let shot = self.shot(&loads, phi1, jac)?;
         let support = &self.whisker.support;
         let mut jm = [[0.0; 4]; 3];
@@ -131,22 +160,32 @@ impl TipBranch<'_> {
             };
             let (sp, cp) = g.psi.sin_cos();
             let col = |d: BaseValues| [support.residual_rate(d.phi0, d.m0), d.dy, -d.dx];
-            let c_phi = col(shot.d_phi1);
+            // d/dv: the tip angle in phase A; in phase B the contact arc length
+            let c_v = match phase {
+                Phase::B => col(shot.d_s1),
+                _ => col(shot.d_phi1),
+            };
             let c_f = col(lin(sp, &cx, -cp, &cy));
             let c_ft = col(lin(cp, &cx, sp, &cy));
             // d/dt: F turns with the contour, dF/dpsi = fn t - ft n; the contact point moves
             let (dfx, dfy) = (f * cp - ft * sp, f * sp + ft * cp);
-            let mut c_t = col(lin(dfx * g.dpsi, &cx, dfy * g.dpsi, &cy));
+            let mut dt = lin(dfx * g.dpsi, &cx, dfy * g.dpsi, &cy);
+            if phase == Phase::B {
+                // and the tangency turns the whisker at s1: phi1 = psi(t)
+                dt = lin(1.0, &dt, g.dpsi, &shot.d_phi1);
+            }
+            let mut c_t = col(dt);
             c_t[1] -= g.dy;
             c_t[2] += g.dx;
             for i in 0..3 {
-                jm[i] = [c_phi[i], c_f[i], c_ft[i], c_t[i]];
+                jm[i] = [c_v[i], c_f[i], c_ft[i], c_t[i]];
             }
         }
         let r = [support.residual(shot.phi0, shot.m0), shot.dy - g.y];
         Ok((
             r,
             Node {
+                phase,
                 mode,
                 w,
                 x0: g.x - shot.dx,
@@ -158,20 +197,33 @@ impl TipBranch<'_> {
         ))
     }
 
-    /// The mode's equation at `w` and its gradient.
-    pub(super) fn mode_eq(&self, mode: Mode, w: &[f64; 4]) -> (f64, [f64; 4]) {
+    /// The mode's equation at `w` in `phase` and its gradient: stick in phase A `t - t*`, in
+    /// phase B `sigma(t) - sigma(t*) - (s1 - s1*)` (rolling); slip `ft - s mu fn`.
+    pub(super) fn mode_eq(&self, phase: Phase, mode: Mode, w: &[f64; 4]) -> (f64, [f64; 4]) {
         match mode {
-            Mode::Stick { anchor } => (w[3] - anchor, [0.0, 0.0, 0.0, 1.0]),
+            Mode::Stick { anchor, s1 } => match phase {
+                Phase::B => (
+                    arc_length(self.profile, anchor, w[3]) - (w[0] - s1),
+                    [-1.0, 0.0, 0.0, self.speed(w[3])],
+                ),
+                _ => (w[3] - anchor, [0.0, 0.0, 0.0, 1.0]),
+            },
             Mode::Slip { s } => (w[2] - s * self.mu * w[1], [0.0, -s * self.mu, 1.0, 0.0]),
         }
     }
 
-    /// Newton's method on `(R0, R1, mode, constraint)` from `w`, the Jacobian evaluated at
-    /// every iterate, damped by halving where the residual grows.
-    pub(super) fn correct(&self, mode: Mode, w: [f64; 4], con: Con) -> Result<Node> {
+    /// `d sigma / dt`: the contour's speed at parameter `t`.
+    pub(super) fn speed(&self, t: f64) -> f64 {
+        let g = self.profile.at(t);
+        g.dx.hypot(g.dy)
+    }
+
+    /// Newton's method on `(R0, R1, mode, constraint)` from `w` in `phase`, the Jacobian
+    /// evaluated at every iterate, damped by halving where the residual grows.
+    pub(super) fn correct(&self, phase: Phase, mode: Mode, w: [f64; 4], con: Con) -> Result<Node> {
         let system = |w: [f64; 4]| -> Result<([f64; 4], [[f64; 4]; 4], Node)> {
-            let (r, node) = self.eval(mode, w, true)?;
-            let (m, gm) = self.mode_eq(mode, &w);
+            let (r, node) = self.eval(phase, mode, w, true)?;
+            let (m, gm) = self.mode_eq(phase, mode, &w);
             let (c, gc) = match con {
                 Con::Base(x) => (node.x0 - x, node.jac[2]),
                 Con::Plane { n, p } => (dot4(&n, &sub4(&w, &p)), n),
@@ -218,7 +270,7 @@ impl TipBranch<'_> {
             return Ok(node);
         }
         Err(ContactError::PhaseSolve {
-            phase: Phase::A,
+            phase,
             xc: node.geom.x,
             iterations: MAX_NEWTON as u64,
             residual: best,
@@ -228,7 +280,7 @@ impl TipBranch<'_> {
     /// The unit tangent of the mode's curve at `node` (null vector of `(R0, R1, mode)`'s
     /// Jacobian), oriented along `dir`.
     pub(super) fn tangent(&self, node: &Node, dir: &[f64; 4]) -> [f64; 4] {
-        let (_, gm) = self.mode_eq(node.mode, &node.w);
+        let (_, gm) = self.mode_eq(node.phase, node.mode, &node.w);
         let rows = [node.jac[0], node.jac[1], gm];
         let mut t = [0.0; 4];
         for (k, tk) in t.iter_mut().enumerate() {
@@ -302,11 +354,34 @@ pub(super) fn solve4(mut a: [[f64; 4]; 4], mut b: [f64; 4]) -> Option<[f64; 4]> 
     x.iter().all(|v| v.is_finite()).then_some(x)
 }
 
-impl TipBranch<'_> {
+impl FrictionBranch<'_> {
     pub(super) fn clone_shallow(&self) -> Self {
-        TipBranch {
+        FrictionBranch {
             integration: self.integration.clone(),
             ..*self
+        }
+    }
+}
+
+impl Node {
+    /// Whether `o` lies on the same leg of the path (phase and mode).
+    pub(super) fn same_leg(&self, o: &Node) -> bool {
+        self.phase == o.phase && self.mode == o.mode
+    }
+
+    /// The contact arc length: `s1` in phase B, 1 (the tip) in phase A.
+    pub(super) fn s1(&self) -> f64 {
+        match self.phase {
+            Phase::B => self.w[0],
+            _ => 1.0,
+        }
+    }
+
+    /// The tangent angle at the contact: `phi1` in phase A, `psi` in phase B.
+    pub(super) fn phi1(&self) -> f64 {
+        match self.phase {
+            Phase::B => self.geom.psi,
+            _ => self.w[0],
         }
     }
 }
@@ -314,15 +389,15 @@ impl TipBranch<'_> {
 /// The contact state of a node (its `f` the normal force).
 pub(super) fn state_of(n: &Node) -> ContactState {
     ContactState {
-        phase: Phase::A,
+        phase: n.phase,
         point: ContourPoint {
             xc: n.geom.x,
             yc: n.geom.y,
             psi: n.geom.psi,
         },
         f: n.w[1],
-        s1: 1.0,
-        phi1: n.w[0],
+        s1: n.s1(),
+        phi1: n.phi1(),
         x0: n.x0,
         phi0: n.phi0,
         m0: n.m0,
@@ -335,13 +410,14 @@ pub(super) fn state_of(n: &Node) -> ContactState {
 mod tests {
     use super::*;
 
-    /// The Jacobian of `(R0, R1, x0)` in `w = (phi1, fn, ft, t)` (from the shot's
-    /// sensitivities, and at `F = 0` from the two axis shots) matches central differences.
+    /// The Jacobian of `(R0, R1, x0)` in `w = (phi1 or s1, fn, ft, t)` (from the shot's
+    /// sensitivities, and at `F = 0` from the two axis shots) matches central differences in
+    /// both phases, and so does the gradient of the rolling equation of phase B's stick.
     #[test]
     fn the_jacobian_matches_central_differences() {
         let whisker = Whisker::new(0.4, 0.8, 0.3, 15.0);
         let profile = Profile::g2();
-        let b = TipBranch {
+        let b = FrictionBranch {
             whisker: &whisker,
             flow: FluidLoad {
                 q: 1.5,
@@ -353,18 +429,21 @@ mod tests {
             mu: 0.5,
         };
         let mode = Mode::Slip { s: 1.0 };
-        for w in [
-            [2.1, 0.8, -0.3, 0.7],
-            [1.9, 0.0, 0.0, 0.4],
-            [2.4, 1.3, 0.6, -0.2],
+        for (phase, w) in [
+            (Phase::A, [2.1, 0.8, -0.3, 0.7]),
+            (Phase::A, [1.9, 0.0, 0.0, 0.4]),
+            (Phase::A, [2.4, 1.3, 0.6, -0.2]),
+            (Phase::B, [0.7, 0.8, -0.3, 0.3]),
+            (Phase::B, [0.85, 0.0, 0.0, 0.5]),
+            (Phase::B, [0.6, 1.3, 0.6, -0.2]),
         ] {
-            let (_, n) = b.eval(mode, w, true).unwrap();
+            let (_, n) = b.eval(phase, mode, w, true).unwrap();
             let h = 1e-6;
             for k in 0..4 {
                 let at = |d: f64| {
                     let mut v = w;
                     v[k] += d;
-                    let (r, n) = b.eval(mode, v, false).unwrap();
+                    let (r, n) = b.eval(phase, mode, v, false).unwrap();
                     [r[0], r[1], n.x0]
                 };
                 let (p, m) = (at(h), at(-h));
@@ -373,10 +452,30 @@ mod tests {
                     let err = (n.jac[i][k] - fd).abs();
                     assert!(
                         err < 1e-6 * (1.0 + fd.abs()),
-                        "{w:?}: d{i}/dw{k} {} vs {fd}",
+                        "{phase} {w:?}: d{i}/dw{k} {} vs {fd}",
                         n.jac[i][k]
                     );
                 }
+            }
+            // the rolling equation: zero at its anchor, its gradient the differences'
+            let stick = Mode::Stick {
+                anchor: 0.1,
+                s1: 0.9,
+            };
+            let (m, g) = b.mode_eq(Phase::B, stick, &w);
+            let (m0, _) = b.mode_eq(Phase::B, stick, &[0.9, 0.0, 0.0, 0.1]);
+            assert_eq!(m0, 0.0);
+            for k in 0..4 {
+                let mut v = w;
+                v[k] += 1e-6;
+                let (mp, _) = b.mode_eq(Phase::B, stick, &v);
+                v[k] -= 2e-6;
+                let (mm, _) = b.mode_eq(Phase::B, stick, &v);
+                let fd = (mp - mm) / 2e-6;
+                assert!(
+                    (g[k] - fd).abs() < 1e-8 * (1.0 + fd.abs()),
+                    "{m} {g:?} {k} {fd}"
+                );
             }
         }
     }

@@ -3,7 +3,9 @@
 use super::branch::{dot4, norm4, state_of, sub4, Con, Mode, Node};
 use super::trace::Sweeper;
 use crate::contact_law::frictional_loads;
+use crate::continuation::BASE_CONTACT;
 use crate::error::Result;
+use crate::phase::Phase;
 
 /// Penetration depth from which a second contact counts (as in the frictionless sweep).
 pub(super) const PENETRATION_MARGIN: f64 = 1e-10;
@@ -13,14 +15,20 @@ pub(super) const PENETRATION_MARGIN: f64 = 1e-10;
 pub(super) enum Ev {
     /// `mu fn - |ft|` (stick only).
     Cone,
-    /// `-s dt/dpath` (slip only).
+    /// The material point's sliding speed against `ft` (slip only): `-s dt/dpath` in phase
+    /// A, `-s (dsigma - ds1)/dpath` in phase B.
     Sliding,
     /// `fn`.
     Release,
-    /// `phi1 - psi`: the tip contact ends (tangential contact follows).
+    /// The phase's validity: `phi1 - psi` in phase A (tangential contact follows), `1 - s1`
+    /// in phase B (tip contact follows).
     PhaseEnd,
-    /// `cos((phi1 - psi) / 2)`: the segment next to the tip touches.
+    /// The whisker next to the contact point touching: `cos((phi1 - psi) / 2)` in phase A
+    /// (the segment next to the tip), `kappa_c - kappa0(s1)` in phase B (the whisker bending
+    /// more sharply than the contour), as `crate::events::near_margin`.
     Touch,
+    /// `s1 - BASE_CONTACT` in phase B: the contact slid down to the base.
+    AtBase,
     /// `-dx0/dpath`.
     Snap,
     /// `margin - depth`.
@@ -29,16 +37,30 @@ pub(super) enum Ev {
 
 impl Sweeper<'_> {
     pub(super) fn condition(&self, ev: Ev, n: &Node, dir: &[f64; 4]) -> Result<f64> {
-        let [phi1, f, ft, _] = n.w;
+        let [_, f, ft, t] = n.w;
+        let (phi1, tangential) = (n.phi1(), n.phase == Phase::B);
         Ok(match ev {
             Ev::Cone => self.b.mu * f - ft.abs(),
             Ev::Sliding => match n.mode {
-                Mode::Slip { s } => -s * self.b.tangent(n, dir)[3],
+                Mode::Slip { s } => {
+                    let tn = self.b.tangent(n, dir);
+                    if tangential {
+                        -s * (self.b.speed(t) * tn[3] - tn[0])
+                    } else {
+                        -s * tn[3]
+                    }
+                }
                 Mode::Stick { .. } => 1.0,
             },
             Ev::Release => f,
+            Ev::PhaseEnd if tangential => 1.0 - n.w[0],
             Ev::PhaseEnd => phi1 - n.geom.psi,
+            Ev::Touch if tangential => {
+                self.b.profile.curvature(n.geom.x) - self.b.whisker.kappa0(n.w[0])
+            }
             Ev::Touch => (0.5 * (phi1 - n.geom.psi)).cos(),
+            Ev::AtBase if tangential => n.w[0] - BASE_CONTACT,
+            Ev::AtBase => 1.0,
             Ev::Snap => -dot4(&n.jac[2], &self.b.tangent(n, dir)),
             Ev::Depth => {
                 if self.check_penetration {
@@ -52,7 +74,7 @@ impl Sweeper<'_> {
 
     pub(super) fn depth(&self, n: &Node) -> Result<f64> {
         let st = state_of(n);
-        let loads = frictional_loads(self.b.flow, n.geom.psi, n.w[1], n.w[2], 1.0);
+        let loads = frictional_loads(self.b.flow, n.geom.psi, n.w[1], n.w[2], n.s1());
         crate::events::penetration_under(self.b.whisker, &loads, self.b.profile, &st)
     }
 
@@ -65,6 +87,7 @@ impl Sweeper<'_> {
                 Ev::Touch,
                 Ev::Snap,
                 Ev::Depth,
+                Ev::AtBase,
             ],
             Mode::Slip { .. } => &[
                 Ev::Sliding,
@@ -73,6 +96,7 @@ impl Sweeper<'_> {
                 Ev::Touch,
                 Ev::Snap,
                 Ev::Depth,
+                Ev::AtBase,
             ],
         }
     }
@@ -88,7 +112,7 @@ impl Sweeper<'_> {
             a.w[2] + th * d[2],
             a.w[3] + th * d[3],
         ];
-        self.b.correct(a.mode, p, Con::Plane { n, p })
+        self.b.correct(a.phase, a.mode, p, Con::Plane { n, p })
     }
 
     /// Locates the zero of `ev`'s condition between `a` (>= 0) and `b` (< 0) by regula

@@ -5,8 +5,8 @@
 //! (`SweepSettings::contact_law`): [`ContactLaw::Frictionless`] (the default) and
 //! [`ContactLaw::Coulomb`] with `mu = 0` run the frictionless sweep unchanged (same code path,
 //! the same rows bit for bit; callgrind on the bench scene +0.65 %, docs/friction.md);
-//! `mu > 0` runs the frictional sweep of this module. The base motion (translation towards -x) stays the sweep's, so a later change of
-//! the base pose does not touch the law.
+//! `mu > 0` runs the frictional sweep of this module. The base motion (translation towards -x) stays the
+//! sweep's, so a later change of the base pose does not touch the law.
 //!
 //! **The model.** Boundary tangent `t = (cos psi, sin psi)`, outward normal
 //! `n = (sin psi, -cos psi)`; the force on the whisker `F = fn n + ft t`, `fn >= 0`. It is
@@ -17,50 +17,56 @@
 //! - stick (`u = 0`): `|ft| <= mu fn`;
 //! - slip (`u != 0`): `ft = -mu fn sign(u)`.
 //!
-//! **Phase A (tip contact)** is what this module solves. The state is
-//! `w = (phi1, fn, ft, t)` (tip angle, force components, contour parameter of the contact
-//! point, [`Profile::at`]). Two equations hold in every mode, the base condition
-//! `R0 = phi(0) - pi/2 - m(0)/k = 0` [3.21, 3.22] and the tip on the contour
-//! `R1 = y(1) - y(0) - yc(t) = 0`; the mode adds a third:
-//! - stick: `t = t*`, the anchor (the tip is the material point, pinned where it stuck);
-//! - slip: `ft = s mu fn` with `s = -sign(u)`; in phase A `u` has the sign of `dt` along the
-//!   path (the contour parameter rises with x, the direction of `t`).
+//! **Both phases** (`branch`). The state is `w = (v, fn, ft, t)`:
+//! `v = phi1` in phase A (tip contact, `s1 = 1`), `v = s1` in phase B (tangential contact,
+//! `phi(s1) = psi(t)` built into the shot), the force components and the contour parameter
+//! of the contact point ([`Profile::at`]). Two equations hold in every phase and mode, the
+//! base condition `R0 = phi(0) - pi/2 - m(0)/k = 0` [3.21, 3.22] and the contact point on the
+//! contour `R1 = y(s1) - y(0) - yc(t) = 0` (`m(s1) = 0`: the segment beyond `s1` is unloaded);
+//! the mode adds a third:
+//! - stick, phase A: `t = t*` (the tip is the material point, pinned where it stuck);
+//! - stick, phase B: rolling without sliding, `sigma(t) - s1 = sigma(t*) - s1*`. The touching
+//!   material point of an inextensible whisker on a fixed obstacle moves along `t` at
+//!   `d sigma - d s1` (`sigma` the contour's arc length oriented with the whisker: at a
+//!   tangential contact the whisker's tangent is the contour's `t`), so `u = 0` is rolling;
+//!   "s1 and the contact point stay put" would be two conditions where one is free
+//!   (docs/friction.md, with the battery's check of it);
+//! - slip: `ft = s mu fn` with `s = -sign(u)`, `u` of the sign of `dt` along the path in
+//!   phase A (the contour parameter rises with x, the direction of `t`), of
+//!   `d sigma - d s1` in phase B.
 //!
-//! so each mode is a curve in `w`, followed by pseudo-arclength continuation in the direction
-//! of falling base position `x0 = xc(t) - (x(1) - x(0))`, its Jacobian from the shot's exact
-//! sensitivities (`d/dFx`, `d/dFy` from `d/df`, `d/dbeta`; at `F = 0` from two shots along
-//! the axes).
+//! so each leg (phase and mode) is a curve in `w`, followed by pseudo-arclength continuation
+//! in the direction of falling base position `x0 = xc(t) - (x(s1) - x(0))`, its Jacobian from
+//! the shot's exact sensitivities (`d/dFx`, `d/dFy` from `d/df`, `d/dbeta`; at `F = 0` from
+//! two shots along the axes; `d/ds1` in phase B, where `t` also turns `phi1 = psi(t)`).
 //!
 //! **Events**, each located on the curve by regula falsi along the chord (every trial an exact
 //! equilibrium on a hyperplane across it) to `event_tol` in `w`:
 //! - stick -> slip where `mu fn - |ft|` falls to zero (either edge of the cone: a sliding
 //!   reversal is a slip -> stick -> slip sequence through the cone's interior);
-//! - slip -> stick where the sliding velocity vanishes (`-s dt/dpath` falls to zero);
+//! - slip -> stick where the sliding velocity vanishes (`-s dt/dpath`, `-s (dsigma -
+//!   ds1)/dpath` in phase B, falls to zero);
+//! - the phase switches A -> B (`phi1 = psi`) and B -> A (`s1 = 1`) as in the frictionless
+//!   sweep: the other phase's curve entered on its valid side in the same mode (a stick
+//!   re-anchored at the switch, where tip and touching point coincide), a snap where x0
+//!   rises along it;
 //! - release (`fn = 0`), snap (x0 at a turning point), a second contact (the depth of
-//!   `events`), the segment next to the tip touching, the end of the contour — as in
-//!   the frictionless sweep.
+//!   `events`), the whisker next to the contact touching, the contact at the base
+//!   (`s1 = 0.01`), the end of the contour — as in the frictionless sweep.
 //!
 //! At each switch the new mode is checked to be consistent (stick: the force moves into the
 //! cone; slip: the sliding is against `ft`); where neither mode is, the quasi-static problem
-//! has no continuation and the sweep says so ([`ContactError::FrictionIndeterminate`]) rather
-//! than return a row that breaks the law. At the first touch (`F = 0`) the mode is the
-//! stick branch's if its force direction lies in the cone (`|dft| <= mu dfn`), slip with
-//! `s = sign(dft)` otherwise.
-//!
-//! **Phase B (tangential contact) with friction is not implemented**: a frictional sweep
-//! whose tip contact reaches `phi1 = psi`, or whose first touch is tangential, ends with
-//! [`ContactError::FrictionInTangentialContact`]. The decision for it (docs/friction.md):
-//! the touching material point of an inextensible whisker on a fixed obstacle moves along `t`
-//! at `d sigma - d s1` (sigma the contact point's arc length along the boundary), so stick in
-//! phase B is rolling without sliding, `sigma - s1` constant, with the four unknowns
-//! `fn, ft, s1, sigma` against position (2), tangency (1) and rolling (1); the spec's
-//! "s1 and the contact point stay put" would add a fifth condition to four unknowns.
+//! has no continuation and the sweep says so ([`FrictionIndeterminate`](crate::ContactError::FrictionIndeterminate)) rather
+//! than return a row that breaks the law. At the first touch (`F = 0`, tip or tangential) the
+//! mode is the first of stick, slip `s = +1`, slip `s = -1` whose curve keeps the law a short
+//! way on.
 //!
 //! **Rows** at evenly spaced base positions from the first touch to the separation, one more
-//! at each stick/slip switch, each solved in the mode of its stretch of the path (the anchor
-//! is the sweep's state) from the bracketing nodes; each row carries `ft`, the
-//! [`SlipState`] and the tip's slip displacement, the signed arc length along the contour
-//! from the first touch to the contact point (constant while stuck).
+//! at each stick/slip or phase switch, each solved in the leg of its stretch of the path (the
+//! anchor is the sweep's state) from the bracketing nodes; each row carries `ft`, the
+//! [`SlipState`] and the material point's slip displacement since the first touch,
+//! `sigma - s1` less its value at the touch (in phase A the tip's arc length along the
+//! contour; constant while stuck).
 
 mod branch;
 mod events;
@@ -70,17 +76,18 @@ mod trace;
 
 use crate::accuracy::{row_integration_tol, row_solve_tol, ESTIMATE_FACTOR};
 pub use crate::contact_law::{ContactLaw, FrictionEvent, FrictionEventKind, SlipState, MAX_MU};
-use crate::error::{ContactError, Result};
+use crate::error::Result;
 use crate::first_contact::{FirstContact, FirstTouch};
+use crate::phase::Phase;
 use crate::profile::Profile;
 use crate::sweep::{
     check_accuracy, pre_contact_rows, Separation, SweepPoint, SweepResult, SweepSettings,
 };
 use beam_model::shot::Integration;
 use beam_model::{FluidLoad, Whisker};
-use branch::{Mode, TipBranch};
+use branch::{FrictionBranch, Mode};
 use rows::rows;
-use trace::{End, Sweeper};
+use trace::Sweeper;
 
 /// What the frictional sweep returns to [`crate::driver::sweep`].
 pub(crate) struct FrictionalRows {
@@ -107,7 +114,7 @@ pub(crate) struct FrictionSettings {
     pub rows_at: Option<(f64, f64, f64)>,
 }
 
-/// The frictional sweep's contact rows from the first touch `touch` (phase A only).
+/// The frictional sweep's contact rows from the first touch `touch`.
 pub(crate) fn frictional_rows(
     whisker: &Whisker,
     flow: FluidLoad,
@@ -115,14 +122,8 @@ pub(crate) fn frictional_rows(
     touch: &FirstTouch,
     set: &FrictionSettings,
 ) -> Result<FrictionalRows> {
-    if touch.kind == FirstContact::Tangential {
-        return Err(ContactError::FrictionInTangentialContact {
-            x0: touch.x0,
-            xc: touch.xc,
-        });
-    }
     let sw = Sweeper {
-        b: TipBranch {
+        b: FrictionBranch {
             whisker,
             flow,
             profile,
@@ -135,21 +136,20 @@ pub(crate) fn frictional_rows(
         max_steps: set.max_steps,
         check_penetration: set.check_penetration,
     };
-    // the free whisker at its touch: F = 0; its mode from the stick curve's direction
-    let w0 = [touch.phi1, 0.0, 0.0, touch.t];
-    let (_, n0) = sw.b.eval(Mode::Stick { anchor: touch.t }, w0, true)?;
-    let first = sw.first_mode(&n0, w0)?;
-    let tr = sw.trace(first)?;
-    let separation = match tr.end {
-        End::Tangential => {
-            let at = tr.nodes.last().copied().unwrap_or(first);
-            return Err(ContactError::FrictionInTangentialContact {
-                x0: at.x0,
-                xc: at.geom.x,
-            });
-        }
-        End::Separated(s) => s,
+    // the free whisker at its touch: F = 0, at its tip (phase A) or tangent to the contour
+    // at arc length s (phase B); its mode from a probe of each
+    let (phase, w0) = match touch.kind {
+        FirstContact::Tangential => (Phase::B, [touch.s, 0.0, 0.0, touch.t]),
+        _ => (Phase::A, [touch.phi1, 0.0, 0.0, touch.t]),
     };
+    let stick = Mode::Stick {
+        anchor: touch.t,
+        s1: touch.s,
+    };
+    let (_, n0) = sw.b.eval(phase, stick, w0, true)?;
+    let first = sw.first_mode(&n0)?;
+    let tr = sw.trace(first)?;
+    let separation = tr.end;
     let rows = rows(&sw, &tr, set, touch)?;
     Ok(FrictionalRows {
         rows,

@@ -1,7 +1,7 @@
 //! The frictional sweep's rows: their base positions, solves, estimates and slip displacement.
 
-use super::branch::{Con, Mode, Node, TipBranch};
-use super::trace::{End, Sweeper, Trace};
+use super::branch::{Con, FrictionBranch, Mode, Node};
+use super::trace::{Sweeper, Trace};
 use super::FrictionSettings;
 use crate::accuracy::ESTIMATE_MARGIN;
 use crate::contact_law::frictional_observables;
@@ -44,7 +44,7 @@ pub(super) fn arc_length(profile: &Profile, a: f64, b: f64) -> f64 {
 }
 
 /// The rows: `points` evenly spaced in x0 from the first touch to the end, and one at every
-/// switch (the new mode's node); each solved in its stretch's mode from the bracketing
+/// stick/slip or phase switch (the new leg's node); each solved in its stretch's mode from the bracketing
 /// nodes (linear prediction in x0, Newton at the row's base position).
 pub(super) fn rows(
     sw: &Sweeper,
@@ -55,12 +55,12 @@ pub(super) fn rows(
     let nodes = &tr.nodes;
     let last = nodes.len() - 1;
     let (xa, xb) = (nodes[0].x0, nodes[last].x0);
-    let row_branch = set.rows_at.map(|(it, st, _)| TipBranch {
+    let row_branch = set.rows_at.map(|(it, st, _)| FrictionBranch {
         integration: Integration::adaptive(it),
         tol: st,
         ..sw.b.clone_shallow()
     });
-    let loose = set.rows_at.map(|(_, _, lt)| TipBranch {
+    let loose = set.rows_at.map(|(_, _, lt)| FrictionBranch {
         integration: Integration::adaptive(lt),
         ..sw.b.clone_shallow()
     });
@@ -75,8 +75,15 @@ pub(super) fn rows(
         })
         .collect();
     for i in 1..last {
-        if nodes[i].mode != nodes[i + 1].mode {
-            targets.push((nodes[i + 1].x0, Some(i + 1)));
+        if !nodes[i].same_leg(&nodes[i + 1]) {
+            // the new leg's node; a phase switch's row in tip-contact form (`s1 = 1`,
+            // `phi1 = psi`), as the frictionless sweep writes it
+            let j = if nodes[i].phase != nodes[i + 1].phase && nodes[i].phase == Phase::A {
+                i
+            } else {
+                i + 1
+            };
+            targets.push((nodes[j].x0, Some(j)));
         }
     }
     targets.sort_by(|a, b| b.0.total_cmp(&a.0));
@@ -95,17 +102,17 @@ pub(super) fn rows(
             Some(i) if i == last => {
                 let n = &nodes[i];
                 (
-                    rb.correct(n.mode, n.w, end_hold(n, &tr.end))?,
+                    rb.correct(n.phase, n.mode, n.w, end_hold(n, &tr.end))?,
                     end_hold(n, &tr.end),
                 )
             }
             Some(i) => (
-                rb.correct(nodes[i].mode, nodes[i].w, Con::Base(x))?,
+                rb.correct(nodes[i].phase, nodes[i].mode, nodes[i].w, Con::Base(x))?,
                 Con::Base(x),
             ),
             None => {
                 while seg + 1 < last
-                    && (nodes[seg + 1].x0 > x || nodes[seg].mode != nodes[seg + 1].mode)
+                    && (nodes[seg + 1].x0 > x || !nodes[seg].same_leg(&nodes[seg + 1]))
                 {
                     seg += 1;
                 }
@@ -117,7 +124,7 @@ pub(super) fn rows(
                     a.w[2] + wth * (b.w[2] - a.w[2]),
                     a.w[3] + wth * (b.w[3] - a.w[3]),
                 ];
-                (rb.correct(a.mode, p, Con::Base(x))?, Con::Base(x))
+                (rb.correct(a.phase, a.mode, p, Con::Base(x))?, Con::Base(x))
             }
         };
         let est = match &loose {
@@ -132,8 +139,8 @@ pub(super) fn rows(
 /// How the row at the end of the path is held when it is solved again: the release at
 /// `fn = 0`, any other end at its contour point (in stick, whose contour point the mode
 /// holds, at its normal force).
-pub(super) fn end_hold(n: &Node, end: &End) -> Con {
-    let release = matches!(end, End::Separated(Separation::Release));
+pub(super) fn end_hold(n: &Node, end: &Separation) -> Con {
+    let release = matches!(end, Separation::Release);
     let axis = match n.mode {
         Mode::Slip { .. } if !release => [0.0, 0.0, 0.0, 1.0],
         _ => [0.0, 1.0, 0.0, 0.0],
@@ -144,11 +151,11 @@ pub(super) fn end_hold(n: &Node, end: &End) -> Con {
 /// A row's error estimate: the row solved again with the looser integration of `loose`
 /// (Newton from the row, at its base position; at its contour point where the row ends the
 /// path), twice the largest change of its observables and contact point.
-pub(super) fn estimate(loose: &TipBranch, n: &Node, hold: Con) -> Result<f64> {
-    let m = loose.correct(n.mode, n.w, hold)?;
+pub(super) fn estimate(loose: &FrictionBranch, n: &Node, hold: Con) -> Result<f64> {
+    let m = loose.correct(n.phase, n.mode, n.w, hold)?;
     let obs = |n: &Node| {
         let (ax, ay, ma) =
-            frictional_observables(loose.flow, n.geom.psi, n.w[1], n.w[2], 1.0, n.m0);
+            frictional_observables(loose.flow, n.geom.psi, n.w[1], n.w[2], n.s1(), n.m0);
         [n.x0, ax, ay, ma, n.phi0, n.geom.x, n.geom.y]
     };
     let (a, b) = (obs(n), obs(&m));
@@ -159,16 +166,19 @@ pub(super) fn estimate(loose: &TipBranch, n: &Node, hold: Con) -> Result<f64> {
             .fold(0.0, f64::max))
 }
 
-/// A log row of a node: the observables of `F = fn n + ft t`, the slip state and the tip's
-/// slip displacement along the contour since the first touch.
+/// A log row of a node: the observables of `F = fn n + ft t`, the slip state and the
+/// touching material point's slip displacement since the first touch,
+/// `sigma - s1 - (sigma_touch - s_touch)` (`sigma` the contour's arc length, `s1 = 1` in tip
+/// contact: there the tip's displacement along the contour).
 pub(super) fn row_of(
     flow: FluidLoad,
     profile: &Profile,
     touch: &FirstTouch,
     n: &Node,
 ) -> SweepPoint {
-    let [phi1, f, ft, t] = n.w;
-    let (ax, ay, ma) = frictional_observables(flow, n.geom.psi, f, ft, 1.0, n.m0);
+    let [_, f, ft, t] = n.w;
+    let s1 = n.s1();
+    let (ax, ay, ma) = frictional_observables(flow, n.geom.psi, f, ft, s1, n.m0);
     SweepPoint {
         x0: n.x0,
         ax,
@@ -176,15 +186,15 @@ pub(super) fn row_of(
         ma,
         phi0: n.phi0,
         f,
-        s1: 1.0,
-        phi1,
-        phase: Phase::A,
+        s1,
+        phi1: n.phi1(),
+        phase: n.phase,
         xc: n.geom.x,
         yc: n.geom.y,
         psi: n.geom.psi,
         ft,
         slip: n.mode.slip_state(),
-        slip_distance: arc_length(profile, touch.t, t),
+        slip_distance: arc_length(profile, touch.t, t) - (s1 - touch.s),
     }
 }
 

@@ -1,30 +1,31 @@
 //! The mode of the contact at the first touch and at a switch: the probe of a mode's law.
 
 use super::branch::{dot4, Con, Mode, Node};
+use super::rows::arc_length;
 use super::trace::Sweeper;
 use crate::error::Result;
+use crate::phase::Phase;
 
 /// How far in x0 the candidate modes of the first touch are followed to decide between
 /// them ([`Sweeper::first_mode`]).
 pub(super) const PROBE: f64 = 1e-3;
 
 impl Sweeper<'_> {
-    /// Whether the mode of `n` (a switch's first node, or the first touch) continues with
-    /// the law: stick moves the force into the cone, slip slides against `ft`.
-    /// The mode the contact starts in at the first touch `n0` (`w0`, `F = 0`): the first of
+    /// The mode the contact starts in at the first touch `n0` (`F = 0`, in tip or
+    /// tangential contact): the first of
     /// stick, slip with `s = +1`, slip with `s = -1` that keeps the law a short way along
     /// its curve ([`Sweeper::probe`], [`PROBE`] in x0). The probe decides where the tangent
     /// cannot: a straight whisker's tip starts to slide at zero speed (its motion along the
     /// contour is second order in the base's), so both slip curves are tangent to the stick
     /// curve there.
-    pub(super) fn first_mode(&self, n0: &Node, w0: [f64; 4]) -> Result<Node> {
-        let anchor = w0[3];
+    pub(super) fn first_mode(&self, n0: &Node) -> Result<Node> {
+        let (w0, anchor, s1) = (n0.w, n0.w[3], n0.s1());
         for mode in [
-            Mode::Stick { anchor },
+            Mode::Stick { anchor, s1 },
             Mode::Slip { s: 1.0 },
             Mode::Slip { s: -1.0 },
         ] {
-            let (_, n) = self.b.eval(mode, w0, true)?;
+            let (_, n) = self.b.eval(n0.phase, mode, w0, true)?;
             if self.probe(&n, PROBE) {
                 return Ok(n);
             }
@@ -34,7 +35,8 @@ impl Sweeper<'_> {
 
     /// Whether the law holds along the mode's curve from `n` a step `dx` on in x0 (one
     /// corrector solve from the tangent's prediction): `fn >= 0`; stick: `|ft| <= mu fn`;
-    /// slip: the tip has moved against `ft`, `-s (t - t(n)) >= 0`. At a switch the two modes'
+    /// slip: the material point has moved against `ft`, `-s (t - t(n)) >= 0` in phase A,
+    /// `-s (sigma - s1 - (sigma(n) - s1(n))) >= 0` in phase B. At a switch the two modes'
     /// curves are tangent (slip -> stick: the sliding speed is zero; the first touch), so
     /// the tangent alone cannot tell; the step sees the second-order terms.
     pub(super) fn probe(&self, n: &Node, dx: f64) -> bool {
@@ -50,13 +52,16 @@ impl Sweeper<'_> {
             n.w[2] + h * t[2],
             n.w[3] + h * t[3],
         ];
-        let Ok(m) = self.b.correct(n.mode, p, Con::Base(n.x0 - dx)) else {
+        let Ok(m) = self.b.correct(n.phase, n.mode, p, Con::Base(n.x0 - dx)) else {
             return false;
         };
         let [_, f, ft, tt] = m.w;
         f >= 0.0
             && match n.mode {
                 Mode::Stick { .. } => ft.abs() <= self.b.mu * f + 1e-13,
+                Mode::Slip { s } if n.phase == Phase::B => {
+                    -s * (arc_length(self.b.profile, n.w[3], tt) - (m.w[0] - n.w[0])) >= 0.0
+                }
                 Mode::Slip { s } => -s * (tt - n.w[3]) >= 0.0,
             }
     }

@@ -1,6 +1,6 @@
 //! The frictional path followed from its first node to its end.
 
-use super::branch::{dot4, norm4, sub4, Con, Mode, Node, TipBranch};
+use super::branch::{dot4, norm4, sub4, Con, FrictionBranch, Mode, Node};
 use super::events::Ev;
 use crate::contact_law::{FrictionEvent, FrictionEventKind};
 use crate::error::{ContactError, Result};
@@ -11,22 +11,16 @@ use crate::sweep::Separation;
 /// law ([`Sweeper::probe`]).
 pub(super) const SWITCH_PROBE: f64 = 1e-4;
 
-/// How the frictional trace ended.
-pub(super) enum End {
-    Separated(Separation),
-    Tangential,
-}
-
 /// The traced path: nodes in the order of the motion (a switch node appears twice, once in
 /// each mode), the switch events, and the end.
 pub(super) struct Trace {
     pub(super) nodes: Vec<Node>,
     pub(super) events: Vec<FrictionEvent>,
-    pub(super) end: End,
+    pub(super) end: Separation,
 }
 
 pub(super) struct Sweeper<'a> {
-    pub(super) b: TipBranch<'a>,
+    pub(super) b: FrictionBranch<'a>,
     pub(super) event_tol: f64,
     pub(super) max_step: f64,
     pub(super) max_steps: usize,
@@ -48,7 +42,7 @@ impl Sweeper<'_> {
                 return Ok(Trace {
                     nodes,
                     events,
-                    end: End::Separated(Separation::NotReached { steps }),
+                    end: Separation::NotReached { steps },
                 });
             }
             steps += 1;
@@ -68,7 +62,10 @@ impl Sweeper<'_> {
                 cur.w[2] + raw * tn[2],
                 cur.w[3] + raw * tn[3],
             ];
-            let next = match self.b.correct(cur.mode, p, Con::Plane { n: tn, p }) {
+            let next = match self
+                .b
+                .correct(cur.phase, cur.mode, p, Con::Plane { n: tn, p })
+            {
                 Ok(n) if dot4(&self.b.tangent(&n, &tn), &tn) > 0.95 => Ok(n),
                 Ok(_) => Err(None),
                 Err(e) => Err(Some(e)),
@@ -82,7 +79,7 @@ impl Sweeper<'_> {
                             Some(ContactError::LeftContour { .. }) => Ok(Trace {
                                 nodes,
                                 events,
-                                end: End::Separated(Separation::EndOfContour),
+                                end: Separation::EndOfContour,
                             }),
                             Some(e) => Err(e),
                             None => Err(self.stalled(&cur, h, "the path turns too sharply")),
@@ -122,7 +119,7 @@ impl Sweeper<'_> {
                 Ok(Trace {
                     nodes: nodes.clone(),
                     events: events.clone(),
-                    end: End::Separated(s),
+                    end: s,
                 })
             };
             match ev {
@@ -130,24 +127,37 @@ impl Sweeper<'_> {
                     // on fn = 0 itself (as the frictionless sweep's release)
                     let p = [at.w[0], 0.0, at.w[2], at.w[3]];
                     let n = [0.0, 1.0, 0.0, 0.0];
-                    let on = self.b.correct(at.mode, p, Con::Plane { n, p })?;
+                    let on = self.b.correct(at.phase, at.mode, p, Con::Plane { n, p })?;
                     let mut nodes = nodes.clone();
                     nodes.pop();
                     nodes.push(on);
                     return Ok(Trace {
                         nodes,
                         events,
-                        end: End::Separated(Separation::Release),
+                        end: Separation::Release,
                     });
                 }
                 Ev::Snap => return end(Separation::Snap),
                 Ev::Touch | Ev::Depth => return end(Separation::MultiContact { xc: at.geom.x }),
+                Ev::AtBase => return end(Separation::ContactAtBase),
                 Ev::PhaseEnd => {
-                    return Ok(Trace {
-                        nodes,
-                        events,
-                        end: End::Tangential,
-                    })
+                    let Some((start, tn)) = self.switch_phase(&at)? else {
+                        // the other phase's curve leaves towards larger x0: no quasi-static
+                        // continuation, the whisker snaps off at the switch
+                        return end(Separation::Snap);
+                    };
+                    if self.check_penetration
+                        && start.phase == Phase::B
+                        && self.condition(Ev::Touch, &start, &tn)? <= 0.0
+                    {
+                        // the tangential phase starts with the whisker bending into the
+                        // contour on both sides of the contact point
+                        return end(Separation::MultiContact { xc: at.geom.x });
+                    }
+                    nodes.push(start);
+                    dir = tn;
+                    cur = start;
+                    h = 0.01f64.min(self.max_step);
                 }
                 Ev::Cone | Ev::Sliding => {
                     zero_stretch += 1;
@@ -160,10 +170,13 @@ impl Sweeper<'_> {
                     } else {
                         (
                             FrictionEventKind::SlipToStick,
-                            Mode::Stick { anchor: at.w[3] },
+                            Mode::Stick {
+                                anchor: at.w[3],
+                                s1: at.s1(),
+                            },
                         )
                     };
-                    let start = self.b.correct(mode, at.w, Con::Base(at.x0))?;
+                    let start = self.b.correct(at.phase, mode, at.w, Con::Base(at.x0))?;
                     if !self.probe(&start, SWITCH_PROBE) {
                         let reason = match kind {
                             FrictionEventKind::StickToSlip => {
@@ -191,6 +204,33 @@ impl Sweeper<'_> {
         }
     }
 
+    /// The node of the other phase at a phase switch `at` (`phi1 = psi` with `s1 = 1`), in
+    /// the same mode (a stick re-anchored at the switch: the tip is the touching material
+    /// point there), with the tangent that enters the new phase's valid side (`s1 < 1` in
+    /// B, `phi1 > psi` in A); `None` where x0 rises along it (as the frictionless sweep's
+    /// switch, `continuation::switch_phase`).
+    fn switch_phase(&self, at: &Node) -> Result<Option<(Node, [f64; 4])>> {
+        let [_, f, ft, t] = at.w;
+        let (phase, w) = match at.phase {
+            Phase::B => (Phase::A, [at.geom.psi, f, ft, t]),
+            _ => (Phase::B, [1.0, f, ft, t]),
+        };
+        let mode = match at.mode {
+            Mode::Stick { .. } => Mode::Stick { anchor: t, s1: 1.0 },
+            slip => slip,
+        };
+        let start = self.b.correct(phase, mode, w, Con::Base(at.x0))?;
+        let into = match phase {
+            Phase::B => [-1.0, 0.0, 0.0, 0.0],
+            _ => [1.0, 0.0, 0.0, -start.geom.dpsi],
+        };
+        let tn = self.b.tangent(&start, &into);
+        if dot4(&start.jac[2], &tn) >= 0.0 {
+            return Ok(None);
+        }
+        Ok(Some((start, tn)))
+    }
+
     pub(super) fn indeterminate(&self, n: &Node, reason: &str) -> ContactError {
         ContactError::FrictionIndeterminate {
             x0: n.x0,
@@ -202,7 +242,7 @@ impl Sweeper<'_> {
 
     pub(super) fn stalled(&self, n: &Node, step: f64, reason: &str) -> ContactError {
         ContactError::BranchStalled {
-            phase: Phase::A,
+            phase: n.phase,
             x0: n.x0,
             xc: n.geom.x,
             step,

@@ -812,15 +812,20 @@ fn one_scene() {
         sc.profile.name()
     );
     let r = sweep(&sc.whisker, sc.flow, &sc.profile, &settings(mu, 40)).unwrap();
-    eprintln!("{} {:?}", r.separation, r.friction_events);
+    eprintln!(
+        "{} {:?}; first touch {:?}",
+        r.separation, r.friction_events, r.first_touch
+    );
     for p in r.contact_points() {
         eprintln!(
-            "x0 {:.9} f {:.6e} ft {:+.6e} {:5} xc {:.9} phi1-psi {:.4} sd {:+.6e}",
+            "{} x0 {:.9} f {:.6e} ft {:+.6e} {:5} xc {:.9} s1 {:.6} phi1-psi {:.4} sd {:+.6e}",
+            p.phase,
             p.x0,
             p.f,
             p.ft,
             p.slip.label(),
             p.xc,
+            p.s1,
             p.phi1 - p.psi,
             p.slip_distance
         );

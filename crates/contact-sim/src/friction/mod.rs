@@ -136,21 +136,34 @@ pub(crate) fn frictional_rows(
         max_steps: set.max_steps,
         check_penetration: set.check_penetration,
     };
-    // the free whisker at its touch: F = 0, at its tip (phase A) or tangent to the contour
-    // at arc length s (phase B); its mode from a probe of each
+    // the first node: at a tip touch the free whisker itself (F = 0); at a tangential touch
+    // the frictionless sweep's phase-B state at the touch's base position (the flow acts on
+    // [0, s1] only, so the state jumps from the free whisker's, `first_contact::first_node`),
+    // its force normal (`ft = 0`, inside the cone); its mode from a probe of each
     let (phase, w0) = match touch.kind {
-        FirstContact::Tangential => (Phase::B, [touch.s, 0.0, 0.0, touch.t]),
+        FirstContact::Tangential => {
+            let integration = Integration::adaptive(set.integration_tol);
+            let branch = crate::branch::Branch {
+                whisker,
+                flow,
+                profile,
+                integration: &integration,
+                tol: set.solve_tol,
+            };
+            let n = crate::first_contact::first_node(&branch, touch)?;
+            (Phase::B, [n.u[0], n.u[1], 0.0, n.u[2]])
+        }
         _ => (Phase::A, [touch.phi1, 0.0, 0.0, touch.t]),
     };
     let stick = Mode::Stick {
-        anchor: touch.t,
-        s1: touch.s,
+        anchor: w0[3],
+        s1: if phase == Phase::B { w0[0] } else { 1.0 },
     };
     let (_, n0) = sw.b.eval(phase, stick, w0, true)?;
     let first = sw.first_mode(&n0)?;
     let tr = sw.trace(first)?;
     let separation = tr.end;
-    let rows = rows(&sw, &tr, set, touch)?;
+    let rows = rows(&sw, &tr, set)?;
     Ok(FrictionalRows {
         rows,
         events: tr.events,

@@ -6,7 +6,6 @@ use super::FrictionSettings;
 use crate::accuracy::ESTIMATE_MARGIN;
 use crate::contact_law::frictional_observables;
 use crate::error::Result;
-use crate::first_contact::FirstTouch;
 use crate::phase::Phase;
 use crate::profile::Profile;
 use crate::sweep::{Separation, SweepPoint};
@@ -50,9 +49,10 @@ pub(super) fn rows(
     sw: &Sweeper,
     tr: &Trace,
     set: &FrictionSettings,
-    touch: &FirstTouch,
 ) -> Result<Vec<(SweepPoint, f64)>> {
     let nodes = &tr.nodes;
+    // the material point's reference: the first node's contact point and arc length
+    let origin = (nodes[0].w[3], nodes[0].s1());
     let last = nodes.len() - 1;
     let (xa, xb) = (nodes[0].x0, nodes[last].x0);
     let row_branch = set.rows_at.map(|(it, st, _)| FrictionBranch {
@@ -131,7 +131,7 @@ pub(super) fn rows(
             Some(l) => estimate(l, &node, hold)?,
             None => f64::NAN,
         };
-        out.push((row_of(sw.b.flow, sw.b.profile, touch, &node), est));
+        out.push((row_of(sw.b.flow, sw.b.profile, origin, &node), est));
     }
     Ok(out)
 }
@@ -167,13 +167,13 @@ pub(super) fn estimate(loose: &FrictionBranch, n: &Node, hold: Con) -> Result<f6
 }
 
 /// A log row of a node: the observables of `F = fn n + ft t`, the slip state and the
-/// touching material point's slip displacement since the first touch,
-/// `sigma - s1 - (sigma_touch - s_touch)` (`sigma` the contour's arc length, `s1 = 1` in tip
+/// touching material point's slip displacement since the first contact node `(t0, s10)`,
+/// `sigma(t) - s1 - (sigma(t0) - s10)` (`sigma` the contour's arc length, `s1 = 1` in tip
 /// contact: there the tip's displacement along the contour).
 pub(super) fn row_of(
     flow: FluidLoad,
     profile: &Profile,
-    touch: &FirstTouch,
+    (t0, s10): (f64, f64),
     n: &Node,
 ) -> SweepPoint {
     let [_, f, ft, t] = n.w;
@@ -194,7 +194,7 @@ pub(super) fn row_of(
         psi: n.geom.psi,
         ft,
         slip: n.mode.slip_state(),
-        slip_distance: arc_length(profile, touch.t, t) - (s1 - touch.s),
+        slip_distance: arc_length(profile, t0, t) - (s1 - s10),
     }
 }
 

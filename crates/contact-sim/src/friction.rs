@@ -1089,6 +1089,9 @@ fn row_of(flow: FluidLoad, profile: &Profile, touch: &FirstTouch, n: &Node) -> S
         ft,
         slip: n.mode.slip_state(),
         slip_distance: arc_length(profile, touch.t, t),
+        y0: 0.0,
+        gamma: 0.0,
+        k: None,
     }
 }
 

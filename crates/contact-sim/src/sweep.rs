@@ -12,6 +12,7 @@ use crate::continuation::{trace_tightened, End, StepControl};
 use crate::error::{ContactError, Result};
 use crate::first_contact::first_node;
 pub use crate::first_contact::{FirstContact, FirstTouch};
+use crate::motion::Frame;
 use crate::phase::{ContactState, Phase};
 use crate::profile::Profile;
 use beam_model::equations::Sensitivities;
@@ -58,6 +59,11 @@ pub struct SweepSettings {
     /// Coulomb friction; `mu = 0` is the frictionless sweep exactly.
     #[serde(default)]
     pub contact_law: crate::contact_law::ContactLaw,
+    /// How the base moves ([`crate::motion`]): translate (the default, the thesis's sweep),
+    /// rotate (whisking), or a path of poses. The rows are evenly spaced in the motion's
+    /// coordinate (x0, or gamma).
+    #[serde(default)]
+    pub motion: crate::motion::BaseMotion,
 }
 
 impl Default for SweepSettings {
@@ -74,6 +80,7 @@ impl Default for SweepSettings {
             max_step: 0.2,
             accuracy: None,
             contact_law: crate::contact_law::ContactLaw::Frictionless,
+            motion: crate::motion::BaseMotion::Translate,
         }
     }
 }
@@ -116,6 +123,16 @@ pub struct SweepPoint {
     /// contour (towards +x) from the first touch to the contact point (0 without friction).
     #[serde(default)]
     pub slip_distance: f64,
+    /// Base y of the row's pose (0 for a translation; [`crate::motion`]).
+    #[serde(default)]
+    pub y0: f64,
+    /// Turn of the follicle at the row (rad, counter-clockwise; 0 for a translation): the
+    /// unloaded base direction is `pi/2 + gamma`, so `phi0 = pi/2 + gamma - MA/k`.
+    #[serde(default)]
+    pub gamma: f64,
+    /// The follicle stiffness at the row, where the motion (a path) sets it.
+    #[serde(default)]
+    pub k: Option<f64>,
 }
 
 /// How the contact ended.
@@ -137,6 +154,8 @@ pub enum Separation {
     /// The contact point slid down the whisker to the base (s1 = 0.01): the obstacle reaches
     /// the base's path, and the sweep cannot go on.
     ContactAtBase,
+    /// The tip slid past a peg (the contact reached `s1 = 1`) and released it.
+    TipPassed,
     /// No separation within the continuation's step budget.
     NotReached {
         /// The steps taken.
@@ -145,7 +164,7 @@ pub enum Separation {
 }
 
 /// How the outputs name the separation: `snap`, `release`, `second contact`, `end of
-/// contour`, `contact at the base` or `not reached within N steps`.
+/// contour`, `contact at the base`, `tip passed the peg` or `not reached within N steps`.
 impl std::fmt::Display for Separation {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
@@ -154,6 +173,7 @@ impl std::fmt::Display for Separation {
             Separation::MultiContact { .. } => f.write_str("second contact"),
             Separation::EndOfContour => f.write_str("end of contour"),
             Separation::ContactAtBase => f.write_str("contact at the base"),
+            Separation::TipPassed => f.write_str("tip passed the peg"),
             Separation::NotReached { steps } => write!(f, "not reached within {steps} steps"),
         }
     }
@@ -203,10 +223,13 @@ impl SweepResult {
 }
 
 impl SweepPoint {
-    fn from_state(st: &ContactState, flow: FluidLoad) -> Self {
+    /// The row of the contact state `st` (its `x0` the motion's falling coordinate in
+    /// `frame`).
+    pub(crate) fn from_state(st: &ContactState, flow: FluidLoad, frame: Frame) -> Self {
         let (ax, ay, ma, phi0) = st.observables(flow);
+        let pose = frame.pose(st.x0);
         SweepPoint {
-            x0: st.x0,
+            x0: pose.x0,
             ax,
             ay,
             ma,
@@ -221,6 +244,9 @@ impl SweepPoint {
             ft: 0.0,
             slip: crate::contact_law::SlipState::None,
             slip_distance: 0.0,
+            y0: pose.y0,
+            gamma: pose.gamma,
+            k: None,
         }
     }
 
@@ -283,12 +309,14 @@ pub(crate) fn frictionless(
     progress: &mut dyn FnMut(SweepProgress),
 ) -> Result<SweepResult> {
     let integration = Integration::adaptive(settings.integration_tol);
+    let frame = settings.motion.frame().unwrap_or_default();
     let branch = Branch {
         whisker,
         flow,
         profile,
         integration: &integration,
         tol: settings.solve_tol,
+        frame,
     };
     let first = first_node(&branch, &touch)?;
     // The branch from the first contact to the separation.
@@ -358,8 +386,16 @@ pub(crate) fn frictionless(
         states = rows_at(row_accuracy)?;
     }
     let mut points = pre_contact_rows(whisker, flow, phi1, first.x0(), settings)?;
+    let mut touch = touch;
+    if let Frame::Rotate { .. } = frame {
+        touch.x0 = frame.pose(touch.x0).x0;
+    }
     let pre = points.len();
-    points.extend(states.iter().map(|(s, _)| SweepPoint::from_state(s, flow)));
+    points.extend(
+        states
+            .iter()
+            .map(|(s, _)| SweepPoint::from_state(s, flow, frame)),
+    );
     let accuracy = settings
         .accuracy
         .zip(row_accuracy)
@@ -436,6 +472,7 @@ fn separation(end: End) -> (Node, Separation) {
         ),
         End::OffContour(n) => (n, Separation::EndOfContour),
         End::AtBase(n) => (n, Separation::ContactAtBase),
+        End::TipPassed(n) => (n, Separation::TipPassed),
         End::NotReached(n, steps) => (n, Separation::NotReached { steps }),
     }
 }
@@ -451,12 +488,28 @@ pub(crate) fn pre_contact_rows(
 ) -> Result<Vec<SweepPoint>> {
     let integration = Integration::adaptive(settings.integration_tol);
     let loads = Loads::fluid(flow.q, flow.alpha);
-    let free = shoot(whisker, &loads, phi1, Sensitivities::None, &integration)?;
     let free_reactions = beam_model::Reactions::balancing((0.0, 0.0), flow, 1.0);
     let mut points = Vec::with_capacity(settings.pre_contact_rows + settings.points);
+    let frame = settings.motion.frame().unwrap_or_default();
+    let start = settings.motion.start();
+    let mut guess = phi1;
+    let mut free = shoot(whisker, &loads, phi1, Sensitivities::None, &integration)?;
     for k in (1..=settings.pre_contact_rows).rev() {
+        let c = first_x0 + k as f64 * settings.pre_contact_spacing;
+        let pose = frame.pose(c);
+        let mut phi1 = phi1;
+        if let Frame::Rotate { .. } = frame {
+            // the free whisker turned by gamma (rows before the rotation's start dropped)
+            if c > start {
+                continue;
+            }
+            let at = (guess + pose.gamma, pose.gamma);
+            phi1 = crate::first_contact::free_tip_angle(whisker, flow, at, &integration)?;
+            guess = phi1 - pose.gamma;
+            free = shoot(whisker, &loads, phi1, Sensitivities::None, &integration)?;
+        }
         points.push(SweepPoint {
-            x0: first_x0 + k as f64 * settings.pre_contact_spacing,
+            x0: pose.x0,
             ax: free_reactions.ax,
             ay: free_reactions.ay,
             ma: -free.m0,
@@ -471,6 +524,9 @@ pub(crate) fn pre_contact_rows(
             ft: 0.0,
             slip: crate::contact_law::SlipState::None,
             slip_distance: 0.0,
+            y0: pose.y0,
+            gamma: pose.gamma,
+            k: None,
         });
     }
     Ok(points)

@@ -75,7 +75,7 @@ impl Poses {
             if k.len() != poses.len() {
                 return bad("k", k.len() as f64, "a path's k needs one value per pose");
             }
-            if let Some(v) = k.iter().find(|v| !(**v > 0.0)) {
+            if let Some(v) = k.iter().find(|v| v.is_nan() || **v <= 0.0) {
                 return bad("k", *v, "the follicle stiffness must be > 0 (inf: rigid)");
             }
         }

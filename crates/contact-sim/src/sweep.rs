@@ -186,7 +186,8 @@ pub struct SweepResult {
     pub q: f64,
     /// Flow angle alpha (rad): the flow is `q (cos alpha, -sin alpha)` on `[0, s1]`.
     pub alpha: f64,
-    /// The rows in the order of the motion (x0 strictly decreasing), pre-contact rows first.
+    /// The rows in the order of the motion (x0 strictly decreasing in a translation, gamma
+    /// strictly increasing in a rotation), pre-contact rows first.
     pub points: Vec<SweepPoint>,
     /// How the contact began.
     pub first_contact: FirstContact,
@@ -321,13 +322,24 @@ pub(crate) fn frictionless(
     let first = first_node(&branch, &touch)?;
     // The branch from the first contact to the separation.
     progress(SweepProgress::Coarse { steps: 0 });
-    let ctl = StepControl::new(
+    let mut ctl = StepControl::new(
         settings.max_step,
         settings.max_steps,
         settings.event_tol,
         settings.check_penetration,
     );
-    let tr = trace_tightened(&branch, settings.integration_tol, first, &ctl)?;
+    let mut tr = trace_tightened(&branch, settings.integration_tol, first, &ctl)?;
+    // a phase condition that dips below zero and back between two traced nodes is a pair of
+    // switches the nodes did not see (met whisking a tip past a flat stretch): traced again
+    // with steps 8x shorter, at most twice
+    for _ in 0..2 {
+        if !crossed_unseen(profile, &tr.nodes) {
+            break;
+        }
+        ctl.initial /= 8.0;
+        ctl.max /= 8.0;
+        tr = trace_tightened(&branch, settings.integration_tol, first, &ctl)?;
+    }
     progress(SweepProgress::Coarse {
         steps: tr.nodes.len(),
     });
@@ -385,6 +397,19 @@ pub(crate) fn frictionless(
     if row_accuracy != settings.accuracy {
         states = rows_at(row_accuracy)?;
     }
+    // never a row outside its phase (a switch missed between the traced nodes)
+    if let Some((s, _)) = states.iter().find(|(s, _)| phase_violation(s) > 1e-9) {
+        return Err(ContactError::BranchStalled {
+            phase: s.phase,
+            x0: s.x0,
+            xc: s.point.xc,
+            step: ctl.max,
+            reason: format!(
+                "a row violates its phase condition by {:.3e}: a phase switch between the traced nodes was missed",
+                phase_violation(s)
+            ),
+        });
+    }
     let mut points = pre_contact_rows(whisker, flow, phi1, first.x0(), settings)?;
     let mut touch = touch;
     if let Frame::Rotate { .. } = frame {
@@ -416,6 +441,40 @@ pub(crate) fn frictionless(
         separation,
         accuracy,
         friction_events: Vec::new(),
+    })
+}
+
+/// How far a contact state lies outside its phase: `psi - phi1` in tip contact (phase A
+/// needs the tip steeper than the boundary), `s1 - 1` in tangential contact; negative inside.
+fn phase_violation(s: &ContactState) -> f64 {
+    match s.phase {
+        Phase::B => s.s1 - 1.0,
+        _ => s.point.psi - s.phi1,
+    }
+}
+
+/// Whether the phase condition, predicted between consecutive traced nodes of one phase by
+/// their cubic Hermite interpolant in the coordinate (no shots), dips below `-1e-7` at one of
+/// three interior points of a step: a pair of phase switches inside the step.
+fn crossed_unseen(profile: &Profile, nodes: &[Node]) -> bool {
+    let margin = |phase: Phase, u: &[f64; 3]| match phase {
+        Phase::B => 1.0 - u[0],
+        _ => u[0] - profile.at(u[2]).psi,
+    };
+    nodes.windows(2).any(|w| {
+        let (a, b) = (&w[0], &w[1]);
+        if a.phase != b.phase || a.phase == Phase::None || a.x0() == b.x0() {
+            return false;
+        }
+        let (sa, sb) = (a.slope(), b.slope());
+        if !sa.iter().chain(&sb).all(|v| v.is_finite() && v.abs() < 1e3) {
+            return false;
+        }
+        (1..4).any(|k| {
+            let x = a.x0() + (b.x0() - a.x0()) * k as f64 / 4.0;
+            let u = crate::branch::hermite((a.x0(), &a.u, &sa), (b.x0(), &b.u, &sb), x);
+            margin(a.phase, &u) < -1e-7
+        })
     })
 }
 

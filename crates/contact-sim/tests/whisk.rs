@@ -423,6 +423,20 @@ fn run_battery(count: usize, seed: u64, max_refused: usize) {
     let mut separations = std::collections::BTreeMap::new();
     for i in 0..count {
         let s = random_scene(&mut rng, i);
+        // VIBRISSA_WHISK_SCENE=i: that scene alone, its rows printed
+        let only = std::env::var("VIBRISSA_WHISK_SCENE").ok();
+        if only.as_ref().is_some_and(|o| *o != i.to_string()) {
+            continue;
+        }
+        if only.is_some() {
+            let r = sweep(&s.whisker, s.flow, &s.profile, &s.settings);
+            for (j, p) in r.iter().flat_map(|r| r.points.iter()).enumerate() {
+                println!(
+                    "{j} {} gamma {:.6} f {:.4e} s1 {:.6} phi1 {:.6} psi {:.6} xc {:.6} yc {:.6}",
+                    p.phase, p.gamma, p.f, p.s1, p.phi1, p.psi, p.xc, p.yc
+                );
+            }
+        }
         match sweep(&s.whisker, s.flow, &s.profile, &s.settings) {
             Ok(r) => {
                 swept += 1;

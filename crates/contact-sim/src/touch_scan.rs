@@ -7,9 +7,14 @@
 //! obstacle: the least over the whisker of [`Profile::clearance`] (for a peg, the signed
 //! distance of the point from the whisker, positive on the whisker's left, the side the
 //! motion turns it to). The first touch is the first zero of `G` along the motion: `G` is
-//! scanned in steps of [`SCAN_STEP`] from the start of the motion, the first sign change
-//! bisected to [`TOUCH_TOL`]; each `G` is the exact minimum over the dense free solution
-//! (the samples' least, refined by golden section between its neighbours). The touching
+//! scanned from the start of the motion in steps of half the clearance (a point of the
+//! whisker moves at most its distance from the base, at most 1, per radian of a rigid turn,
+//! and exactly the step in a translation, so half the clearance cannot step over a touch
+//! with a margin of 2 for the shape's own change under a turning flow; below a graph the
+//! step is also divided by `1 + |g'|`), between [`SCAN_STEP_MIN`] and [`SCAN_STEP`]; the
+//! first sign change is located by the Illinois variant of regula falsi to [`TOUCH_TOL`];
+//! each `G` is the exact minimum over the dense free solution (the samples' least, refined
+//! by golden section between its neighbours). The touching
 //! point is the tip (phase A first) or a point inside (tangential, phase B first; a peg is
 //! always touched so).
 
@@ -22,8 +27,11 @@ use beam_model::shot::Integration;
 use beam_model::{FluidLoad, Loads, Whisker};
 use bvp_solvers::integrator::{Dop853, OdeSolution};
 
-/// Step of the scan in the motion's coordinate (x0, or gamma in rad).
-pub const SCAN_STEP: f64 = 0.01;
+/// Largest step of the scan in the motion's coordinate (x0, or gamma in rad).
+pub const SCAN_STEP: f64 = 0.1;
+
+/// Smallest step of the scan.
+pub const SCAN_STEP_MIN: f64 = 1e-3;
 
 /// The first touch's coordinate is bisected to this.
 pub const TOUCH_TOL: f64 = 1e-13;
@@ -125,7 +133,8 @@ impl Scan<'_> {
         let g = 0.5 * (5f64.sqrt() - 1.0);
         let (mut x1, mut x2) = (b - g * (b - a), a + g * (b - a));
         let (mut f1, mut f2) = (key(x1), key(x2));
-        for _ in 0..80 {
+        // the interval 2/SAMPLES shrinks to ~1e-10: the minimum's value to ~1e-20
+        for _ in 0..40 {
             if f1 <= f2 {
                 (b, x2, f2) = (x2, x1, f1);
                 x1 = b - g * (b - a);
@@ -203,7 +212,23 @@ pub(crate) fn first_touch_along(
         let (g, s) = scan.least(&free, c);
         Ok((g, s, free))
     };
-    let (g0, _, _) = at(c0, &mut guess)?;
+    // the step from clearance `g` at the point `s` of `free` (see the module's notes)
+    let step = |g: f64, s: f64, free: &Free, c: f64| {
+        let slope = match *profile {
+            Profile::Peg { .. } | Profile::Disc { .. } => 0.0,
+            _ => {
+                let (x, _, _) = free.at(s);
+                let d = profile.eval(frame.pose(c).x0 + x).1.abs();
+                if d.is_finite() {
+                    d
+                } else {
+                    0.0
+                }
+            }
+        };
+        (0.5 * g / (1.0 + slope)).clamp(SCAN_STEP_MIN, SCAN_STEP)
+    };
+    let (g0, s0, free0) = at(c0, &mut guess)?;
     if g0 <= 0.0 {
         return Err(ContactError::NoContact {
             reason: format!(
@@ -213,19 +238,21 @@ pub(crate) fn first_touch_along(
             ),
         });
     }
-    let steps = (span / SCAN_STEP).ceil() as usize;
-    let mut prev = (c0, guess);
+    let mut prev = (c0, guess, g0);
     let mut hit = None;
-    for k in 1..=steps {
-        let c = c0 - k as f64 * SCAN_STEP;
-        let (g, _, _) = at(c, &mut guess)?;
+    let mut h = step(g0, s0, &free0, c0);
+    let mut c = c0;
+    while c0 - (c - h) <= span {
+        c -= h;
+        let (g, s, free) = at(c, &mut guess)?;
         if g <= 0.0 {
-            hit = Some(c);
+            hit = Some((c, g));
             break;
         }
-        prev = (c, guess);
+        prev = (c, guess, g);
+        h = step(g, s, &free, c);
     }
-    let Some(mut lo) = hit else {
+    let Some((mut lo, mut g_lo)) = hit else {
         return Err(ContactError::NoContact {
             reason: format!(
                 "the whisker does not touch {} within {span:.3} of the motion's coordinate {} from {c0:.6}",
@@ -234,19 +261,38 @@ pub(crate) fn first_touch_along(
             ),
         });
     };
-    // bisection: G > 0 at `hi`, G <= 0 at `lo` (the coordinate falls along the motion)
-    let (mut hi, mut guess_hi) = prev;
-    while hi - lo > TOUCH_TOL * (1.0 + hi.abs()) {
-        let mid = 0.5 * (hi + lo);
+    // Illinois: G > 0 at `hi`, G <= 0 at `lo` (the coordinate falls along the motion); the
+    // weight of an end that stays is halved; bisection where the secant point is not inside
+    let (mut hi, mut guess_hi, mut g_hi) = prev;
+    let mut side = 0;
+    for _ in 0..200 {
+        if hi - lo <= TOUCH_TOL * (1.0 + hi.abs()) {
+            break;
+        }
+        let mut mid = hi - g_hi * (hi - lo) / (g_hi - g_lo);
+        if !(mid > lo && mid < hi) {
+            mid = 0.5 * (hi + lo);
+        }
         if mid <= lo || mid >= hi {
             break;
         }
         let mut g = guess_hi;
         let (gm, _, _) = at(mid, &mut g)?;
         if gm > 0.0 {
-            (hi, guess_hi) = (mid, g);
+            (hi, guess_hi, g_hi) = (mid, g, gm);
+            if side == 1 {
+                g_lo *= 0.5;
+            }
+            side = 1;
         } else {
-            lo = mid;
+            (lo, g_lo) = (mid, gm);
+            if side == -1 {
+                g_hi *= 0.5;
+            }
+            side = -1;
+        }
+        if gm == 0.0 {
+            break;
         }
     }
     let mut g = guess_hi;

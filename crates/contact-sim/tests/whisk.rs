@@ -470,11 +470,20 @@ fn run_battery(count: usize, seed: u64, max_refused: usize) {
         "  penetration {:.2e} at {}",
         fig.penetration.0, fig.penetration.1
     );
+    // the draws place some graphs where the turning whisker starts inside or never reaches
+    // them: "no contact" is their answer; any other refusal is a failure
+    let other: Vec<_> = refused
+        .iter()
+        .filter(|r| !r.contains("no contact"))
+        .collect();
+    assert!(other.is_empty(), "{other:?}");
     assert!(refused.len() <= max_refused, "{} refused", refused.len());
     assert!(fig.resolve.0 < 1e-8, "{:?}", fig.resolve);
     assert!(fig.on_obstacle.0 < 1e-9, "{:?}", fig.on_obstacle);
     assert!(fig.phase.0 < 1e-8, "{:?}", fig.phase);
-    assert!(fig.base_law.0 < 1e-12, "{:?}", fig.base_law);
+    // a rotation reads gamma from the base condition itself (to rounding); a translation
+    // holds it to the corrector's residual tolerance, solve_tol = 1e-11
+    assert!(fig.base_law.0 < 2e-11, "{:?}", fig.base_law);
     assert!(fig.penetration.0 < 1e-6, "{:?}", fig.penetration);
 }
 
@@ -486,5 +495,5 @@ fn battery_subset() {
 #[test]
 #[ignore = "the full whisking battery: cargo test -p contact-sim --release --test whisk -- --ignored --nocapture"]
 fn battery_full() {
-    run_battery(200, 0x5EED_0038, 40);
+    run_battery(1000, 0x5EED_0038, 150);
 }

@@ -19,7 +19,7 @@
 //! `y(s1) - y(0) = yc`, and reads its coordinate `x0 = xc - dx`; a rotation holds the base
 //! position, `xc - dx = x0`, `yc - dy = y0`, and reads its coordinate `gamma = R0`. Either way
 //! two equations hold on the contact branch and the motion's coordinate is an explicit
-//! function of the branch state `(v, f, t)`, so one continuation serves both ([`Frame`]).
+//! function of the branch state `(v, f, t)`, so one continuation serves both (`Frame`).
 
 use crate::error::{ContactError, Result};
 use serde::{Deserialize, Serialize};

@@ -1,9 +1,12 @@
 //! A 200-point sweep of the uniform, straight, rigid whisker past the contour g1 under the
 //! flow q = 5 (thesis ch. 5, case 1) with the default settings. The issue's target: < 50 ms.
+//! And the same whisker and flow whisked (rotated about its base at the origin from
+//! gamma = 0) against the peg (-0.2, 0.6), 200 points (issue 38: as fast per row as the
+//! translating sweep).
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use vibrissa::beam_model::Whisker;
-use vibrissa::contact_sim::{sweep, Profile, SweepSettings};
+use vibrissa::contact_sim::{sweep, BaseMotion, Profile, SweepSettings};
 
 fn sweep_g1(c: &mut Criterion) {
     let whisker = Whisker::uniform();
@@ -33,5 +36,29 @@ fn sweep_g1(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, sweep_g1);
+fn whisk_peg(c: &mut Criterion) {
+    let whisker = Whisker::uniform();
+    let profile = Profile::parse("peg:-0.2,0.6").expect("a peg");
+    let settings = SweepSettings {
+        motion: BaseMotion::Rotate {
+            x0: 0.0,
+            y0: 0.0,
+            gamma0: 0.0,
+        },
+        ..SweepSettings::default() // 200 contact points
+    };
+    let flow = beam_model::FluidLoad { q: 5.0, alpha: 0.0 };
+    if let Err(e) = sweep(&whisker, flow, &profile, &settings) {
+        eprintln!("sweep/rotate/peg: {e}");
+        return;
+    }
+    let mut group = c.benchmark_group("sweep");
+    group.sample_size(10);
+    group.bench_function("rotate/peg:-0.2,0.6/q=5/200-points", |b| {
+        b.iter(|| sweep(black_box(&whisker), flow, black_box(&profile), &settings))
+    });
+    group.finish();
+}
+
+criterion_group!(benches, sweep_g1, whisk_peg);
 criterion_main!(benches);

@@ -20,6 +20,7 @@
 //! the caller asks for it ([`Rescue`]), the trust region from the same start as the fallback.
 
 use crate::error::{ContactError, Result};
+use crate::motion::Frame;
 use crate::phase::{contact_loads, ContactState, ContourPoint, Phase};
 use crate::profile::Profile;
 use beam_model::equations::Sensitivities;
@@ -115,6 +116,10 @@ pub(crate) struct Branch<'a> {
     pub integration: &'a Integration,
     /// Residual tolerance of the corrector (norm of `R` and of the constraint).
     pub tol: f64,
+    /// How the base moves: which two equations hold and which function of the state is the
+    /// motion's falling coordinate (`x0` of a translation, `-gamma` of a rotation; the
+    /// node's `state.x0`, [`crate::motion`]).
+    pub frame: Frame,
 }
 
 /// Diameter ratio below which every shot carries sensitivities (see [`Branch::eval`]).
@@ -223,15 +228,26 @@ impl Branch<'_> {
         let mut c2 = col(dt);
         c2[1] -= g.dy;
         c2[2] += g.dx;
-        let jac = [
+        let mut jac = [
             [c0[0], c1[0], c2[0]],
             [c0[1], c1[1], c2[1]],
             [c0[2], c1[2], c2[2]],
         ];
-        let r = [
+        let mut r = [
             self.whisker.support.residual(shot.phi0, shot.m0),
             shot.dy - g.y,
         ];
+        let mut x0 = g.x - shot.dx;
+        if let Frame::Rotate { x0: bx, y0: by } = self.frame {
+            // the base held at (bx, by): R = (xc - dx - bx, dy - yc + by); the coordinate
+            // -gamma = -R0 (the base condition turned by gamma, [3.21, 3.22])
+            let gamma = r[0];
+            r = [x0 - bx, r[1] + by];
+            x0 = -gamma;
+            let row0 = jac[0];
+            jac[0] = jac[2];
+            jac[2] = [-row0[0], -row0[1], -row0[2]];
+        }
         let state = ContactState {
             phase,
             point: ContourPoint {
@@ -242,7 +258,7 @@ impl Branch<'_> {
             f,
             s1,
             phi1,
-            x0: g.x - shot.dx,
+            x0,
             phi0: shot.phi0,
             m0: shot.m0,
             iterations: 0,
@@ -578,6 +594,7 @@ pub(crate) mod tests {
                 profile: &self.profile,
                 integration: &self.integration,
                 tol: 1e-11,
+                frame: Frame::Translate,
             }
         }
     }

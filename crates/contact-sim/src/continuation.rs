@@ -35,6 +35,9 @@ pub(crate) enum End {
     AtBase(Node),
     /// No separation within the step budget.
     NotReached(Node, usize),
+    /// The contact with a peg reached the tip (`s1 = 1`): the tip slides past the point and
+    /// releases it (the node at `s1 = 1`).
+    TipPassed(Node),
 }
 
 /// The traced branch: its nodes in the order of the motion (x0 strictly falling; a phase
@@ -56,6 +59,10 @@ impl Trace {
         for n in &mut self.switches {
             *n = branch.correct(n.phase, n.u, Constraint::PhaseEnd, Rescue::TrustRegion)?;
         }
+        if let End::TipPassed(n) = &mut self.end {
+            *n = branch.correct(n.phase, n.u, Constraint::PhaseEnd, Rescue::TrustRegion)?;
+            return Ok(());
+        }
         let end = match &mut self.end {
             End::Release(n) => {
                 let mut at =
@@ -65,6 +72,7 @@ impl Trace {
                 *n = at;
                 return Ok(());
             }
+            End::TipPassed(n) => n,
             End::Snap(n)
             | End::MultiContact(n)
             | End::OffContour(n)
@@ -566,6 +574,10 @@ impl<'b, 'a> Tracer<'b, 'a> {
         }
         if let Some(end) = ev.end(at) {
             return Ok(Some(end));
+        }
+        if self.branch.profile.is_peg() {
+            // a peg has no tip contact: the tip slides past it
+            return Ok(Some(End::TipPassed(at)));
         }
         self.switch(at)
     }

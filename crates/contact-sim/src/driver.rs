@@ -3,10 +3,12 @@
 //! ([`crate::contact_law::ContactLaw`]): frictionless ([`mod@crate::sweep`]) or Coulomb friction
 //! ([`crate::friction`]).
 
-use crate::error::Result;
+use crate::error::{ContactError, Result};
 use crate::first_contact::{first_touch, free_tip};
+use crate::motion::Frame;
 use crate::profile::Profile;
 use crate::sweep::{check_settings, frictionless, SweepProgress, SweepResult, SweepSettings};
+use crate::touch_scan::first_touch_along;
 use beam_model::shot::Integration;
 use beam_model::{FluidLoad, Loads, Whisker};
 
@@ -31,11 +33,35 @@ pub fn sweep_with_progress(
     whisker.validate()?;
     Loads::fluid(flow.q, flow.alpha).validate()?;
     check_settings(settings, flow)?;
+    settings.motion.validate()?;
     profile.check_reachable_convex()?;
+    let frame = settings.motion.frame().unwrap_or_default();
+    let graph_translated = frame == Frame::Translate && !profile.is_closed();
+    if let (Some(mu), false) = (settings.contact_law.friction(), graph_translated) {
+        let what = if profile.is_closed() {
+            format!(
+                "friction (mu = {mu}) against obstacle {} is",
+                profile.name()
+            )
+        } else {
+            format!(
+                "friction (mu = {mu}) with motion {} is",
+                settings.motion.label()
+            )
+        };
+        return Err(ContactError::NotImplemented { what });
+    }
     let integration = Integration::adaptive(settings.integration_tol);
-    // The free whisker under the flow, then its exact first touch.
+    // The free whisker under the flow, then its exact first touch: on the graph's right
+    // flank for a translation, along the motion otherwise ([`crate::touch_scan`]).
     let phi1 = free_tip(whisker, flow, settings.integration_tol, &integration)?;
-    let touch = first_touch(whisker, flow, phi1, profile, settings.integration_tol)?;
+    let touch = if graph_translated {
+        first_touch(whisker, flow, phi1, profile, settings.integration_tol)?
+    } else {
+        let tol = settings.integration_tol;
+        let start = settings.motion.start();
+        first_touch_along(whisker, flow, (phi1, tol), profile, frame, start)?
+    };
     profile.convex_at(touch.t)?;
     if let Some(mu) = settings.contact_law.friction() {
         return crate::friction::sweep(whisker, flow, profile, settings, (phi1, &touch), mu);

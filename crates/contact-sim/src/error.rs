@@ -114,6 +114,12 @@ pub enum ContactError {
         /// Why.
         reason: String,
     },
+    /// A combination of motion, obstacle and contact law the sweep does not follow yet.
+    #[error("{what} not implemented")]
+    NotImplemented {
+        /// What, e.g. "friction with motion rotate is".
+        what: String,
+    },
     /// An underlying BVP routine failed.
     #[error(transparent)]
     Bvp(#[from] BvpError),

@@ -45,7 +45,7 @@ pub(crate) fn phase_margin(node: &Node) -> f64 {
 pub(crate) fn near_margin(whisker: &Whisker, profile: &Profile, node: &Node) -> f64 {
     let st = &node.state;
     match node.phase {
-        Phase::B => profile.curvature(st.point.xc) - whisker.kappa0(st.s1),
+        Phase::B => profile.curvature_at(node.u[2]) - whisker.kappa0(st.s1),
         _ => (0.5 * (st.phi1 - st.point.psi)).cos(),
     }
 }
@@ -87,6 +87,12 @@ pub(crate) fn penetration_under(
     profile: &Profile,
     state: &ContactState,
 ) -> Result<f64> {
+    if profile.is_peg() {
+        // a point is touched at one point of the whisker at a time: another part reaching
+        // it would have to pass through the contact point itself (the whisker looping back
+        // onto the peg), which no shape here does; nothing enters a point
+        return Ok(f64::NEG_INFINITY);
+    }
     let scene = Scene::new(*whisker, *loads);
     let path = shape_path(&scene, state.phi1, SHAPE_TOL)?;
     let pieces = path.pieces();
@@ -331,6 +337,13 @@ impl Depth<'_> {
             };
         }
         let (x, y) = (self.x0 + p.offset.0 + u[0], self.dy + p.offset.1 + u[1]);
+        if let Profile::Disc { x: cx, y: cy, r } = *self.profile {
+            // inside the full circle: r - |p - c|
+            return PointDepth {
+                graph: r - (x - cx).hypot(y - cy),
+                side: f64::INFINITY,
+            };
+        }
         let g = self.profile.y(x);
         if !g.is_finite() {
             return PointDepth {
@@ -360,6 +373,16 @@ impl Depth<'_> {
         ))
     }
 
+    /// An enclosure of `y` (absolute) over `[a, b]` of `p`.
+    fn y_enclosure(&self, p: &ShapePiece, ab: (f64, f64)) -> Option<Iv> {
+        let (y, _) = enclose(&p.poly, 1, ab)?;
+        let off = self.dy + p.offset.1;
+        Some(Iv {
+            lo: y.lo + off,
+            hi: y.hi + off,
+        })
+    }
+
     /// An enclosure of `g'` over the x range `x` (`g'` rises on a convex contour: its values
     /// at the ends); `None` where it is not finite (outside a circle's span).
     fn slope(&self, x: Iv) -> Option<Iv> {
@@ -378,6 +401,14 @@ impl Depth<'_> {
         let Some((x, dx, dy)) = self.enclosures(p, (a, b)) else {
             return f64::INFINITY;
         };
+        if let Profile::Disc { x: cx, y: cy, r } = *self.profile {
+            // r less the least distance from the centre to the box of the enclosures
+            let Some(y) = self.y_enclosure(p, (a, b)) else {
+                return f64::INFINITY;
+            };
+            let gap = |lo: f64, hi: f64, c: f64| (lo - c).max(c - hi).max(0.0);
+            return r - gap(x.lo, x.hi, cx).hypot(gap(y.lo, y.hi, cy));
+        }
         let (dlo, dhi) = self.profile.domain();
         if x.hi < dlo || x.lo > dhi {
             return f64::NEG_INFINITY;
@@ -423,6 +454,18 @@ impl Depth<'_> {
         let Some((x, dx, dy)) = self.enclosures(p, ab) else {
             return false;
         };
+        if let Profile::Disc { x: cx, y: cy, .. } = *self.profile {
+            // d' = -(p - c) . p' / |p - c|: falls where (p - c) . p' >= 0 throughout
+            let Some(y) = self.y_enclosure(p, ab) else {
+                return false;
+            };
+            let shift = |v: Iv, c: f64| Iv {
+                lo: v.lo - c,
+                hi: v.hi - c,
+            };
+            let radial = shift(x, cx).times(dx).plus(shift(y, cy).times(dy));
+            return radial.lo >= 0.0;
+        }
         let Some(g1) = self.slope(x) else {
             return false;
         };

@@ -75,6 +75,12 @@ pub struct FirstTouch {
     pub x0: f64,
     /// Tip angle of the free whisker.
     pub phi1: f64,
+    /// Base y at the first touch (0 for a translation; [`crate::motion`]).
+    #[serde(default)]
+    pub y0: f64,
+    /// Turn of the follicle at the first touch (rad; 0 for a translation).
+    #[serde(default)]
+    pub gamma: f64,
 }
 
 /// Samples of the free elastica that bracket the tangency points.
@@ -104,6 +110,8 @@ struct FreeTip<'a> {
     whisker: &'a Whisker,
     loads: Loads,
     integration: &'a Integration,
+    /// The turn of the follicle: the base condition `phi0 = pi/2 + gamma + m0/k`.
+    gamma: f64,
     /// The error of a shot that failed (the iteration stops there).
     error: Cell<Option<beam_model::ModelError>>,
 }
@@ -117,7 +125,7 @@ impl ShotProblem<1> for FreeTip<'_> {
             .map_err(|e| self.error.set(Some(e)))
     }
     fn residual(&self, _p: &[f64; 1], shot: &Shot) -> [f64; 1] {
-        [self.whisker.support.residual(shot.phi0, shot.m0)]
+        [self.whisker.support.residual(shot.phi0, shot.m0) - self.gamma]
     }
     fn residual_jacobian(&self, _p: &[f64; 1], shot: &Shot) -> Option<[[f64; 1]; 1]> {
         let d = shot.d_phi1;
@@ -125,20 +133,21 @@ impl ShotProblem<1> for FreeTip<'_> {
     }
 }
 
-/// The tip angle of the free whisker under `flow`: Newton on the base condition
+/// The tip angle of the free whisker under `flow` (its base turned by `gamma`): Newton on the base condition
 /// [3.21, 3.22] with the exact derivative of the shot, from `guess`: at most 40 shots, full
 /// steps; the step after a residual of 1e-15, or a step below `1e-15 (1 + |phi1|)`, is
 /// returned unshot; a failed iteration within 1e-11 is accepted.
-fn free_tip_angle(
+pub(crate) fn free_tip_angle(
     whisker: &Whisker,
     flow: FluidLoad,
-    guess: f64,
+    (guess, gamma): (f64, f64),
     integration: &Integration,
 ) -> Result<f64> {
     let problem = FreeTip {
         whisker,
         loads: Loads::fluid(flow.q, flow.alpha),
         integration,
+        gamma,
         error: Cell::new(None),
     };
     let policy = NewtonPolicy {
@@ -187,7 +196,7 @@ pub(crate) fn free_tip(
     let scene = beam_model::Scene::new(*whisker, Loads::fluid(flow.q, flow.alpha));
     let method = beam_model::Method::Accurate { tol, samples: 16 };
     let guess = beam_model::solve(&scene, &method)?.tip.phi;
-    free_tip_angle(whisker, flow, guess, integration)
+    free_tip_angle(whisker, flow, (guess, 0.0), integration)
 }
 
 /// Locates the first contact of the free whisker (tip angle `phi1`) with `profile`.
@@ -288,6 +297,8 @@ pub(crate) fn first_touch(
         psi: g.psi,
         x0,
         phi1,
+        y0: 0.0,
+        gamma: 0.0,
     })
 }
 

@@ -11,7 +11,9 @@
 //! | `events` | phase switches, release, snap (x0 turning point), second contact: location |
 //! | [`first_contact`] | the exact first touch of the free whisker (tip or tangential) |
 //! | [`cases`] | the chapter-5 cases as reference problems |
+//! | [`motion`] | the base's pose along the sweep: translate, rotate (whisking), a path of poses |
 //! | [`friction`] | the contact law (frictionless, Coulomb): stick and slip in tip contact, their events |
+//! | [`touch_scan`] | the first touch along a rotation, or of a peg or a disc |
 //! | `rows` | the log's contact rows at evenly spaced base positions: predicted, corrected |
 //! | [`mod@sweep`] | settings, the sweep's course (free whisker, first touch, trace, rows), separation kinds |
 //!
@@ -44,15 +46,18 @@ pub mod error;
 mod events;
 pub mod first_contact;
 pub mod friction;
+pub mod motion;
 pub mod phase;
 pub mod profile;
 mod rows;
 pub mod sweep;
+pub mod touch_scan;
 
 pub use accuracy::SweepAccuracy;
 pub use contact_law::{ContactLaw, FrictionEvent, FrictionEventKind, SlipState};
 pub use driver::{sweep, sweep_with_progress};
 pub use error::{ContactError, Result};
+pub use motion::{BaseMotion, Pose, Poses};
 pub use phase::{ContactState, ContourPoint, Phase};
 pub use profile::Profile;
 pub use sweep::{

@@ -61,6 +61,27 @@ pub enum Profile {
     },
     /// A tabulated contour, interpolated by a not-a-knot cubic spline (C^2).
     Points(Spline),
+    /// A point obstacle, such as a thin pole (spec/model.md, "Obstacles beyond graphs"):
+    /// touched anywhere along the whisker with the force normal to it (phase B, `m(s1) = 0`
+    /// beyond it, its contour angle `psi = t` the whisker's own at the contact); the tip
+    /// sliding past it releases it ([`crate::sweep::Separation::TipPassed`]).
+    Peg {
+        /// x of the point.
+        x: f64,
+        /// y of the point.
+        y: f64,
+    },
+    /// A full circle, touched from any side: tip contact along the circle's normal, or
+    /// tangential contact. Parametrised like [`Profile::Circle`] by the polar angle from
+    /// its lowest point, `(x + r sin t, y - r cos t)`, contour angle `t`, over all `t`.
+    Disc {
+        /// Centre x.
+        x: f64,
+        /// Centre y.
+        y: f64,
+        /// Radius r > 0.
+        r: f64,
+    },
 }
 
 /// A natural cubic spline through `(x_i, y_i)`, x strictly increasing.
@@ -267,8 +288,16 @@ impl Profile {
                 let v = nums(3)?;
                 Profile::Circle { xc: v[0], yc: v[1], r: v[2] }
             }
+            "peg" => {
+                let v = nums(2)?;
+                Profile::Peg { x: v[0], y: v[1] }
+            }
+            "disc" => {
+                let v = nums(3)?;
+                Profile::Disc { x: v[0], y: v[1], r: v[2] }
+            }
             "points" => return Err(bad("tabulated profiles are read from a CSV file (points:FILE.csv)")),
-            _ => return Err(bad("unknown profile: expected g1, g2, ge, parabola:a,xv,yv, cosh:a,c,xv,d, circle:xc,yc,r or points:FILE.csv")),
+            _ => return Err(bad("unknown profile: expected g1, g2, ge, parabola:a,xv,yv, cosh:a,c,xv,d, circle:xc,yc,r, peg:x,y, disc:x,y,r or points:FILE.csv")),
         };
         p.validate_parameters().map_err(bad)?;
         Ok(p)
@@ -288,6 +317,9 @@ impl Profile {
                 Err("cosh needs a > 0 and c > 0 to be convex")
             }
             Profile::Circle { r, .. } if r <= 0.0 => Err("a circle needs r > 0"),
+            Profile::Disc { r, .. } if r <= 0.0 => {
+                Err("a disc needs r > 0 (a point obstacle is peg:x,y)")
+            }
             _ => Ok(()),
         }
     }
@@ -302,6 +334,8 @@ impl Profile {
             Profile::Cosh { a, c, xv, d } => format!("cosh:{a},{c},{xv},{d}"),
             Profile::Circle { xc, yc, r } => format!("circle:{xc},{yc},{r}"),
             Profile::Points(s) => format!("points({} knots)", s.x.len()),
+            Profile::Peg { x, y } => format!("peg:{x},{y}"),
+            Profile::Disc { x, y, r } => format!("disc:{x},{y},{r}"),
         }
     }
 
@@ -317,7 +351,7 @@ impl Profile {
                 let ch = u.cosh();
                 (a * ch + d, a / c * u.sinh(), a / (c * c) * ch)
             }
-            Profile::Circle { xc, yc, r } => {
+            Profile::Circle { xc, yc, r } | Profile::Disc { x: xc, y: yc, r } => {
                 let u = x - xc;
                 let w2 = r * r - u * u;
                 if w2 <= 0.0 {
@@ -327,6 +361,7 @@ impl Profile {
                 (yc - w, u / w, r * r / (w2 * w))
             }
             Profile::Points(ref s) => s.eval(x),
+            Profile::Peg { .. } => (f64::NAN, f64::NAN, f64::NAN),
         }
     }
 
@@ -338,7 +373,7 @@ impl Profile {
                 a * u * u + yv
             }
             Profile::Cosh { a, c, xv, d } => a * ((x - xv) / c).cosh() + d,
-            Profile::Circle { xc, yc, r } => {
+            Profile::Circle { xc, yc, r } | Profile::Disc { x: xc, y: yc, r } => {
                 let u = x - xc;
                 let w2 = r * r - u * u;
                 if w2 <= 0.0 {
@@ -347,6 +382,7 @@ impl Profile {
                 yc - w2.sqrt()
             }
             Profile::Points(ref s) => s.eval(x).0,
+            Profile::Peg { .. } => f64::NAN,
         }
     }
 
@@ -365,7 +401,9 @@ impl Profile {
     pub fn vertex(&self) -> f64 {
         match *self {
             Profile::Parabola { xv, .. } | Profile::Cosh { xv, .. } => xv,
-            Profile::Circle { xc, .. } => xc,
+            Profile::Circle { xc, .. }
+            | Profile::Disc { x: xc, .. }
+            | Profile::Peg { x: xc, .. } => xc,
             Profile::Points(ref s) => {
                 let (a, b) = s.range();
                 // g' is increasing on a convex spline: bisection for g' = 0, clamped.
@@ -383,7 +421,8 @@ impl Profile {
     /// The x range where the contour is defined (infinite for closed forms).
     pub fn domain(&self) -> (f64, f64) {
         match *self {
-            Profile::Circle { xc, r, .. } => (xc - r, xc + r),
+            Profile::Circle { xc, r, .. } | Profile::Disc { x: xc, r, .. } => (xc - r, xc + r),
+            Profile::Peg { x, .. } => (x, x),
             Profile::Points(ref s) => s.range(),
             _ => (f64::NEG_INFINITY, f64::INFINITY),
         }
@@ -395,6 +434,7 @@ impl Profile {
     pub fn param_range(&self) -> (f64, f64) {
         match *self {
             Profile::Circle { .. } => (-FRAC_PI_2, FRAC_PI_2),
+            Profile::Peg { .. } | Profile::Disc { .. } => (f64::NEG_INFINITY, f64::INFINITY),
             _ => self.domain(),
         }
     }
@@ -405,7 +445,7 @@ impl Profile {
     /// `(xc + r sin t, yc - r cos t, t)`, smooth up to the vertical ends `t = +-pi/2`.
     pub fn at(&self, t: f64) -> ContourGeom {
         match *self {
-            Profile::Circle { xc, yc, r } => {
+            Profile::Circle { xc, yc, r } | Profile::Disc { x: xc, y: yc, r } => {
                 let (s, c) = t.sin_cos();
                 ContourGeom {
                     x: xc + r * s,
@@ -416,6 +456,14 @@ impl Profile {
                     dpsi: 1.0,
                 }
             }
+            Profile::Peg { x, y } => ContourGeom {
+                x,
+                y,
+                psi: t,
+                dx: 0.0,
+                dy: 0.0,
+                dpsi: 1.0,
+            },
             _ => {
                 let (g, d, dd) = self.eval(t);
                 ContourGeom {
@@ -433,7 +481,8 @@ impl Profile {
     /// The height of the contour point at parameter `t` (`at(t).y`, without the rest).
     pub fn y_at(&self, t: f64) -> f64 {
         match *self {
-            Profile::Circle { yc, r, .. } => yc - r * t.cos(),
+            Profile::Circle { yc, r, .. } | Profile::Disc { y: yc, r, .. } => yc - r * t.cos(),
+            Profile::Peg { y, .. } => y,
             _ => self.y(t),
         }
     }
@@ -518,6 +567,49 @@ impl Profile {
             chained: true,
         };
         grow_brackets(|t| Some(self.y_at(t) < y), hint, below, span, growth).next()
+    }
+
+    /// Whether the obstacle is a point ([`Profile::Peg`]).
+    pub fn is_peg(&self) -> bool {
+        matches!(self, Profile::Peg { .. })
+    }
+
+    /// Whether the obstacle is not the region above a graph (a peg or a disc): its first
+    /// touch is found by [`Profile::clearance`] along the motion, not on a right flank.
+    pub fn is_closed(&self) -> bool {
+        matches!(self, Profile::Peg { .. } | Profile::Disc { .. })
+    }
+
+    /// The curvature of the contour at parameter `t`: [`Profile::curvature`] at its x for
+    /// graphs, `1/r` for a disc, infinite for a peg (no whisker bends around a point more
+    /// sharply than it).
+    pub fn curvature_at(&self, t: f64) -> f64 {
+        match *self {
+            Profile::Peg { .. } => f64::INFINITY,
+            Profile::Disc { r, .. } => 1.0 / r,
+            _ => self.curvature(self.at(t).x),
+        }
+    }
+
+    /// The signed clearance of the point `(x, y)` from the obstacle: positive outside,
+    /// negative inside, zero on its boundary: `g(x) - y` below a graph (a circle's arc also
+    /// `max`-ed with the distance outside its vertical sides, `|x - xc| - r`), the distance
+    /// to the boundary for a disc, `|p - c| - r`; for a peg the distance to the point
+    /// (never negative: a peg's touch is seen as a crossing, [`crate::first_contact`]).
+    pub fn clearance(&self, x: f64, y: f64) -> f64 {
+        match *self {
+            Profile::Peg { x: px, y: py } => (x - px).hypot(y - py),
+            Profile::Disc { x: cx, y: cy, r } => (x - cx).hypot(y - cy) - r,
+            Profile::Circle { xc, r, .. } => {
+                let side = (x - xc).abs() - r;
+                if side >= 0.0 {
+                    side
+                } else {
+                    (self.y(x) - y).max(side)
+                }
+            }
+            _ => self.y(x) - y,
+        }
     }
 
     /// Checks strict convexity where a whisker of unit length with its base on `y = 0` can

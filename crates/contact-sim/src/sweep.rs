@@ -12,6 +12,7 @@ use crate::continuation::{trace_tightened, End, StepControl};
 use crate::error::{ContactError, Result};
 use crate::first_contact::first_node;
 pub use crate::first_contact::{FirstContact, FirstTouch};
+use crate::motion::Frame;
 use crate::phase::{ContactState, Phase};
 use crate::profile::Profile;
 use beam_model::equations::Sensitivities;
@@ -58,6 +59,11 @@ pub struct SweepSettings {
     /// Coulomb friction; `mu = 0` is the frictionless sweep exactly.
     #[serde(default)]
     pub contact_law: crate::contact_law::ContactLaw,
+    /// How the base moves ([`crate::motion`]): translate (the default, the thesis's sweep),
+    /// rotate (whisking), or a path of poses. The rows are evenly spaced in the motion's
+    /// coordinate (x0, or gamma).
+    #[serde(default)]
+    pub motion: crate::motion::BaseMotion,
 }
 
 impl Default for SweepSettings {
@@ -74,6 +80,7 @@ impl Default for SweepSettings {
             max_step: 0.2,
             accuracy: None,
             contact_law: crate::contact_law::ContactLaw::Frictionless,
+            motion: crate::motion::BaseMotion::Translate,
         }
     }
 }
@@ -118,6 +125,16 @@ pub struct SweepPoint {
     /// arc length from the first touch); constant while stuck, 0 without friction.
     #[serde(default)]
     pub slip_distance: f64,
+    /// Base y of the row's pose (0 for a translation; [`crate::motion`]).
+    #[serde(default)]
+    pub y0: f64,
+    /// Turn of the follicle at the row (rad, counter-clockwise; 0 for a translation): the
+    /// unloaded base direction is `pi/2 + gamma`, so `phi0 = pi/2 + gamma - MA/k`.
+    #[serde(default)]
+    pub gamma: f64,
+    /// The follicle stiffness at the row, where the motion (a path) sets it.
+    #[serde(default)]
+    pub k: Option<f64>,
 }
 
 /// How the contact ended.
@@ -139,6 +156,8 @@ pub enum Separation {
     /// The contact point slid down the whisker to the base (s1 = 0.01): the obstacle reaches
     /// the base's path, and the sweep cannot go on.
     ContactAtBase,
+    /// The tip slid past a peg (the contact reached `s1 = 1`) and released it.
+    TipPassed,
     /// No separation within the continuation's step budget.
     NotReached {
         /// The steps taken.
@@ -147,7 +166,7 @@ pub enum Separation {
 }
 
 /// How the outputs name the separation: `snap`, `release`, `second contact`, `end of
-/// contour`, `contact at the base` or `not reached within N steps`.
+/// contour`, `contact at the base`, `tip passed the peg` or `not reached within N steps`.
 impl std::fmt::Display for Separation {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
@@ -156,6 +175,7 @@ impl std::fmt::Display for Separation {
             Separation::MultiContact { .. } => f.write_str("second contact"),
             Separation::EndOfContour => f.write_str("end of contour"),
             Separation::ContactAtBase => f.write_str("contact at the base"),
+            Separation::TipPassed => f.write_str("tip passed the peg"),
             Separation::NotReached { steps } => write!(f, "not reached within {steps} steps"),
         }
     }
@@ -168,7 +188,8 @@ pub struct SweepResult {
     pub q: f64,
     /// Flow angle alpha (rad): the flow is `q (cos alpha, -sin alpha)` on `[0, s1]`.
     pub alpha: f64,
-    /// The rows in the order of the motion (x0 strictly decreasing), pre-contact rows first.
+    /// The rows in the order of the motion (x0 strictly decreasing in a translation, gamma
+    /// strictly increasing in a rotation), pre-contact rows first.
     pub points: Vec<SweepPoint>,
     /// How the contact began.
     pub first_contact: FirstContact,
@@ -205,10 +226,13 @@ impl SweepResult {
 }
 
 impl SweepPoint {
-    fn from_state(st: &ContactState, flow: FluidLoad) -> Self {
+    /// The row of the contact state `st` (its `x0` the motion's falling coordinate in
+    /// `frame`).
+    pub(crate) fn from_state(st: &ContactState, flow: FluidLoad, frame: Frame) -> Self {
         let (ax, ay, ma, phi0) = st.observables(flow);
+        let pose = frame.pose(st.x0);
         SweepPoint {
-            x0: st.x0,
+            x0: pose.x0,
             ax,
             ay,
             ma,
@@ -223,6 +247,9 @@ impl SweepPoint {
             ft: 0.0,
             slip: crate::contact_law::SlipState::None,
             slip_distance: 0.0,
+            y0: pose.y0,
+            gamma: pose.gamma,
+            k: None,
         }
     }
 
@@ -285,23 +312,36 @@ pub(crate) fn frictionless(
     progress: &mut dyn FnMut(SweepProgress),
 ) -> Result<SweepResult> {
     let integration = Integration::adaptive(settings.integration_tol);
+    let frame = settings.motion.frame().unwrap_or_default();
     let branch = Branch {
         whisker,
         flow,
         profile,
         integration: &integration,
         tol: settings.solve_tol,
+        frame,
     };
     let first = first_node(&branch, &touch)?;
     // The branch from the first contact to the separation.
     progress(SweepProgress::Coarse { steps: 0 });
-    let ctl = StepControl::new(
+    let mut ctl = StepControl::new(
         settings.max_step,
         settings.max_steps,
         settings.event_tol,
         settings.check_penetration,
     );
-    let tr = trace_tightened(&branch, settings.integration_tol, first, &ctl)?;
+    let mut tr = trace_tightened(&branch, settings.integration_tol, first, &ctl)?;
+    // a phase condition that dips below zero and back between two traced nodes is a pair of
+    // switches the nodes did not see (met whisking a tip past a flat stretch): traced again
+    // with steps 8x shorter, at most twice
+    for _ in 0..2 {
+        if !crossed_unseen(profile, &tr.nodes) {
+            break;
+        }
+        ctl.initial /= 8.0;
+        ctl.max /= 8.0;
+        tr = trace_tightened(&branch, settings.integration_tol, first, &ctl)?;
+    }
     progress(SweepProgress::Coarse {
         steps: tr.nodes.len(),
     });
@@ -359,9 +399,30 @@ pub(crate) fn frictionless(
     if row_accuracy != settings.accuracy {
         states = rows_at(row_accuracy)?;
     }
+    // never a row outside its phase (a switch missed between the traced nodes)
+    if let Some((s, _)) = states.iter().find(|(s, _)| phase_violation(s) > 1e-9) {
+        return Err(ContactError::BranchStalled {
+            phase: s.phase,
+            x0: s.x0,
+            xc: s.point.xc,
+            step: ctl.max,
+            reason: format!(
+                "a row violates its phase condition by {:.3e}: a phase switch between the traced nodes was missed",
+                phase_violation(s)
+            ),
+        });
+    }
     let mut points = pre_contact_rows(whisker, flow, phi1, first.x0(), settings)?;
+    let mut touch = touch;
+    if let Frame::Rotate { .. } = frame {
+        touch.x0 = frame.pose(touch.x0).x0;
+    }
     let pre = points.len();
-    points.extend(states.iter().map(|(s, _)| SweepPoint::from_state(s, flow)));
+    points.extend(
+        states
+            .iter()
+            .map(|(s, _)| SweepPoint::from_state(s, flow, frame)),
+    );
     let accuracy = settings
         .accuracy
         .zip(row_accuracy)
@@ -382,6 +443,40 @@ pub(crate) fn frictionless(
         separation,
         accuracy,
         friction_events: Vec::new(),
+    })
+}
+
+/// How far a contact state lies outside its phase: `psi - phi1` in tip contact (phase A
+/// needs the tip steeper than the boundary), `s1 - 1` in tangential contact; negative inside.
+fn phase_violation(s: &ContactState) -> f64 {
+    match s.phase {
+        Phase::B => s.s1 - 1.0,
+        _ => s.point.psi - s.phi1,
+    }
+}
+
+/// Whether the phase condition, predicted between consecutive traced nodes of one phase by
+/// their cubic Hermite interpolant in the coordinate (no shots), dips below `-1e-7` at one of
+/// three interior points of a step: a pair of phase switches inside the step.
+fn crossed_unseen(profile: &Profile, nodes: &[Node]) -> bool {
+    let margin = |phase: Phase, u: &[f64; 3]| match phase {
+        Phase::B => 1.0 - u[0],
+        _ => u[0] - profile.at(u[2]).psi,
+    };
+    nodes.windows(2).any(|w| {
+        let (a, b) = (&w[0], &w[1]);
+        if a.phase != b.phase || a.phase == Phase::None || a.x0() == b.x0() {
+            return false;
+        }
+        let (sa, sb) = (a.slope(), b.slope());
+        if !sa.iter().chain(&sb).all(|v| v.is_finite() && v.abs() < 1e3) {
+            return false;
+        }
+        (1..4).any(|k| {
+            let x = a.x0() + (b.x0() - a.x0()) * k as f64 / 4.0;
+            let u = crate::branch::hermite((a.x0(), &a.u, &sa), (b.x0(), &b.u, &sb), x);
+            margin(a.phase, &u) < -1e-7
+        })
     })
 }
 
@@ -438,6 +533,7 @@ fn separation(end: End) -> (Node, Separation) {
         ),
         End::OffContour(n) => (n, Separation::EndOfContour),
         End::AtBase(n) => (n, Separation::ContactAtBase),
+        End::TipPassed(n) => (n, Separation::TipPassed),
         End::NotReached(n, steps) => (n, Separation::NotReached { steps }),
     }
 }
@@ -453,12 +549,28 @@ pub(crate) fn pre_contact_rows(
 ) -> Result<Vec<SweepPoint>> {
     let integration = Integration::adaptive(settings.integration_tol);
     let loads = Loads::fluid(flow.q, flow.alpha);
-    let free = shoot(whisker, &loads, phi1, Sensitivities::None, &integration)?;
     let free_reactions = beam_model::Reactions::balancing((0.0, 0.0), flow, 1.0);
     let mut points = Vec::with_capacity(settings.pre_contact_rows + settings.points);
+    let frame = settings.motion.frame().unwrap_or_default();
+    let start = settings.motion.start();
+    let mut guess = phi1;
+    let mut free = shoot(whisker, &loads, phi1, Sensitivities::None, &integration)?;
     for k in (1..=settings.pre_contact_rows).rev() {
+        let c = first_x0 + k as f64 * settings.pre_contact_spacing;
+        let pose = frame.pose(c);
+        let mut phi1 = phi1;
+        if let Frame::Rotate { .. } = frame {
+            // the free whisker turned by gamma (rows before the rotation's start dropped)
+            if c > start {
+                continue;
+            }
+            let at = (guess + pose.gamma, pose.gamma);
+            phi1 = crate::first_contact::free_tip_angle(whisker, flow, at, &integration)?;
+            guess = phi1 - pose.gamma;
+            free = shoot(whisker, &loads, phi1, Sensitivities::None, &integration)?;
+        }
         points.push(SweepPoint {
-            x0: first_x0 + k as f64 * settings.pre_contact_spacing,
+            x0: pose.x0,
             ax: free_reactions.ax,
             ay: free_reactions.ay,
             ma: -free.m0,
@@ -473,6 +585,9 @@ pub(crate) fn pre_contact_rows(
             ft: 0.0,
             slip: crate::contact_law::SlipState::None,
             slip_distance: 0.0,
+            y0: pose.y0,
+            gamma: pose.gamma,
+            k: None,
         });
     }
     Ok(points)

@@ -228,7 +228,7 @@ fn random_sweeps_meet_the_accuracy_asked_for_or_say_where_not() {
                 let name = format!("seed {seed} {} T {tol:e}", scene.name);
                 let s = SweepSettings {
                     accuracy: Some(tol),
-                    ..base
+                    ..base.clone()
                 };
                 let res = match sweep(w, flow, p, &s) {
                     Ok(res) => res,

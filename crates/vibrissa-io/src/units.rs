@@ -178,7 +178,7 @@ impl UnitSystem {
     }
 
     /// The contour `p`, parsed from the spec `spec`, as the model's dimensionless contour: in
-    /// a physical scene the numbers of `parabola`, `cosh` and `circle` are in mm (`a` of a
+    /// a physical scene the numbers of `parabola`, `cosh`, `circle`, `peg` and `disc` are in mm (`a` of a
     /// parabola in 1/mm); the thesis's named contours g1, g2, ge ([5.2, 5.3, 5.11]) are in
     /// whisker lengths in every unit system, so they pass unchanged.
     pub fn dimensionless_profile(&self, spec: &str, p: Profile) -> Profile {
@@ -203,6 +203,12 @@ impl UnitSystem {
             Profile::Circle { xc, yc, r } => Profile::Circle {
                 xc: xc / l,
                 yc: yc / l,
+                r: r / l,
+            },
+            Profile::Peg { x, y } => Profile::Peg { x: x / l, y: y / l },
+            Profile::Disc { x, y, r } => Profile::Disc {
+                x: x / l,
+                y: y / l,
                 r: r / l,
             },
             other => other,

@@ -195,6 +195,9 @@ pub(super) fn row_of(
         ft,
         slip: n.mode.slip_state(),
         slip_distance: arc_length(profile, t0, t) - (s1 - s10),
+        y0: 0.0,
+        gamma: 0.0,
+        k: None,
     }
 }
 

@@ -4,9 +4,11 @@
 use contact_sim::{FirstContact, Separation, SweepResult};
 use vibrissa_io::observables::SweepRow;
 use vibrissa_io::resolve::sweep::{
-    check_sweep_loads, missing_profile, sweep_points, sweep_settings, sweep_tol,
+    check_sweep_loads, missing_profile, sweep_contact_law, sweep_points, sweep_settings_with,
+    sweep_tol,
 };
 use vibrissa_io::resolve::{profile_arg, ModelFlags};
+use vibrissa_io::summary::FrictionEventSummary;
 use vibrissa_io::sweep_events::{sweep_events, RowCounts};
 use vibrissa_io::units::{Quantity, UnitSystem};
 
@@ -21,6 +23,7 @@ pub struct Sweep {
     units: UnitSystem,
     requested: usize,
     profile: String,
+    mu: f64,
 }
 
 /// A row where something happens along a sweep: its 1-based row number (row r is line
@@ -71,6 +74,18 @@ impl Sweep {
             .collect()
     }
 
+    /// The friction coefficient at the contact (the scene's `mu`; 0: frictionless).
+    pub fn mu(&self) -> f64 {
+        self.mu
+    }
+
+    /// The stick/slip switches of a frictional sweep in the order of the motion (which,
+    /// row, x0, contact point, fn and ft in the scene's units), as `sweep --json` lists
+    /// them; empty without friction.
+    pub fn friction_events(&self) -> Vec<FrictionEventSummary> {
+        FrictionEventSummary::of(&self.result, &self.units)
+    }
+
     /// How the rows are counted (before contact, in contact, requested, at events).
     pub fn counts(&self) -> RowCounts {
         RowCounts::of(&self.result, self.requested)
@@ -103,7 +118,8 @@ impl Sweep {
 
 impl Scene {
     /// Sweeps the scene's whisker past its `profile` under its flow, with `sweep.points`
-    /// contact rows at `sweep.tol` (as `vibrissa sweep SCENE.ron`): the rows of
+    /// contact rows at `sweep.tol` and Coulomb friction `mu` at the contact (spec/model.md,
+    /// "Friction at the contact"; 0: frictionless) (as `vibrissa sweep SCENE.ron`): the rows of
     /// `observables.csv`, bit for bit, in the scene's units. A whisker that never touches
     /// is [`Error::NoContact`].
     pub fn sweep(&self) -> Result<Sweep, Error> {
@@ -112,6 +128,7 @@ impl Scene {
             profile_arg(&None, Some(&loaded)).ok_or_else(|| missing_profile(Some(&loaded)))?;
         let requested = sweep_points(None, Some(&loaded))?;
         let tol = sweep_tol(None, Some(&loaded))?;
+        let law = sweep_contact_law(None, Some(&loaded))?;
         let (_, r) = self.resolved(&ModelFlags::default())?;
         check_sweep_loads(&r)?;
         let units = r.units();
@@ -120,7 +137,7 @@ impl Scene {
             &r.scene.whisker,
             r.scene.loads.fluid,
             &contour,
-            &sweep_settings(requested, tol),
+            &sweep_settings_with(requested, tol, law),
         )
         .map_err(|e| r.contact_culprit(e, &profile))?;
         let rows = result
@@ -134,6 +151,7 @@ impl Scene {
             units,
             requested,
             profile: profile.spec,
+            mu: law.mu(),
         })
     }
 }

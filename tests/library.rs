@@ -70,7 +70,10 @@ fn physical_scene_sweep_and_reconstruction_match_the_cli_bit_for_bit() {
 
     // observables.csv: every cell, bit for bit
     let (header, rows) = read_csv(&sweep_dir.join("observables.csv"));
-    assert_eq!(header.join(","), "x0,Ax,Ay,MA,phi0,f,s1,phase,xc,yc,psi");
+    assert_eq!(
+        header.join(","),
+        "x0,Ax,Ay,MA,phi0,f,s1,phase,xc,yc,psi,ft,slip,y0,gamma"
+    );
     assert_eq!(rows.len(), sweep.rows().len());
     let mut compared = 0;
     for (i, (cells, row)) in rows.iter().zip(sweep.rows()).enumerate() {
@@ -86,10 +89,18 @@ fn physical_scene_sweep_and_reconstruction_match_the_cli_bit_for_bit() {
             row.xc,
             row.yc,
             row.psi,
+            row.ft,
+            f64::NAN,
+            row.y0,
+            row.gamma,
         ];
         for (j, v) in values.iter().enumerate() {
             if j == 7 {
                 assert_eq!(cells[7], row.phase.label(), "row {}", i + 1);
+                continue;
+            }
+            if j == 12 {
+                assert_eq!(cells[12], row.slip.label(), "row {}", i + 1);
                 continue;
             }
             assert!(

@@ -285,6 +285,13 @@ pub struct SweepArgs {
     /// Also the scene's `sweep.tol` [default: none, the rows at ~1e-10 without estimates]
     #[arg(long, value_name = "T", allow_hyphen_values = true)]
     pub tol: Option<String>,
+    /// The Coulomb friction coefficient at the contact, dimensionless, in [0, 10]: the
+    /// contact force may have a tangential part `ft` with |ft| <= MU f (stick: the touching
+    /// point of the whisker stays put on the obstacle; slip: |ft| = MU f against the
+    /// sliding). The log's `ft` and `slip` columns and the summary's stick/slip switches
+    /// show it. Also the scene's `mu` [default: 0, frictionless]
+    #[arg(long, value_name = "MU", allow_hyphen_values = true)]
+    pub mu: Option<String>,
     /// Also write shapes.csv: the whisker's shape at every row (row, s, x, y, phi; 100
     /// intervals of arc length up to the contact point, then the load-free segment beyond a
     /// tangential contact, to the tip), in the scene's units.

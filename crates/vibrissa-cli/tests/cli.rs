@@ -167,19 +167,23 @@ fn sweep_writes_observables() {
     assert!(stdout.contains("phases ABA"), "{stdout}");
     let csv = fs::read_to_string(dir.path().join("sw/observables.csv")).unwrap();
     let mut lines = csv.lines();
-    assert_eq!(lines.next(), Some("x0,Ax,Ay,MA,phi0,f,s1,phase,xc,yc,psi"));
+    assert_eq!(
+        lines.next(),
+        Some("x0,Ax,Ay,MA,phi0,f,s1,phase,xc,yc,psi,ft,slip,y0,gamma")
+    );
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
     assert!(rows.len() >= 12, "{} rows", rows.len());
     let mut contact = 0;
     for r in &rows {
-        assert_eq!(r.len(), 11);
+        assert_eq!(r.len(), 15);
+        assert_eq!(&r[11..], &["0.0", "none", "0.0", "0.0"]);
         match r[7] {
             "none" => {
-                assert_eq!(&r[8..], &["NaN", "NaN", "NaN"]);
+                assert_eq!(&r[8..11], &["NaN", "NaN", "NaN"]);
             }
             "A" | "B" => {
                 contact += 1;
-                for v in &r[8..] {
+                for v in &r[8..11] {
                     assert!(v.parse::<f64>().unwrap().is_finite());
                 }
             }

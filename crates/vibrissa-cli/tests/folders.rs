@@ -16,7 +16,7 @@ fn reconstruct_dir_round_trip_dimensionless() {
     let units = fs::read_to_string(cwd.join("out/observables.units.csv")).unwrap();
     assert_eq!(
         units,
-        "x0,Ax,Ay,MA,phi0,f,s1,phase,xc,yc,psi\n1,1,1,1,rad,1,1,,1,1,rad\n"
+        "x0,Ax,Ay,MA,phi0,f,s1,phase,xc,yc,psi,ft,slip,y0,gamma\n1,1,1,1,rad,1,1,,1,1,rad,1,,1,rad\n"
     );
     // The scene states every parameter, the true point count included.
     let scene = fs::read_to_string(cwd.join("out/scene.ron")).unwrap();
@@ -57,7 +57,7 @@ fn reconstruct_dir_round_trip_physical() {
     let units = fs::read_to_string(cwd.join("out/observables.units.csv")).unwrap();
     assert_eq!(
         units,
-        "x0,Ax,Ay,MA,phi0,f,s1,phase,xc,yc,psi\nmm,N,N,N mm,rad,N,mm,,mm,mm,rad\n"
+        "x0,Ax,Ay,MA,phi0,f,s1,phase,xc,yc,psi,ft,slip,y0,gamma\nmm,N,N,N mm,rad,N,mm,,mm,mm,rad,N,,mm,rad\n"
     );
     // Positions are in mm: the pre-contact rows carry s1 = L = 66.2 mm and Ax = -Q L in N.
     let (oh, orows) = table(&cwd.join("out/observables.csv"));

@@ -4,19 +4,27 @@
 
 use std::path::Path;
 
-use contact_sim::{Phase, SweepPoint, SweepResult};
+use contact_sim::{Phase, SlipState, SweepPoint, SweepResult};
 
 use crate::csvio::CsvWriter;
 use crate::error::IoError;
 use crate::outputs::write_units_of;
 use crate::units::{Quantity, UnitSystem};
 
-/// The header of `observables.csv` (spec/cli.md).
-pub const OBSERVABLES_HEADER: [&str; 11] = [
+/// The header of `observables.csv` (spec/cli.md): the thesis's observables, then, after
+/// `psi`, the friction (`ft`, `slip`) and the base pose (`y0`, `gamma`) columns of every
+/// sweep.
+pub const OBSERVABLES_HEADER: [&str; 15] = [
+    "x0", "Ax", "Ay", "MA", "phi0", "f", "s1", "phase", "xc", "yc", "psi", "ft", "slip", "y0",
+    "gamma",
+];
+/// The columns of `observables.csv` a log written before friction and base motions had
+/// (readers accept logs with or without the later ones).
+pub const OBSERVABLES_HEADER_V1: [&str; 11] = [
     "x0", "Ax", "Ay", "MA", "phi0", "f", "s1", "phase", "xc", "yc", "psi",
 ];
 /// The quantities of the `observables.csv` columns.
-pub const OBSERVABLES_QUANTITIES: [Quantity; 11] = [
+pub const OBSERVABLES_QUANTITIES: [Quantity; 15] = [
     Quantity::Length,
     Quantity::Force,
     Quantity::Force,
@@ -26,6 +34,10 @@ pub const OBSERVABLES_QUANTITIES: [Quantity; 11] = [
     Quantity::Length,
     Quantity::Text,
     Quantity::Length,
+    Quantity::Length,
+    Quantity::Angle,
+    Quantity::Force,
+    Quantity::Text,
     Quantity::Length,
     Quantity::Angle,
 ];
@@ -60,6 +72,18 @@ pub struct SweepRow {
     pub yc: f64,
     /// Contour angle at the contact point.
     pub psi: f64,
+    /// Tangential part of the contact force along the boundary's tangent `(cos psi, sin
+    /// psi)` (spec/model.md, "Friction at the contact"; 0 without friction); `f` is the
+    /// normal part.
+    pub ft: f64,
+    /// `none`, `stick` or `slip` (written as [`SlipState::label`]; `none` before contact
+    /// and without friction).
+    #[serde(serialize_with = "serialize_slip")]
+    pub slip: SlipState,
+    /// The base's position across the sweep (0 for the translating sweep).
+    pub y0: f64,
+    /// The base's turn (radians; 0 for the translating sweep).
+    pub gamma: f64,
 }
 
 /// The former name of [`SweepRow`].
@@ -68,6 +92,17 @@ pub type ObservableRecord = SweepRow;
 /// Serialises a phase as its label in the CSV files (`none`, `A`, `B`).
 pub fn serialize_phase<S: serde::Serializer>(p: &Phase, s: S) -> Result<S::Ok, S::Error> {
     s.serialize_str(p.label())
+}
+
+/// Serialises a slip state as its label in the CSV files (`none`, `stick`, `slip`).
+pub fn serialize_slip<S: serde::Serializer>(p: &SlipState, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(p.label())
+}
+
+/// The base pose `(y0, gamma)` of a row (spec/model.md, "Base motions"): the translating
+/// sweep keeps `y0 = 0`, `gamma = 0` (its rows carry no pose of their own).
+pub fn pose_of(_p: &SweepPoint) -> (f64, f64) {
+    (0.0, 0.0)
 }
 
 impl SweepRow {
@@ -91,6 +126,10 @@ impl SweepRow {
             xc: p.xc * l,
             yc: p.yc * l,
             psi: p.psi,
+            ft: p.ft * f,
+            slip: p.slip,
+            y0: pose_of(p).0 * l,
+            gamma: pose_of(p).1,
         }
     }
 }

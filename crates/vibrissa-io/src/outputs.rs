@@ -52,6 +52,7 @@ pub fn output_scene(r: &Resolved, profile: Option<String>, points: Option<usize>
             alpha_deg: g.alpha_deg.value,
         },
         profile,
+        mu: 0.0,
         sweep: points.map(|points| SweepSpec { points, tol: None }),
         method: MethodSpec {
             name: r.method.name().to_string(),

@@ -7,6 +7,7 @@
 //!     whisker: (theta: 1.0, a: 0.0, b: 0.0, k: None),   // k: None = rigid, Some(20.0) = spring
 //!     loads: (f: 0.0, beta_deg: 0.0, load: Dp, q: 5.0, alpha_deg: 0.0),
 //!     profile: Some("g1"),             // the profile spec strings of cli.md
+//!     mu: 0.0,                         // Coulomb friction at the contact (dimensionless)
 //!     sweep: Some((points: 200)),
 //!     method: (name: "accurate", n: None),
 //! )
@@ -38,6 +39,12 @@ pub struct SceneFile {
     /// The obstacle contour, as a profile spec string of the CLI (`g1`, `parabola:a,xv,yv`, ...).
     #[serde(default)]
     pub profile: Option<String>,
+    /// The Coulomb friction coefficient at the contact (spec/model.md, "Friction at the
+    /// contact"; `sweep --mu`), dimensionless in every unit system, in `[0, 10]`. Default 0
+    /// (frictionless); left out of a written scene when 0, so that a frictionless scene is
+    /// written as before.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub mu: f64,
     /// Sweep settings, if the scene describes a sweep.
     #[serde(default)]
     pub sweep: Option<SweepSpec>,
@@ -91,6 +98,10 @@ pub struct WhiskerSpec {
 
 fn one() -> f64 {
     1.0
+}
+
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
 }
 
 /// How the tip force turns with the tip.
@@ -191,6 +202,7 @@ impl SceneFile {
             whisker,
             loads: LoadSpec::default(),
             profile: None,
+            mu: 0.0,
             sweep: None,
             method: MethodSpec::default(),
         }
@@ -301,6 +313,16 @@ impl SceneFile {
             if p.trim().is_empty() {
                 return Err(fail("profile", "must not be empty".to_string()));
             }
+        }
+        if !(0.0..=contact_sim::contact_law::MAX_MU).contains(&self.mu) {
+            return Err(fail(
+                "mu",
+                format!(
+                    "the friction coefficient must lie in [0, {}], got {}",
+                    contact_sim::contact_law::MAX_MU,
+                    self.mu
+                ),
+            ));
         }
         if let Some(s) = &self.sweep {
             if s.points < 2 {
@@ -444,6 +466,29 @@ fn blank_comments_and_strings(text: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `mu`: default 0 and left out of a written scene; a coefficient round-trips bit for
+    /// bit; outside [0, 10] or NaN refused naming `mu` at its line.
+    #[test]
+    fn mu_defaults_to_zero_round_trips_and_is_checked() {
+        let path = Path::new("s.ron");
+        let plain = SceneFile::parse("(whisker: ())", path).unwrap();
+        assert_eq!(plain.mu, 0.0);
+        assert!(!plain.to_ron().unwrap().contains("mu"));
+        for mu in [0.25, 1e-9, 10.0, 0.1 + 0.2] {
+            let text = format!("(whisker: (), mu: {mu:?})");
+            let s = SceneFile::parse(&text, path).unwrap();
+            assert_eq!(s.mu.to_bits(), mu.to_bits());
+            let back = SceneFile::parse(&s.to_ron().unwrap(), path).unwrap();
+            assert_eq!(back, s);
+        }
+        for bad in ["-0.5", "10.5", "NaN", "inf"] {
+            let text = format!("(\n  whisker: (),\n  mu: {bad},\n)");
+            let e = SceneFile::parse(&text, path).unwrap_err().to_string();
+            assert!(e.contains("s.ron:3:") && e.contains("mu"), "{bad}: {e}");
+            assert!(e.contains("[0, 10]"), "{bad}: {e}");
+        }
+    }
 
     #[test]
     fn locate_skips_comments_and_strings() {

@@ -13,11 +13,11 @@
 //! - [`ReconSummary`]: a reconstruction [ch. 6]: the flow, the noise, counts, accuracy.
 
 use beam_model::{EndState, LoadKind, Solution};
-use contact_sim::SweepResult;
+use contact_sim::{ContactLaw, SweepResult};
 use serde::{Serialize, Serializer};
 
 use crate::resolve::Resolved;
-use crate::sweep_events::{sweep_events, RowCounts};
+use crate::sweep_events::{friction_label, friction_switches, sweep_events, RowCounts};
 use crate::units::{Quantity, UnitSystem};
 
 /// Serialises a number, `None` (JSON `null`) when it is NaN or infinite.
@@ -372,6 +372,47 @@ pub struct EventSummary {
     pub x0: f64,
 }
 
+/// A stick/slip switch of a frictional sweep: which, its 1-based row, base position, contact
+/// point and the contact force's normal and tangential parts there (the scene's units).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FrictionEventSummary {
+    /// `stick→slip` or `slip→stick`.
+    pub event: &'static str,
+    /// The 1-based row.
+    pub row: usize,
+    /// The base position x0.
+    #[serde(serialize_with = "finite")]
+    pub x0: f64,
+    /// The contact point's x.
+    #[serde(serialize_with = "finite")]
+    pub xc: f64,
+    /// The normal force fn.
+    #[serde(serialize_with = "finite")]
+    pub f: f64,
+    /// The tangential force ft (along `(cos psi, sin psi)`).
+    #[serde(serialize_with = "finite")]
+    pub ft: f64,
+}
+
+impl FrictionEventSummary {
+    /// The stick/slip switches of the sweep `res` in the order of the motion, in `units`
+    /// (empty without friction).
+    pub fn of(res: &SweepResult, units: &UnitSystem) -> Vec<Self> {
+        let (l, fs) = (units.scale(Quantity::Length), units.scale(Quantity::Force));
+        friction_switches(res)
+            .into_iter()
+            .map(|s| FrictionEventSummary {
+                event: friction_label(s.event.kind),
+                row: s.index + 1,
+                x0: s.event.x0 * l,
+                xc: s.event.xc * l,
+                f: s.event.f * fs,
+                ft: s.event.ft * fs,
+            })
+            .collect()
+    }
+}
+
 /// A sweep (`sweep --json`, the Python `summary`): how the contact began and ended, the
 /// phases, the row counts and the events (rows numbered from 1 as in [`RowCounts`]), the
 /// flow, positions and loads in the scene's units.
@@ -405,6 +446,11 @@ pub struct SweepSummary {
     pub event_rows: usize,
     /// The events in row order.
     pub events: Vec<EventSummary>,
+    /// The friction coefficient of the contact (0: frictionless).
+    #[serde(serialize_with = "finite")]
+    pub mu: f64,
+    /// The stick/slip switches in the order of the motion (empty without friction).
+    pub friction_events: Vec<FrictionEventSummary>,
     /// The fluid load (the scene's line-load unit).
     #[serde(serialize_with = "finite")]
     pub q: f64,
@@ -434,8 +480,9 @@ pub struct SweepSummary {
 }
 
 impl SweepSummary {
-    /// The summary of the sweep `res` of `requested` contact rows in `units`.
-    pub fn of(res: &SweepResult, requested: usize, units: &UnitSystem) -> Self {
+    /// The summary of the sweep `res` of `requested` contact rows under the contact law
+    /// `law` in `units`.
+    pub fn of(res: &SweepResult, requested: usize, law: ContactLaw, units: &UnitSystem) -> Self {
         let n = RowCounts::of(res, requested);
         let l = units.scale(Quantity::Length);
         let x0_of = |row: Option<usize>| row.map(|r| res.points[r - 1].x0 * l);
@@ -461,6 +508,8 @@ impl SweepSummary {
                     event: e.label,
                 })
                 .collect(),
+            mu: law.mu(),
+            friction_events: FrictionEventSummary::of(res, units),
             q: res.q * units.scale(Quantity::LineLoad),
             alpha_deg: res.alpha.to_degrees(),
             units: units_word(units),

@@ -118,7 +118,13 @@ pub(super) fn draw_legend_entry(svg: &mut Svg, x: f64, cy: f64, e: &Entry<'_>) {
                 );
             }
             if s.style != Style::Points {
-                svg.line((sx0, cy), (sx1, cy), &col, LINE_W, s.line_dash().pattern());
+                svg.line(
+                    (sx0, cy),
+                    (sx1, cy),
+                    &col,
+                    s.line_width(),
+                    s.line_dash().pattern(),
+                );
             }
             if !s.err.is_empty() {
                 svg.line((mid.0, cy - 3.0), (mid.0, cy + 3.0), &col, 0.5, None);

@@ -8,16 +8,18 @@ use vibrissa_io::observables::ObservableRecord;
 use vibrissa_io::outputs::output_scene;
 use vibrissa_io::resolve::resolve_model;
 use vibrissa_io::resolve::sweep::{
-    check_sweep_loads, missing_profile, sweep_points, sweep_settings, sweep_tol,
+    check_sweep_loads, missing_profile, sweep_contact_law, sweep_points, sweep_settings_with,
+    sweep_tol,
 };
 use vibrissa_io::summary::SweepSummary;
 
 use crate::convert::{record, record_dict, with_columns};
 use crate::errors::compute;
-use crate::params::{count, model_flags, units_scene, ProfileSpec};
+use crate::params::{count, model_flags, number, units_scene, ProfileSpec};
 
-/// Sweeps the whisker of `spec` past `spec["profile"]`; returns `{"columns": the
-/// `observables.csv` columns (numbers as arrays), "phase": [str], "summary": the library's
+/// Sweeps the whisker of `spec` past `spec["profile"]` (Coulomb friction `spec["mu"]`);
+/// returns `{"columns": the `observables.csv` columns (numbers as arrays), "phase": [str],
+/// "slip": [str], "summary": the library's
 /// [`SweepSummary`] (that of `sweep --json`) with the profile, "scene": the `scene.ron` of
 /// the sweep}`, in the scene's units.
 #[pyfunction]
@@ -27,19 +29,21 @@ pub fn sweep<'py>(py: Python<'py>, spec: &Bound<'py, PyDict>) -> PyResult<Bound<
     let tol_given = flags.method.tol.take();
     let file = units_scene(spec)?;
     let points_given = count(spec, "points")?;
+    let mu_given = number(spec, "mu")?;
     let profile = ProfileSpec::from_spec(spec, "profile")?;
-    let (r, res, points, arg) = compute(py, move || {
+    let (r, res, points, law, arg) = compute(py, move || {
         let profile = profile.ok_or_else(|| missing_profile(None))?;
         let points = sweep_points(points_given.as_ref(), None)?;
         let tol = sweep_tol(tol_given.as_ref(), None)?;
+        let law = sweep_contact_law(mu_given.as_ref(), None)?;
         let r = resolve_model(&flags, file)?;
         check_sweep_loads(&r)?;
         let contour = profile.parse(&r.units())?;
         let arg = profile.arg();
-        let settings = sweep_settings(points, tol);
+        let settings = sweep_settings_with(points, tol, law);
         let res = run_sweep(&r.scene.whisker, r.scene.loads.fluid, &contour, &settings)
             .map_err(|e| r.contact_culprit(e, &arg))?;
-        Ok((r, res, points, arg))
+        Ok((r, res, points, law, arg))
     })?;
     let units = r.units();
     let rows: Vec<ObservableRecord> = res
@@ -61,14 +65,20 @@ pub fn sweep<'py>(py: Python<'py>, spec: &Bound<'py, PyDict>) -> PyResult<Bound<
             ("xc", col(|r| r.xc)),
             ("yc", col(|r| r.yc)),
             ("psi", col(|r| r.psi)),
+            ("ft", col(|r| r.ft)),
+            ("y0", col(|r| r.y0)),
+            ("gamma", col(|r| r.gamma)),
         ],
     )?;
     let phases: Vec<&str> = rows.iter().map(|r| r.phase.label()).collect();
     out.set_item("phase", phases)?;
-    let summary = record_dict(py, &SweepSummary::of(&res, points, &units))?;
+    let slips: Vec<&str> = rows.iter().map(|r| r.slip.label()).collect();
+    out.set_item("slip", slips)?;
+    let summary = record_dict(py, &SweepSummary::of(&res, points, law, &units))?;
     summary.set_item("profile", &arg.spec)?;
     out.set_item("summary", summary)?;
     let mut scene_file = output_scene(&r, Some(arg.spec), Some(points));
+    scene_file.mu = law.mu();
     if let (Some(s), Some(acc)) = (scene_file.sweep.as_mut(), &res.accuracy) {
         s.tol = Some(acc.tol);
     }

@@ -6,6 +6,7 @@
 //! 5.34, 5.44). This module holds the house style both share: case labels, contact-phase
 //! lines and the figure with one key above its panels.
 
+mod friction;
 mod observables;
 mod sketch;
 
@@ -65,6 +66,8 @@ pub fn run(out: &OutputDir, report: &mut Report, ctx: &mut Ctx) -> Result<(), Fa
     sketch(out, report, "5.44", &runs, |r| r.case.case == "exp");
     let exp: Vec<&SweepRun> = runs.iter().filter(|r| r.case.case == "exp").collect();
     observables_all(out, report, &exp);
+    // Beyond the thesis: the README's friction figure (issue 39).
+    friction::friction(out, report);
     Ok(())
 }
 

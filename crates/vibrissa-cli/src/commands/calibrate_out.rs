@@ -84,6 +84,7 @@ pub fn write_calibrated_scene(
             ..LoadSpec::default()
         },
         profile: Some(inputs[0].profile.0.clone()),
+        mu: 0.0,
         sweep: None,
         method: MethodSpec::default(),
     };

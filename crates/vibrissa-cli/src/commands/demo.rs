@@ -75,7 +75,15 @@ pub fn run(args: &DemoArgs, style: FigureStyle) -> Result<(), CliError> {
     // write_sweep_outputs writes scene.ron with the points actually used.
     write_solution_files(&r, &free, &out, style)?;
     write_sweep_units(&r, &out)?;
-    write_sweep_outputs(&r, &contour, &res, &profile, args.points, &out, style)?;
+    write_sweep_outputs(
+        &r,
+        &contour,
+        &res,
+        &profile,
+        (args.points, contact_sim::ContactLaw::Frictionless),
+        &out,
+        style,
+    )?;
     // 3. Identification and reconstruction.
     let mut summary = Vec::new();
     reconstruct_step(&r, &contour, &res, &out, &mut summary, style)?;

@@ -5,7 +5,9 @@ use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::time::Duration;
 
-use contact_sim::{sweep_with_progress, Profile, SweepProgress, SweepResult, SweepSettings};
+use contact_sim::{
+    sweep_with_progress, ContactLaw, Profile, SweepProgress, SweepResult, SweepSettings,
+};
 
 use crate::atomic::{write_atomic, OutputDir};
 use crate::cli::SweepArgs;
@@ -14,7 +16,7 @@ use crate::commands::observables::{
 };
 use crate::commands::outputs::{output_scene, scene_unit_notes, write_scene_ron, write_units_of};
 use crate::commands::shapes::{write_shapes_csv, write_shapes_svg};
-use crate::commands::sweep_events::{sweep_summary, RowCounts};
+use crate::commands::sweep_events::{friction_note, sweep_summary, RowCounts};
 use crate::commands::sweep_figures::{write_sweep_figures, FigureContext};
 use crate::error::CliError;
 use crate::plot::FigureStyle;
@@ -24,7 +26,8 @@ use crate::units::{Quantity, UnitSystem};
 use vibrissa_io::summary::SweepSummary;
 
 pub use vibrissa_io::resolve::sweep::{
-    check_sweep_loads, missing_profile, sweep_points, sweep_settings, sweep_tol, DEFAULT_POINTS,
+    check_sweep_loads, missing_profile, sweep_contact_law, sweep_points, sweep_settings,
+    sweep_settings_with, sweep_tol, DEFAULT_POINTS,
 };
 
 /// Runs `vibrissa sweep`, its figures written as `style` says.
@@ -34,6 +37,7 @@ pub fn run(args: &SweepArgs, style: FigureStyle) -> Result<(), CliError> {
         profile_arg(&args.profile, file.as_ref()).ok_or_else(|| missing_profile(file.as_ref()))?;
     let points = sweep_points(crate::cli::text(&args.points).as_ref(), file.as_ref())?;
     let tol = sweep_tol(crate::cli::text(&args.tol).as_ref(), file.as_ref())?;
+    let law = sweep_contact_law(crate::cli::text(&args.mu).as_ref(), file.as_ref())?;
     let flags = crate::resolve::ModelFlags {
         whisker: (&args.whisker).into(),
         fluid: (&args.fluid).into(),
@@ -59,15 +63,16 @@ pub fn run(args: &SweepArgs, style: FigureStyle) -> Result<(), CliError> {
     // the lock and the parent folders made for --out).
     let out = OutputDir::create(&args.out)?;
     write_sweep_units(&r, &out)?;
-    let res = run_sweep_with(&r, &contour, &profile, &sweep_settings(points, tol))?;
-    write_sweep_outputs(&r, &contour, &res, &profile, points, &out, style)?;
+    let settings = sweep_settings_with(points, tol, law);
+    let res = run_sweep_with(&r, &contour, &profile, &settings)?;
+    write_sweep_outputs(&r, &contour, &res, &profile, (points, law), &out, style)?;
     if args.shapes {
         write_shapes_csv(&r, &res, &out.path_for("shapes.csv"))?;
     }
     let files = out.commit()?;
     let mut stdout = Printer::stdout().published(Some(args.out.as_path()));
     if args.json {
-        let mut v = sweep_json(&res, points, &units);
+        let mut v = sweep_json(&res, points, law, &units);
         v["profile"] = serde_json::Value::String(profile.spec.clone());
         v["out"] = serde_json::Value::String(args.out.display().to_string());
         v["files"] = serde_json::Value::from(files.len());
@@ -80,9 +85,10 @@ pub fn run(args: &SweepArgs, style: FigureStyle) -> Result<(), CliError> {
             args.out.display()
         ))?;
         stdout.line(format_args!(
-            "sweep {}: {}{}",
+            "sweep {}: {}{}{}",
             profile.spec,
             sweep_summary(&res, points, &units),
+            friction_note(&res, law.mu()),
             accuracy_note(&res)
         ))
     }
@@ -104,10 +110,16 @@ pub fn accuracy_note(res: &SweepResult) -> String {
     }
 }
 
-/// The JSON summary of a sweep (`sweep --json`): the library's [`SweepSummary`]
-/// serialised (rows numbered from 1 as in [`RowCounts`], positions and loads in `units`).
-pub fn sweep_json(res: &SweepResult, requested: usize, units: &UnitSystem) -> serde_json::Value {
-    serde_json::to_value(SweepSummary::of(res, requested, units)).unwrap_or_default()
+/// The JSON summary of a sweep (`sweep --json`) under the contact law `law`: the library's
+/// [`SweepSummary`] serialised (rows numbered from 1 as in [`RowCounts`], positions and
+/// loads in `units`).
+pub fn sweep_json(
+    res: &SweepResult,
+    requested: usize,
+    law: ContactLaw,
+    units: &UnitSystem,
+) -> serde_json::Value {
+    serde_json::to_value(SweepSummary::of(res, requested, law, units)).unwrap_or_default()
 }
 
 /// Runs the sweep of `points` contact rows (the sweep's own accuracy) with a spinner on
@@ -192,20 +204,21 @@ pub fn write_sweep_units(r: &Resolved, out: &OutputDir) -> Result<(), CliError> 
 
 /// Writes a sweep's folder into `out` (its units sidecar aside, [`write_sweep_units`]):
 /// `observables.csv` (in the scene's units), `scene.ron` (every parameter, units included, the
-/// true point count; a points profile is copied beside it as `profile.csv`), and the figures
-/// `observables`, `contact` and `shapes` (as `style` says: `--figures`, `--size`).
+/// true point count and the friction coefficient of `run = (points, law)`; a points profile
+/// is copied beside it as `profile.csv`), and the figures `observables`, `contact` and
+/// `shapes` (as `style` says: `--figures`, `--size`).
 pub fn write_sweep_outputs(
     r: &Resolved,
     contour: &Profile,
     res: &SweepResult,
     profile: &ProfileArg,
-    points: usize,
+    run: (usize, ContactLaw),
     out: &OutputDir,
     style: FigureStyle,
 ) -> Result<(), CliError> {
     if !style.draws() {
         // no figure to draw: neither the shapes solved for them nor their threads
-        return write_sweep_data(r, res, profile, points, out);
+        return write_sweep_data(r, res, profile, run, out);
     }
     let ctx = FigureContext {
         units: r.units(),
@@ -219,7 +232,7 @@ pub fn write_sweep_outputs(
     crate::plot::both(
         || write_shapes_svg(r, contour, res, &ctx, &out.path_for("shapes.svg")),
         || {
-            write_sweep_data(r, res, profile, points, out)?;
+            write_sweep_data(r, res, profile, run, out)?;
             write_sweep_figures(res, &ctx, |n| out.path_for(n)).map(|_| ())
         },
     )
@@ -231,7 +244,7 @@ fn write_sweep_data(
     r: &Resolved,
     res: &SweepResult,
     profile: &ProfileArg,
-    points: usize,
+    (points, law): (usize, ContactLaw),
     out: &OutputDir,
 ) -> Result<(), CliError> {
     let units = r.units();
@@ -254,8 +267,8 @@ fn write_sweep_data(
     ];
     notes.extend(scene_unit_notes(&units));
     notes.push(format!(
-        "observables.csv: x0, s1, xc, yc in {l}; Ax, Ay, f in {f}; MA in {m}; phi0, psi in rad \
-         (observables.units.csv; 1 = dimensionless).",
+        "observables.csv: x0, s1, xc, yc, y0 in {l}; Ax, Ay, f, ft in {f}; MA in {m}; phi0, \
+         psi, gamma in rad (observables.units.csv; 1 = dimensionless).",
         l = units.unit(Quantity::Length),
         f = units.unit(Quantity::Force),
         m = units.unit(Quantity::Moment)
@@ -265,6 +278,7 @@ fn write_sweep_data(
         n.rows, n.pre_contact, n.contact, n.requested, n.event_rows
     ));
     let mut scene = output_scene(r, Some(spec), Some(points));
+    scene.mu = law.mu();
     if let (Some(s), Some(acc)) = (scene.sweep.as_mut(), &res.accuracy) {
         s.tol = Some(acc.tol);
     }

@@ -1,20 +1,49 @@
 //! The figures of a sweep's observables: `observables.svg` (the base observables against
-//! x0) and `contact.svg` (contact force and point), one line per run of equal phase, the
-//! events marked.
+//! x0) and `contact.svg` (contact force and point), one line per run of equal phase (and,
+//! with friction, of equal slip state: stuck rows heavy, sliding rows thin), the events and
+//! the stick/slip switches marked.
 
 use std::path::PathBuf;
 
-use contact_sim::{Phase, SweepResult};
+use contact_sim::{Phase, SlipState, SweepResult};
 
-use crate::commands::phases::{phase_color, phase_dash, phase_name, NamedOnce};
-use crate::commands::sweep_events::sweep_events;
+use crate::commands::phases::{phase_color, phase_dash, phase_name};
+use crate::commands::sweep_events::{friction_label, friction_switches, sweep_events};
 use crate::error::CliError;
 use crate::plot::{Chart, FigureStyle, Heading, Mark, Series, Style};
 use crate::units::{Quantity, UnitSystem};
 
-/// Series of `value` against x0, one per run of equal phase (coloured by phase; runs
-/// touch so the curve is continuous, except at the jump of a tangential first contact),
-/// only contact rows if `contact_only`.
+/// The line width of a slip state, a multiple of the standard: stuck rows heavy (2.4),
+/// sliding and frictionless rows standard, so that stick and slip differ in greyscale and
+/// on top of the phase's colour and dash.
+pub fn slip_width(s: SlipState) -> f64 {
+    match s {
+        SlipState::Stick => 2.4,
+        SlipState::Slip | SlipState::None => 1.0,
+    }
+}
+
+/// The legend text of a run: the phase's name, with `, stick` or `, slip` in a frictional
+/// sweep.
+fn run_name(phase: Phase, slip: SlipState) -> String {
+    match slip {
+        SlipState::None => phase_name(phase).to_string(),
+        s => format!(
+            "{}, {} ({})",
+            phase_name(phase),
+            s.label(),
+            match s {
+                SlipState::Stick => "heavy line",
+                _ => "thin line",
+            }
+        ),
+    }
+}
+
+/// Series of `value` against x0, one per run of equal phase and slip state (coloured and
+/// dashed by phase, heavy where stuck; runs touch so the curve is continuous, except at the
+/// jump of a tangential first contact), only contact rows if `contact_only`. Each legend
+/// text is given once.
 fn phase_series(
     res: &SweepResult,
     x_scale: f64,
@@ -27,12 +56,12 @@ fn phase_series(
         .filter(|p| !contact_only || p.phase != Phase::None)
         .collect();
     let mut out: Vec<Series> = Vec::new();
-    let mut named = NamedOnce::default();
+    let mut named: Vec<String> = Vec::new();
     let mut i = 0;
     while i < rows.len() {
-        let phase = rows[i].phase;
+        let (phase, slip) = (rows[i].phase, rows[i].slip);
         let mut j = i;
-        while j < rows.len() && rows[j].phase == phase {
+        while j < rows.len() && rows[j].phase == phase && rows[j].slip == slip {
             j += 1;
         }
         let mut pts: Vec<(f64, f64)> = rows[i..j]
@@ -52,22 +81,39 @@ fn phase_series(
             };
             pts.push((rows[j].x0 * x_scale, v));
         }
-        let name = named.name(phase, phase_name(phase));
-        out.push(
-            Series::new(name, pts, Style::Line)
-                .color(phase_color(phase))
-                .dash(phase_dash(phase)),
-        );
+        let mut name = run_name(phase, slip);
+        if named.contains(&name) {
+            name.clear();
+        } else {
+            named.push(name.clone());
+        }
+        let mut series = Series::new(name, pts, Style::Line)
+            .color(phase_color(phase))
+            .dash(phase_dash(phase));
+        if slip != SlipState::None {
+            series = series.width(slip_width(slip));
+        }
+        out.push(series);
         i = j;
     }
     out
 }
 
+/// The event lines of a sweep: its events ([`sweep_events`]) and its stick/slip switches
+/// ([`friction_switches`], labelled `stick→slip`, `slip→stick`).
 fn event_marks(res: &SweepResult, x_scale: f64) -> Vec<Mark> {
-    sweep_events(res)
+    let mut marks: Vec<Mark> = sweep_events(res)
         .into_iter()
         .map(|e| Mark::vline(res.points[e.index].x0 * x_scale, e.label, 6))
-        .collect()
+        .collect();
+    marks.extend(friction_switches(res).into_iter().map(|s| {
+        Mark::vline(
+            res.points[s.index].x0 * x_scale,
+            friction_label(s.event.kind),
+            4,
+        )
+    }));
+    marks
 }
 
 fn chart_of(

@@ -3,7 +3,8 @@
 //! obstacle it needs; each refusal names its culprit (the flag as typed, or the scene
 //! file's field with its line).
 
-use contact_sim::SweepSettings;
+use contact_sim::contact_law::MAX_MU;
+use contact_sim::{ContactLaw, SweepSettings};
 
 use super::{LoadedScene, Resolved, Value};
 use crate::error::IoError;
@@ -41,6 +42,54 @@ pub fn sweep_settings(points: usize, tol: Option<f64>) -> SweepSettings {
         points,
         accuracy: tol,
         ..SweepSettings::default()
+    }
+}
+
+/// The law of the contact force of a sweep (spec/model.md, "Friction at the contact"):
+/// Coulomb friction with the coefficient `--mu` (typed as `raw`), else the scene file's `mu`,
+/// else none. `mu` is dimensionless in every unit system and must lie in `[0, 10]` (refused
+/// naming `--mu` as typed, or the scene's `mu` with its line). `mu = 0` (also `-0`) is
+/// [`ContactLaw::Frictionless`]: the frictionless sweep, bit for bit.
+pub fn sweep_contact_law(
+    raw: Option<&Value>,
+    file: Option<&LoadedScene>,
+) -> Result<ContactLaw, IoError> {
+    const RANGE: &str = "the friction coefficient must lie in [0, 10]";
+    let mu = match (raw, file) {
+        (Some(raw), _) => {
+            let mu = raw.number("--mu")?;
+            if !(0.0..=MAX_MU).contains(&mu) {
+                return Err(IoError::invalid_argument("--mu", raw.raw(), RANGE));
+            }
+            mu
+        }
+        (None, Some(f)) => {
+            let mu = f.file.mu;
+            if !(0.0..=MAX_MU).contains(&mu) {
+                return Err(f.error_at("mu", format!("{RANGE}, got {mu}")));
+            }
+            mu
+        }
+        (None, None) => 0.0,
+    };
+    Ok(contact_law_of(mu))
+}
+
+/// The law of a coefficient already checked: [`ContactLaw::Frictionless`] for `mu == 0`,
+/// else [`ContactLaw::Coulomb`].
+pub fn contact_law_of(mu: f64) -> ContactLaw {
+    if mu == 0.0 {
+        ContactLaw::Frictionless
+    } else {
+        ContactLaw::Coulomb { mu }
+    }
+}
+
+/// The settings of [`sweep_settings`] under the contact law `law`.
+pub fn sweep_settings_with(points: usize, tol: Option<f64>, law: ContactLaw) -> SweepSettings {
+    SweepSettings {
+        contact_law: law,
+        ..sweep_settings(points, tol)
     }
 }
 
@@ -140,4 +189,41 @@ pub fn check_sweep_loads(r: &Resolved) -> Result<(), IoError> {
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `--mu` as typed: 0 (and -0) is the frictionless law, a coefficient in [0, 10] the
+    /// Coulomb law with its bits, anything else refused naming `--mu` and the text.
+    #[test]
+    fn mu_resolves_to_the_contact_law() {
+        let law = |t: &str| sweep_contact_law(Some(&Value::Text(t.to_string())), None);
+        assert_eq!(law("0").unwrap(), ContactLaw::Frictionless);
+        assert_eq!(law("-0").unwrap(), ContactLaw::Frictionless);
+        assert_eq!(
+            sweep_contact_law(None, None).unwrap(),
+            ContactLaw::Frictionless
+        );
+        assert_eq!(law("0.5").unwrap(), ContactLaw::Coulomb { mu: 0.5 });
+        assert_eq!(law("10").unwrap(), ContactLaw::Coulomb { mu: 10.0 });
+        let x = 0.1 + 0.2;
+        assert_eq!(
+            sweep_contact_law(Some(&Value::Number(x)), None).unwrap(),
+            ContactLaw::Coulomb { mu: x }
+        );
+        for bad in ["-1e-300", "10.000001", "NaN", "inf", "-inf", "x", ""] {
+            let e = law(bad).unwrap_err();
+            assert_eq!(e.exit_code(), 2);
+            assert!(
+                e.to_string()
+                    .starts_with(&format!("invalid value `{bad}` for `--mu`")),
+                "{e}"
+            );
+        }
+        let s = sweep_settings_with(7, Some(1e-6), ContactLaw::Coulomb { mu: 0.3 });
+        assert_eq!((s.points, s.accuracy), (7, Some(1e-6)));
+        assert_eq!(s.contact_law.mu(), 0.3);
+    }
 }

@@ -95,6 +95,8 @@ def _scene(spec: Dict[str, Any], profile: Any = None, points: Any = None) -> Dic
         out["profile"] = profile
     if points is not None:
         out["points"] = points
+    if spec.get("mu"):
+        out["mu"] = spec["mu"]
     return out
 
 
@@ -115,6 +117,7 @@ def solve(
     units: Any = None,
     profile: Any = None,
     points: Any = None,
+    mu: Any = None,
 ) -> Solution:
     """Solves one equilibrium of the whisker [3.27] (``vibrissa solve``).
 
@@ -132,8 +135,8 @@ def solve(
     moderate loads; ``stats["model_used"]`` which model: ``"linear"`` where linear
     small-deflection theory provably meets it, else ``"elastica"``).
     None: ``accurate``'s default accuracy (estimate <= 1e-8).
-    ``profile`` and ``points`` are ignored (as ``vibrissa solve SCENE.ron`` ignores them),
-    so that ``solve(**load_scene(path))`` works.
+    ``profile``, ``points`` and ``mu`` are ignored (as ``vibrissa solve SCENE.ron`` ignores
+    them), so that ``solve(**load_scene(path))`` works.
 
     Returns a :class:`Solution`. Raises :class:`InvalidInput` for a bad parameter and
     :class:`SolverError` when no solution meets the accuracy.
@@ -162,6 +165,7 @@ def sweep(
     n: Optional[int] = None,
     tol: Optional[float] = None,
     units: Any = None,
+    mu: float = 0.0,
 ) -> Sweep:
     """Sweeps the whisker past the obstacle ``profile`` under the flow (``vibrissa sweep``).
 
@@ -176,6 +180,10 @@ def sweep(
     a-posteriori error estimate (``summary["max_estimate"]``, ``summary["max_estimate_row"]``);
     a row whose estimate exceeds it raises :class:`SolverError` naming the row. None: the
     sweep's own accuracy (~1e-10 per row, no estimates).
+    ``mu``: the Coulomb friction coefficient at the contact (dimensionless, in [0, 10];
+    ``sweep --mu``): stick (the touching point of the whisker stays put, |ft| <= mu f) and
+    slip (|ft| = mu f against the sliding), in the columns ``ft`` and ``slip`` and the
+    ``friction_events``. 0 is the frictionless sweep, bit for bit.
 
     Returns a :class:`Sweep`. Raises :class:`InvalidInput`, :class:`NoContact` when the
     whisker never touches the obstacle, :class:`SolverError` when a contact phase cannot be
@@ -185,6 +193,7 @@ def sweep(
     spec["tol"] = number("tol", tol)
     spec["profile"] = profile_spec(profile)
     spec["points"] = points
+    spec["mu"] = number("mu", mu)
     raw = _core.sweep(spec)
     return Sweep(raw, _scene(spec, profile if profile is not None else raw["scene"]["profile"], points))
 
@@ -230,7 +239,7 @@ def reconstruct(
     Returns a :class:`Reconstruction`. Raises :class:`InvalidInput` for a bad parameter or
     log (naming the row: ``log row:N``), :class:`SolverError` when no row fits.
     """
-    unknown = sorted(set(ignored) - {"f", "beta_deg", "load", "n", "points"})
+    unknown = sorted(set(ignored) - {"f", "beta_deg", "load", "n", "points", "mu"})
     if unknown:
         raise TypeError(f"reconstruct() got an unexpected keyword argument {unknown[0]!r}")
     theta, a, b, k, units = _whisker_of(log, theta, a, b, k, units)

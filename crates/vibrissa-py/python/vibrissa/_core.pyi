@@ -13,13 +13,13 @@ def solve(spec: Dict[str, Any]) -> Dict[str, Any]:
     "scene", "units", "method", "n", "length_unit", "force_unit", "moment_unit"}"""
 
 def sweep(spec: Dict[str, Any]) -> Dict[str, Any]:
-    """{"columns": {x0, Ax, Ay, MA, phi0, f, s1, xc, yc, psi: float64 arrays},
-    "phase": list[str], "summary": dict (sweep --json), "scene": dict (scene.ron)}"""
+    """{"columns": {x0, Ax, Ay, MA, phi0, f, s1, xc, yc, psi, ft, y0, gamma: float64 arrays},
+    "phase": list[str], "slip": list[str], "summary": dict (sweep --json), "scene": dict (scene.ron)}"""
 
 def calibrate(logs: List[Tuple[Dict[str, npt.NDArray[np.float64]], Any]], spec: Dict[str, Any]) -> Dict[str, Any]: ...
 def reconstruct(log: Dict[str, npt.NDArray[np.float64]], spec: Dict[str, Any]) -> Dict[str, Any]:
     """{"columns": {x0, x, y, s1, f, psi, sigma, residual, hypotheses[, error]},
-    "phase": list[str], "summary": dict}"""
+    "phase": list[str], "slip": list[str], "summary": dict}"""
 
 def load_scene(path: str) -> Dict[str, Any]:
     """The scene file as JSON-like values."""

@@ -94,8 +94,9 @@ def whisker_spec(
 
 
 def scene_kwargs(scene: Mapping[str, Any]) -> Dict[str, Any]:
-    """A scene file's JSON form (``units, whisker, loads, profile, sweep, method``) as the
-    keyword arguments of :func:`vibrissa.solve` / :func:`vibrissa.sweep`."""
+    """A scene file's JSON form (``units, whisker, loads, profile, mu, sweep, method``) as the
+    keyword arguments of :func:`vibrissa.solve` / :func:`vibrissa.sweep` (``mu`` only where
+    the scene has friction, so that a frictionless scene's dict is as before)."""
     w = scene.get("whisker") or {}
     loads = scene.get("loads") or {}
     method = scene.get("method") or {}
@@ -122,4 +123,5 @@ def scene_kwargs(scene: Mapping[str, Any]) -> Dict[str, Any]:
         "units": units,
         "profile": scene.get("profile"),
         "points": None if sweep is None else sweep.get("points"),
+        **({"mu": scene["mu"]} if scene.get("mu") else {}),
     }

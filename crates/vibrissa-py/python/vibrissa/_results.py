@@ -82,17 +82,26 @@ class Sweep(_Columns):
 
     Columns as in ``observables.csv``: ``x0, Ax, Ay, MA, phi0, f, s1, xc, yc, psi``
     (float64; before contact f = 0, s1 = 1 (the flow loads the whole whisker) and the contact
-    point and angle are NaN) and ``phase`` (``"A"``, ``"B"``, ``"none"``),
-    rows in the order the base travels (x0 strictly falling). ``first_contact`` (``"tip"`` /
-    ``"tangential"``), ``separation`` (``"snap"``, ``"release"``, ...), ``phases`` (e.g.
-    ``"AB"``), ``events`` (dicts: event, row (1-based), x0), ``summary`` (the CLI's
-    ``sweep --json`` object), ``scene`` (the keyword arguments that give this sweep back)."""
+    point and angle are NaN) and ``phase`` (``"A"``, ``"B"``, ``"none"``), then ``ft`` (the
+    tangential part of the contact force along the contour's tangent; 0 without friction;
+    ``f`` is the normal part), ``slip`` (``"stick"``, ``"slip"``, ``"none"`` before contact
+    and without friction), ``y0`` and ``gamma`` (the base pose: 0 for this translating
+    sweep); rows in the order the base travels (x0 strictly falling). ``first_contact``
+    (``"tip"`` / ``"tangential"``), ``separation`` (``"snap"``, ``"release"``, ...),
+    ``phases`` (e.g. ``"AB"``), ``events`` (dicts: event, row (1-based), x0), ``mu`` (the
+    friction coefficient), ``friction_events`` (dicts: event ``"stick→slip"`` /
+    ``"slip→stick"``, row, x0, xc, f, ft), ``summary`` (the CLI's ``sweep --json`` object),
+    ``scene`` (the keyword arguments that give this sweep back)."""
 
-    _names = ("x0", "Ax", "Ay", "MA", "phi0", "f", "s1", "phase", "xc", "yc", "psi")
+    _names = (
+        "x0", "Ax", "Ay", "MA", "phi0", "f", "s1", "phase", "xc", "yc", "psi",
+        "ft", "slip", "y0", "gamma",
+    )
 
     def __init__(self, raw: Dict[str, Any], scene: Dict[str, Any]) -> None:
         cols = dict(raw["columns"])
         cols["phase"] = np.array(raw["phase"], dtype=str)
+        cols["slip"] = np.array(raw["slip"], dtype=str)
         super().__init__(cols)
         s = raw["summary"]
         self.summary: Dict[str, Any] = s
@@ -100,6 +109,8 @@ class Sweep(_Columns):
         self.separation: str = s["separation"]
         self.phases: str = s["phases"]
         self.events: List[Dict[str, Any]] = s["events"]
+        self.mu: float = s["mu"]
+        self.friction_events: List[Dict[str, Any]] = s["friction_events"]
         self.units: str = s["units"]
         self.scene: Dict[str, Any] = scene
 
@@ -112,7 +123,8 @@ class Sweep(_Columns):
         return (
             f"Sweep(rows={len(self)}, first_contact={self.first_contact!r}, "
             f"separation={self.separation!r}, phases={self.phases!r}, "
-            f"profile={self.summary.get('profile')!r}, units={self.units!r})"
+            + (f"mu={self.mu!r}, " if self.mu else "")
+            + f"profile={self.summary.get('profile')!r}, units={self.units!r})"
         )
 
 

@@ -120,6 +120,8 @@ def run_scene(scene: Any, task: str = "sweep") -> Dict[str, Any]:
                 rows=len(sw),
                 contact_rows=int(contact.sum()),
                 max_f=float(np.max(sw.f[contact])) if contact.any() else 0.0,
+                stick_rows=int((sw.slip == "stick").sum()),
+                friction_events=len(sw.friction_events),
             )
             if task == "reconstruct":
                 rec = reconstruct(sw, profile=scene.get("profile"))
@@ -186,8 +188,10 @@ def study(
     """Runs ``task`` (``"solve"``, ``"sweep"`` or ``"reconstruct"``: a sweep, then its log
     reconstructed with the flow identified) for every scene (a dict of keyword arguments of
     :func:`vibrissa.sweep` / :func:`vibrissa.solve`) and returns a pandas DataFrame, one row
-    per scene in the given order: the scene's parameters, then ``first_contact``,
-    ``separation``, ``phases``, ``rows``, ``contact_rows``, ``max_f`` (sweeps; tip and base
+    per scene in the given order: the scene's parameters (``mu`` among them: a study over
+    the friction coefficient is a list of scenes that differ in ``mu``), then
+    ``first_contact``, ``separation``, ``phases``, ``rows``, ``contact_rows``, ``max_f``,
+    ``stick_rows``, ``friction_events`` (how many stick/slip switches) (sweeps; tip and base
     values for solves; identified flow and max contour error for reconstructions),
     ``wall_time_s`` and ``error`` / ``error_class`` (the message and class of a refused
     scene; the study goes on).

@@ -58,6 +58,25 @@ fn an_exact_sliding_log_gives_its_points_forces_and_mu() {
         worst_xy = worst_xy.max((p.x - t.xc).hypot(p.y - t.yc));
         worst_f = worst_f.max((p.f - t.f).abs().max((p.ft - t.ft).abs()));
         worst_psi = worst_psi.max((p.psi - t.psi).abs());
+        // each error within its estimate
+        assert!(
+            (p.psi - t.psi).abs() <= 6.0 * p.sigma_psi + 1e-12,
+            "row {}: psi {p:?} vs {}",
+            p.row,
+            t.psi
+        );
+        assert!(
+            (p.ft - t.ft).abs() <= 6.0 * p.sigma_ft + 1e-10,
+            "row {}: ft {p:?} vs {}",
+            p.row,
+            t.ft
+        );
+        assert!(
+            (p.f - t.f).abs() <= 6.0 * p.sigma_f + 1e-10,
+            "row {}: fn {p:?} vs {}",
+            p.row,
+            t.f
+        );
         if p.slip == SlipState::Slip {
             assert_eq!(t.slip, SlipState::Slip, "row {}", p.row);
         }
@@ -336,4 +355,192 @@ fn exact_phase_b_logs_give_their_points_forces_and_mu() {
         xy <= 1e-10 && f <= 1e-8 && mu <= 1e-9,
         "{xy:e} {f:e} {mu:e}"
     );
+}
+
+/// The rows in any order give the same points (each row's point and force; the tangent
+/// and the sliding rows from the order of the motion, not of the file).
+#[test]
+fn a_reordered_log_gives_the_same_points() {
+    let (w, _, truth) = sliding_sweep(24, 0.4);
+    let rows = from_sweep(&truth);
+    let settings = ReconSettings::default();
+    let a = reconstruct_frictional(&w, &rows, KnownFlow::default(), &settings, None).unwrap();
+    // a fixed shuffle
+    let n = rows.len();
+    let perm: Vec<usize> = (0..n).map(|i| (7 * i + 3) % n).collect();
+    assert!(n % 7 != 0);
+    let shuffled: Vec<ObservableRow> = perm.iter().map(|&i| rows[i]).collect();
+    let b = reconstruct_frictional(&w, &shuffled, KnownFlow::default(), &settings, None).unwrap();
+    assert_eq!(a.points.len(), b.points.len());
+    for q in &b.points {
+        let p = a.points.iter().find(|p| p.row == perm[q.row]).unwrap();
+        assert!((p.x - q.x).abs() < 1e-12 && (p.y - q.y).abs() < 1e-12);
+        assert!(
+            (p.ft - q.ft).abs() < 1e-9 && p.slip == q.slip,
+            "{p:?} {q:?}"
+        );
+    }
+    let (ma, mb) = (a.mu.unwrap(), b.mu.unwrap());
+    assert!((ma.value - mb.value).abs() < 1e-12, "{ma:?} {mb:?}");
+}
+
+/// A pre-curved whisker pinned by mu = 10 (contact-sim's own pinned-tip scene): every
+/// contact row sticks, the tip stays put, no row slides so mu is not identified; the force
+/// is inside the cone of the given mu = 10 (no violation), and a given mu = 0.01 is violated.
+#[test]
+fn a_stuck_tip_is_stuck_and_gives_no_mu() {
+    let w = Whisker::new(0.3, 1.0, 0.5, f64::INFINITY);
+    let flow = FluidLoad { q: 0.5, alpha: 0.0 };
+    let s = SweepSettings {
+        points: 12,
+        contact_law: ContactLaw::Coulomb { mu: 10.0 },
+        ..SweepSettings::default()
+    };
+    let truth = sweep(&w, flow, &Profile::g2(), &s).unwrap();
+    let rows = from_sweep(&truth);
+    let rec = reconstruct_frictional(
+        &w,
+        &rows,
+        KnownFlow::default(),
+        &ReconSettings::default(),
+        None,
+    )
+    .unwrap();
+    assert!(rec.points.len() >= 5);
+    for p in &rec.points {
+        let t = &truth.points[p.row];
+        assert!((p.x - t.xc).hypot(p.y - t.yc) < 1e-10, "{p:?}");
+        assert_eq!(p.slip, SlipState::Stick, "row {}", p.row);
+    }
+    // one distinct contact point: the tangent is unknown, no mu
+    assert!(rec.mu.is_none(), "{:?}", rec.mu);
+}
+
+/// A frictionless log shows no friction (evidence below K_SIGMA deviations); a sliding log
+/// proves it, and a frictionless reconstruction of it gets error estimates that cover the
+/// distance of its points to the frictional ones.
+#[test]
+fn friction_is_told_from_none() {
+    let (w, flow, free) = {
+        let w = Whisker::new(0.5, 0.0, 0.0, 10.0);
+        let flow = FluidLoad { q: 1.0, alpha: 0.2 };
+        let p = Profile::parse("circle:0.3,1.5,0.6").unwrap();
+        let s = SweepSettings {
+            points: 24,
+            ..SweepSettings::default()
+        };
+        (w, flow, sweep(&w, flow, &p, &s).unwrap())
+    };
+    let _ = flow;
+    let rows = from_sweep(&free);
+    let rec = reconstruct_frictional(
+        &w,
+        &rows,
+        KnownFlow::default(),
+        &ReconSettings::default(),
+        None,
+    )
+    .unwrap();
+    let ev = rec.evidence.unwrap();
+    assert!(!ev.proves_friction(), "{ev:?}");
+    if let Some(mu) = rec.mu {
+        assert!(mu.value.abs() <= 3.0 * mu.stderr + 1e-9, "{mu:?}");
+    }
+    let (w, _, truth) = sliding_sweep(24, 0.4);
+    let rows = from_sweep(&truth);
+    let fr = reconstruct_frictional(
+        &w,
+        &rows,
+        KnownFlow::default(),
+        &ReconSettings::default(),
+        None,
+    )
+    .unwrap();
+    assert!(fr.evidence.unwrap().proves_friction());
+    let plain = ReconSettings {
+        consistency_tol: None,
+        ..Default::default()
+    };
+    let mut rec = reconstruct(&w, &rows, None, &plain).unwrap();
+    let ev = widen_frictionless(&mut rec, &fr).expect("evidence");
+    assert!(ev.z() > 1e3, "{ev:?}");
+    for p in &rec.points {
+        let t = &truth.points[p.row];
+        assert!((p.x - t.xc).hypot(p.y - t.yc) <= p.sigma + 1e-10, "{p:?}");
+    }
+}
+
+/// Logs with relative noise `level` ([`add_noise`], seeded): how often `mu` is within 3
+/// standard errors of the truth, for hand-made phase-B logs (a new whisker each trial) and
+/// for the sliding sweep (a new noise draw each trial). Returns `(within, trials, worst
+/// |error| / stderr, median stderr)` of each.
+fn noise_battery(trials: usize, seed: u64, level: f64) -> [(usize, usize, f64, f64); 2] {
+    let settings = ReconSettings {
+        noise: Some(level),
+        consistency_tol: None,
+        ..Default::default()
+    };
+    let mut out = [(0, 0, 0.0f64, 0.0); 2];
+    let mut rng = Rng(seed);
+    let mut se = [Vec::new(), Vec::new()];
+    for t in 0..trials {
+        let (w, flow, mu, log, _) = random_b_log(&mut rng, 8);
+        let known = KnownFlow {
+            q: Some(flow.q),
+            alpha: Some(flow.alpha),
+        };
+        let noisy = add_noise(&log, level, seed ^ t as u64);
+        if let Ok(rec) = reconstruct_frictional(&w, &noisy, known, &settings, None) {
+            if let Some(m) = rec.mu {
+                let z = (m.value - mu).abs() / m.stderr;
+                out[0].1 += 1;
+                out[0].0 += usize::from(z <= 3.0);
+                out[0].2 = out[0].2.max(z);
+                se[0].push(m.stderr);
+            }
+        }
+    }
+    let (w, _, truth) = sliding_sweep(40, 0.4);
+    let rows = from_sweep(&truth);
+    for t in 0..trials {
+        let noisy = add_noise(&rows, level, seed.wrapping_add(1000 + t as u64));
+        if let Ok(rec) = reconstruct_frictional(&w, &noisy, KnownFlow::default(), &settings, None) {
+            if let Some(m) = rec.mu {
+                let z = (m.value - 0.4).abs() / m.stderr;
+                out[1].1 += 1;
+                out[1].0 += usize::from(z <= 3.0);
+                out[1].2 = out[1].2.max(z);
+                se[1].push(m.stderr);
+            }
+        }
+    }
+    for k in 0..2 {
+        se[k].sort_by(f64::total_cmp);
+        out[k].3 = se[k].get(se[k].len() / 2).copied().unwrap_or(f64::NAN);
+    }
+    eprintln!("noise {level:e}, {trials} trials each: phase-B logs {:?}, sliding sweep {:?} (within 3 stderr, with mu, worst |err|/stderr, median stderr)", out[0], out[1]);
+    out
+}
+
+/// Relative noise 1e-4, a seeded subset: mu within 3 standard errors in >= 90 % of the
+/// trials, and every trial gives mu.
+#[test]
+fn noisy_logs_give_mu_within_its_standard_error() {
+    let trials = 10;
+    for (within, n, _, _) in noise_battery(trials, 0x5EED_F71C, 1e-4) {
+        assert_eq!(n, trials);
+        assert!(within * 10 >= 9 * n, "{within} of {n}");
+    }
+}
+
+/// The full battery: `cargo test -p profile-recon --release --test friction_recon --
+/// --ignored --nocapture`.
+#[test]
+#[ignore]
+fn noisy_logs_give_mu_within_its_standard_error_full() {
+    let trials = 200;
+    for (within, n, _, _) in noise_battery(trials, 0x5EED_F71C, 1e-4) {
+        assert!(n >= trials * 9 / 10);
+        assert!(within * 10 >= 9 * n, "{within} of {n}");
+    }
 }

@@ -56,8 +56,8 @@ pub use common::{
 };
 pub use error::{ReconError, Result};
 pub use friction::{
-    reconstruct_frictional, widen_frictionless, FrictionEvidence, FrictionalPoint,
-    FrictionalReconstruction, MuEstimate,
+    reconstruct_frictional, reconstruct_frictional_on, widen_frictionless, FrictionEvidence,
+    FrictionalPoint, FrictionalReconstruction, MuEstimate,
 };
 pub use identify::identify;
 pub use noise::{add_noise, noise_study, NoiseResult};

@@ -474,15 +474,15 @@ fn friction_is_told_from_none() {
 /// standard errors of the truth, for hand-made phase-B logs (a new whisker each trial) and
 /// for the sliding sweep (a new noise draw each trial). Returns `(within, trials, worst
 /// |error| / stderr, median stderr)` of each.
-fn noise_battery(trials: usize, seed: u64, level: f64) -> [(usize, usize, f64, f64); 2] {
+fn noise_battery(trials: usize, seed: u64, level: f64) -> [(usize, usize, f64, f64); 3] {
     let settings = ReconSettings {
         noise: Some(level),
         consistency_tol: None,
         ..Default::default()
     };
-    let mut out = [(0, 0, 0.0f64, 0.0); 2];
+    let mut out = [(0, 0, 0.0f64, 0.0); 3];
     let mut rng = Rng(seed);
-    let mut se = [Vec::new(), Vec::new()];
+    let mut se = [Vec::new(), Vec::new(), Vec::new()];
     for t in 0..trials {
         let (w, flow, mu, log, _) = random_b_log(&mut rng, 8);
         let known = KnownFlow {
@@ -514,11 +514,31 @@ fn noise_battery(trials: usize, seed: u64, level: f64) -> [(usize, usize, f64, f
             }
         }
     }
-    for k in 0..2 {
+    // the same noised sweeps on their known contour (calibration)
+    let circle = Profile::parse("circle:0.3,1.5,0.6").unwrap();
+    for t in 0..trials {
+        let noisy = add_noise(&rows, level, seed.wrapping_add(1000 + t as u64));
+        let on = profile_recon::reconstruct_frictional_on(
+            &w,
+            &noisy,
+            KnownFlow::default(),
+            &settings,
+            None,
+            Some(&circle),
+        );
+        if let Some(m) = on.ok().and_then(|r| r.mu) {
+            let z = (m.value - 0.4).abs() / m.stderr;
+            out[2].1 += 1;
+            out[2].0 += usize::from(z <= 3.0);
+            out[2].2 = out[2].2.max(z);
+            se[2].push(m.stderr);
+        }
+    }
+    for k in 0..3 {
         se[k].sort_by(f64::total_cmp);
         out[k].3 = se[k].get(se[k].len() / 2).copied().unwrap_or(f64::NAN);
     }
-    eprintln!("noise {level:e}, {trials} trials each: phase-B logs {:?}, sliding sweep {:?} (within 3 stderr, with mu, worst |err|/stderr, median stderr)", out[0], out[1]);
+    eprintln!("noise {level:e}, {trials} trials each: phase-B logs {:?}, sliding sweep {:?}, its known contour {:?} (within 3 stderr, with mu, worst |err|/stderr, median stderr)", out[0], out[1], out[2]);
     out
 }
 
@@ -543,4 +563,57 @@ fn noisy_logs_give_mu_within_its_standard_error_full() {
         assert!(n >= trials * 9 / 10);
         assert!(within * 10 >= 9 * n, "{within} of {n}");
     }
+}
+
+/// Calibration of mu against a known object: the tangent at the tip contacts is the known
+/// contour's; the exact sliding log gives mu to 1e-9 with every row's psi exact, and the
+/// noised logs give mu within 3 standard errors.
+#[test]
+fn mu_on_a_known_contour() {
+    let (w, _, truth) = sliding_sweep(24, 0.4);
+    let circle = Profile::parse("circle:0.3,1.5,0.6").unwrap();
+    let rows = from_sweep(&truth);
+    let settings = ReconSettings::default();
+    let rec = profile_recon::reconstruct_frictional_on(
+        &w,
+        &rows,
+        KnownFlow::default(),
+        &settings,
+        None,
+        Some(&circle),
+    )
+    .unwrap();
+    let mu = rec.mu.unwrap();
+    let worst_psi = rec
+        .points
+        .iter()
+        .map(|p| (p.psi - truth.points[p.row].psi).abs())
+        .fold(0.0, f64::max);
+    eprintln!("known contour, exact: mu {mu:?}, worst psi {worst_psi:e}");
+    assert!(
+        (mu.value - 0.4).abs() <= 1e-9 && worst_psi < 1e-10,
+        "{mu:?} {worst_psi:e}"
+    );
+    let noisy_settings = ReconSettings {
+        noise: Some(1e-4),
+        consistency_tol: None,
+        ..Default::default()
+    };
+    let mut within = 0;
+    for seed in 0..10u64 {
+        let noisy = add_noise(&rows, 1e-4, 0xCA1B + seed);
+        let rec = profile_recon::reconstruct_frictional_on(
+            &w,
+            &noisy,
+            KnownFlow::default(),
+            &noisy_settings,
+            None,
+            Some(&circle),
+        )
+        .unwrap();
+        let m = rec.mu.unwrap();
+        within += usize::from((m.value - 0.4).abs() <= 3.0 * m.stderr);
+    }
+    eprintln!("known contour, noise 1e-4: {within} of 10 within 3 stderr");
+    assert!(within >= 9);
 }

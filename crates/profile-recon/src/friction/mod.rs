@@ -50,7 +50,7 @@ use crate::observables::ObservableRow;
 use crate::result::{Identification, ReconPoint, Reconstruction};
 use beam_model::{FluidLoad, Whisker};
 use bvp_solvers::integrator::Dop853;
-use contact_sim::{Phase, SlipState};
+use contact_sim::{Phase, Profile, SlipState};
 use contour::{distinct, motion_order, tangent_at, Sample};
 use row::{moved, shoot, Candidate, Shot};
 use serde::{Deserialize, Serialize};
@@ -69,6 +69,9 @@ pub enum PsiSource {
     Tangency,
     /// Phase A: the contour traced by the log's contact points.
     Contour,
+    /// Phase A on a known contour (calibration against a known object): its angle at the
+    /// reconstructed point's `x`.
+    Known,
     /// Phase A with fewer than three distinct contact points: unknown (NaN), no `fn`, `ft`.
     Unknown,
 }
@@ -237,15 +240,15 @@ impl RowFit {
         level * self.jac[k].iter().map(|v| v * v).sum::<f64>().sqrt()
     }
 
-    /// `(fn, ft, sd fn, sd ft)` along the tangent `psi` of deviation `sd_psi` (phase B:
-    /// `psi = phi(s1)`, its noise correlated with the force's, through the Jacobian).
-    fn split(&self, psi: f64, sd_psi: f64, level: f64, tangency: bool) -> [f64; 4] {
+    /// `(fn, ft, sd fn, sd ft)` along the tangent `psi`, whose noise is `dpsi` per column
+    /// (correlated with the force's: phase B `dphi(s1)`, a known contour `psi'(x) dx`) plus
+    /// an independent deviation `sd_psi` (a traced contour's).
+    fn split(&self, psi: f64, dpsi: [f64; 4], sd_psi: f64, level: f64) -> [f64; 4] {
         let (fnn, ft) = self.c.split(psi);
         let (sp, cp) = psi.sin_cos();
         let (mut vf, mut vt) = (0.0, 0.0);
-        for j in 0..4 {
-            let (dfx, dfy, dphi) = (self.jac[4][j], self.jac[5][j], self.jac[3][j]);
-            let dpsi = if tangency { dphi } else { 0.0 };
+        for (j, dpsi) in dpsi.iter().enumerate() {
+            let (dfx, dfy) = (self.jac[4][j], self.jac[5][j]);
             vf += (dfx * sp - dfy * cp + ft * dpsi).powi(2);
             vt += (dfx * cp + dfy * sp - fnn * dpsi).powi(2);
         }
@@ -346,7 +349,7 @@ fn fit_row(
             alternatives: 0,
             alt_dist: 0.0,
         };
-        let [fnn, ft, sf, st] = probe.split(c.phi, 0.0, level, true);
+        let [fnn, ft, sf, st] = probe.split(c.phi, probe.jac[3], 0.0, level);
         if fnn >= -K_SIGMA * sf && ft.abs() <= MU_MAX * fnn.max(0.0) + K_SIGMA * st {
             adm.push((ft.abs() / fnn.max(f64::MIN_POSITIVE), *c));
         }
@@ -397,6 +400,25 @@ pub fn reconstruct_frictional(
     settings: &ReconSettings,
     mu: Option<f64>,
 ) -> Result<FrictionalReconstruction> {
+    reconstruct_frictional_on(whisker, rows, known, settings, mu, None)
+}
+
+/// [`reconstruct_frictional`] of a log of sweeps past a KNOWN contour (calibration: the
+/// friction coefficient of a whisker on a known object): the tangent at a tip contact is the
+/// contour's at the reconstructed point (`psi = atan g'(x)`, its error the point's error
+/// estimate times the curvature) instead of the traced contour's; phase B as before (the
+/// contour is not used to place the points, so a wrong contour shows as points off it).
+///
+/// # Errors
+/// As [`reconstruct_frictional`].
+pub fn reconstruct_frictional_on(
+    whisker: &Whisker,
+    rows: &[ObservableRow],
+    known: KnownFlow,
+    settings: &ReconSettings,
+    mu: Option<f64>,
+    profile: Option<&Profile>,
+) -> Result<FrictionalReconstruction> {
     if let Some(m) = mu {
         if !(0.0..=MU_MAX).contains(&m) {
             return Err(ReconError::InvalidParameter {
@@ -422,7 +444,7 @@ pub fn reconstruct_frictional(
         let i = contact[k];
         fit_row(whisker, flow, i, &rows[i], &scales, level, &integrator)
     })?;
-    let points = frictional_points(rows, &fits, level);
+    let points = frictional_points(rows, &fits, level, profile);
     let (mu_est, violations) = mu_of(&points, mu);
     let evidence = points
         .iter()
@@ -447,7 +469,12 @@ pub fn reconstruct_frictional(
 }
 
 /// The points of the fitted rows: tangents, force split, sliding rows.
-fn frictional_points(rows: &[ObservableRow], fits: &[RowFit], level: f64) -> Vec<FrictionalPoint> {
+fn frictional_points(
+    rows: &[ObservableRow],
+    fits: &[RowFit],
+    level: f64,
+    profile: Option<&Profile>,
+) -> Vec<FrictionalPoint> {
     let sigma_of = |f: &RowFit| f.sd(0, level).hypot(f.sd(1, level)) + f.alt_dist;
     let samples: Vec<Sample> = fits
         .iter()
@@ -461,23 +488,30 @@ fn frictional_points(rows: &[ObservableRow], fits: &[RowFit], level: f64) -> Vec
     let mut points: Vec<FrictionalPoint> = fits
         .iter()
         .map(|f| {
-            let (psi, sd_psi, source) = match f.phase {
-                Phase::B => (wrap(f.c.phi), f.sd(3, level), PsiSource::Tangency),
+            // psi, its noise correlated with the force's (per column), its own deviation
+            let (psi, dpsi, sd_psi, source) = match (f.phase, profile) {
+                (Phase::B, _) => (wrap(f.c.phi), f.jac[3], 0.0, PsiSource::Tangency),
+                (_, Some(g)) => {
+                    let (_, d1, d2) = g.eval(f.c.x);
+                    let k = d2 / (1.0 + d1 * d1);
+                    (
+                        g.psi(f.c.x),
+                        f.jac[0].map(|dx| k * dx),
+                        0.0,
+                        PsiSource::Known,
+                    )
+                }
                 _ => match tangent_at(&contour, f.c.x) {
-                    Some((psi, e)) => (psi, e, PsiSource::Contour),
-                    None => (f64::NAN, f64::NAN, PsiSource::Unknown),
+                    Some((psi, e)) => (psi, [0.0; 4], e, PsiSource::Contour),
+                    None => (f64::NAN, [0.0; 4], f64::NAN, PsiSource::Unknown),
                 },
             };
             let [fnn, ft, sf, st] = if psi.is_finite() {
-                f.split(
-                    psi,
-                    if f.phase == Phase::B { 0.0 } else { sd_psi },
-                    level,
-                    f.phase == Phase::B,
-                )
+                f.split(psi, dpsi, sd_psi, level)
             } else {
                 [f64::NAN; 4]
             };
+            let sd_psi = level * dpsi.iter().map(|v| v * v).sum::<f64>().sqrt() + sd_psi;
             FrictionalPoint {
                 row: f.row,
                 x0: rows[f.row].x0,

@@ -16,6 +16,7 @@
 //! | [`accuracy`] | accuracy on demand ([`reconstruct_to`]): the points at the tolerance an accuracy needs, each with its error estimate |
 //! | [`stream`] | rows one at a time, each point as soon as it is known |
 //! | [`noise`] | seeded sensor noise and the error-against-noise study |
+//! | [`friction`] | frictional logs: contact points, `fn`, `ft` and `mu` from the base observables alone |
 //! | [`calibrate`](mod@calibrate) | the whisker's own parameters from sweeps past known contours; design advice |
 //!
 //! ```
@@ -37,6 +38,7 @@ pub mod base_shot;
 pub mod calibrate;
 pub mod common;
 pub mod error;
+pub mod friction;
 pub mod identify;
 mod judge;
 pub mod noise;
@@ -53,6 +55,10 @@ pub use common::{
     contact_force, contour_error, free_flow, KnownFlow, NoiseScales, ReconMethod, ReconSettings,
 };
 pub use error::{ReconError, Result};
+pub use friction::{
+    reconstruct_frictional, reconstruct_frictional_on, widen_frictionless, FrictionEvidence,
+    FrictionalPoint, FrictionalReconstruction, MuEstimate,
+};
 pub use identify::identify;
 pub use noise::{add_noise, noise_study, NoiseResult};
 pub use observables::{from_sweep, ObservableRow};

@@ -1,7 +1,8 @@
 //! Legends: entries sized to their text, drawn as a box inside the plot where it covers no
 //! data, or as a key of centred rows above the plot (and above the panels of a figure).
 
-use super::*;
+use crate::chart::*;
+use crate::svg::*;
 
 /// One legend entry.
 pub(super) enum Entry<'a> {

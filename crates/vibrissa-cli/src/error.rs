@@ -6,12 +6,18 @@
 
 use std::error::Error as StdError;
 use std::fmt;
+use std::io;
 use std::path::PathBuf;
 
 use vibrissa_io::IoError;
 
 /// Boxed error of a lower layer (a model crate), kept as the source of a solver's failure.
 pub use vibrissa_io::error::BoxedSource;
+
+/// The exit code of a command whose output could not be delivered (standard output closed
+/// by its reader or full): not one of 0 (success), 1 (solver failure), 2 (usage or input
+/// error), 3 (no contact), so that a script tells it from a failed computation.
+pub const EXIT_OUTPUT: i32 = 4;
 
 /// Errors of the `vibrissa` command line: the library's input/output errors (files, CSV and
 /// scene lines, values, solvers: [`IoError`], as they are), figures, and standard output.
@@ -31,10 +37,10 @@ pub enum CliError {
         reason: String,
     },
     /// Standard output did not take the command's output: its reader closed the pipe
-    /// early, or the device is full (exit [`EXIT_OUTPUT`](crate::printer::EXIT_OUTPUT)).
+    /// early, or the device is full (exit [`EXIT_OUTPUT`]).
     #[error(
         "cannot write to standard output: {}{}",
-        crate::printer::stdout_failure(source),
+        stdout_failure(source),
         Published(published.as_deref())
     )]
     Stdout {
@@ -49,12 +55,12 @@ pub enum CliError {
 impl CliError {
     /// The process exit code for this error (spec/cli.md): 3 when the whisker never touches
     /// the obstacle, 1 for other solver failures (and figures that could not be drawn), 2 for
-    /// usage and input errors, 4 ([`EXIT_OUTPUT`](crate::printer::EXIT_OUTPUT)) when standard
+    /// usage and input errors, 4 ([`EXIT_OUTPUT`]) when standard
     /// output did not take the output.
     pub fn exit_code(&self) -> i32 {
         match self {
             CliError::Io(e) => e.exit_code(),
-            CliError::Stdout { .. } => crate::printer::EXIT_OUTPUT,
+            CliError::Stdout { .. } => EXIT_OUTPUT,
             CliError::Plot { .. } => 1,
         }
     }
@@ -103,6 +109,16 @@ impl From<vibrissa_plot::PlotError> for CliError {
             vibrissa_plot::PlotError::Draw { path, reason } => CliError::Plot { path, reason },
             vibrissa_plot::PlotError::Io(e) => e.into(),
         }
+    }
+}
+
+/// What a failed write to standard output means, in words: "the reader closed the pipe"
+/// (`EPIPE`), "the device is full" (`ENOSPC`), else the operating system's message.
+pub fn stdout_failure(e: &io::Error) -> String {
+    match e.kind() {
+        io::ErrorKind::BrokenPipe => format!("its reader closed the pipe early ({e})"),
+        io::ErrorKind::StorageFull => format!("the device is full ({e})"),
+        _ => e.to_string(),
     }
 }
 

@@ -1,7 +1,8 @@
 //! The `vibrissa` command line: input/output, figures and scene files.
 //!
 //! - [`error`]: [`CliError`], the one-line errors of the binary and their exit codes;
-//! - [`printer`]: standard output that returns its errors (a closed pipe, a full disk);
+//! - [`printer`]: standard output that returns its errors (a closed pipe, a full disk) as
+//!   [`CliError::Stdout`], exit [`error::EXIT_OUTPUT`];
 //! - [`cli`]: the command-line grammar;
 //! - [`commands`]: `solve`, `sweep`, `reconstruct`, `calibrate`, `demo`, one module per
 //!   concept of their outputs.

@@ -17,11 +17,7 @@ use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 
 use crate::error::CliError;
-
-/// The exit code of a command whose output could not be delivered (standard output closed
-/// by its reader or full): not one of 0 (success), 1 (solver failure), 2 (usage or input
-/// error), 3 (no contact), so that a script tells it from a failed computation.
-pub const EXIT_OUTPUT: i32 = 4;
+pub use crate::error::{stdout_failure, EXIT_OUTPUT};
 
 /// Lines to standard output (or any writer, for tests), each write's error returned as
 /// [`CliError::Stdout`] naming the output folder already published, if any.
@@ -79,16 +75,6 @@ impl<W: Write> Printer<W> {
             source,
             published: self.published.clone(),
         }
-    }
-}
-
-/// What a failed write to standard output means, in words: "the reader closed the pipe"
-/// (`EPIPE`), "the device is full" (`ENOSPC`), else the operating system's message.
-pub fn stdout_failure(e: &io::Error) -> String {
-    match e.kind() {
-        io::ErrorKind::BrokenPipe => format!("its reader closed the pipe early ({e})"),
-        io::ErrorKind::StorageFull => format!("the device is full ({e})"),
-        _ => e.to_string(),
     }
 }
 

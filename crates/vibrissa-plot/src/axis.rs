@@ -1,6 +1,6 @@
 //! Axes: valid points and their runs, ranges (linear and log), ticks and their labels.
 
-use super::*;
+use crate::svg::*;
 
 pub(super) fn is_valid(p: (f64, f64), x_log: bool, y_log: bool) -> bool {
     p.0.is_finite() && p.1.is_finite() && (!x_log || p.0 > 0.0) && (!y_log || p.1 > 0.0)

@@ -2,7 +2,10 @@
 //! series, marks and the legend (inside the plot where it covers no data, else a key row
 //! above it).
 
-use super::*;
+use crate::axis::*;
+use crate::chart::*;
+use crate::legend::*;
+use crate::svg::*;
 
 /// Greedy word wrap of `text` at `size` into lines at most `width` wide.
 pub(super) fn wrap(text: &str, size: f64, width: f64) -> Vec<String> {
@@ -308,27 +311,6 @@ fn drawn_points(chart: &Chart, xa: &Axis, ya: &Axis, rect: Rect) -> Vec<(f64, f6
     out
 }
 
-/// The dash of each event line of a chart: its own, or the next of [`Dash::EVENTS`] for
-/// each new label.
-pub(super) fn event_dashes(chart: &Chart) -> Vec<Dash> {
-    let mut seen: Vec<&str> = Vec::new();
-    chart
-        .marks
-        .iter()
-        .map(|m| match (m.kind, m.style) {
-            (MarkKind::VLine, Some(MarkStyle::Dash(d))) => d,
-            (MarkKind::VLine, _) => {
-                let k = seen.iter().position(|l| *l == m.label).unwrap_or_else(|| {
-                    seen.push(&m.label);
-                    seen.len() - 1
-                });
-                Dash::EVENTS[k % Dash::EVENTS.len()]
-            }
-            _ => Dash::Solid,
-        })
-        .collect()
-}
-
 pub(super) fn draw_chart(
     svg: &mut Svg,
     area: Rect,
@@ -472,7 +454,7 @@ fn draw_series(svg: &mut Svg, chart: &Chart, axes: (&Axis, &Axis), rect: Rect, c
         for run in runs(&s.points, xl, yl) {
             let px: Vec<(f64, f64)> = run.iter().map(|&p| to_px(p)).collect();
             if s.style != Style::Points {
-                svg.polyline(&px, &col, s.line_width(), s.line_dash().pattern(), clip);
+                svg.polyline(&px, &col, crate::svg::LINE_W * s.width_factor(), s.line_dash().pattern(), clip);
             }
         }
         for (p, e) in s.points.iter().zip(&s.err) {
@@ -544,19 +526,8 @@ fn draw_marks(svg: &mut Svg, chart: &Chart, axes: (&Axis, &Axis), rect: Rect) {
     }
 }
 
-/// The marker of a highlighted point.
-pub(super) fn point_marker(m: &Mark) -> Marker {
-    match m.style {
-        Some(MarkStyle::Marker(k)) => k,
-        _ => Marker::of_color(m.color),
-    }
-}
-
 /// How many markers a [`Style::LinePoints`] series shows at most.
 pub(super) const MARKERS_ON_A_LINE: usize = 12;
-
-/// The fill of an obstacle's solid side.
-pub(super) const OBSTACLE_FILL: &str = "#d6d6d6";
 
 /// Cell edges around strictly increasing centres.
 pub(super) fn edges(centres: &[f64], what: &str) -> Result<Vec<f64>, String> {

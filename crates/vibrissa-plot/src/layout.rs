@@ -1,7 +1,11 @@
 //! The canvas of a figure at its printed size (`--size`): panels, heading and shared key
 //! laid out in points.
 
-use super::*;
+use crate::axis::*;
+use crate::chart::*;
+use crate::draw::*;
+use crate::legend::*;
+use crate::svg::*;
 
 /// Renders charts under a [`Heading`] (what [`FigureStyle::write_panels_with_heading`]
 /// writes), printed at `print`.

@@ -1,7 +1,8 @@
 //! Legends: entries sized to their text, drawn as a box inside the plot where it covers no
 //! data, or as a key of centred rows above the plot (and above the panels of a figure).
 
-use super::*;
+use crate::chart::*;
+use crate::svg::*;
 
 /// One legend entry.
 pub(super) enum Entry<'a> {
@@ -122,7 +123,7 @@ pub(super) fn draw_legend_entry(svg: &mut Svg, x: f64, cy: f64, e: &Entry<'_>) {
                     (sx0, cy),
                     (sx1, cy),
                     &col,
-                    s.line_width(),
+                    crate::svg::LINE_W * s.width_factor(),
                     s.line_dash().pattern(),
                 );
             }

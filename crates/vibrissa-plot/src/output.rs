@@ -8,8 +8,10 @@
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
-use super::*;
+use crate::chart::*;
 use crate::error::PlotError;
+use crate::layout::*;
+use crate::svg::*;
 use vibrissa_io::atomic::write_atomic;
 
 /// Which files a figure is written as: `--figures none|svg|png|all`.
@@ -173,16 +175,6 @@ where
 /// The PNG written beside the SVG `svg`: same name, extension `png`.
 pub fn png_path(svg: &Path) -> PathBuf {
     svg.with_extension("png")
-}
-
-/// The heading of a multi-panel figure: a title, a note and one legend for all panels (the
-/// entries of the first chart), above the panels.
-#[derive(Debug, Clone, PartialEq, Default)]
-pub struct Heading {
-    /// The figure's title.
-    pub title: String,
-    /// A note line under it (scene, units).
-    pub note: String,
 }
 
 /// Renders a figure's SVG (unless no figures are wanted) and writes it with its PNG twin

@@ -3,7 +3,10 @@
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use super::*;
+use std::fmt::Write as _;
+use std::sync::OnceLock;
+
+use crate::chart::*;
 
 /// The embedded font (DejaVu Sans, free licence, shipped by the `dejavu` crate).
 pub(super) fn font_data() -> &'static [u8] {

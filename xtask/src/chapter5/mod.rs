@@ -3,19 +3,18 @@
 //!
 //! [`mod@observables`] draws the observables of each group of sweeps (Figs. 5.9-5.43, 5.46)
 //! and writes the sweeps' CSVs; [`mod@sketch`] draws the scene sketches (Figs. 5.8, 5.21,
-//! 5.34, 5.44). This module holds the house style both share: case labels, contact-phase
+//! 5.34, 5.44). [`mod@style`] holds the house style both share: case labels, contact-phase
 //! lines and the figure with one key above its panels.
 
 mod friction;
 mod observables;
 mod sketch;
+mod style;
 
-use contact_sim::Phase;
 use vibrissa_io::atomic::OutputDir;
-use vibrissa_plot::{Chart, Dash};
 
-use crate::common::{self, Ctx, Layout, SweepRun};
-use crate::{Entry, Failure, Report};
+use crate::common::{self, Ctx, SweepRun};
+use crate::{Failure, Report};
 
 use observables::{observables, observables_all};
 use sketch::sketch;
@@ -69,51 +68,4 @@ pub fn run(out: &OutputDir, report: &mut Report, ctx: &mut Ctx) -> Result<(), Fa
     // Beyond the thesis: the README's friction figure (issue 39).
     friction::friction(out, report);
     Ok(())
-}
-
-/// A legend label for a case label: `q=5` → `q = 5`, `theta=0.5 k=inf` → `ϑ = 0.5, k = ∞`,
-/// `A=0 B=-0.5` → `A = 0, B = −0.5`.
-fn pretty_label(label: &str) -> String {
-    label
-        .split_whitespace()
-        .map(|part| match part.split_once('=') {
-            Some((name, value)) => {
-                let name = if name == "theta" { "ϑ" } else { name };
-                let value = match value {
-                    "inf" => "∞".to_string(),
-                    "-inf" => "−∞".to_string(),
-                    v => v.replacen('-', "−", 1),
-                };
-                format!("{name} = {value}")
-            }
-            None => part.to_string(),
-        })
-        .collect::<Vec<_>>()
-        .join(", ")
-}
-
-/// The colour, dash and legend text of a contact phase (the CLI's house style: no contact
-/// dotted grey, phase A solid blue, phase B dashed orange).
-fn phase_style(p: Phase) -> (usize, usize, Dash, &'static str) {
-    match p {
-        Phase::None => (0, 7, Dash::Dotted, "no contact"),
-        Phase::A => (1, 0, Dash::Solid, "phase A (tip)"),
-        Phase::B => (2, 1, Dash::Dashed, "phase B (tangential)"),
-    }
-}
-
-/// Writes `charts` as one figure `name` (SVG and PNG) laid out by `layout` (`cols` panels
-/// a row, one key for all panels above them from the first chart's legend, and the note
-/// under it); records the file. With `column`, the figure is one journal column wide
-/// instead of the page.
-fn figure(
-    out: &OutputDir,
-    entry: &mut Entry,
-    name: &str,
-    charts: &[Chart],
-    layout: &Layout<'_>,
-    column: bool,
-) -> Result<(), String> {
-    let style = if column { common::COLUMN } else { common::PAGE };
-    common::svg_headed(style, out, entry, name, charts, layout)
 }

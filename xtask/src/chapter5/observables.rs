@@ -8,7 +8,7 @@ use vibrissa_io::atomic::OutputDir;
 use vibrissa_io::csvio::CsvWriter;
 use vibrissa_plot::{Chart, Dash, Marker, Series, Style};
 
-use super::{figure, phase_style, pretty_label};
+use super::style::{figure, phase_style, pretty_label};
 use crate::captions::caption;
 use crate::common::{self, fig_stem, md_table, note_err, sig, Layout, SweepRun, SWEEP_POINTS};
 use crate::{Entry, Report};

@@ -23,7 +23,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::thread::JoinHandle;
 
-#[cfg(any(test, doc))]
+#[cfg(doc)]
 use super::OutputDir;
 use crate::error::IoError;
 
@@ -196,6 +196,7 @@ pub(crate) fn sync_dir(dir: &Path) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::atomic::OutputDir;
 
     #[test]
     fn staged_files_are_written_in_place_and_others_through_a_temporary() {

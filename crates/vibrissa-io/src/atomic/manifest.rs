@@ -14,8 +14,7 @@ use std::path::{Path, PathBuf};
 
 use crate::error::IoError;
 
-/// The manifest's file name, in the output folder itself.
-pub const MANIFEST: &str = ".vibrissa-output";
+pub use super::names::MANIFEST;
 
 /// The manifest's first line.
 const HEADER: &str = "# vibrissa output folder: the files vibrissa wrote here, one a line; a \

@@ -55,6 +55,7 @@ pub mod file;
 pub mod folder;
 pub mod lock;
 pub mod manifest;
+mod names;
 pub mod swap;
 
 pub use file::write_atomic;

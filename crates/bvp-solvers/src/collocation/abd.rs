@@ -64,6 +64,25 @@ impl AbdMatrix {
         }
     }
 
+    /// Sizes the blocks for `m` nodes, `n` states and `k` parameters, keeping the buffers
+    /// (and any old values: the caller writes every block before it is factored).
+    pub fn resize(&mut self, n: usize, k: usize, m: usize) {
+        let mi = m.saturating_sub(1);
+        (self.n, self.k, self.m) = (n, k, m);
+        self.a.resize(mi * n * n, 0.0);
+        self.c.resize(mi * n * n, 0.0);
+        self.p.resize(mi * n * k, 0.0);
+        self.ba.resize((n + k) * n, 0.0);
+        self.bb.resize((n + k) * n, 0.0);
+        self.bp.resize((n + k) * k, 0.0);
+    }
+
+    /// Bytes held (capacities).
+    pub fn bytes(&self) -> usize {
+        let v = [&self.a, &self.c, &self.p, &self.ba, &self.bb, &self.bp];
+        v.iter().map(|b| b.capacity()).sum::<usize>() * std::mem::size_of::<f64>()
+    }
+
     /// The product `J x` (for tests and residual checks); `x` ordered `[y_0, ..., y_{m-1}, p]`.
     pub fn mul(&self, x: &[f64]) -> Vec<f64> {
         let (n, k, m) = (self.n, self.k, self.m);
@@ -114,12 +133,22 @@ pub struct AbdLu {
     /// The final dense LU, `(2n+k)^2`, and its row permutation.
     fin: Vec<f64>,
     fin_perm: Vec<usize>,
+    /// Scratch of the elimination: the carry and the interval's rows, `2n * w`.
+    work: Vec<f64>,
 }
 
 impl AbdLu {
     /// Factors `mat`; [`BvpError::SingularJacobian`] with the global row (`j * n + step`) and
     /// pivot when a pivot is zero or below `1e-14` of the matrix's largest entry.
     pub fn factor(mat: &AbdMatrix) -> Result<Self, BvpError> {
+        let mut lu = AbdLu::default();
+        lu.factor_into(mat)?;
+        Ok(lu)
+    }
+
+    /// [`Self::factor`] into `self`, reusing its buffers (no allocation once they have
+    /// grown to the mesh's size: the Newton iterations and meshes of one solve share them).
+    pub fn factor_into(&mut self, mat: &AbdMatrix) -> Result<(), BvpError> {
         let (n, k, m) = (mat.n, mat.k, mat.m);
         let w = 3 * n + k;
         let scale = mat
@@ -140,23 +169,23 @@ impl AbdLu {
         let tiny = 1e-14 * scale;
         let nint = m - 1;
         let nel = nint.saturating_sub(1);
-        let mut lu = AbdLu {
-            n,
-            k,
-            m,
-            w,
-            swaps: vec![0; nel * n],
-            mult: vec![0.0; nel * n * 2 * n],
-            piv: vec![0.0; nel * n * w],
-            fin: Vec::new(),
-            fin_perm: Vec::new(),
-        };
+        let nf = 2 * n + k;
+        (self.n, self.k, self.m, self.w) = (n, k, m, w);
+        // every entry read later is written below: resizing keeps old values, fills no memory
+        let lu = self;
+        lu.swaps.resize(nel * n, 0);
+        lu.mult.resize(nel * n * 2 * n, 0.0);
+        lu.piv.resize(nel * n * w, 0.0);
+        lu.fin.resize(nf * nf, 0.0);
+        lu.fin_perm.resize(nf, 0);
+        let mut work = std::mem::take(&mut lu.work);
+        work.resize(2 * n * w, 0.0);
         // carry: n rows of width w, columns y_0 | y_cur | (unused) | p
-        let mut work = vec![0.0; 2 * n * w];
         for r in 0..n {
             let row = &mut work[r * w..(r + 1) * w];
             row[..n].copy_from_slice(&mat.a[r * n..(r + 1) * n]);
             row[n..2 * n].copy_from_slice(&mat.c[r * n..(r + 1) * n]);
+            row[2 * n..3 * n].fill(0.0);
             row[3 * n..].copy_from_slice(&mat.p[r * k..(r + 1) * k]);
         }
         for e in 0..nel {
@@ -181,6 +210,7 @@ impl AbdLu {
                     }
                 }
                 if bv.is_nan() || bv <= tiny {
+                    lu.work = work;
                     return Err(BvpError::SingularJacobian {
                         row: j * n + s,
                         pivot: bv,
@@ -226,8 +256,7 @@ impl AbdLu {
             }
         }
         // final system in (y_0, y_{m-1}, p): carry rows then boundary rows
-        let nf = 2 * n + k;
-        let mut fin = vec![0.0; nf * nf];
+        let fin = &mut lu.fin;
         for r in 0..n {
             let row = &mut fin[r * nf..(r + 1) * nf];
             row[..2 * n].copy_from_slice(&work[r * w..r * w + 2 * n]);
@@ -239,7 +268,10 @@ impl AbdLu {
             row[n..2 * n].copy_from_slice(&mat.bb[r * n..(r + 1) * n]);
             row[2 * n..].copy_from_slice(&mat.bp[r * k..(r + 1) * k]);
         }
-        let mut perm: Vec<usize> = (0..nf).collect();
+        let perm = &mut lu.fin_perm;
+        for (i, v) in perm.iter_mut().enumerate() {
+            *v = i;
+        }
         for s in 0..nf {
             let mut best = s;
             let mut bv = fin[s * nf + s].abs();
@@ -251,6 +283,7 @@ impl AbdLu {
                 }
             }
             if bv.is_nan() || bv <= tiny {
+                lu.work = work;
                 return Err(BvpError::SingularJacobian {
                     row: (m - 1) * n + s,
                     pivot: bv,
@@ -273,9 +306,16 @@ impl AbdLu {
                 }
             }
         }
-        lu.fin = fin;
-        lu.fin_perm = perm;
-        Ok(lu)
+        lu.work = work;
+        Ok(())
+    }
+
+    /// Bytes held (capacities).
+    pub fn bytes(&self) -> usize {
+        let v = [&self.mult, &self.piv, &self.fin, &self.work];
+        let u = [&self.swaps, &self.fin_perm];
+        v.iter().map(|b| b.capacity()).sum::<usize>() * std::mem::size_of::<f64>()
+            + u.iter().map(|b| b.capacity()).sum::<usize>() * std::mem::size_of::<usize>()
     }
 
     /// Solves `J x = b` in place (`b` ordered as the rows: intervals, then boundary rows; `x`
@@ -285,7 +325,7 @@ impl AbdLu {
         let nel = (m - 1).saturating_sub(1);
         let nf = 2 * n + k;
         // tmp: pivot-row rhs per eliminated interval (nel * n), then 2n working rhs, then nf
-        tmp.clear();
+        // every entry is written before it is read: no clearing
         tmp.resize(nel * n + 2 * n + nf, 0.0);
         let (prhs, rest) = tmp.split_at_mut(nel * n);
         let (wr, fr) = rest.split_at_mut(2 * n);
@@ -305,11 +345,10 @@ impl AbdLu {
             wr.copy_within(n..2 * n, 0);
         }
         // final system
-        let mut rhs = vec![0.0; nf];
-        rhs[..n].copy_from_slice(&wr[..n]);
-        rhs[n..].copy_from_slice(&b[(m - 1) * n..]);
+        // the right-hand side (carry, then boundary rows) in the pivoted order
+        let bb = &b[(m - 1) * n..];
         for (i, &pi) in self.fin_perm.iter().enumerate() {
-            fr[i] = rhs[pi];
+            fr[i] = if pi < n { wr[pi] } else { bb[pi - n] };
         }
         for s in 0..nf {
             let v = fr[s];

@@ -66,129 +66,22 @@ pub mod hermite;
 pub mod mesh;
 pub mod newton;
 pub mod problem;
+pub mod separated;
 pub mod system;
 #[cfg(test)]
 mod tests;
+pub mod types;
+pub mod workspace;
 
 pub use problem::{BvpProblem, FnProblem, FnProblemJac};
+pub use types::{BvpOptions, BvpSolution, BvpStats};
 
 use crate::BvpError;
-use abd::AbdMatrix;
-use system::{Colloc, Singular, System};
+use system::{Singular, System};
 
 /// Meshes solved before refinement that neither meets `tol` nor exhausts `max_nodes` (node
 /// removal can cycle) is reported as [`BvpError::NoConvergence`].
 pub const MAX_MESHES: usize = 200;
-
-/// Options of [`solve_bvp`]; the defaults are scipy's.
-#[derive(Debug, Clone, PartialEq)]
-pub struct BvpOptions {
-    /// The relative residual asked for (scipy's `tol`, default `1e-3`; raised to `100 eps`
-    /// if smaller).
-    pub tol: f64,
-    /// Tolerance of the boundary residuals (`None`: `tol`, as scipy).
-    pub bc_tol: Option<f64>,
-    /// Largest mesh allowed (default 1000, scipy's).
-    pub max_nodes: usize,
-    /// The `n x n` matrix `S` (row-major) of a singular term `S y / (x - a)`.
-    pub singular: Option<Vec<f64>>,
-    /// Remove nodes where the residual is far below `tol` while refining elsewhere (bvp4c's
-    /// rule, [`mesh::removable`]; default `true`). scipy never removes nodes.
-    pub remove_nodes: bool,
-    /// Meshes solved without refinement before boundary residuals above `bc_tol` are reported
-    /// as [`BvpError::NoConvergence`] (default 10, scipy's `max_iteration`).
-    pub max_iterations: usize,
-}
-
-impl Default for BvpOptions {
-    fn default() -> Self {
-        Self {
-            tol: 1e-3,
-            bc_tol: None,
-            max_nodes: 1000,
-            singular: None,
-            remove_nodes: true,
-            max_iterations: 10,
-        }
-    }
-}
-
-/// Work counts of a solve.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct BvpStats {
-    /// Nodes of the final mesh.
-    pub nodes: usize,
-    /// Meshes solved (1 + refinements + bc-only repeats).
-    pub mesh_iterations: usize,
-    /// Newton iterations over all meshes.
-    pub newton_iterations: usize,
-    /// Jacobians evaluated (and factored).
-    pub jacobian_evaluations: usize,
-    /// Evaluations of `f`, those for differenced Jacobians included.
-    pub rhs_evaluations: usize,
-    /// Evaluations of `f` spent on differenced Jacobians.
-    pub rhs_evaluations_for_jacobian: usize,
-    /// Evaluations of `bc`.
-    pub bc_evaluations: usize,
-    /// Whether `df/dy` was differenced (no analytic Jacobian).
-    pub jacobian_by_differences: bool,
-}
-
-/// The solution of [`solve_bvp`]: the final mesh, the values and slopes there, the parameters
-/// and the residuals reached (the error estimate).
-#[derive(Debug, Clone, PartialEq)]
-pub struct BvpSolution {
-    /// The final mesh.
-    pub x: Vec<f64>,
-    /// `y` at each node.
-    pub y: Vec<Vec<f64>>,
-    /// `y' = f(x, y, p)` (with the singular term) at each node.
-    pub yp: Vec<Vec<f64>>,
-    /// The parameters found.
-    pub p: Vec<f64>,
-    /// The relative RMS residual of each interval (see the module doc).
-    pub rms_residuals: Vec<f64>,
-    /// The largest of [`Self::rms_residuals`].
-    pub max_rms_residual: f64,
-    /// The largest absolute boundary residual.
-    pub max_bc_residual: f64,
-    /// Work counts.
-    pub stats: BvpStats,
-}
-
-impl BvpSolution {
-    /// `y(t)` from the `C1` cubic Hermite interpolant [H.1] (extrapolated by the end cubics
-    /// outside `[a, b]`).
-    pub fn eval(&self, t: f64) -> Vec<f64> {
-        let mut out = vec![0.0; self.y[0].len()];
-        self.eval_into(t, &mut out, &mut []);
-        out
-    }
-
-    /// `y'(t)` of the interpolant.
-    pub fn eval_derivative(&self, t: f64) -> Vec<f64> {
-        let mut out = vec![0.0; self.y[0].len()];
-        self.eval_into(t, &mut [], &mut out);
-        out
-    }
-
-    /// `y(t)` into `out` and `y'(t)` into `dout` (either may be empty).
-    pub fn eval_into(&self, t: f64, out: &mut [f64], dout: &mut [f64]) {
-        let i = hermite::interval(&self.x, t);
-        let h = self.x[i + 1] - self.x[i];
-        hermite::hermite(
-            self.x[i],
-            h,
-            &self.y[i],
-            &self.y[i + 1],
-            &self.yp[i],
-            &self.yp[i + 1],
-            t,
-            out,
-            dout,
-        );
-    }
-}
 
 /// Solves `y' = f(x, y, p)`, `bc(y(a), y(b), p) = 0` by collocation with residual control
 /// (see the module doc), with numerically differenced Jacobians.
@@ -349,7 +242,30 @@ pub fn solve_bvp_problem<P: BvpProblem + ?Sized>(
         Some(s) => Some(singular_term(s, n)?),
         None => None,
     };
+    let mut ws = workspace::take();
     let mut sys = System::new(prob, n, k, a, sing);
+    sys.jac_work = std::mem::take(&mut ws.jac);
+    let out = solve_on(
+        &mut sys, x_mesh, y_guess, p_guess, opts, tol, bc_tol, &mut ws,
+    );
+    ws.jac = std::mem::take(&mut sys.jac_work);
+    workspace::give(ws);
+    out
+}
+
+/// The mesh loop of [`solve_bvp_problem`] on checked input, with the buffers of `ws`.
+#[allow(clippy::too_many_arguments)]
+fn solve_on<P: BvpProblem + ?Sized>(
+    sys: &mut System<'_, P>,
+    x_mesh: &[f64],
+    y_guess: &[Vec<f64>],
+    p_guess: &[f64],
+    opts: &BvpOptions,
+    tol: f64,
+    bc_tol: f64,
+    ws: &mut workspace::Workspace,
+) -> Result<BvpSolution, BvpError> {
+    let (n, k) = (sys.n, sys.k);
     let mut x = x_mesh.to_vec();
     let mut y: Vec<f64> = y_guess.iter().flatten().copied().collect();
     let mut p = p_guess.to_vec();
@@ -359,18 +275,20 @@ pub fn solve_bvp_problem<P: BvpProblem + ?Sized>(
             .collect();
         y[..n].copy_from_slice(&y0);
     }
-    let mut col = Colloc::default();
-    let mut mat = AbdMatrix::default();
+    let workspace::Workspace {
+        col,
+        mat,
+        newton: work,
+        ..
+    } = ws;
     let mut bc_res = vec![0.0; n + k];
     let mut iteration = 0;
     loop {
         let m = x.len();
-        let newton = newton::solve_newton(
-            &mut sys, &x, &mut y, &mut p, tol, bc_tol, &mut col, &mut mat,
-        );
+        let newton = newton::solve_newton(sys, &x, &mut y, &mut p, tol, bc_tol, col, mat, work);
         iteration += 1;
         sys.stats.mesh_iterations += 1;
-        sys.collocation(&x, &y, &p, &mut col);
+        sys.collocation(&x, &y, &p, col);
         sys.bc(&y[..n], &y[(m - 1) * n..], &p, &mut bc_res);
         if let Some(i) = col.res.iter().position(|v| !v.is_finite()) {
             return Err(BvpError::NonFinite {
@@ -386,7 +304,7 @@ pub fn solve_bvp_problem<P: BvpProblem + ?Sized>(
         }
         newton?;
         let max_bc = bc_res.iter().fold(0.0f64, |s, v| s.max(v.abs()));
-        let rms = sys.rms_residuals(&x, &y, &p, &col);
+        let rms = sys.rms_residuals(&x, &y, &p, col);
         let max_rms = rms.iter().fold(0.0f64, |s, v| s.max(*v));
         if !max_rms.is_finite() {
             return Err(BvpError::NonFinite {
@@ -448,7 +366,7 @@ pub fn solve_bvp_problem<P: BvpProblem + ?Sized>(
                 rms_residuals: rms,
                 max_rms_residual: max_rms,
                 max_bc_residual: max_bc,
-                stats: sys.stats,
+                stats: sys.stats.clone(),
             });
         } else if iteration >= opts.max_iterations {
             return Err(BvpError::NoConvergence {

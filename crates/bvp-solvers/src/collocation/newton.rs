@@ -11,8 +11,57 @@
 
 use super::abd::{AbdLu, AbdMatrix};
 use super::problem::BvpProblem;
+use super::separated::SeparatedLu;
 use super::system::{Colloc, System};
 use crate::BvpError;
+
+/// The buffers of [`solve_newton`]: its residuals, steps, trial point and the factors of the
+/// Jacobian, kept across Newton iterations and meshes so that a solve allocates them once
+/// (resized, never cleared: every entry is written before it is read).
+#[derive(Debug, Default)]
+pub struct NewtonWork {
+    bc_res: Vec<f64>,
+    res: Vec<f64>,
+    tmp: Vec<f64>,
+    lu: AbdLu,
+    sep: SeparatedLu,
+    /// Whether the current factors are `sep`'s (separated boundary rows) or `lu`'s.
+    separated: bool,
+    step: Vec<f64>,
+    y_new: Vec<f64>,
+    p_new: Vec<f64>,
+    step_new: Vec<f64>,
+    proj: Vec<f64>,
+}
+
+impl NewtonWork {
+    /// Bytes held (capacities).
+    pub fn bytes(&self) -> usize {
+        let v = [
+            &self.bc_res,
+            &self.res,
+            &self.tmp,
+            &self.step,
+            &self.y_new,
+            &self.p_new,
+            &self.step_new,
+            &self.proj,
+        ];
+        v.iter().map(|b| b.capacity()).sum::<usize>() * std::mem::size_of::<f64>()
+            + self.lu.bytes()
+            + self.sep.bytes()
+    }
+}
+
+/// Solves with the current factors: [`SeparatedLu`]'s where the boundary rows are separated,
+/// else the bordered [`AbdLu`]'s.
+fn solve_with(lu: &AbdLu, sep: &SeparatedLu, separated: bool, b: &mut [f64], tmp: &mut Vec<f64>) {
+    if separated {
+        sep.solve_in_place(b, tmp);
+    } else {
+        lu.solve_in_place(b, tmp);
+    }
+}
 
 /// Runs Newton on the mesh `x` from `(y, p)`, updating them; `Err` only for a singular
 /// Jacobian (the caller reports it after evaluating the residuals, as scipy).
@@ -26,6 +75,7 @@ pub fn solve_newton<P: BvpProblem + ?Sized>(
     bc_tol: f64,
     col: &mut Colloc,
     mat: &mut AbdMatrix,
+    work: &mut NewtonWork,
 ) -> Result<(), BvpError> {
     let (n, k) = (sys.n, sys.k);
     let m = x.len();
@@ -35,33 +85,47 @@ pub fn solve_newton<P: BvpProblem + ?Sized>(
     const TAU: f64 = 0.5;
     const N_TRIAL: usize = 4;
     let nr = n + k;
-    let mut bc_res = vec![0.0; nr];
+    let NewtonWork {
+        bc_res,
+        res,
+        tmp,
+        lu,
+        sep,
+        separated,
+        step,
+        y_new,
+        p_new,
+        step_new,
+        proj,
+    } = work;
+    bc_res.resize(nr, 0.0);
+    res.resize(m * n + k, 0.0);
+    step.resize(m * n + k, 0.0);
+    step_new.resize(m * n + k, 0.0);
+    y_new.resize(m * n, 0.0);
+    p_new.resize(k, 0.0);
+    proj.resize(n, 0.0);
     sys.collocation(x, y, p, col);
-    sys.bc(&y[..n], &y[(m - 1) * n..], p, &mut bc_res);
-    let mut res = vec![0.0; m * n + k];
+    sys.bc(&y[..n], &y[(m - 1) * n..], p, bc_res);
     let fill = |res: &mut [f64], col: &Colloc, bc: &[f64]| {
         res[..(m - 1) * n].copy_from_slice(&col.res);
         res[(m - 1) * n..].copy_from_slice(bc);
     };
-    fill(&mut res, col, &bc_res);
-    let mut tmp = Vec::new();
+    fill(res, col, bc_res);
     let mut njev = 0;
     let mut recompute = true;
-    let mut lu = AbdLu::default();
-    let mut step = vec![0.0; m * n + k];
     let mut cost = 0.0;
-    let mut y_new = vec![0.0; m * n];
-    let mut p_new = vec![0.0; k];
-    let mut step_new = vec![0.0; m * n + k];
-    let mut proj = vec![0.0; n];
     for _ in 0..MAX_ITER {
         sys.stats.newton_iterations += 1;
         if recompute {
-            sys.jacobian(x, y, p, col, &bc_res, mat);
+            sys.jacobian(x, y, p, col, bc_res, mat);
             njev += 1;
-            lu = AbdLu::factor(mat)?;
-            step.copy_from_slice(&res);
-            lu.solve_in_place(&mut step, &mut tmp);
+            *separated = sep.factor_into(mat)?;
+            if !*separated {
+                lu.factor_into(mat)?;
+            }
+            step.copy_from_slice(res);
+            solve_with(lu, sep, *separated, step, tmp);
             cost = step.iter().map(|v| v * v).sum();
         }
         let mut alpha = 1.0;
@@ -74,16 +138,16 @@ pub fn solve_newton<P: BvpProblem + ?Sized>(
                 for r in 0..n {
                     proj[r] = (0..n).map(|c| sg.b[r * n + c] * y_new[c]).sum();
                 }
-                y_new[..n].copy_from_slice(&proj);
+                y_new[..n].copy_from_slice(proj);
             }
             for i in 0..k {
                 p_new[i] = p[i] - alpha * step[m * n + i];
             }
-            sys.collocation(x, &y_new, &p_new, col);
-            sys.bc(&y_new[..n], &y_new[(m - 1) * n..], &p_new, &mut bc_res);
-            fill(&mut res, col, &bc_res);
-            step_new.copy_from_slice(&res);
-            lu.solve_in_place(&mut step_new, &mut tmp);
+            sys.collocation(x, y_new, p_new, col);
+            sys.bc(&y_new[..n], &y_new[(m - 1) * n..], p_new, bc_res);
+            fill(res, col, bc_res);
+            step_new.copy_from_slice(res);
+            solve_with(lu, sep, *separated, step_new, tmp);
             cost_new = step_new.iter().map(|v| v * v).sum();
             if cost_new < (1.0 - 2.0 * alpha * SIGMA) * cost {
                 break;
@@ -93,8 +157,8 @@ pub fn solve_newton<P: BvpProblem + ?Sized>(
             }
         }
         // the last trial is kept even when it failed the Armijo test, as scipy does
-        std::mem::swap(y, &mut y_new);
-        std::mem::swap(p, &mut p_new);
+        std::mem::swap(y, y_new);
+        std::mem::swap(p, p_new);
         if njev == MAX_NJEV {
             break;
         }
@@ -115,7 +179,7 @@ pub fn solve_newton<P: BvpProblem + ?Sized>(
             break;
         }
         if alpha == 1.0 {
-            std::mem::swap(&mut step, &mut step_new);
+            std::mem::swap(step, step_new);
             cost = cost_new;
             recompute = false;
         } else {

@@ -42,8 +42,9 @@ pub trait BvpProblem {
     fn rhs(&self, x: f64, y: &[f64], p: &[f64], dy: &mut [f64]);
     /// `res = bc(ya, yb, p)`, `n + k` residuals.
     fn bc(&self, ya: &[f64], yb: &[f64], p: &[f64], res: &mut [f64]);
-    /// `dfdy` (`n x n`, row-major) and `dfdp` (`n x k`) of `f` at `(x, y, p)`; return `false`
-    /// (the default) to have the solver difference `f` numerically.
+    /// `dfdy` (`n x n`, row-major) and `dfdp` (`n x k`) of `f` at `(x, y, p)` (both come
+    /// zeroed: writing the non-zero entries suffices); return `false` (the default) to have
+    /// the solver difference `f` numerically.
     fn rhs_jacobian(
         &self,
         _x: f64,
@@ -54,8 +55,8 @@ pub trait BvpProblem {
     ) -> bool {
         false
     }
-    /// `dya`, `dyb` (`(n+k) x n`, row-major) and `dp` (`(n+k) x k`) of `bc`; return `false`
-    /// (the default) to have the solver difference `bc` numerically.
+    /// `dya`, `dyb` (`(n+k) x n`, row-major) and `dp` (`(n+k) x k`) of `bc` (all come
+    /// zeroed); return `false` (the default) to have the solver difference `bc` numerically.
     fn bc_jacobian(
         &self,
         _ya: &[f64],

@@ -8,7 +8,7 @@
 use super::abd::AbdMatrix;
 use super::hermite::hermite;
 use super::problem::{fd_step, BvpProblem};
-use super::BvpStats;
+use super::types::BvpStats;
 
 /// The singular term `S y / (x - a)`: `S`, `D = (I - S)^+` (the limit `f(a) = D f(a, y(a))`
 /// at `x = a`) and `B = I - S^+ S` (the projector that enforces `S y(a) = 0`), row-major.
@@ -37,6 +37,22 @@ pub struct System<'a, P: ?Sized> {
     pub stats: BvpStats,
     buf: Vec<f64>,
     buf2: Vec<f64>,
+    /// Scratch of [`Self::jacobian`] kept across Jacobians (no allocation per Newton step):
+    /// `df/dy`, `df/dp` at the nodes and at one midpoint, and the perturbed point.
+    pub jac_work: JacWork,
+    /// Whether the problem's `rhs_jacobian` answered (`None` before the first call).
+    analytic: Option<bool>,
+}
+
+/// The buffers of [`System::jacobian`] and [`System::fun_jac`] (resized, never cleared).
+#[derive(Debug, Default)]
+pub struct JacWork {
+    jn: Vec<f64>,
+    qn: Vec<f64>,
+    jm: Vec<f64>,
+    qm: Vec<f64>,
+    yy: Vec<f64>,
+    pp: Vec<f64>,
 }
 
 fn matvec(a: &[f64], x: &[f64], out: &mut [f64]) {
@@ -51,7 +67,7 @@ fn matvec(a: &[f64], x: &[f64], out: &mut [f64]) {
 }
 
 /// The outputs of [`System::collocation`], each flat with `n` values per point.
-#[derive(Default)]
+#[derive(Debug, Default)]
 pub struct Colloc {
     /// `f` at the nodes (`m * n`).
     pub f: Vec<f64>,
@@ -61,6 +77,22 @@ pub struct Colloc {
     pub f_mid: Vec<f64>,
     /// The collocation residuals [eq. (2)], `(m-1) * n`.
     pub res: Vec<f64>,
+}
+
+impl JacWork {
+    /// Bytes held (capacities).
+    pub fn bytes(&self) -> usize {
+        let v = [&self.jn, &self.qn, &self.jm, &self.qm, &self.yy, &self.pp];
+        v.iter().map(|b| b.capacity()).sum::<usize>() * std::mem::size_of::<f64>()
+    }
+}
+
+impl Colloc {
+    /// Bytes held (capacities).
+    pub fn bytes(&self) -> usize {
+        let v = [&self.f, &self.y_mid, &self.f_mid, &self.res];
+        v.iter().map(|b| b.capacity()).sum::<usize>() * std::mem::size_of::<f64>()
+    }
 }
 
 impl<'a, P: BvpProblem + ?Sized> System<'a, P> {
@@ -75,6 +107,8 @@ impl<'a, P: BvpProblem + ?Sized> System<'a, P> {
             stats: BvpStats::default(),
             buf: vec![0.0; n + k],
             buf2: vec![0.0; 2 * (n + k)],
+            jac_work: JacWork::default(),
+            analytic: None,
         }
     }
 
@@ -111,7 +145,14 @@ impl<'a, P: BvpProblem + ?Sized> System<'a, P> {
         dfdp: &mut [f64],
     ) {
         let (n, k) = (self.n, self.k);
-        if self.prob.rhs_jacobian(x, y, p, dfdy, dfdp) {
+        // zeroed for an analytic Jacobian that writes its non-zero entries only
+        if self.analytic != Some(false) {
+            dfdy.fill(0.0);
+            dfdp.fill(0.0);
+        }
+        let analytic = self.prob.rhs_jacobian(x, y, p, dfdy, dfdp);
+        self.analytic = Some(analytic);
+        if analytic {
             if let Some(sg) = &self.sing {
                 if x == self.a {
                     let mut t = vec![0.0; n * n];
@@ -138,7 +179,9 @@ impl<'a, P: BvpProblem + ?Sized> System<'a, P> {
             return;
         }
         self.stats.jacobian_by_differences = true;
-        let mut yy = y.to_vec();
+        let mut yy = std::mem::take(&mut self.jac_work.yy);
+        yy.clear();
+        yy.extend_from_slice(y);
         let mut fnew = std::mem::take(&mut self.buf);
         fnew.resize(n, 0.0);
         for c in 0..n {
@@ -153,7 +196,9 @@ impl<'a, P: BvpProblem + ?Sized> System<'a, P> {
             yy[c] = y[c];
         }
         if k > 0 {
-            let mut pp = p.to_vec();
+            let mut pp = std::mem::take(&mut self.jac_work.pp);
+            pp.clear();
+            pp.extend_from_slice(p);
             for c in 0..k {
                 let hs = fd_step(p[c]);
                 pp[c] = p[c] + hs;
@@ -165,7 +210,9 @@ impl<'a, P: BvpProblem + ?Sized> System<'a, P> {
                 }
                 pp[c] = p[c];
             }
+            self.jac_work.pp = pp;
         }
+        self.jac_work.yy = yy;
         self.buf = fnew;
     }
 
@@ -179,6 +226,9 @@ impl<'a, P: BvpProblem + ?Sized> System<'a, P> {
     /// `(ya, yb, p)`.
     pub fn bc_jac(&mut self, ya: &[f64], yb: &[f64], p: &[f64], r0: &[f64], mat: &mut AbdMatrix) {
         let (n, k) = (self.n, self.k);
+        mat.ba.fill(0.0);
+        mat.bb.fill(0.0);
+        mat.bp.fill(0.0);
         if self
             .prob
             .bc_jacobian(ya, yb, p, &mut mat.ba, &mut mat.bb, &mut mat.bp)
@@ -273,14 +323,19 @@ impl<'a, P: BvpProblem + ?Sized> System<'a, P> {
     ) {
         let (n, k) = (self.n, self.k);
         let m = x.len();
-        if mat.n != n || mat.k != k || mat.m != m {
-            *mat = AbdMatrix::zeros(n, k, m);
-        }
+        mat.resize(n, k, m);
         self.stats.jacobian_evaluations += 1;
         let nn = n * n;
         let nk = n * k;
-        let mut jn = vec![0.0; m * nn];
-        let mut qn = vec![0.0; m * nk];
+        let mut jn = std::mem::take(&mut self.jac_work.jn);
+        let mut qn = std::mem::take(&mut self.jac_work.qn);
+        let mut jm = std::mem::take(&mut self.jac_work.jm);
+        let mut qm = std::mem::take(&mut self.jac_work.qm);
+        // written by `fun_jac` before they are read: resized, not cleared
+        jn.resize(m * nn, 0.0);
+        qn.resize(m * nk, 0.0);
+        jm.resize(nn, 0.0);
+        qm.resize(nk, 0.0);
         for i in 0..m {
             let (jy, jp) = (&mut jn[i * nn..(i + 1) * nn], &mut qn[i * nk..(i + 1) * nk]);
             self.fun_jac(
@@ -292,8 +347,6 @@ impl<'a, P: BvpProblem + ?Sized> System<'a, P> {
                 jp,
             );
         }
-        let mut jm = vec![0.0; nn];
-        let mut qm = vec![0.0; nk];
         for i in 0..m - 1 {
             let h = x[i + 1] - x[i];
             let xm = x[i] + 0.5 * h;
@@ -348,6 +401,10 @@ impl<'a, P: BvpProblem + ?Sized> System<'a, P> {
                 }
             }
         }
+        self.jac_work.jn = jn;
+        self.jac_work.qn = qn;
+        self.jac_work.jm = jm;
+        self.jac_work.qm = qm;
         let ya = &y[..n];
         let yb = &y[(m - 1) * n..];
         self.bc_jac(ya, yb, p, bc0, mat);

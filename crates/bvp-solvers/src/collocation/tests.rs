@@ -10,9 +10,9 @@ use super::system::System;
 use super::*;
 
 /// A small seeded generator (xorshift64*), uniform in `[-1, 1)`.
-struct Rng(u64);
+pub(super) struct Rng(pub(super) u64);
 impl Rng {
-    fn next(&mut self) -> f64 {
+    pub(super) fn next(&mut self) -> f64 {
         self.0 ^= self.0 >> 12;
         self.0 ^= self.0 << 25;
         self.0 ^= self.0 >> 27;
@@ -22,7 +22,7 @@ impl Rng {
 }
 
 /// The full matrix of an ABD system, column by column from `J e_c`.
-fn to_dense(mat: &AbdMatrix) -> Vec<Vec<f64>> {
+pub(super) fn to_dense(mat: &AbdMatrix) -> Vec<Vec<f64>> {
     let nt = mat.m * mat.n + mat.k;
     let mut d = vec![vec![0.0; nt]; nt];
     for c in 0..nt {
@@ -36,7 +36,7 @@ fn to_dense(mat: &AbdMatrix) -> Vec<Vec<f64>> {
 }
 
 /// Dense Gaussian elimination with partial pivoting (the reference).
-fn dense_solve(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Vec<f64> {
+pub(super) fn dense_solve(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Vec<f64> {
     let n = b.len();
     for k in 0..n {
         let p = (k..n)

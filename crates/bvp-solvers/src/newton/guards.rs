@@ -1,9 +1,9 @@
 //! The safeguards of [`newton_guarded`](super::newton_guarded): a largest step, stall
 //! detection, the predicted exit and the negligible-step exit.
 
+use super::system::{evaluate_again, NewtonAnswer, NewtonSystem, Termination};
 #[cfg(doc)]
 use super::{newton, newton_guarded, NewtonPolicy};
-use super::{NewtonAnswer, NewtonSystem, Termination};
 
 /// Safeguards of [`newton_guarded`] beyond the [`NewtonPolicy`]: a largest step, stall
 /// detection and two early exits that save the evaluation of a step predicted to converge.
@@ -158,7 +158,7 @@ pub(super) fn early_exit<const N: usize, const M: usize, S: NewtonSystem<N, M>>(
         }) if !predicted => bound,
         _ => return Ok(Some(Termination::Predicted)),
     };
-    super::evaluate_again(sys, ans, false)?;
+    evaluate_again(sys, ans, false)?;
     Ok(Some(if ans.norm <= check * scale {
         Termination::Converged
     } else {

@@ -4,8 +4,18 @@
 //! ([`StepInterpolant`]).
 
 use super::coef::*;
-use super::Interpolant;
 use crate::integrator::OdeSystem;
+
+/// How much of the current step's interpolant is computed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Interpolant {
+    /// None yet.
+    None,
+    /// The cubic Hermite part (the step's ends and slopes: no extra evaluation).
+    Cubic,
+    /// Hairer's 7th-order continuous extension (three extra evaluations).
+    Full,
+}
 
 /// Result of a [`Dop853`](super::Dop853) integration: the end state and (optionally) the dense output.
 #[derive(Clone, Debug)]
@@ -322,16 +332,11 @@ impl OdeSolution {
         sol
     }
 
-    /// Stores the stepper's held step, ending at `end`, with its interpolant (prepared in
-    /// full by the caller).
-    pub(super) fn store_step<S: OdeSystem + ?Sized>(
-        &mut self,
-        st: &super::Stepper<'_, S>,
-        end: f64,
-    ) {
-        let (rc, _) = st.coefficients();
+    /// Stores a step of size `h` ending at `end` with its interpolant's coefficients `rc`
+    /// (the stepper's held step, prepared in full by the caller).
+    pub(super) fn store_step(&mut self, end: f64, h: f64, rc: &[f64]) {
         self.points.push(end);
-        self.hs.push(st.h());
+        self.hs.push(h);
         self.cont.extend_from_slice(rc);
     }
 

@@ -15,8 +15,9 @@ mod stepper;
 
 use super::OdeSystem;
 use crate::{BvpError, Result};
+pub use dense::Interpolant;
 pub use dense::{OdeSolution, StepInterpolant};
-pub use stepper::{Interpolant, Stepper};
+pub use stepper::Stepper;
 
 /// Dormand-Prince 8(5,3) (Hairer's `DOP853`) with step-size control, dense output of order 7,
 /// and event location.
@@ -180,7 +181,7 @@ impl Dop853 {
                 let (g_new, hit) = st.crossing(ev, g_old)?;
                 if let Some(e) = hit {
                     if self.dense {
-                        sol.store_step(&st, e.s);
+                        sol.store_step(e.s, st.h(), st.coefficients().0);
                     }
                     sol.s_end = e.s;
                     sol.u_end.copy_from_slice(&e.u);
@@ -191,7 +192,8 @@ impl Dop853 {
                 g_old = g_new;
             }
             if self.dense {
-                sol.store_step(&st, if st.is_last() { s1 } else { st.end() });
+                let end = if st.is_last() { s1 } else { st.end() };
+                sol.store_step(end, st.h(), st.coefficients().0);
             }
         }
         sol.s_end = s1;

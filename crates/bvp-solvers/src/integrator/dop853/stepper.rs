@@ -4,22 +4,11 @@
 //! stopping rule, a scan of the solution as it grows) drives it directly.
 
 use super::control::{StepControl, Verdict};
-use super::dense::{dense_eval, extend, hermite, StepInterpolant};
+use super::dense::{dense_eval, extend, hermite, Interpolant, StepInterpolant};
 use super::{events, step};
 use super::{Dop853, Event, IntegrationStats};
 use crate::integrator::{all_finite, check_initial, check_span, OdeSystem};
 use crate::{BvpError, Result};
-
-/// How much of the current step's interpolant is computed.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Interpolant {
-    /// None yet.
-    None,
-    /// The cubic Hermite part (the step's ends and slopes: no extra evaluation).
-    Cubic,
-    /// Hairer's 7th-order continuous extension (three extra evaluations).
-    Full,
-}
 
 /// A DOP853 integration advanced one accepted step at a time (module docs).
 ///

@@ -149,6 +149,7 @@ pub(crate) fn frictional_rows(
                 profile,
                 integration: &integration,
                 tol: set.solve_tol,
+                frame: crate::motion::Frame::Translate,
             };
             let n = crate::first_contact::first_node(&branch, touch)?;
             (Phase::B, [n.u[0], n.u[1], 0.0, n.u[2]])

@@ -1,6 +1,8 @@
 //! Criterion benches of `collocation::solve_bvp` on two of scipy's test problems: the shock
 //! layer (eps = 1e-3, tol 1e-3: 5 -> ~100 nodes, scipy's `test_shock_layer`) and the
-//! boundary layer `y'' = 1e4 y` at tol 1e-6 (5 -> 345 nodes).
+//! boundary layer `y'' = 1e4 y` at tol 1e-6 (5 -> 345 nodes), and scipy's `big_problem`
+//! (`n = 60` states, 5 nodes, separated boundary rows: the elimination and the buffers,
+//! `docs/bvp20.md`).
 //!
 //! `cargo bench -p bvp-solvers --bench collocation`
 
@@ -59,6 +61,31 @@ fn bench(c: &mut Criterion) {
                 &y,
                 &[],
                 &opts,
+            )
+            .unwrap();
+            black_box(sol.x.len())
+        })
+    });
+    let y60 = vec![vec![0.0; 60]; 5];
+    c.bench_function("collocation big_problem n=60 tol=1e-3", |b| {
+        b.iter(|| {
+            let sol = solve_bvp(
+                |_, y, _, d| {
+                    for i in 0..30 {
+                        d[2 * i] = y[2 * i + 1];
+                        d[2 * i + 1] = 0.0;
+                    }
+                },
+                |ya, yb, _, r| {
+                    for i in 0..30 {
+                        r[i] = ya[2 * i];
+                        r[30 + i] = yb[2 * i] - 1.0;
+                    }
+                },
+                black_box(&x),
+                &y60,
+                &[],
+                &BvpOptions::default(),
             )
             .unwrap();
             black_box(sol.x.len())

@@ -20,10 +20,13 @@
 //!   meet `bc_tol`, or the mesh would exceed `max_nodes` ([`BvpError::MeshLimit`]).
 //! * **Newton**: damped, affine-invariant (the criterion is `|J^-1 F|^2` with the current
 //!   factors), with reused factors after full steps, as scipy's ([`newton`]).
-//! * **Linear algebra**: the almost-block-diagonal Jacobian with its bordering (parameters,
-//!   both-end boundary rows) by structured Gaussian elimination with row pivoting over
-//!   neighbouring intervals ([`abd`]), `O(m n^3)` with no fill-in and no sparse symbolic
-//!   analysis.
+//! * **Linear algebra**: the almost-block-diagonal Jacobian by structured Gaussian
+//!   elimination with row pivoting over neighbouring intervals, `O(m n^3)` with no fill-in
+//!   and no sparse symbolic analysis: where every boundary row is free of `y(a)` or of
+//!   `y(b)` (separated conditions) in the staircase order of SOLVEBLOK ([`separated`]),
+//!   else with `y(a)` and `p` as a border (periodic, non-separated rows; [`abd`]).
+//! * **Buffers**: the residuals, the Jacobian, its factors and Newton's vectors are sized
+//!   once per solve and kept per thread for the next solve ([`workspace`]).
 //! * **Jacobians**: forward differences with scipy's step `sqrt(eps) (1 + |y|)` by default;
 //!   analytic ones through [`BvpProblem`] or [`solve_bvp_with_jacobian`].
 //! * **Dense output**: the `C1` cubic Hermite interpolant of the nodes and slopes

@@ -4,7 +4,7 @@
 //! least-squares variants.
 
 #[cfg(doc)]
-use super::{gauss_newton, newton, projection, Safeguards, SmallStep};
+use super::{gauss_newton, newton, projection, Safeguards, SmallStep, Stall};
 
 /// One evaluation of the system at a point (`N` unknowns, `M` equations).
 #[derive(Clone, Debug)]

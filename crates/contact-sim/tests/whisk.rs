@@ -497,3 +497,44 @@ fn battery_subset() {
 fn battery_full() {
     run_battery(1000, 0x5EED_0038, 150);
 }
+
+/// `--tol` along a rotation: with the accuracy T asked for, every row carries an estimate
+/// below T, and the rows' true errors (against the default sweep at 1e-12, the same gammas
+/// to 1e-9: the trace and its rows' positions do not depend on T) stay below their estimates.
+#[test]
+fn whisking_rows_carry_error_estimates_that_bound_their_errors() {
+    let whisker = Whisker::new(0.6, 0.3, 0.2, 20.0);
+    let flow = FluidLoad { q: 2.0, alpha: 0.3 };
+    let disc = Profile::parse("disc:-0.45,0.7,0.2").unwrap();
+    let exact = sweep(&whisker, flow, &disc, &rotate(0.05, -0.1, -0.1, 25)).unwrap();
+    let mut checked = 0;
+    for tol in [1e-4, 1e-7] {
+        let s = SweepSettings {
+            accuracy: Some(tol),
+            ..rotate(0.05, -0.1, -0.1, 25)
+        };
+        let r = sweep(&whisker, flow, &disc, &s).unwrap();
+        let acc = r.accuracy.as_ref().unwrap();
+        assert_eq!(acc.estimates.len(), r.points.len());
+        for (p, e) in r.points.iter().zip(&acc.estimates) {
+            assert!(*e <= tol, "estimate {e:e} above {tol:e}");
+            let Some(q) = exact
+                .points
+                .iter()
+                .find(|q| (q.gamma - p.gamma).abs() < 1e-9 && q.phase == p.phase)
+            else {
+                continue;
+            };
+            let err = [p.ma - q.ma, p.ax - q.ax, p.ay - q.ay, p.phi0 - q.phi0]
+                .iter()
+                .fold(0.0f64, |m, v| m.max(v.abs()));
+            assert!(
+                err <= e.max(1e-11),
+                "T {tol:e} gamma {}: {err:e} > {e:e}",
+                p.gamma
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked >= 40, "{checked}");
+}

@@ -1,9 +1,10 @@
 //! A 200-point sweep of the uniform, straight, rigid whisker past the contour g1 under the
 //! flow q = 5 (thesis ch. 5, case 1) with the default settings. The issue's target: < 50 ms.
+//! The same sweep with Coulomb friction mu = 0.5 (issue 39: at most 1.5x the frictionless).
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use vibrissa::beam_model::Whisker;
-use vibrissa::contact_sim::{sweep, Profile, SweepSettings};
+use vibrissa::contact_sim::{sweep, ContactLaw, Profile, SweepSettings};
 
 fn sweep_g1(c: &mut Criterion) {
     let whisker = Whisker::uniform();
@@ -33,5 +34,25 @@ fn sweep_g1(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, sweep_g1);
+fn sweep_g1_friction(c: &mut Criterion) {
+    let whisker = Whisker::uniform();
+    let profile = Profile::g1();
+    let settings = SweepSettings {
+        contact_law: ContactLaw::Coulomb { mu: 0.5 },
+        ..SweepSettings::default()
+    };
+    let flow = beam_model::FluidLoad { q: 5.0, alpha: 0.0 };
+    if let Err(e) = sweep(&whisker, flow, &profile, &settings) {
+        eprintln!("sweep/g1/q=5/mu=0.5: {e}");
+        return;
+    }
+    let mut group = c.benchmark_group("sweep");
+    group.sample_size(10);
+    group.bench_function("g1/q=5/mu=0.5/200-points", |b| {
+        b.iter(|| sweep(black_box(&whisker), flow, black_box(&profile), &settings))
+    });
+    group.finish();
+}
+
+criterion_group!(benches, sweep_g1, sweep_g1_friction);
 criterion_main!(benches);

@@ -32,6 +32,21 @@ impl Sweeper<'_> {
     pub(super) fn trace(&self, first: Node) -> Result<Trace> {
         let mut nodes = vec![first];
         let mut events = Vec::new();
+        if first.phase == Phase::B
+            && self.check_penetration
+            && (self.condition(Ev::Touch, &first, &[0.0; 4])? <= 0.0
+                || self.condition(Ev::Depth, &first, &[0.0; 4])? < 0.0)
+        {
+            // a tangential first touch removes the flow beyond s1 (spec/model.md): the
+            // unloaded segment can bend into the obstacle at once (next to the contact point
+            // or further on), a second contact from the start (the events below only see
+            // their conditions change sign)
+            return Ok(Trace {
+                nodes,
+                events,
+                end: Separation::MultiContact { xc: first.geom.x },
+            });
+        }
         let mut cur = first;
         let mut dir = self.b.falling(&cur);
         let mut h = 0.01f64.min(self.max_step);

@@ -301,7 +301,7 @@ impl FrictionBranch<'_> {
             if n <= self.tol {
                 return Some(node);
             }
-            if !(n < 0.5 * prev) {
+            if n.is_nan() || n >= 0.5 * prev {
                 return None;
             }
             prev = n;

@@ -2,11 +2,12 @@
 //! flow q = 5 (thesis ch. 5, case 1) with the default settings. The issue's target: < 50 ms.
 //! And the same whisker and flow whisked (rotated about its base at the origin from
 //! gamma = 0) against the peg (-0.2, 0.6), 200 points (issue 38: as fast per row as the
-//! translating sweep).
+//! translating sweep). And the g1 sweep with Coulomb friction mu = 0.5 (issue 39: at most
+//! 1.5x the frictionless).
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use vibrissa::beam_model::Whisker;
-use vibrissa::contact_sim::{sweep, BaseMotion, Profile, SweepSettings};
+use vibrissa::contact_sim::{sweep, BaseMotion, ContactLaw, Profile, SweepSettings};
 
 fn sweep_g1(c: &mut Criterion) {
     let whisker = Whisker::uniform();
@@ -60,5 +61,25 @@ fn whisk_peg(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, sweep_g1, whisk_peg);
+fn sweep_g1_friction(c: &mut Criterion) {
+    let whisker = Whisker::uniform();
+    let profile = Profile::g1();
+    let settings = SweepSettings {
+        contact_law: ContactLaw::Coulomb { mu: 0.5 },
+        ..SweepSettings::default()
+    };
+    let flow = beam_model::FluidLoad { q: 5.0, alpha: 0.0 };
+    if let Err(e) = sweep(&whisker, flow, &profile, &settings) {
+        eprintln!("sweep/g1/q=5/mu=0.5: {e}");
+        return;
+    }
+    let mut group = c.benchmark_group("sweep");
+    group.sample_size(10);
+    group.bench_function("g1/q=5/mu=0.5/200-points", |b| {
+        b.iter(|| sweep(black_box(&whisker), flow, black_box(&profile), &settings))
+    });
+    group.finish();
+}
+
+criterion_group!(benches, sweep_g1, whisk_peg, sweep_g1_friction);
 criterion_main!(benches);

@@ -811,12 +811,28 @@ fn one_scene() {
         sc.flow,
         sc.profile.name()
     );
+    if std::env::var("FRICTION_MU").is_ok_and(|v| v == "0") {
+        mu = 0.0;
+    }
     let r = sweep(&sc.whisker, sc.flow, &sc.profile, &settings(mu, 40)).unwrap();
     eprintln!(
         "{} {:?}; first touch {:?}",
         r.separation, r.friction_events, r.first_touch
     );
     for p in r.contact_points() {
+        // the deepest point away from the contact (the battery's penetration check)
+        let n = 3000;
+        let tr = elastica_to(&sc, force(p), base_of(p), n, p.s1);
+        let deepest = tr
+            .iter()
+            .filter(|v| (v[0] - p.s1).abs() >= 2e-3)
+            .map(|v| (v[4] - sc.profile.y(v[3]), v[0]))
+            .filter(|d| d.0.is_finite())
+            .fold(
+                (f64::NEG_INFINITY, 0.0),
+                |m, d| if d.0 > m.0 { d } else { m },
+            );
+        eprintln!("deepest {:.3e} at s {:.4}", deepest.0, deepest.1);
         eprintln!(
             "{} x0 {:.9} f {:.6e} ft {:+.6e} {:5} xc {:.9} s1 {:.6} phi1-psi {:.4} sd {:+.6e}",
             p.phase,

@@ -277,6 +277,43 @@ impl FrictionBranch<'_> {
         })
     }
 
+    /// The chord method for a row at base position `x` from `w` (a prediction between two
+    /// nodes): Newton's steps with the Jacobian `near` of a nearby node (rows `dR0, dR1,
+    /// dx0`; the mode's row exact) and shots without sensitivities, a fifth to a tenth of a
+    /// shot with them. `None` where the residual does not halve at every step or the
+    /// tolerance is not reached in 8 steps (the caller then runs [`FrictionBranch::correct`]).
+    /// The node carries no Jacobian.
+    pub(super) fn correct_chord(
+        &self,
+        phase: Phase,
+        mode: Mode,
+        w: [f64; 4],
+        x: f64,
+        near: &[[f64; 4]; 3],
+    ) -> Option<Node> {
+        let mut w = w;
+        let mut prev = f64::INFINITY;
+        for _ in 0..8 {
+            let (r, node) = self.eval(phase, mode, w, false).ok()?;
+            let (m, gm) = self.mode_eq(phase, mode, &w);
+            let res = [r[0], r[1], m, node.x0 - x];
+            let n = norm4(&res);
+            if n <= self.tol {
+                return Some(node);
+            }
+            if n.is_nan() || n >= 0.5 * prev {
+                return None;
+            }
+            prev = n;
+            let dw = solve4(
+                [near[0], near[1], gm, near[2]],
+                [-res[0], -res[1], -res[2], -res[3]],
+            )?;
+            w = [w[0] + dw[0], w[1] + dw[1], w[2] + dw[2], w[3] + dw[3]];
+        }
+        None
+    }
+
     /// The unit tangent of the mode's curve at `node` (null vector of `(R0, R1, mode)`'s
     /// Jacobian), oriented along `dir`.
     pub(super) fn tangent(&self, node: &Node, dir: &[f64; 4]) -> [f64; 4] {

@@ -44,7 +44,8 @@ pub(super) fn arc_length(profile: &Profile, a: f64, b: f64) -> f64 {
 
 /// The rows: `points` evenly spaced in x0 from the first touch to the end, and one at every
 /// stick/slip or phase switch (the new leg's node); each solved in its stretch's mode from the bracketing
-/// nodes (linear prediction in x0, Newton at the row's base position).
+/// nodes (linear prediction in x0, the chord method from the node's Jacobian at the row's
+/// base position, Newton where it fails).
 pub(super) fn rows(
     sw: &Sweeper,
     tr: &Trace,
@@ -124,7 +125,18 @@ pub(super) fn rows(
                     a.w[2] + wth * (b.w[2] - a.w[2]),
                     a.w[3] + wth * (b.w[3] - a.w[3]),
                 ];
-                (rb.correct(a.phase, a.mode, p, Con::Base(x))?, Con::Base(x))
+                // the chord method from the bracketing node's Jacobian first (shots without
+                // sensitivities), Newton where it does not converge; with an accuracy asked
+                // for, Newton alone, as the estimate's second solve
+                let chord = match set.rows_at {
+                    None => rb.correct_chord(a.phase, a.mode, p, x, &a.jac),
+                    Some(_) => None,
+                };
+                let node = match chord {
+                    Some(n) => n,
+                    None => rb.correct(a.phase, a.mode, p, Con::Base(x))?,
+                };
+                (node, Con::Base(x))
             }
         };
         let est = match &loose {

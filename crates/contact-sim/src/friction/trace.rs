@@ -1,7 +1,7 @@
 //! The frictional path followed from its first node to its end.
 
 use super::branch::{dot4, norm4, sub4, Con, FrictionBranch, Mode, Node};
-use super::events::Ev;
+use super::events::{Ev, PENETRATION_MARGIN};
 use crate::contact_law::{FrictionEvent, FrictionEventKind};
 use crate::error::{ContactError, Result};
 use crate::phase::Phase;
@@ -32,6 +32,22 @@ impl Sweeper<'_> {
     pub(super) fn trace(&self, first: Node) -> Result<Trace> {
         let mut nodes = vec![first];
         let mut events = Vec::new();
+        if first.phase == Phase::B && self.check_penetration {
+            // a tangential first touch removes the flow beyond s1 (spec/model.md): the
+            // unloaded segment can bend into the obstacle at once (next to the contact point
+            // or further on); as the frictionless sweep (`continuation::trace`), the sweep
+            // cannot start (the events below only see their conditions change sign)
+            let depth = self.depth(&first)?;
+            let near = self.condition(Ev::Touch, &first, &[0.0; 4])?;
+            if depth > PENETRATION_MARGIN || near <= 0.0 {
+                return Err(ContactError::NoContact {
+                    reason: format!(
+                        "at the first touch (x0 = {:.6}) the tangential (flow on [0, s1] only) contact state puts another part of the whisker {depth:.3e} inside the contour (curvature margin {near:.3e}); a single-contact sweep cannot start",
+                        first.x0
+                    ),
+                });
+            }
+        }
         let mut cur = first;
         let mut dir = self.b.falling(&cur);
         let mut h = 0.01f64.min(self.max_step);

@@ -9,7 +9,7 @@ use contact_sim::{ContactLaw, Profile, SlipState, SweepPoint, SweepResult, Sweep
 use vibrissa_io::atomic::OutputDir;
 use vibrissa_plot::{Chart, Dash, Series, Style};
 
-use super::figure;
+use super::style::figure;
 use crate::common::{md_table, note_err, sig, Layout};
 use crate::Report;
 

@@ -475,7 +475,7 @@ mod tests {
         let plain = SceneFile::parse("(whisker: ())", path).unwrap();
         assert_eq!(plain.mu, 0.0);
         assert!(!plain.to_ron().unwrap().contains("mu"));
-        for mu in [0.25, 1e-9, 10.0, 0.1 + 0.2] {
+        for mu in [0.25f64, 1e-9, 10.0, 0.1 + 0.2] {
             let text = format!("(whisker: (), mu: {mu:?})");
             let s = SceneFile::parse(&text, path).unwrap();
             assert_eq!(s.mu.to_bits(), mu.to_bits());

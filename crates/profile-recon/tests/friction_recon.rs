@@ -6,6 +6,8 @@
 //! the hidden truth, `mu` against the `mu` the rows were made with, its standard error
 //! against a seeded Monte Carlo of noised logs.
 
+#![allow(clippy::needless_range_loop)]
+
 use beam_model::{FluidLoad, Whisker};
 use contact_sim::{sweep, ContactLaw, Phase, Profile, SlipState, SweepResult, SweepSettings};
 use profile_recon::{

@@ -360,6 +360,14 @@ pub struct ReconstructArgs {
     /// the points at the integrator tolerance 1e-12 without estimates]
     #[arg(long, value_name = "T", allow_hyphen_values = true)]
     pub tol: Option<String>,
+    /// Coulomb friction at the contact (spec/model.md): `identify` reconstructs the
+    /// frictional log and identifies mu from the sliding rows (JSON `mu` with its standard
+    /// error); a number MU in [0, 10] fixes it (0: the frictionless points, checked: a log
+    /// that shows friction gets a warning and wider error estimates). Adds the column `ft`.
+    /// Method accurate, not with --tol or --stream [default: none, today's frictionless
+    /// reconstruction without the check]
+    #[arg(long, value_name = "MU|identify", allow_hyphen_values = true)]
+    pub mu: Option<String>,
     /// Print one JSON object on stdout instead of a human summary.
     #[arg(long)]
     pub json: bool,

@@ -13,6 +13,8 @@
 //! - [`observables`]: `observables.csv`, a sweep's rows ([`observables::SweepRow`]);
 //! - [`sweep_events`]: a sweep's events and row counts;
 //! - [`recon`]: a reconstruction's values, options, whisker and compute (culprits named);
+//! - [`recon_friction`]: a reconstruction asked with `--mu` (frictional logs), its `ft`
+//!   column and the `mu` of its JSON;
 //! - [`recon_io`]: a reconstruction's inputs (logs, units) and `reconstruction.csv`;
 //! - [`summary`]: the small records of a result (`solve`, `sweep`) as serialisable values;
 //! - [`outputs`]: units sidecars and the `scene.ron` of an output folder.
@@ -24,6 +26,7 @@ pub mod error;
 pub mod observables;
 pub mod outputs;
 pub mod recon;
+pub mod recon_friction;
 pub mod recon_io;
 pub mod resolve;
 pub mod scene_file;

@@ -171,7 +171,7 @@ pub fn rows_of(table: &Table) -> Result<Vec<ObservableRow>, IoError> {
 
 /// Maps a reconstruction error to its culprit: a line of the log, a flag, a model
 /// parameter, or the solver.
-fn recon_culprit(
+pub(crate) fn recon_culprit(
     err: ReconError,
     table: &Table,
     r: &Resolved,

@@ -124,7 +124,7 @@ pub fn input_factors(
 
 /// The quantities of the `reconstruction.csv` columns (`error` last, if present): x0, x, y,
 /// s1, f, psi, phase, sigma, residual, hypotheses, error.
-const RECON_QUANTITIES: [Quantity; 11] = [
+pub(crate) const RECON_QUANTITIES: [Quantity; 11] = [
     Quantity::Length,
     Quantity::Length,
     Quantity::Length,

@@ -21,6 +21,9 @@
 //! neighbour it has in that order: the rows where sliding starts or stops are not counted
 //! (their force may be anywhere in the cone).
 
+// small dense least squares: index loops read as the formulas
+#![allow(clippy::needless_range_loop)]
+
 /// Rows `idx` ordered as the base moves (the translating base: falling `x0`, then input
 /// order). The one place that knows the motion: a path of poses orders its rows by the
 /// pose's parameter instead.

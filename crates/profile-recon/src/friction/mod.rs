@@ -275,6 +275,7 @@ fn track(shot: &Shot, phase: Phase, c: &Candidate) -> Option<Candidate> {
 }
 
 /// One contact row: its shots, the phase decision and the sensitivities (module docs).
+#[allow(clippy::needless_range_loop)]
 fn fit_row(
     whisker: &Whisker,
     flow: FluidLoad,

@@ -58,9 +58,17 @@ pub fn run(args: &ReconstructArgs, style: FigureStyle) -> Result<(), CliError> {
     if args.stream {
         return stream::run_stream(args);
     }
+    let mu = args
+        .mu
+        .as_deref()
+        .map(vibrissa_io::recon_friction::MuRequest::parse)
+        .transpose()?;
     let inputs = resolve(args)?;
     let mut table = read_table(&inputs.log_path, &REQUIRED_COLUMNS, 2)?;
     let x0_given = recon_io::to_model_units(&mut table, &inputs.units)?;
+    if let Some(mu) = mu {
+        return run_frictional(args, &inputs, &table, &x0_given, mu, style);
+    }
     let rec = reconstruct_log(args, &inputs.opts, &inputs.r, &table)?;
     let errors = inputs.truth.as_ref().map(|p| contour_error(&rec.points, p));
     let files = write(args, &inputs, &rec, errors.as_deref(), &x0_given, style)?;
@@ -185,4 +193,88 @@ fn print_summary(
         files,
         out_dir.display()
     ))
+}
+
+/// `reconstruct --mu`: the frictional reconstruction ([`vibrissa_io::recon_friction`]), the
+/// column `ft`, a warning on stderr when `--mu 0` meets a log that shows friction, and the
+/// JSON's `mu`.
+fn run_frictional(
+    args: &ReconstructArgs,
+    inputs: &Inputs<'_>,
+    table: &Table,
+    x0_given: &[f64],
+    mu: vibrissa_io::recon_friction::MuRequest,
+    style: FigureStyle,
+) -> Result<(), CliError> {
+    use vibrissa_io::recon_friction as rf;
+    let ans = rf::reconstruct_frictional_log(&args.into(), &inputs.opts, &inputs.r, table, mu)?;
+    if let Some(ev) = &ans.biased {
+        let line = table.line_of(ev.row).unwrap_or(ev.row + 2);
+        eprintln!("{}", rf::biased_warning(ev, line));
+    }
+    if ans.frictional.violations > 0 {
+        eprintln!(
+            "warning: {} rows break the given mu (their |ft| / fn beyond the cone, or sliding rows off its edge)",
+            ans.frictional.violations
+        );
+    }
+    let rec = &ans.rec;
+    let errors = inputs.truth.as_ref().map(|p| contour_error(&rec.points, p));
+    let files = {
+        let units = &inputs.units;
+        let out = OutputDir::create(inputs.out_dir)?;
+        rf::write_reconstruction_csv_ft(
+            rec,
+            &ans.ft,
+            errors.as_deref(),
+            units,
+            x0_given,
+            &out.path_for(RECON_CSV),
+        )?;
+        recon_io::write_recon_scene(
+            &inputs.r,
+            rec.identification.q,
+            args.profile.clone(),
+            &inputs.log_path,
+            &out.path_for(recon_io::SCENE_RON),
+        )?;
+        write_reconstruction_figures(
+            &rec.points,
+            inputs.truth.as_ref(),
+            errors.as_deref(),
+            &format!(
+                "q = {:.6}{} {}",
+                rec.identification.q * units.scale(Quantity::LineLoad),
+                unit_suffix(units, Quantity::LineLoad),
+                if rec.q_given { "given" } else { "identified" }
+            ),
+            units,
+            |n| out.path_for(n),
+            style,
+        )?;
+        out.commit()?
+    };
+    let friction = rf::FrictionSummary::of(&ans.frictional, table);
+    if args.json {
+        let (units, method) = (&inputs.units, inputs.opts.method);
+        let max_error = errors.as_deref().map(max_of);
+        let mut v = recon_json(rec, method, table.rows(), units, max_error, inputs.out_dir);
+        v["mu"] = serde_json::to_value(friction.mu).unwrap_or_default();
+        v["friction"] = serde_json::to_value(&friction).unwrap_or_default();
+        let mut stdout = Printer::stdout().published(Some(inputs.out_dir));
+        return stdout.line(v);
+    }
+    print_summary(args, inputs, rec, table, errors.as_deref(), files.len())?;
+    let mut stdout = Printer::stdout().published(Some(inputs.out_dir));
+    stdout.line(match friction.mu {
+        Some(m) if m.given => format!(
+            "mu = {} (given), {} sliding rows",
+            m.value, friction.sliding_rows
+        ),
+        Some(m) => format!(
+            "mu = {:.6} +- {:.2e} (identified from {} sliding rows)",
+            m.value, m.stderr, m.rows
+        ),
+        None => "mu not identified (no sliding row with a contact force)".to_string(),
+    })
 }

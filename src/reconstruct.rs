@@ -6,21 +6,19 @@ use std::collections::BTreeMap;
 use std::path::PathBuf;
 
 use contact_sim::Phase;
-use profile_recon::{
-    reconstruct_with, KnownFlow, ObservableRow, ReconError, ReconPoint, ReconSettings,
-};
+use profile_recon::ReconPoint;
 use vibrissa_io::csvio::Table;
+use vibrissa_io::recon::{reconstruct_log, ReconFlags, ReconOptions};
 use vibrissa_io::recon_io::{recon_values, to_model_units_with, REQUIRED_COLUMNS};
-use vibrissa_io::resolve::{ModelFlags, Resolved};
+use vibrissa_io::resolve::ModelFlags;
 use vibrissa_io::units::{Quantity, UnitSystem};
-use vibrissa_io::IoError;
 
 use crate::io::ObservableLog;
 use crate::{Error, Scene, Sweep};
 
-/// The consistency tolerance of a contact row (the command line's `--tolerance` default
-/// for the method `accurate`).
-pub const CONSISTENCY_TOLERANCE: f64 = 1e-6;
+/// The consistency tolerance of a contact row: the command line's `--tolerance` default for
+/// the method `accurate` ([`vibrissa_io::recon::DEFAULT_TOLERANCE_ACCURATE`], the one value).
+pub use vibrissa_io::recon::DEFAULT_TOLERANCE_ACCURATE as CONSISTENCY_TOLERANCE;
 
 /// A log of base observables that can be reconstructed: a [`Sweep`] or an
 /// [`ObservableLog`] read from any observables CSV ([`crate::io::read_observables`]).
@@ -149,20 +147,19 @@ impl Scene {
     /// Identifies the flow from the log's rows before contact and reconstructs the contact
     /// point of every contact row with the scene's whisker (as `vibrissa reconstruct LOG
     /// SCENE.ron`; the scene's loads are not used). The log's units come from its units
-    /// sidecar, else the scene's. A row with no consistent contact point (residual above
-    /// [`CONSISTENCY_TOLERANCE`]) is [`Error::InvalidInput`] naming its line.
+    /// sidecar, else the scene's. The computation and its failures are the command line's,
+    /// with its defaults ([`vibrissa_io::recon::reconstruct_log`] with
+    /// [`ReconFlags::default`]: method `accurate`, flow identified): a row with no consistent
+    /// contact point (residual above [`CONSISTENCY_TOLERANCE`]) is [`Error::InvalidInput`]
+    /// naming its line, as `vibrissa reconstruct` does.
     pub fn reconstruct(&self, log: &impl Log) -> Result<Reconstruction, Error> {
         let (_, r) = self.resolved(&ModelFlags::default())?;
         let units = r.units();
         let (mut table, given, origin) = log.table();
         let x0_given = to_model_units_with(&mut table, &given, &units, &origin)?;
-        let rows = rows_of(&table)?;
-        let settings = ReconSettings {
-            consistency_tol: Some(CONSISTENCY_TOLERANCE),
-            ..ReconSettings::default()
-        };
-        let rec = reconstruct_with(&r.scene.whisker, &rows, KnownFlow::default(), &settings)
-            .map_err(|e| culprit(e, &table, &r))?;
+        let flags = ReconFlags::default();
+        let opts = ReconOptions::parse(&flags)?;
+        let rec = reconstruct_log(&flags, &opts, &r, &table)?;
         Ok(Reconstruction {
             rows: rec
                 .points
@@ -174,53 +171,5 @@ impl Scene {
             units,
             dimensionless: rec,
         })
-    }
-}
-
-/// The observable rows of a table with the columns [`REQUIRED_COLUMNS`].
-fn rows_of(table: &Table) -> Result<Vec<ObservableRow>, IoError> {
-    let col = |name: &str| {
-        table.column(name).ok_or_else(|| IoError::Csv {
-            path: table.path.clone(),
-            line: table.header_line,
-            column: Some(name.to_string()),
-            reason: "missing required column".to_string(),
-        })
-    };
-    let (x0, ax, ay, ma, phi0) = (col("x0")?, col("Ax")?, col("Ay")?, col("MA")?, col("phi0")?);
-    Ok((0..table.rows())
-        .map(|i| ObservableRow {
-            x0: x0[i],
-            ax: ax[i],
-            ay: ay[i],
-            ma: ma[i],
-            phi0: phi0[i],
-        })
-        .collect())
-}
-
-/// A reconstruction error against its culprit: a line of the log, a scene field, the solver.
-fn culprit(err: ReconError, table: &Table, r: &Resolved) -> Error {
-    let line_of = |row: usize| table.line_of(row).unwrap_or(table.header_line + 1);
-    let at = |line: usize, column: Option<&str>, reason: String| {
-        Error::InvalidInput(IoError::Csv {
-            path: table.path.clone(),
-            line,
-            column: column.map(str::to_string),
-            reason,
-        })
-    };
-    match err {
-        ReconError::NonFinite { row, column, value } => at(
-            line_of(row),
-            Some(column),
-            format!("value `{value}` is not finite"),
-        ),
-        ReconError::InconsistentRow { row, .. } => at(line_of(row), None, err.to_string()),
-        ReconError::TooFewRows { .. }
-        | ReconError::NoPreContactRows { .. }
-        | ReconError::NoContactRows { .. } => at(line_of(0), None, err.to_string()),
-        ReconError::Model(e) => r.culprit(&e).into(),
-        other => IoError::solver(other).into(),
     }
 }

@@ -454,7 +454,13 @@ fn draw_series(svg: &mut Svg, chart: &Chart, axes: (&Axis, &Axis), rect: Rect, c
         for run in runs(&s.points, xl, yl) {
             let px: Vec<(f64, f64)> = run.iter().map(|&p| to_px(p)).collect();
             if s.style != Style::Points {
-                svg.polyline(&px, &col, crate::svg::LINE_W * s.width_factor(), s.line_dash().pattern(), clip);
+                svg.polyline(
+                    &px,
+                    &col,
+                    crate::svg::LINE_W * s.width_factor(),
+                    s.line_dash().pattern(),
+                    clip,
+                );
             }
         }
         for (p, e) in s.points.iter().zip(&s.err) {

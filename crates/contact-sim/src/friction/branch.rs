@@ -15,7 +15,7 @@
 //!   `d sigma - d s1`, zero while it sticks;
 //! - slip (both phases): `ft = s mu fn`, `s = -sign(u)`.
 
-use super::rows::arc_length;
+use super::contour::arc_length;
 use crate::contact_law::force;
 use crate::contact_law::SlipState;
 use crate::error::{ContactError, Result};

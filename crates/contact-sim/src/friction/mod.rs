@@ -69,8 +69,11 @@
 //! contour; constant while stuck).
 
 mod branch;
+mod contour;
 mod events;
+mod kinds;
 mod rows;
+mod settings;
 mod start;
 mod trace;
 
@@ -87,6 +90,7 @@ use beam_model::shot::Integration;
 use beam_model::{FluidLoad, Whisker};
 use branch::{FrictionBranch, Mode};
 use rows::rows;
+pub(crate) use settings::FrictionSettings;
 use trace::Sweeper;
 
 /// What the frictional sweep returns to [`crate::driver::sweep`].
@@ -97,21 +101,6 @@ pub(crate) struct FrictionalRows {
     pub separation: Separation,
     /// x0 of the first touch.
     pub first_x0: f64,
-}
-
-/// Settings of the frictional sweep handed down from [`crate::sweep::SweepSettings`].
-pub(crate) struct FrictionSettings {
-    pub mu: f64,
-    pub points: usize,
-    pub integration_tol: f64,
-    pub solve_tol: f64,
-    pub event_tol: f64,
-    pub check_penetration: bool,
-    pub max_steps: usize,
-    pub max_step: f64,
-    /// Rows' integrator and residual tolerances and the estimate's integrator tolerance,
-    /// with an accuracy asked for.
-    pub rows_at: Option<(f64, f64, f64)>,
 }
 
 /// The frictional sweep's contact rows from the first touch `touch`.

@@ -1,7 +1,7 @@
 //! The mode of the contact at the first touch and at a switch: the probe of a mode's law.
 
 use super::branch::{dot4, Con, Mode, Node};
-use super::rows::arc_length;
+use super::contour::arc_length;
 use super::trace::Sweeper;
 use crate::error::Result;
 use crate::phase::Phase;

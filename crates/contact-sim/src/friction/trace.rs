@@ -1,7 +1,7 @@
 //! The frictional path followed from its first node to its end.
 
 use super::branch::{dot4, norm4, sub4, Con, FrictionBranch, Mode, Node};
-use super::events::{Ev, PENETRATION_MARGIN};
+use super::kinds::{Ev, PENETRATION_MARGIN};
 use crate::contact_law::{FrictionEvent, FrictionEventKind};
 use crate::error::{ContactError, Result};
 use crate::phase::Phase;

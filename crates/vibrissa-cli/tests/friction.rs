@@ -147,20 +147,22 @@ fn bad_mu_is_refused_naming_it() {
     }
 }
 
-/// A sweep whose contact turns tangential with friction (g1 under q = 5, phase B) is not
-/// implemented in the contact model yet: exit 1, one line naming it, no folder left.
+/// A sweep the quasi-static frictional model cannot follow (the tapered, pre-curved rigid
+/// whisker of [`STUCK`] past g2 at mu = 0.5: stuck from the touch, its force reaches the
+/// cone's edge at x0 = 0.904884 where sliding against it would not follow the base, a
+/// dynamic slip): exit 1, one line naming it, no folder left.
 #[test]
 fn a_frictional_sweep_the_model_cannot_finish_fails_cleanly() {
     let dir = tempfile::tempdir().unwrap();
     let mut a = vec!["sweep"];
-    let flags = sweep_flags("g1", "12");
-    a.extend(&flags);
+    a.extend(STUCK);
     a.extend(["--mu", "0.5", "--out", "never"]);
     let o = run(&a, dir.path());
     let e = stderr(&o);
     assert_eq!(o.status.code(), Some(1), "{e}");
     assert_eq!(e.trim_end().lines().count(), 1, "{e}");
     assert!(e.contains("friction"), "{e}");
+    assert!(e.contains("0.904884"), "{e}");
     assert!(!e.contains("panick"), "{e}");
     assert!(!dir.path().join("never").exists());
 }

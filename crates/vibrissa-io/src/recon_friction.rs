@@ -121,7 +121,7 @@ pub fn reconstruct_frictional_log(
             .map_or(f64::NAN, |p| p.ft)
     };
     match mu {
-        MuRequest::Fixed(v) if v == 0.0 => {
+        MuRequest::Fixed(0.0) => {
             let proves = fr.evidence.is_some_and(|e| e.proves_friction());
             let mut rec = if proves {
                 let mut plain = *opts;

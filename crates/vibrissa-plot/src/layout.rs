@@ -7,7 +7,7 @@ use crate::draw::*;
 use crate::legend::*;
 use crate::svg::*;
 
-/// Renders charts under a [`Heading`] (what [`FigureStyle::write_panels_with_heading`]
+/// Renders charts under a [`Heading`] (what [`crate::FigureStyle::write_panels_with_heading`]
 /// writes), printed at `print`.
 pub fn render_figure_with(
     charts: &[Chart],
@@ -39,7 +39,7 @@ pub fn render_figure_with(
     })
 }
 
-/// Renders a figure to an SVG string (what [`FigureStyle::write_figure`] writes), printed
+/// Renders a figure to an SVG string (what [`crate::FigureStyle::write_figure`] writes), printed
 /// at `print`.
 pub fn render_figure(
     panels: &[Panel<'_>],

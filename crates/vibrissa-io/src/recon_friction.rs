@@ -1,7 +1,7 @@
 //! The frictional reconstruction of a log without a command line (spec/cli.md, "Friction,
 //! base motions and obstacles"; issue 39 item 3): the request `--mu` ([`MuRequest`]), the
 //! compute ([`reconstruct_frictional_log`], each failure named by its culprit as
-//! [`reconstruct_log`](crate::recon::reconstruct_log) does), the `ft` column of
+//! [`crate::recon::reconstruct_log`] does), the `ft` column of
 //! `reconstruction.csv` and the serialisable `mu` / evidence part of the JSON summary
 //! ([`FrictionSummary`]).
 

@@ -71,7 +71,15 @@ pub fn run(args: &ReconstructArgs, style: FigureStyle) -> Result<(), CliError> {
     }
     let rec = reconstruct_log(args, &inputs.opts, &inputs.r, &table)?;
     let errors = inputs.truth.as_ref().map(|p| contour_error(&rec.points, p));
-    let files = write(args, &inputs, &rec, errors.as_deref(), &x0_given, style)?;
+    let files = write(
+        args,
+        &inputs,
+        &rec,
+        None,
+        errors.as_deref(),
+        &x0_given,
+        style,
+    )?;
     print_summary(args, &inputs, &rec, &table, errors.as_deref(), files.len())
 }
 
@@ -112,25 +120,27 @@ fn resolve(args: &ReconstructArgs) -> Result<Inputs<'_>, CliError> {
     })
 }
 
-/// Write: `reconstruction.csv`, `scene.ron` and the figures into the output folder, all or
-/// nothing (the figures as `style` says); returns the files written.
+/// Write: `reconstruction.csv` (with the column `ft` of a frictional reconstruction, where
+/// `ft` is given), `scene.ron` and the figures into the output folder, all or nothing (the
+/// figures as `style` says); returns the files written.
 fn write(
     args: &ReconstructArgs,
     inputs: &Inputs<'_>,
     rec: &Reconstruction,
+    ft: Option<&[f64]>,
     errors: Option<&[f64]>,
     x0_given: &[f64],
     style: FigureStyle,
 ) -> Result<Vec<PathBuf>, CliError> {
     let units = &inputs.units;
     let out = OutputDir::create(inputs.out_dir)?;
-    recon_io::write_reconstruction_csv(
-        &rec.points,
-        errors,
-        units,
-        x0_given,
-        &out.path_for(RECON_CSV),
-    )?;
+    let csv = out.path_for(RECON_CSV);
+    match ft {
+        Some(ft) => vibrissa_io::recon_friction::write_reconstruction_csv_ft(
+            rec, ft, errors, units, x0_given, &csv,
+        )?,
+        None => recon_io::write_reconstruction_csv(&rec.points, errors, units, x0_given, &csv)?,
+    }
     recon_io::write_recon_scene(
         &inputs.r,
         rec.identification.q,
@@ -220,40 +230,15 @@ fn run_frictional(
     }
     let rec = &ans.rec;
     let errors = inputs.truth.as_ref().map(|p| contour_error(&rec.points, p));
-    let files = {
-        let units = &inputs.units;
-        let out = OutputDir::create(inputs.out_dir)?;
-        rf::write_reconstruction_csv_ft(
-            rec,
-            &ans.ft,
-            errors.as_deref(),
-            units,
-            x0_given,
-            &out.path_for(RECON_CSV),
-        )?;
-        recon_io::write_recon_scene(
-            &inputs.r,
-            rec.identification.q,
-            args.profile.clone(),
-            &inputs.log_path,
-            &out.path_for(recon_io::SCENE_RON),
-        )?;
-        write_reconstruction_figures(
-            &rec.points,
-            inputs.truth.as_ref(),
-            errors.as_deref(),
-            &format!(
-                "q = {:.6}{} {}",
-                rec.identification.q * units.scale(Quantity::LineLoad),
-                unit_suffix(units, Quantity::LineLoad),
-                if rec.q_given { "given" } else { "identified" }
-            ),
-            units,
-            |n| out.path_for(n),
-            style,
-        )?;
-        out.commit()?
-    };
+    let files = write(
+        args,
+        inputs,
+        rec,
+        Some(&ans.ft),
+        errors.as_deref(),
+        x0_given,
+        style,
+    )?;
     let friction = rf::FrictionSummary::of(&ans.frictional, table);
     if args.json {
         let (units, method) = (&inputs.units, inputs.opts.method);

@@ -248,6 +248,38 @@ impl Branch<'_> {
             jac[0] = jac[2];
             jac[2] = [-row0[0], -row0[1], -row0[2]];
         }
+        if let Frame::Path(seg) = self.frame {
+            // Q(u) = w D(u) on the segment, w read from the pivot (crate::motion's notes)
+            let raw = match phase {
+                Phase::B => [shot.d_s1, shot.d_f, dt],
+                _ => [shot.d_phi1, shot.d_f, dt],
+            };
+            let q = [
+                x0 - seg.from.x0,
+                g.y - shot.dy - seg.from.y0,
+                shot.phi0 - std::f64::consts::FRAC_PI_2 - shot.m0 * seg.c0 - seg.from.gamma,
+            ];
+            let d = [seg.rate.x0, seg.rate.y0, seg.rate.gamma + shot.m0 * seg.dc];
+            let dq = [
+                jac[2],
+                [-jac[1][0], -jac[1][1], -jac[1][2]],
+                std::array::from_fn(|k| raw[k].phi0 - seg.c0 * raw[k].m0),
+            ];
+            let dd3: [f64; 3] = std::array::from_fn(|k| seg.dc * raw[k].m0);
+            let dd = |i: usize, k: usize| if i == 2 { dd3[k] } else { 0.0 };
+            let j = seg.pivot;
+            let w = q[j] / d[j];
+            let dw: [f64; 3] = std::array::from_fn(|k| (dq[j][k] - w * dd(j, k)) / d[j]);
+            let (a, b) = match j {
+                0 => (1, 2),
+                1 => (0, 2),
+                _ => (0, 1),
+            };
+            r = [q[a] - w * d[a], q[b] - w * d[b]];
+            let row = |i: usize| std::array::from_fn(|k| dq[i][k] - dw[k] * d[i] - w * dd(i, k));
+            jac = [row(a), row(b), [-dw[0], -dw[1], -dw[2]]];
+            x0 = -(seg.index as f64 + w);
+        }
         let state = ContactState {
             phase,
             point: ContourPoint {

@@ -38,6 +38,9 @@ pub(crate) enum End {
     /// The contact with a peg reached the tip (`s1 = 1`): the tip slides past the point and
     /// releases it (the node at `s1 = 1`).
     TipPassed(Node),
+    /// The coordinate reached the end of the branch's frame ([`crate::motion::Frame::floor`]:
+    /// a corner of a path, or its last row), the node on it.
+    Corner(Node),
 }
 
 /// The traced branch: its nodes in the order of the motion (x0 strictly falling; a phase
@@ -63,6 +66,11 @@ impl Trace {
             *n = branch.correct(n.phase, n.u, Constraint::PhaseEnd, Rescue::TrustRegion)?;
             return Ok(());
         }
+        if let (End::Corner(n), Some(floor)) = (&mut self.end, branch.frame.floor()) {
+            let at = Constraint::BasePosition(floor);
+            *n = branch.correct(n.phase, n.u, at, Rescue::TrustRegion)?;
+            return Ok(());
+        }
         let end = match &mut self.end {
             End::Release(n) => {
                 let mut at =
@@ -72,7 +80,7 @@ impl Trace {
                 *n = at;
                 return Ok(());
             }
-            End::TipPassed(n) => n,
+            End::TipPassed(n) | End::Corner(n) => n,
             End::Snap(n)
             | End::MultiContact(n)
             | End::OffContour(n)
@@ -187,6 +195,8 @@ enum Event {
     /// The whisker next to the contact point touching ([`near_margin`]).
     Touch,
     AtBase,
+    /// The coordinate reaching the end of the frame (a path's next row).
+    Corner,
 }
 
 /// The contact arc length at which a tangential contact has slid down to the base: the
@@ -204,6 +214,7 @@ impl Event {
             Event::AtBase => node.phase == Phase::B && node.state.s1 <= BASE_CONTACT,
             Event::Touch => near_margin(branch.whisker, branch.profile, node) <= 0.0,
             Event::SecondContact => false,
+            Event::Corner => branch.frame.floor().is_some_and(|c| node.x0() <= c),
         }
     }
 
@@ -217,15 +228,17 @@ impl Event {
             Event::AtBase => n.state.s1 - BASE_CONTACT,
             Event::Touch => near_margin(branch.whisker, branch.profile, n),
             Event::SecondContact => PENETRATION_MARGIN - depth(branch, n)?,
+            Event::Corner => n.x0() - branch.frame.floor().unwrap_or(f64::NEG_INFINITY),
         })
     }
 
     /// The constraint that puts a corrected node on the event directly (switch and
     /// release), `None` for events located along the chord.
-    fn constraint(self) -> Option<Constraint> {
+    fn constraint(self, branch: &Branch) -> Option<Constraint> {
         match self {
             Event::Switch => Some(Constraint::PhaseEnd),
             Event::Release => Some(Constraint::NoForce),
+            Event::Corner => branch.frame.floor().map(Constraint::BasePosition),
             _ => None,
         }
     }
@@ -238,6 +251,7 @@ impl Event {
             Event::Snap => Some(End::Snap(at)),
             Event::SecondContact | Event::Touch => Some(End::MultiContact(at)),
             Event::AtBase => Some(End::AtBase(at)),
+            Event::Corner => Some(End::Corner(at)),
             Event::Switch => None,
         }
     }
@@ -475,6 +489,7 @@ impl<'b, 'a> Tracer<'b, 'a> {
             Event::Snap,
             Event::AtBase,
             Event::Touch,
+            Event::Corner,
         ]
         .into_iter()
         .filter(|ev| {
@@ -629,7 +644,7 @@ impl<'b, 'a> Tracer<'b, 'a> {
     /// the step). Newton alone ([`Rescue::NewtonOnly`]): this is a fast attempt, and where it
     /// fails the caller locates the event on the traced step itself, which cannot leave it.
     fn direct(&self, ev: Event, node: &Node) -> Option<(Event, Node)> {
-        let c = ev.constraint()?;
+        let c = ev.constraint(self.branch)?;
         let cur = self.cur();
         let g = |n: &Node| {
             ev.condition(self.branch, n, self.arc.tangent())

@@ -36,7 +36,8 @@ pub fn sweep_with_progress(
     settings.motion.validate()?;
     profile.check_reachable_convex()?;
     let frame = settings.motion.frame().unwrap_or_default();
-    let graph_translated = frame == Frame::Translate && !profile.is_closed();
+    let graph_translated =
+        settings.motion.frame() == Some(Frame::Translate) && !profile.is_closed();
     if let (Some(mu), false) = (settings.contact_law.friction(), graph_translated) {
         let what = if profile.is_closed() {
             format!(
@@ -55,6 +56,9 @@ pub fn sweep_with_progress(
     // The free whisker under the flow, then its exact first touch: on the graph's right
     // flank for a translation, along the motion otherwise ([`crate::touch_scan`]).
     let phi1 = free_tip(whisker, flow, settings.integration_tol, &integration)?;
+    if let crate::motion::BaseMotion::Path(_) = settings.motion {
+        return crate::path::sweep_path(whisker, flow, profile, settings, phi1, progress);
+    }
     let touch = if graph_translated {
         first_touch(whisker, flow, phi1, profile, settings.integration_tol)?
     } else {

@@ -12,6 +12,7 @@
 //! | [`first_contact`] | the exact first touch of the free whisker (tip or tangential) |
 //! | [`cases`] | the chapter-5 cases as reference problems |
 //! | [`motion`] | the base's pose along the sweep: translate, rotate (whisking), a path of poses |
+//! | [`path`] | the sweep along a path of poses: segment frames, corners as breakpoints, k(p) |
 //! | [`friction`] | the contact law (frictionless, Coulomb): stick and slip in tip contact, their events |
 //! | [`touch_scan`] | the first touch along a rotation, or of a peg or a disc |
 //! | `rows` | the log's contact rows at evenly spaced base positions: predicted, corrected |
@@ -47,6 +48,7 @@ mod events;
 pub mod first_contact;
 pub mod friction;
 pub mod motion;
+pub mod path;
 pub mod phase;
 pub mod profile;
 mod rows;

@@ -10,8 +10,8 @@
 //!   (counter-clockwise: the tip moves towards -x first) from `gamma0` until the whisker
 //!   separates from the obstacle.
 //! - [`BaseMotion::Path`]: any sequence of poses, linear between them, with k along it where
-//!   given. Described and checked here; the sweep does not follow it yet
-//!   ([`crate::error::ContactError::NotImplemented`]).
+//!   given (linear in the compliance `1/k`: the follicle tensing or relaxing), followed in
+//!   the path parameter `p` ([`crate::path`]).
 //!
 //! How the sweep follows a motion: the whisker is shot in the lab frame from its loaded end,
 //! so the shot gives the base's offset `(dx, dy)` from the contact point and the base
@@ -20,6 +20,25 @@
 //! position, `xc - dx = x0`, `yc - dy = y0`, and reads its coordinate `gamma = R0`. Either way
 //! two equations hold on the contact branch and the motion's coordinate is an explicit
 //! function of the branch state `(v, f, t)`, so one continuation serves both (`Frame`).
+//!
+//! A path holds neither its position nor its turn, but on one of its segments (rows `i`,
+//! `i + 1`, the pose `P_i + w D_i` and the compliance `c_i + w dc`, `w = p - i` in
+//! `[0, 1]`) the three conditions of the base are linear in the one unknown `w`:
+//!
+//! ```text
+//! Q(u) = (xb - X_i, yb - Y_i, phi0 - pi/2 - m0 c_i - G_i) = w (DX, DY, DG + m0 dc) = w D(u)
+//! ```
+//!
+//! (`xb = xc - dx`, `yb = yc - dy`; the third row is the follicle law
+//! `phi0 = pi/2 + gamma(p) + m0/k(p)` [3.21, 3.22] turned and tensed along the path). The
+//! segment's pivot `j` (the largest of `|DX|, |DY|, |DG|`) reads `w = Q_j / D_j` as an
+//! explicit function of the branch state, and the other two rows, `Q_a - w D_a = 0`, are the
+//! branch's two equations: the fourth unknown `p` is eliminated, the branch state stays
+//! `(v, f, t)`, and the falling coordinate is `-p = -(i + w)`. A translation written as a
+//! path (pivot x) holds exactly the translation's equations, a rotation (pivot gamma) the
+//! rotation's. A corner of the path (where `D` jumps) is where the segment, hence the frame,
+//! changes: the continuation stops on it (`End::Corner`) and goes on in the next segment's
+//! frame from the same state.
 
 use crate::error::{ContactError, Result};
 use serde::{Deserialize, Serialize};
@@ -119,6 +138,74 @@ impl Poses {
         let c = (1.0 - w) / k[i] + w / k[i + 1];
         Some(1.0 / c)
     }
+
+    /// The last value of the path parameter (`n - 1`).
+    pub fn end(&self) -> f64 {
+        (self.poses.len() - 1) as f64
+    }
+
+    /// The frame of segment `i` (rows `i`, `i + 1`), the follicle's compliance `compliance`
+    /// where the path sets no k.
+    pub(crate) fn segment_frame(&self, i: usize, compliance: f64) -> Segment {
+        let (a, b) = (self.poses[i], self.poses[i + 1]);
+        let (c0, c1) = match &self.k {
+            Some(k) => (1.0 / k[i], 1.0 / k[i + 1]),
+            None => (compliance, compliance),
+        };
+        let rate = Pose {
+            x0: b.x0 - a.x0,
+            y0: b.y0 - a.y0,
+            gamma: b.gamma - a.gamma,
+        };
+        let size = [rate.x0.abs(), rate.y0.abs(), rate.gamma.abs()];
+        // the largest component reads w; a segment that only tenses the follicle reads it
+        // from the follicle law (D_3 = m0 dc)
+        let mut pivot = 2;
+        for j in [1, 0] {
+            if size[j] > size[pivot] {
+                pivot = j;
+            }
+        }
+        Segment {
+            index: i,
+            from: a,
+            rate,
+            c0,
+            dc: c1 - c0,
+            pivot,
+        }
+    }
+}
+
+/// One segment of a path as the branch reads it ([`Frame::Path`]; the module's notes).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Segment {
+    /// The segment's first row `i` (the path parameter there).
+    pub index: usize,
+    /// The pose `P_i` at its first row.
+    pub from: Pose,
+    /// `D = P_{i+1} - P_i`.
+    pub rate: Pose,
+    /// The follicle's compliance `1/k` at its first row.
+    pub c0: f64,
+    /// Its change over the segment.
+    pub dc: f64,
+    /// The component (x, y, gamma) that reads `w`.
+    pub pivot: usize,
+}
+
+impl Segment {
+    /// The compliance at the falling coordinate `c` (`-p`).
+    pub(crate) fn compliance(&self, c: f64) -> f64 {
+        self.c0 + (-c - self.index as f64) * self.dc
+    }
+
+    /// How far a point of a free whisker moves at most per unit of `p` (`|(DX, DY)| +
+    /// |DG|` for a rigid motion of a unit whisker; the tensing's share bounded by the free
+    /// base moment under the flow `q`, at most `q/2`).
+    pub(crate) fn speed(&self, q: f64) -> f64 {
+        self.rate.x0.hypot(self.rate.y0) + self.rate.gamma.abs() + self.dc.abs() * 0.5 * q
+    }
 }
 
 /// How the base moves during a sweep (spec/cli.md `--motion`).
@@ -170,27 +257,39 @@ impl BaseMotion {
                 }
                 Ok(())
             }
-            BaseMotion::Path(_) => Err(ContactError::NotImplemented {
-                what: "a sweep along a path of poses (motion path); translate and rotate are"
-                    .into(),
-            }),
+            BaseMotion::Path(path) => {
+                for (i, w) in path.poses.windows(2).enumerate() {
+                    let same_k = path.k.as_ref().is_none_or(|k| k[i] == k[i + 1]);
+                    if w[0] == w[1] && same_k {
+                        return Err(ContactError::InvalidParameter {
+                            name: "path",
+                            value: i as f64,
+                            reason: "the path does not move between this row (from 0) and the next: equal poses and k",
+                        });
+                    }
+                }
+                Ok(())
+            }
         }
     }
 
-    /// The frame the branch is solved in (a path has none yet).
+    /// The frame the branch is solved in (a path: its first segment's, [`Poses::segment_frame`]
+    /// gives the others).
     pub(crate) fn frame(&self) -> Option<Frame> {
-        match *self {
+        match self {
             BaseMotion::Translate => Some(Frame::Translate),
-            BaseMotion::Rotate { x0, y0, .. } => Some(Frame::Rotate { x0, y0 }),
+            BaseMotion::Rotate { x0, y0, .. } => Some(Frame::Rotate { x0: *x0, y0: *y0 }),
             BaseMotion::Path(_) => None,
         }
     }
 
     /// The falling coordinate where the motion starts (`+inf` for a translation, which
-    /// starts wherever the whisker is clear of the obstacle; `-gamma0` for a rotation).
+    /// starts wherever the whisker is clear of the obstacle; `-gamma0` for a rotation; 0,
+    /// `-p` at the first row, for a path).
     pub(crate) fn start(&self) -> f64 {
         match *self {
             BaseMotion::Rotate { gamma0, .. } => -gamma0,
+            BaseMotion::Path(_) => 0.0,
             _ => f64::INFINITY,
         }
     }
@@ -212,6 +311,9 @@ pub(crate) enum Frame {
         /// Base y.
         y0: f64,
     },
+    /// One segment of a path: `Q_a = w D_a` for the two rows but the pivot; coordinate
+    /// `-p = -(i + Q_j / D_j)` (the module's notes).
+    Path(Segment),
 }
 
 impl Frame {
@@ -224,6 +326,14 @@ impl Frame {
                 gamma: 0.0,
             },
             Frame::Rotate { x0, y0 } => Pose { x0, y0, gamma: -c },
+            Frame::Path(seg) => {
+                let w = -c - seg.index as f64;
+                Pose {
+                    x0: seg.from.x0 + w * seg.rate.x0,
+                    y0: seg.from.y0 + w * seg.rate.y0,
+                    gamma: seg.from.gamma + w * seg.rate.gamma,
+                }
+            }
         }
     }
 
@@ -232,6 +342,16 @@ impl Frame {
         match self {
             Frame::Translate => "x0",
             Frame::Rotate { .. } => "-gamma",
+            Frame::Path(_) => "-p",
+        }
+    }
+
+    /// The coordinate where the frame ends: a path's next row (`-(i + 1)`); none for a
+    /// translation or a rotation.
+    pub(crate) fn floor(&self) -> Option<f64> {
+        match self {
+            Frame::Path(seg) => Some(-(seg.index as f64 + 1.0)),
+            _ => None,
         }
     }
 }
@@ -287,6 +407,19 @@ mod tests {
             .validate()
             .unwrap_err()
             .to_string()
-            .contains("not implemented"));
+            .contains("does not move"));
+        // a segment's frame: the pose at -p, the pivot the largest component
+        let turn = Pose {
+            x0: 0.1,
+            y0: 0.0,
+            gamma: 0.5,
+        };
+        let path = Poses::new(vec![Pose::default(), turn], Some(vec![10.0, 5.0])).unwrap();
+        let seg = path.segment_frame(0, 0.0);
+        assert_eq!((seg.pivot, seg.dc), (2, 0.1));
+        let pose = Frame::Path(seg).pose(-0.5);
+        assert_eq!((pose.x0, pose.gamma), (0.05, 0.25));
+        assert!((seg.compliance(-0.5) - 1.0 / path.k(0.5).unwrap()).abs() < 1e-15);
+        assert_eq!(Frame::Path(seg).floor(), Some(-1.0));
     }
 }

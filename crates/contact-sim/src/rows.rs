@@ -29,6 +29,29 @@ pub(crate) fn rows(
     let targets: Vec<f64> = (1..points.saturating_sub(1))
         .map(|k| x_start - span * k as f64 / (points - 1) as f64)
         .collect();
+    let last = (span > 0.0).then_some((last, last_hold));
+    rows_at(
+        (branch, loose),
+        (nodes, switches),
+        last,
+        &targets,
+        points,
+        progress,
+    )
+}
+
+/// The rows of [`rows`] at the coordinates `targets` (falling, strictly between the first
+/// node and the end), with the first node, the switch nodes and `last` where given: the
+/// rows of one segment of a path, whose targets are the whole path's grid.
+pub(crate) fn rows_at(
+    (branch, loose): (&Branch, Option<&Estimator>),
+    (nodes, switches): (&[Node], &[Node]),
+    last: Option<(&Node, Hold)>,
+    targets: &[f64],
+    points: usize,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<Vec<(ContactState, f64)>> {
+    let first = nodes[0];
     // two fixed halves, each its own chain of predictions: the numbers do not depend on
     // whether the second half runs on another thread of rayon's pool
     let (near, far) = targets.split_at(targets.len() / 2);
@@ -53,7 +76,7 @@ pub(crate) fn rows(
     out.push(node_row(&first));
     out.extend(a?);
     out.extend(b?);
-    if span > 0.0 {
+    if let Some((last, last_hold)) = last {
         out.push((last.state, row_estimate(loose, last, last_hold)));
     }
     out.extend(switches.iter().map(node_row));

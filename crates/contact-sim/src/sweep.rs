@@ -158,6 +158,9 @@ pub enum Separation {
     ContactAtBase,
     /// The tip slid past a peg (the contact reached `s1 = 1`) and released it.
     TipPassed,
+    /// The path of poses ended while the whisker was still in contact ([`crate::path`]):
+    /// the sweep ends at its last row.
+    PathEnd,
     /// No separation within the continuation's step budget.
     NotReached {
         /// The steps taken.
@@ -166,7 +169,8 @@ pub enum Separation {
 }
 
 /// How the outputs name the separation: `snap`, `release`, `second contact`, `end of
-/// contour`, `contact at the base`, `tip passed the peg` or `not reached within N steps`.
+/// contour`, `contact at the base`, `tip passed the peg`, `end of the path` or `not reached within N
+/// steps`.
 impl std::fmt::Display for Separation {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
@@ -176,6 +180,7 @@ impl std::fmt::Display for Separation {
             Separation::EndOfContour => f.write_str("end of contour"),
             Separation::ContactAtBase => f.write_str("contact at the base"),
             Separation::TipPassed => f.write_str("tip passed the peg"),
+            Separation::PathEnd => f.write_str("end of the path"),
             Separation::NotReached { steps } => write!(f, "not reached within {steps} steps"),
         }
     }
@@ -448,7 +453,7 @@ pub(crate) fn frictionless(
 
 /// How far a contact state lies outside its phase: `psi - phi1` in tip contact (phase A
 /// needs the tip steeper than the boundary), `s1 - 1` in tangential contact; negative inside.
-fn phase_violation(s: &ContactState) -> f64 {
+pub(crate) fn phase_violation(s: &ContactState) -> f64 {
     match s.phase {
         Phase::B => s.s1 - 1.0,
         _ => s.point.psi - s.phi1,
@@ -458,7 +463,7 @@ fn phase_violation(s: &ContactState) -> f64 {
 /// Whether the phase condition, predicted between consecutive traced nodes of one phase by
 /// their cubic Hermite interpolant in the coordinate (no shots), dips below `-1e-7` at one of
 /// three interior points of a step: a pair of phase switches inside the step.
-fn crossed_unseen(profile: &Profile, nodes: &[Node]) -> bool {
+pub(crate) fn crossed_unseen(profile: &Profile, nodes: &[Node]) -> bool {
     let margin = |phase: Phase, u: &[f64; 3]| match phase {
         Phase::B => 1.0 - u[0],
         _ => u[0] - profile.at(u[2]).psi,
@@ -513,7 +518,7 @@ pub(crate) fn check_accuracy(
 
 /// How the estimate of the row where the contact ended holds it: a release at zero force
 /// (its defining condition), any other end at its contour point.
-fn hold_of(separation: &Separation) -> crate::accuracy::Hold {
+pub(crate) fn hold_of(separation: &Separation) -> crate::accuracy::Hold {
     match separation {
         Separation::Release => crate::accuracy::Hold::NoForce,
         _ => crate::accuracy::Hold::ContourPoint,
@@ -521,7 +526,7 @@ fn hold_of(separation: &Separation) -> crate::accuracy::Hold {
 }
 
 /// The node where the trace ended and how the contact ended there.
-fn separation(end: End) -> (Node, Separation) {
+pub(crate) fn separation(end: End) -> (Node, Separation) {
     match end {
         End::Snap(n) => (n, Separation::Snap),
         End::Release(n) => (n, Separation::Release),
@@ -534,6 +539,7 @@ fn separation(end: End) -> (Node, Separation) {
         End::OffContour(n) => (n, Separation::EndOfContour),
         End::AtBase(n) => (n, Separation::ContactAtBase),
         End::TipPassed(n) => (n, Separation::TipPassed),
+        End::Corner(n) => (n, Separation::PathEnd),
         End::NotReached(n, steps) => (n, Separation::NotReached { steps }),
     }
 }

@@ -75,11 +75,12 @@ impl Scan<'_> {
             Some(phi1) => phi1,
             None => {
                 let gamma = self.frame.pose(c).gamma;
-                free_tip_angle(self.whisker, self.flow, (guess, gamma), &self.integration)?
+                let whisker = self.whisker_at(c);
+                free_tip_angle(&whisker, self.flow, (guess, gamma), &self.integration)?
             }
         };
         let loads = Loads::fluid(self.flow.q, self.flow.alpha);
-        let ode = WhiskerOde::new(*self.whisker, loads, phi1, Sensitivities::None);
+        let ode = WhiskerOde::new(self.whisker_at(c), loads, phi1, Sensitivities::None);
         let sol = Dop853::new(self.tol, self.tol).with_dense(true).integrate(
             &ode,
             1.0,
@@ -88,6 +89,14 @@ impl Scan<'_> {
         )?;
         let base = (sol.u_end[2], sol.u_end[3]);
         Ok(Free { phi1, sol, base })
+    }
+
+    /// The whisker at coordinate `c`: on a path, with the follicle's compliance there.
+    fn whisker_at(&self, c: f64) -> Whisker {
+        match self.frame {
+            Frame::Path(seg) => with_compliance(self.whisker, seg.compliance(c)),
+            _ => *self.whisker,
+        }
     }
 
     /// The clearance of the point at `s` of `free` with its base at the pose of `c`.
@@ -177,6 +186,42 @@ pub(crate) fn first_touch_along(
     frame: Frame,
     start: f64,
 ) -> Result<FirstTouch> {
+    scan_touch(whisker, flow, (phi1, tol), profile, frame, start)?.map_err(|(span, c0)| {
+        ContactError::NoContact {
+            reason: format!(
+                "the whisker does not touch {} within {span:.3} of the motion's coordinate {} from {c0:.6}",
+                profile.name(),
+                frame.name()
+            ),
+        }
+    })
+}
+
+/// A whisker with the follicle compliance `c` (rigid at 0).
+pub(crate) fn with_compliance(whisker: &Whisker, c: f64) -> Whisker {
+    let support = if c > 0.0 {
+        beam_model::Support::Spring { k: 1.0 / c }
+    } else {
+        beam_model::Support::Rigid
+    };
+    Whisker {
+        support,
+        ..*whisker
+    }
+}
+
+/// [`first_touch_along`], with `Err((span, from))` (the coordinate scanned) for a whisker that does
+/// not reach the obstacle. On a path's segment the scan covers the segment (`span` 1 from
+/// its first row), its last step landing on the segment's end, so that the next segment's
+/// scan starts where this one ended.
+pub(crate) fn scan_touch(
+    whisker: &Whisker,
+    flow: FluidLoad,
+    (phi1, tol): (f64, f64),
+    profile: &Profile,
+    frame: Frame,
+    start: f64,
+) -> Result<std::result::Result<FirstTouch, (f64, f64)>> {
     let mut scan = Scan {
         whisker,
         flow,
@@ -200,11 +245,17 @@ pub(crate) fn first_touch_along(
             (right - lo + 0.05, (right - lo) - (left - hi) + 0.1)
         }
         Frame::Rotate { .. } => (start, std::f64::consts::TAU),
+        Frame::Path(seg) => (-(seg.index as f64), 1.0),
     };
     // the free whisker along the scan, its tip angle the next one's guess
     let mut guess = match frame {
         Frame::Translate => phi1,
-        Frame::Rotate { .. } => phi1 + frame.pose(c0).gamma,
+        Frame::Rotate { .. } | Frame::Path(_) => phi1 + frame.pose(c0).gamma,
+    };
+    // how far a point of the whisker moves per unit of the coordinate, at most
+    let speed = match frame {
+        Frame::Path(seg) => seg.speed(flow.q),
+        _ => 1.0,
     };
     let at = |c: f64, guess: &mut f64| -> Result<(f64, f64, Free)> {
         let free = scan.free(c, *guess)?;
@@ -226,7 +277,7 @@ pub(crate) fn first_touch_along(
                 }
             }
         };
-        (0.5 * g / (1.0 + slope)).clamp(SCAN_STEP_MIN, SCAN_STEP)
+        (0.5 * g / (1.0 + slope) / speed).clamp(SCAN_STEP_MIN, SCAN_STEP)
     };
     let (g0, s0, free0) = at(c0, &mut guess)?;
     if g0 <= 0.0 {
@@ -242,7 +293,11 @@ pub(crate) fn first_touch_along(
     let mut hit = None;
     let mut h = step(g0, s0, &free0, c0);
     let mut c = c0;
-    while c0 - (c - h) <= span {
+    while c0 - (c - h) <= span || frame.floor().is_some() && c0 - c < span {
+        if frame.floor().is_some() {
+            // a path's segment: the last step lands on its end
+            h = h.min(span - (c0 - c));
+        }
         c -= h;
         let (g, s, free) = at(c, &mut guess)?;
         if g <= 0.0 {
@@ -253,13 +308,7 @@ pub(crate) fn first_touch_along(
         h = step(g, s, &free, c);
     }
     let Some((mut lo, mut g_lo)) = hit else {
-        return Err(ContactError::NoContact {
-            reason: format!(
-                "the whisker does not touch {} within {span:.3} of the motion's coordinate {} from {c0:.6}",
-                profile.name(),
-                frame.name()
-            ),
-        });
+        return Ok(Err((span, c0)));
     };
     // Illinois: G > 0 at `hi`, G <= 0 at `lo` (the coordinate falls along the motion); the
     // weight of an end that stays is halved; bisection where the secant point is not inside
@@ -295,6 +344,10 @@ pub(crate) fn first_touch_along(
             break;
         }
     }
+    if g_lo == 0.0 {
+        // a point where the clearance vanishes exactly is the touch itself
+        hi = lo;
+    }
     let mut g = guess_hi;
     let (_, s, free) = at(hi, &mut g)?;
     let pose = frame.pose(hi);
@@ -314,7 +367,7 @@ pub(crate) fn first_touch_along(
         _ => px,
     };
     let geom = profile.at(t);
-    Ok(FirstTouch {
+    Ok(Ok(FirstTouch {
         kind,
         s: if kind == FirstContact::Tip { 1.0 } else { s },
         t,
@@ -325,5 +378,5 @@ pub(crate) fn first_touch_along(
         phi1: free.phi1,
         y0: pose.y0,
         gamma: pose.gamma,
-    })
+    }))
 }

@@ -2,7 +2,8 @@
 //! flow q = 5 (thesis ch. 5, case 1) with the default settings. The issue's target: < 50 ms.
 //! And the same whisker and flow whisked (rotated about its base at the origin from
 //! gamma = 0) against the peg (-0.2, 0.6), 200 points (issue 38: as fast per row as the
-//! translating sweep). And the g1 sweep with Coulomb friction mu = 0.5 (issue 39: at most
+//! translating sweep), and the same rotation written as a 2-row path of poses, `(0, 0, 0)`
+//! to `(0, 0, 3)` (issue 38: a path costs what the rotation does). And the g1 sweep with Coulomb friction mu = 0.5 (issue 39: at most
 //! 1.5x the frictionless).
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
@@ -61,6 +62,35 @@ fn whisk_peg(c: &mut Criterion) {
     group.finish();
 }
 
+fn whisk_peg_path(c: &mut Criterion) {
+    use vibrissa::contact_sim::{Pose, Poses};
+    let whisker = Whisker::uniform();
+    let profile = Profile::parse("peg:-0.2,0.6").expect("peg");
+    let poses = vec![
+        Pose::default(),
+        Pose {
+            x0: 0.0,
+            y0: 0.0,
+            gamma: 3.0,
+        },
+    ];
+    let settings = SweepSettings {
+        motion: BaseMotion::Path(Poses::new(poses, None).expect("path")),
+        ..SweepSettings::default()
+    };
+    let flow = beam_model::FluidLoad { q: 5.0, alpha: 0.0 };
+    if let Err(e) = sweep(&whisker, flow, &profile, &settings) {
+        eprintln!("sweep/path/peg: {e}");
+        return;
+    }
+    let mut group = c.benchmark_group("sweep");
+    group.sample_size(10);
+    group.bench_function("path/peg:-0.2,0.6/q=5/200-points", |b| {
+        b.iter(|| sweep(black_box(&whisker), flow, black_box(&profile), &settings))
+    });
+    group.finish();
+}
+
 fn sweep_g1_friction(c: &mut Criterion) {
     let whisker = Whisker::uniform();
     let profile = Profile::g1();
@@ -81,5 +111,11 @@ fn sweep_g1_friction(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, sweep_g1, whisk_peg, sweep_g1_friction);
+criterion_group!(
+    benches,
+    sweep_g1,
+    whisk_peg,
+    whisk_peg_path,
+    sweep_g1_friction
+);
 criterion_main!(benches);

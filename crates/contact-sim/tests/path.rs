@@ -360,7 +360,7 @@ fn random_scene(rng: &mut Rng, i: usize) -> Scene {
             .collect::<Vec<_>>()
     });
     let d = rng.range(0.35, 0.85);
-    let ang = gamma0 + rng.range(0.15, 0.6);
+    let ang = gamma0 + rng.range(0.25, 0.9);
     let (px, py) = (bx - d * ang.sin(), by + d * ang.cos());
     let kind = rng.next();
     let profile = if kind < 0.4 {
@@ -596,7 +596,10 @@ fn run_battery(count: usize, seed: u64) {
         "{count} scenes: {swept} swept, {} refused {kinds:?}; separations {separations:?}",
         refused.len()
     );
-    for r in refused.iter().filter(|r| !r.contains("no contact")) {
+    for r in refused
+        .iter()
+        .filter(|r| !r.contains("does not touch") && !r.contains("starts inside"))
+    {
         println!("  refused {r}");
     }
     println!("{} contact rows; worst:", fig.rows);
@@ -619,7 +622,8 @@ fn run_battery(count: usize, seed: u64) {
     assert!(fig.on_obstacle.0 < 1e-9, "{:?}", fig.on_obstacle);
     assert!(fig.phase.0 < 1e-8, "{:?}", fig.phase);
     assert!(fig.base_law.0 < 2e-11, "{:?}", fig.base_law);
-    assert!(fig.off_path.0 < 1e-12, "{:?}", fig.off_path);
+    // a row at a corner or the path's end is solved there to the corrector's tolerance
+    assert!(fig.off_path.0 < 1e-10, "{:?}", fig.off_path);
     assert!(fig.penetration.0 < 1e-6, "{:?}", fig.penetration);
 }
 

@@ -637,3 +637,45 @@ fn wpath_battery_subset() {
 fn wpath_battery_full() {
     run_battery(1000, 0x5EED_0038_0002);
 }
+
+/// `--tol` along a path with a corner and a tensing follicle: with the accuracy T asked for
+/// every row carries an estimate below T, and its true error (against the default sweep at
+/// 1e-12, the same pose to 1e-9) stays below its estimate.
+#[test]
+fn wpath_rows_carry_error_estimates_that_bound_their_errors() {
+    let whisker = Whisker::new(0.6, 0.3, 0.2, f64::INFINITY);
+    let flow = FluidLoad { q: 1.0, alpha: 0.2 };
+    let disc = Profile::parse("disc:-0.1,0.85,0.15").unwrap();
+    let path = vec![
+        pose(0.3, 0.0, 0.0),
+        pose(-0.3, 0.0, 0.0),
+        pose(-0.3, 0.05, 0.9),
+    ];
+    let ks = Some(vec![15.0, 30.0, 60.0]);
+    let exact = sweep(&whisker, flow, &disc, &along(path.clone(), ks.clone(), 25)).unwrap();
+    let mut checked = 0;
+    for tol in [1e-4, 1e-7] {
+        let s = SweepSettings {
+            accuracy: Some(tol),
+            ..along(path.clone(), ks.clone(), 25)
+        };
+        let r = sweep(&whisker, flow, &disc, &s).unwrap();
+        let acc = r.accuracy.as_ref().unwrap();
+        assert_eq!(acc.estimates.len(), r.points.len());
+        for (p, e) in r.points.iter().zip(&acc.estimates) {
+            assert!(*e <= tol, "estimate {e:e} above {tol:e}");
+            let Some(q) = exact.points.iter().find(|q| {
+                (q.x0 - p.x0).abs() + (q.y0 - p.y0).abs() + (q.gamma - p.gamma).abs() < 1e-9
+                    && q.phase == p.phase
+            }) else {
+                continue;
+            };
+            let err = [p.ma - q.ma, p.ax - q.ax, p.ay - q.ay, p.phi0 - q.phi0]
+                .iter()
+                .fold(0.0f64, |m, v| m.max(v.abs()));
+            assert!(err <= e.max(1e-11), "T {tol:e}: {err:e} > {e:e}");
+            checked += 1;
+        }
+    }
+    assert!(checked >= 40, "{checked}");
+}

@@ -354,8 +354,15 @@ pub(crate) fn first_node(branch: &Branch, touch: &FirstTouch) -> Result<Node> {
 /// (Newton, the trust region as the fallback, [`Rescue::TrustRegion`]); the continuation's
 /// corrector is Newton alone ([`Rescue::NewtonOnly`]): its failure shortens the step.
 fn tangential_first_node(branch: &Branch, u: [f64; 3], x0: f64) -> Result<Node> {
+    /// How far before the touch (in the motion's coordinate) the phase-B model's own touch
+    /// may lie and still be the touch itself.
+    const TOUCH_SLACK: f64 = 1e-9;
     let start = branch.correct(Phase::B, u, Constraint::NoForce, Rescue::TrustRegion)?;
-    if start.x0() < x0 - 1e-12 {
+    // the scan's touch (crate::touch_scan) is exact to its clearance's accuracy (~1e-12)
+    // divided by the rate of the clearance along the motion, ~1e-11 in the coordinate where
+    // a turn or a path moves the touching point slowly (measured: 1.1e-12 .. 1.9e-11 in the
+    // path battery, all without flow, where the phase-B model is the free whisker itself)
+    if start.x0() < x0 - TOUCH_SLACK {
         return Err(ContactError::NoContact {
             reason: format!(
                 "at the first tangential touch (x0 = {x0:.6}) the phase-B model (flow on [0, s1] only) is not yet in contact (its own touch is at x0 = {:.6})",

@@ -60,8 +60,8 @@ pub struct SweepSettings {
     #[serde(default)]
     pub contact_law: crate::contact_law::ContactLaw,
     /// How the base moves ([`crate::motion`]): translate (the default, the thesis's sweep),
-    /// rotate (whisking), or a path of poses. The rows are evenly spaced in the motion's
-    /// coordinate (x0, or gamma).
+    /// rotate (whisking), or a path of poses ([`crate::path`]). The rows are evenly spaced
+    /// in the motion's coordinate (x0, gamma, or the path parameter p).
     #[serde(default)]
     pub motion: crate::motion::BaseMotion,
 }
@@ -194,7 +194,8 @@ pub struct SweepResult {
     /// Flow angle alpha (rad): the flow is `q (cos alpha, -sin alpha)` on `[0, s1]`.
     pub alpha: f64,
     /// The rows in the order of the motion (x0 strictly decreasing in a translation, gamma
-    /// strictly increasing in a rotation), pre-contact rows first.
+    /// strictly increasing in a rotation, the path parameter strictly increasing along a
+    /// path), pre-contact rows first.
     pub points: Vec<SweepPoint>,
     /// How the contact began.
     pub first_contact: FirstContact,

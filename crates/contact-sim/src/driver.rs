@@ -56,8 +56,9 @@ pub fn sweep_with_progress(
     // The free whisker under the flow, then its exact first touch: on the graph's right
     // flank for a translation, along the motion otherwise ([`crate::touch_scan`]).
     let phi1 = free_tip(whisker, flow, settings.integration_tol, &integration)?;
-    if let crate::motion::BaseMotion::Path(_) = settings.motion {
-        return crate::path::sweep_path(whisker, flow, profile, settings, phi1, progress);
+    if let crate::motion::BaseMotion::Path(path) = &settings.motion {
+        let scene = (whisker, flow, profile);
+        return crate::path::sweep_path(scene, settings, path, phi1, progress);
     }
     let touch = if graph_translated {
         first_touch(whisker, flow, phi1, profile, settings.integration_tol)?

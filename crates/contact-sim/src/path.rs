@@ -1,4 +1,4 @@
-//! The sweep along a path of poses ([`BaseMotion::Path`], spec/model.md "Base motions"): the
+//! The sweep along a path of poses ([`crate::motion::BaseMotion::Path`], spec/model.md "Base motions"): the
 //! base follows any sequence of poses `(x0, y0, gamma)`, linear between rows, the follicle's
 //! stiffness `k(p)` along it where the path gives it (linear in the compliance `1/k`: the
 //! follicle tensing, `phi0 = pi/2 + gamma(p) - MA/k(p)`, [3.21, 3.22] turned and tensed).
@@ -27,7 +27,7 @@ use crate::branch::{Branch, Constraint, Node, Rescue};
 use crate::continuation::{trace_tightened, End, StepControl, Trace};
 use crate::error::{ContactError, Result};
 use crate::first_contact::{first_node, free_tip_angle, FirstTouch};
-use crate::motion::{BaseMotion, Frame, Poses};
+use crate::motion::{Frame, Poses};
 use crate::phase::{ContactState, Phase};
 use crate::profile::Profile;
 use crate::sweep::{
@@ -131,20 +131,16 @@ fn trace_path(
     }
 }
 
-/// Sweeps the whisker along `path` (the free tip angle `phi1` of the unturned whisker as the
-/// first guess): the first touch, the trace segment by segment, the rows evenly spaced in `p`
-/// with their estimates, the rows before contact.
+/// Sweeps the whisker along `path` (the motion of `settings`; the free tip angle `phi1` of
+/// the unturned whisker as the first guess): the first touch, the trace segment by segment,
+/// the rows evenly spaced in `p` with their estimates, the rows before contact.
 pub(crate) fn sweep_path(
-    whisker: &Whisker,
-    flow: FluidLoad,
-    profile: &Profile,
+    (whisker, flow, profile): (&Whisker, FluidLoad, &Profile),
     settings: &SweepSettings,
+    path: &Poses,
     phi1: f64,
     progress: &mut dyn FnMut(SweepProgress),
 ) -> Result<SweepResult> {
-    let BaseMotion::Path(path) = &settings.motion else {
-        unreachable!("sweep_path is called with a path")
-    };
     let tol = settings.integration_tol;
     let (i0, touch) = first_touch_on_path(whisker, flow, (phi1, tol), profile, path)?;
     profile.convex_at(touch.t)?;

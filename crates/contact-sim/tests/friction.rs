@@ -548,8 +548,11 @@ fn the_linear_limit_slides_on_the_cone_edge() {
             flow: FluidLoad { q: 0.0, alpha: 0.0 },
             profile: Profile::parse(&spec).unwrap(),
         };
+        // 40 steps of at most 0.05: the trace ends a short way from the touch, so that the
+        // 2000 rows are dense within the small deflections
         let s = SweepSettings {
             max_steps: 40,
+            max_step: 0.05,
             ..settings(mu, 2000)
         };
         let res = sweep(&sc.whisker, sc.flow, &sc.profile, &s);

@@ -85,7 +85,8 @@ impl Sweeper<'_> {
             a.w[2] + th * d[2],
             a.w[3] + th * d[3],
         ];
-        self.b.correct(a.phase, a.mode, p, Con::Plane { n, p })
+        self.b
+            .correct_near(a.phase, a.mode, p, Con::Plane { n, p }, Some(&a.jac), true)
     }
 
     /// Locates the zero of `ev`'s condition between `a` (>= 0) and `b` (< 0) by regula

@@ -93,6 +93,18 @@ use rows::rows;
 pub(crate) use settings::FrictionSettings;
 use trace::Sweeper;
 
+/// The trace's integrator tolerance (at most as tight as the sweep's), as the frictionless
+/// trace's (`continuation::TRACE_INTEGRATION_TOL`): the nodes only guide the rows and bracket
+/// the events; every row, the event rows on their events, is solved at the sweep's own.
+const TRACE_INTEGRATION_TOL: f64 = 1e-9;
+
+/// The trace's residual tolerance (at most as tight as the sweep's).
+const TRACE_SOLVE_TOL: f64 = 1e-9;
+
+/// The trace's longest step in `(v, fn/F, ft/F, t)`, `F = max(1, |fn|)` (the frictionless
+/// sweep's default `max_step`; events are located by bisection down to 0.05 first).
+const MAX_STEP: f64 = 0.2;
+
 /// What the frictional sweep returns to [`crate::driver::sweep`].
 pub(crate) struct FrictionalRows {
     /// The contact rows and their estimates (NaN without an accuracy asked for).
@@ -111,17 +123,25 @@ pub(crate) fn frictional_rows(
     touch: &FirstTouch,
     set: &FrictionSettings,
 ) -> Result<FrictionalRows> {
+    // the trace at looser tolerances (its nodes only guide the rows and bracket the
+    // events, as the frictionless sweep's `continuation::trace_tightened`); the rows, the
+    // first node and the event rows on their events at the sweep's own (`rows`)
+    let tight = FrictionBranch {
+        whisker,
+        flow,
+        profile,
+        integration: Integration::adaptive(set.integration_tol),
+        tol: set.solve_tol,
+        mu: set.mu,
+    };
     let sw = Sweeper {
         b: FrictionBranch {
-            whisker,
-            flow,
-            profile,
-            integration: Integration::adaptive(set.integration_tol),
-            tol: set.solve_tol,
-            mu: set.mu,
+            integration: Integration::adaptive(set.integration_tol.max(TRACE_INTEGRATION_TOL)),
+            tol: set.solve_tol.max(TRACE_SOLVE_TOL),
+            ..tight.clone_shallow()
         },
         event_tol: set.event_tol,
-        max_step: set.max_step.min(0.05),
+        max_step: set.max_step.min(MAX_STEP),
         max_steps: set.max_steps,
         check_penetration: set.check_penetration,
     };
@@ -151,9 +171,11 @@ pub(crate) fn frictional_rows(
     };
     let (_, n0) = sw.b.eval(phase, stick, w0, true)?;
     let first = sw.first_mode(&n0)?;
+    // the first node exact at the sweep's tolerances (its state is the touch's, no solve)
+    let first = tight.eval(first.phase, first.mode, first.w, true)?.1;
     let tr = sw.trace(first)?;
     let separation = tr.end;
-    let rows = rows(&sw, &tr, set)?;
+    let rows = rows(&sw, &tight, &tr, set)?;
     Ok(FrictionalRows {
         rows,
         events: tr.events,

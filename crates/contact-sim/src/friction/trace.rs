@@ -24,7 +24,11 @@ pub(super) struct Trace {
 }
 
 pub(super) struct Sweeper<'a> {
+    /// The trace's equations (looser tolerances than the sweep's).
     pub(super) b: FrictionBranch<'a>,
+    /// The equations at the sweep's tolerances: a second contact is located on them (its
+    /// depth margin, 1e-10, is below the trace's integration tolerance).
+    pub(super) tight: FrictionBranch<'a>,
     pub(super) event_tol: f64,
     pub(super) max_step: f64,
     pub(super) max_steps: usize,

@@ -84,7 +84,8 @@ use crate::first_contact::{FirstContact, FirstTouch};
 use crate::phase::Phase;
 use crate::profile::Profile;
 use crate::sweep::{
-    check_accuracy, pre_contact_rows, Separation, SweepPoint, SweepResult, SweepSettings,
+    check_accuracy, pre_contact_rows, Separation, SweepPoint, SweepProgress, SweepResult,
+    SweepSettings,
 };
 use beam_model::shot::Integration;
 use beam_model::{FluidLoad, Whisker};
@@ -122,6 +123,7 @@ pub(crate) fn frictional_rows(
     profile: &Profile,
     touch: &FirstTouch,
     set: &FrictionSettings,
+    progress: &mut dyn FnMut(SweepProgress),
 ) -> Result<FrictionalRows> {
     // the trace at looser tolerances (its nodes only guide the rows and bracket the
     // events, as the frictionless sweep's `continuation::trace_tightened`); the rows, the
@@ -174,6 +176,7 @@ pub(crate) fn frictional_rows(
     let first = sw.first_mode(&n0)?;
     // the first node exact at the sweep's tolerances (its state is the touch's, no solve)
     let first = tight.eval(first.phase, first.mode, first.w, true)?.1;
+    progress(SweepProgress::Coarse { steps: 0 });
     let tr = match sw.trace(first) {
         Ok(tr) => tr,
         // where the looser trace stalls (met at a fold in tangential contact, battery scene
@@ -186,7 +189,12 @@ pub(crate) fn frictional_rows(
         .trace(first)?,
     };
     let separation = tr.end;
-    let rows = rows(&sw, &tight, &tr, set)?;
+    progress(SweepProgress::Coarse {
+        steps: tr.nodes.len(),
+    });
+    let rows = rows(&sw, &tight, &tr, set, &mut |done, total| {
+        progress(SweepProgress::Fine { done, total })
+    })?;
     Ok(FrictionalRows {
         rows,
         events: tr.events,
@@ -198,7 +206,9 @@ pub(crate) fn frictional_rows(
 /// The frictional sweep (`mu > 0`) from the free whisker's tip angle `phi1` and its first
 /// touch: the pre-contact rows of the frictionless sweep, then the frictional contact rows
 /// ([`frictional_rows`]), with the accuracy asked for (`SweepSettings::accuracy`) every row's
-/// estimate, the sweep refused where one exceeds it (no second, tighter pass here).
+/// estimate, the sweep refused where one exceeds it (no second, tighter pass here). Progress
+/// goes to `progress` as the frictionless sweep's: `Coarse` before and after the trace (its
+/// nodes), `Fine` for every row.
 pub(crate) fn sweep(
     whisker: &Whisker,
     flow: FluidLoad,
@@ -206,6 +216,7 @@ pub(crate) fn sweep(
     settings: &SweepSettings,
     (phi1, touch): (f64, &FirstTouch),
     mu: f64,
+    progress: &mut dyn FnMut(SweepProgress),
 ) -> Result<SweepResult> {
     let set = FrictionSettings {
         mu,
@@ -224,7 +235,7 @@ pub(crate) fn sweep(
             )
         }),
     };
-    let fr = frictional_rows(whisker, flow, profile, touch, &set)?;
+    let fr = frictional_rows(whisker, flow, profile, touch, &set, progress)?;
     let mut points = pre_contact_rows(whisker, flow, phi1, fr.first_x0, settings)?;
     let pre = points.len();
     points.extend(fr.rows.iter().map(|r| r.0));

@@ -25,6 +25,7 @@ pub(super) fn rows(
     tight: &FrictionBranch,
     tr: &Trace,
     set: &FrictionSettings,
+    progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Vec<(SweepPoint, f64)>> {
     let row_branch = set.rows_at.map(|(it, st, _)| FrictionBranch {
         integration: Integration::adaptive(it),
@@ -78,7 +79,8 @@ pub(super) fn rows(
             false
         }
     });
-    let mut out: Vec<(SweepPoint, f64)> = Vec::with_capacity(targets.len());
+    let total = targets.len();
+    let mut out: Vec<(SweepPoint, f64)> = Vec::with_capacity(total);
     let mut seg = 0;
     for (x, at) in targets {
         let (node, hold) = match at {
@@ -119,6 +121,7 @@ pub(super) fn rows(
         let t = node.w[3];
         sigma = (t, sigma.1 + arc_length(sw.b.profile, sigma.0, t));
         out.push((row_of(sw.b.flow, (sigma.1, origin.1), &node), est));
+        progress(out.len(), total);
     }
     Ok(out)
 }

@@ -56,7 +56,8 @@ pub(super) struct Node {
     pub(super) phi0: f64,
     pub(super) m0: f64,
     pub(super) geom: ContourGeom,
-    /// Rows `dR0, dR1, dx0` with respect to `w`.
+    /// Rows `dR0, dR1, dx0` with respect to `w` (zero on a row solved without them,
+    /// `FrictionBranch::correct_near` with `want_jac` unset).
     pub(super) jac: [[f64; 4]; 3],
 }
 
@@ -226,23 +227,25 @@ impl FrictionBranch<'_> {
         g.dx.hypot(g.dy)
     }
 
-    /// Newton's method on `(R0, R1, mode, constraint)` from `w` in `phase` ([`Self::correct_near`]
-    /// without a nearby Jacobian; the node returned carries its Jacobian).
+    /// The corrector on `(R0, R1, mode, constraint)` from `w` in `phase`
+    /// ([`Self::correct_near`] without a nearby Jacobian; the node returned carries its
+    /// Jacobian).
     pub(super) fn correct(&self, phase: Phase, mode: Mode, w: [f64; 4], con: Con) -> Result<Node> {
         self.correct_near(phase, mode, w, con, None, true)
     }
 
     /// Simplified Newton on `(R0, R1, mode, constraint)` from `w` in `phase`, damped by
     /// halving where the residual grows. The rows `dR0, dR1, dx0` of the Jacobian start as
-    /// `near`'s (a nearby node's, no shot spent) or are evaluated at `w`; they are kept while
-    /// a step contracts the residual by [`CONTRACTION`] or more and evaluated afresh
-    /// otherwise, the mode's and the constraint's rows always exact. Trial points are shot
-    /// without sensitivities (a fifth to a tenth of a shot with them; but slender tips,
-    /// theta < 0.15, always with, as the frictionless corrector, and so where the integrator's
-    /// tolerance is above ten times the residual's, and so once more from `w` where the plain
-    /// shots do not converge); the solution is shot once
-    /// more with them if `want_jac` (the curve's tangent needs it). A corrector that stalls
-    /// within [`NOISE_FLOOR`] is accepted.
+    /// `near`'s (a nearby node's, no shot spent) or are evaluated at `w`; after every step
+    /// they get Broyden's update along it, and they are evaluated afresh where a step
+    /// contracts the residual less than [`CONTRACTION`]; the mode's and the constraint's rows
+    /// are always exact. Trial points are shot without sensitivities (a fifth to a tenth of
+    /// a shot with them), the solution once more with them if `want_jac` (the curve's tangent
+    /// needs it). Every shot carries sensitivities (Newton) for slender tips (theta < 0.15,
+    /// as the frictionless corrector) and where the integrator's tolerance is above ten times
+    /// the residual's (an estimate's loose solve: plain shots and shots with sensitivities
+    /// differ at the integrator's tolerance); and a solve that fails with plain shots is run
+    /// again that way from `w`. A corrector that stalls within [`NOISE_FLOOR`] is accepted.
     pub(super) fn correct_near(
         &self,
         phase: Phase,
@@ -345,10 +348,9 @@ impl FrictionBranch<'_> {
                         }
                     }
                     (w, r, node, best) = (trial, rt, nt, n);
-                    let exact = matrix(&jm[..3].try_into().unwrap_or(node.jac), &node);
-                    jm[2] = exact[2];
+                    jm[2] = self.mode_eq(phase, mode, &node.w).1;
                     if !matches!(con, Con::Base(_)) {
-                        jm[3] = exact[3];
+                        jm[3] = self.constraint(&con, &node).1;
                     }
                     fresh = always;
                     if always {

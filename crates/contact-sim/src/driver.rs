@@ -69,7 +69,8 @@ pub fn sweep_with_progress(
     };
     profile.convex_at(touch.t)?;
     if let Some(mu) = settings.contact_law.friction() {
-        return crate::friction::sweep(whisker, flow, profile, settings, (phi1, &touch), mu);
+        let at = (phi1, &touch);
+        return crate::friction::sweep(whisker, flow, profile, settings, at, mu, progress);
     }
     frictionless(whisker, flow, profile, settings, (phi1, touch), progress)
 }

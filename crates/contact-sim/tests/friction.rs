@@ -548,8 +548,11 @@ fn the_linear_limit_slides_on_the_cone_edge() {
             flow: FluidLoad { q: 0.0, alpha: 0.0 },
             profile: Profile::parse(&spec).unwrap(),
         };
+        // 40 steps of at most 0.05: the trace ends a short way from the touch, so that the
+        // 2000 rows are dense within the small deflections
         let s = SweepSettings {
             max_steps: 40,
+            max_step: 0.05,
             ..settings(mu, 2000)
         };
         let res = sweep(&sc.whisker, sc.flow, &sc.profile, &s);
@@ -846,4 +849,36 @@ fn one_scene() {
             p.slip_distance
         );
     }
+}
+
+/// `sweep_with_progress` reports a frictional sweep as a frictionless one (fcost): `Coarse`
+/// before and after the trace, then one `Fine` per contact row, counting up to the number of
+/// contact rows the result has, and the same rows as `sweep`.
+#[test]
+fn fcost_a_frictional_sweep_reports_its_progress() {
+    use contact_sim::{sweep_with_progress, SweepProgress};
+    let (whisker, flow, profile) = (
+        Whisker::uniform(),
+        FluidLoad { q: 5.0, alpha: 0.0 },
+        Profile::g1(),
+    );
+    let s = settings(0.5, 20);
+    let mut reports = Vec::new();
+    let r = sweep_with_progress(&whisker, flow, &profile, &s, &mut |p| reports.push(p)).unwrap();
+    let contact = r.contact_points().count();
+    assert_eq!(reports[0], SweepProgress::Coarse { steps: 0 });
+    assert!(matches!(reports[1], SweepProgress::Coarse { steps } if steps > 1));
+    let fine: Vec<(usize, usize)> = reports[2..]
+        .iter()
+        .map(|p| match *p {
+            SweepProgress::Fine { done, total } => (done, total),
+            other => panic!("{other:?} after the trace"),
+        })
+        .collect();
+    assert_eq!(fine.len(), contact);
+    for (k, &(done, total)) in fine.iter().enumerate() {
+        assert_eq!((done, total), (k + 1, contact));
+    }
+    let plain = sweep(&whisker, flow, &profile, &s).unwrap();
+    assert_eq!(format!("{:?}", plain.points), format!("{:?}", r.points));
 }

@@ -56,7 +56,8 @@ pub(super) struct Node {
     pub(super) phi0: f64,
     pub(super) m0: f64,
     pub(super) geom: ContourGeom,
-    /// Rows `dR0, dR1, dx0` with respect to `w`.
+    /// Rows `dR0, dR1, dx0` with respect to `w` (zero on a row solved without them,
+    /// `FrictionBranch::correct_near` with `want_jac` unset).
     pub(super) jac: [[f64; 4]; 3],
 }
 
@@ -73,8 +74,16 @@ pub(super) struct FrictionBranch<'a> {
 /// Largest residual accepted from a corrector that stalls (the shots' noise floor).
 pub(super) const NOISE_FLOOR: f64 = 1e-10;
 
-/// Newton iterations of one corrector solve.
+/// Newton iterations of one corrector solve (twice as many simplified ones).
 pub(super) const MAX_NEWTON: usize = 12;
+
+/// The residual's contraction per simplified Newton step below which the kept Jacobian is
+/// evaluated afresh (as the frictionless corrector's 20x).
+pub(super) const CONTRACTION: f64 = 0.05;
+
+/// Diameter ratio below which every shot carries sensitivities (the frictionless branch's:
+/// slender tips put a noise floor on the plain shots).
+const SLENDER: f64 = 0.15;
 
 pub(super) fn lin(a: f64, x: &BaseValues, b: f64, y: &BaseValues) -> BaseValues {
     BaseValues {
@@ -218,100 +227,180 @@ impl FrictionBranch<'_> {
         g.dx.hypot(g.dy)
     }
 
-    /// Newton's method on `(R0, R1, mode, constraint)` from `w` in `phase`, the Jacobian
-    /// evaluated at every iterate, damped by halving where the residual grows.
+    /// The corrector on `(R0, R1, mode, constraint)` from `w` in `phase`
+    /// ([`Self::correct_near`] without a nearby Jacobian; the node returned carries its
+    /// Jacobian).
     pub(super) fn correct(&self, phase: Phase, mode: Mode, w: [f64; 4], con: Con) -> Result<Node> {
-        let system = |w: [f64; 4]| -> Result<([f64; 4], [[f64; 4]; 4], Node)> {
-            let (r, node) = self.eval(phase, mode, w, true)?;
-            let (m, gm) = self.mode_eq(phase, mode, &w);
-            let (c, gc) = match con {
-                Con::Base(x) => (node.x0 - x, node.jac[2]),
-                Con::Plane { n, p } => (dot4(&n, &sub4(&w, &p)), n),
-            };
-            Ok(([r[0], r[1], m, c], [node.jac[0], node.jac[1], gm, gc], node))
-        };
-        let mut w = w;
-        let (mut r, mut j, mut node) = system(w)?;
-        let mut best = norm4(&r);
-        for it in 0..MAX_NEWTON {
-            if best <= self.tol {
-                return Ok(node);
-            }
-            let Some(dw) = solve4(j, [-r[0], -r[1], -r[2], -r[3]]) else {
-                break;
-            };
-            let mut lambda = 1.0;
-            let mut accepted = false;
-            for _ in 0..6 {
-                let trial = [
-                    w[0] + lambda * dw[0],
-                    w[1] + lambda * dw[1],
-                    w[2] + lambda * dw[2],
-                    w[3] + lambda * dw[3],
-                ];
-                if let Ok((rt, jt, nt)) = system(trial) {
-                    let n = norm4(&rt);
-                    if n < best || (n <= NOISE_FLOOR && lambda == 1.0) {
-                        (w, r, j, node, best) = (trial, rt, jt, nt, n);
-                        accepted = true;
-                        break;
-                    }
-                }
-                lambda *= 0.5;
-            }
-            if !accepted {
-                if best <= NOISE_FLOOR && it > 0 {
-                    return Ok(node);
-                }
-                break;
-            }
-        }
-        if best <= self.tol || best <= NOISE_FLOOR {
-            return Ok(node);
-        }
-        Err(ContactError::PhaseSolve {
-            phase,
-            xc: node.geom.x,
-            iterations: MAX_NEWTON as u64,
-            residual: best,
-        })
+        self.correct_near(phase, mode, w, con, None, true)
     }
 
-    /// The chord method for a row at base position `x` from `w` (a prediction between two
-    /// nodes): Newton's steps with the Jacobian `near` of a nearby node (rows `dR0, dR1,
-    /// dx0`; the mode's row exact) and shots without sensitivities, a fifth to a tenth of a
-    /// shot with them. `None` where the residual does not halve at every step or the
-    /// tolerance is not reached in 8 steps (the caller then runs [`FrictionBranch::correct`]).
-    /// The node carries no Jacobian.
-    pub(super) fn correct_chord(
+    /// Simplified Newton on `(R0, R1, mode, constraint)` from `w` in `phase`, damped by
+    /// halving where the residual grows. The rows `dR0, dR1, dx0` of the Jacobian start as
+    /// `near`'s (a nearby node's, no shot spent) or are evaluated at `w`; after every step
+    /// they get Broyden's update along it, and they are evaluated afresh where a step
+    /// contracts the residual less than [`CONTRACTION`]; the mode's and the constraint's rows
+    /// are always exact. Trial points are shot without sensitivities (a fifth to a tenth of
+    /// a shot with them), the solution once more with them if `want_jac` (the curve's tangent
+    /// needs it). Every shot carries sensitivities (Newton) for slender tips (theta < 0.15,
+    /// as the frictionless corrector) and where the integrator's tolerance is above ten times
+    /// the residual's (an estimate's loose solve: plain shots and shots with sensitivities
+    /// differ at the integrator's tolerance); and a solve that fails with plain shots is run
+    /// again that way from `w`. A corrector that stalls within [`NOISE_FLOOR`] is accepted.
+    pub(super) fn correct_near(
         &self,
         phase: Phase,
         mode: Mode,
         w: [f64; 4],
-        x: f64,
-        near: &[[f64; 4]; 3],
-    ) -> Option<Node> {
-        let mut w = w;
-        let mut prev = f64::INFINITY;
-        for _ in 0..8 {
-            let (r, node) = self.eval(phase, mode, w, false).ok()?;
-            let (m, gm) = self.mode_eq(phase, mode, &w);
-            let res = [r[0], r[1], m, node.x0 - x];
-            let n = norm4(&res);
-            if n <= self.tol {
-                return Some(node);
-            }
-            if n.is_nan() || n >= 0.5 * prev {
-                return None;
-            }
-            prev = n;
-            let dw = solve4(
-                [near[0], near[1], gm, near[2]],
-                [-res[0], -res[1], -res[2], -res[3]],
-            )?;
-            w = [w[0] + dw[0], w[1] + dw[1], w[2] + dw[2], w[3] + dw[3]];
+        con: Con,
+        near: Option<&[[f64; 4]; 3]>,
+        want_jac: bool,
+    ) -> Result<Node> {
+        // plain shots and shots with sensitivities differ at the integrator's tolerance: where
+        // that is far above the residual's (an estimate's loose solve), or the tip slender,
+        // every shot carries sensitivities (Newton as before)
+        let rtol = match &self.integration {
+            Integration::Dop853(d) => d.rtol,
+            Integration::Rk4 { .. } => 0.0,
+        };
+        let always = self.whisker.theta < SLENDER || rtol > 10.0 * self.tol;
+        match self.solve(phase, mode, w, con, near, want_jac, always) {
+            // where the plain shots' noise stops it above the tolerance (or the kept
+            // Jacobian leads astray): Newton with every shot's sensitivities from `w`
+            Err(_) if !always => self.solve(phase, mode, w, con, None, want_jac, true),
+            r => r,
         }
-        None
+    }
+
+    /// [`Self::correct_near`]'s iteration, every shot with sensitivities if `always`.
+    #[allow(clippy::too_many_arguments)]
+    fn solve(
+        &self,
+        phase: Phase,
+        mode: Mode,
+        w: [f64; 4],
+        con: Con,
+        near: Option<&[[f64; 4]; 3]>,
+        want_jac: bool,
+        always: bool,
+    ) -> Result<Node> {
+        let near = if always { None } else { near };
+        let system = |w: [f64; 4], jac: bool| -> Result<([f64; 4], Node)> {
+            let (r, node) = self.eval(phase, mode, w, jac || always)?;
+            let (m, _) = self.mode_eq(phase, mode, &w);
+            Ok(([r[0], r[1], m, self.constraint(&con, &node).0], node))
+        };
+        let matrix = |jr: &[[f64; 4]; 3], node: &Node| -> [[f64; 4]; 4] {
+            let (_, gm) = self.mode_eq(phase, mode, &node.w);
+            let gc = match con {
+                Con::Base(_) => jr[2],
+                _ => self.constraint(&con, node).1,
+            };
+            [jr[0], jr[1], gm, gc]
+        };
+        let mut w = w;
+        let (mut r, mut node) = system(w, near.is_none())?;
+        // the Jacobian rows in use, and whether they (and the node's) are evaluated at `w`
+        let mut jm = matrix(near.unwrap_or(&node.jac), &node);
+        let mut fresh = near.is_none() || always;
+        if always {
+            jm = matrix(&node.jac, &node);
+        }
+        let mut best = norm4(&r);
+        let mut converged = best <= self.tol;
+        for it in 0..2 * MAX_NEWTON {
+            if converged {
+                break;
+            }
+            let dw = solve4(jm, [-r[0], -r[1], -r[2], -r[3]]);
+            let mut accepted = None;
+            if let Some(dw) = dw {
+                let mut lambda = 1.0;
+                for _ in 0..6 {
+                    let trial = [
+                        w[0] + lambda * dw[0],
+                        w[1] + lambda * dw[1],
+                        w[2] + lambda * dw[2],
+                        w[3] + lambda * dw[3],
+                    ];
+                    if let Ok((rt, nt)) = system(trial, false) {
+                        let n = norm4(&rt);
+                        if n < best || (n <= NOISE_FLOOR && lambda == 1.0) {
+                            accepted = Some((trial, rt, nt, n));
+                            break;
+                        }
+                    }
+                    lambda *= 0.5;
+                }
+            }
+            match accepted {
+                Some((trial, rt, nt, n)) => {
+                    let contracted = n <= CONTRACTION * best;
+                    // Broyden's update of the kept Jacobian along the step (the mode's and
+                    // the constraint's rows then exact again)
+                    let (dw, dr) = (sub4(&trial, &w), sub4(&rt, &r));
+                    let dd = dot4(&dw, &dw);
+                    if dd > 0.0 {
+                        for i in 0..4 {
+                            let u = (dr[i] - dot4(&jm[i], &dw)) / dd;
+                            for (j, d) in dw.iter().enumerate() {
+                                jm[i][j] += u * d;
+                            }
+                        }
+                    }
+                    (w, r, node, best) = (trial, rt, nt, n);
+                    jm[2] = self.mode_eq(phase, mode, &node.w).1;
+                    if !matches!(con, Con::Base(_)) {
+                        jm[3] = self.constraint(&con, &node).1;
+                    }
+                    fresh = always;
+                    if always {
+                        jm = matrix(&node.jac, &node);
+                    }
+                    converged = best <= self.tol;
+                    if !converged && !contracted && !fresh {
+                        (r, node) = system(w, true)?;
+                        (jm, fresh, best) = (matrix(&node.jac, &node), true, norm4(&r));
+                        converged = best <= self.tol;
+                    }
+                }
+                None if !fresh => {
+                    // the kept Jacobian failed: once more with the Jacobian at `w`
+                    (r, node) = system(w, true)?;
+                    (jm, fresh, best) = (matrix(&node.jac, &node), true, norm4(&r));
+                    converged = best <= self.tol;
+                }
+                None => {
+                    converged = best <= NOISE_FLOOR && it > 0;
+                    break;
+                }
+            }
+        }
+        if !(converged || best <= NOISE_FLOOR) {
+            return Err(ContactError::PhaseSolve {
+                phase,
+                xc: node.geom.x,
+                iterations: MAX_NEWTON as u64,
+                residual: best,
+            });
+        }
+        if want_jac && !fresh {
+            node = system(w, true)?.1;
+        }
+        Ok(node)
+    }
+
+    /// The corrector's fourth equation at `node` and its gradient in `w`.
+    pub(super) fn constraint(&self, con: &Con, node: &Node) -> (f64, [f64; 4]) {
+        let w = &node.w;
+        match *con {
+            Con::Base(x) => (node.x0 - x, node.jac[2]),
+            Con::Plane { n, p } => (dot4(&n, &sub4(w, &p)), n),
+            Con::Mode(m) => self.mode_eq(node.phase, m, w),
+            Con::PhaseEnd => match node.phase {
+                Phase::B => (w[0] - 1.0, [1.0, 0.0, 0.0, 0.0]),
+                _ => (w[0] - node.geom.psi, [1.0, 0.0, 0.0, -node.geom.dpsi]),
+            },
+        }
     }
 
     /// The unit tangent of the mode's curve at `node` (null vector of `(R0, R1, mode)`'s
@@ -351,6 +440,10 @@ pub(super) enum Con {
     Base(f64),
     /// `n . (w - p) = 0`.
     Plane { n: [f64; 4], p: [f64; 4] },
+    /// Another mode's equation (a stick/slip switch's row on both legs at once).
+    Mode(Mode),
+    /// The phase's end: `phi1 = psi` in phase A, `s1 = 1` in phase B.
+    PhaseEnd,
 }
 
 pub(super) fn dot4(a: &[f64; 4], b: &[f64; 4]) -> f64 {

@@ -1,6 +1,6 @@
 //! The events of the frictional path and their location on it.
 
-use super::branch::{dot4, norm4, state_of, sub4, Con, Mode, Node};
+use super::branch::{dot4, norm4, state_of, sub4, Con, FrictionBranch, Mode, Node};
 use super::kinds::{Ev, PENETRATION_MARGIN};
 use super::trace::Sweeper;
 use crate::contact_law::frictional_loads;
@@ -74,8 +74,14 @@ impl Sweeper<'_> {
         }
     }
 
-    /// The node on the chord's hyperplane at fraction `th` from `a` to `b`.
-    pub(super) fn on_chord(&self, a: &Node, b: &Node, th: f64) -> Result<Node> {
+    /// The node on the chord's hyperplane at fraction `th` from `a` to `b`, solved on `br`.
+    pub(super) fn on_chord(
+        &self,
+        br: &FrictionBranch,
+        a: &Node,
+        b: &Node,
+        th: f64,
+    ) -> Result<Node> {
         let d = sub4(&b.w, &a.w);
         let len = norm4(&d);
         let n = d.map(|v| v / len);
@@ -85,7 +91,7 @@ impl Sweeper<'_> {
             a.w[2] + th * d[2],
             a.w[3] + th * d[3],
         ];
-        self.b.correct(a.phase, a.mode, p, Con::Plane { n, p })
+        br.correct_near(a.phase, a.mode, p, Con::Plane { n, p }, Some(&a.jac), true)
     }
 
     /// Locates the zero of `ev`'s condition between `a` (>= 0) and `b` (< 0) by regula
@@ -100,6 +106,13 @@ impl Sweeper<'_> {
     ) -> Result<(f64, Node)> {
         let dir = sub4(&b.w, &a.w);
         let len = norm4(&dir);
+        // a second contact's trial points at the sweep's tolerances (the trace's shots are
+        // looser than its depth margin)
+        let br = if ev == Ev::Depth {
+            &self.tight
+        } else {
+            &self.b
+        };
         let (mut lo, mut hi, mut flo, mut fhi) = (0.0, 1.0, ca, cb);
         let mut best = (1.0, *b, cb.abs());
         let mut side = 0i32;
@@ -115,7 +128,7 @@ impl Sweeper<'_> {
                     th.clamp(lo, hi)
                 };
             }
-            let n = self.on_chord(a, b, th)?;
+            let n = self.on_chord(br, a, b, th)?;
             let c = self.condition(ev, &n, &dir)?;
             if c.abs() <= best.2 || (c < 0.0 && best.2 > 0.0 && c.abs() < 1e-14) {
                 best = (th, n, c.abs());
@@ -140,7 +153,7 @@ impl Sweeper<'_> {
             }
         }
         // the bracket's end on the event's far side at the tolerance; the best point
-        let n = self.on_chord(a, b, best.0)?;
+        let n = self.on_chord(br, a, b, best.0)?;
         Ok((best.0, n))
     }
 }

@@ -84,7 +84,8 @@ use crate::first_contact::{FirstContact, FirstTouch};
 use crate::phase::Phase;
 use crate::profile::Profile;
 use crate::sweep::{
-    check_accuracy, pre_contact_rows, Separation, SweepPoint, SweepResult, SweepSettings,
+    check_accuracy, pre_contact_rows, Separation, SweepPoint, SweepProgress, SweepResult,
+    SweepSettings,
 };
 use beam_model::shot::Integration;
 use beam_model::{FluidLoad, Whisker};
@@ -92,6 +93,18 @@ use branch::{FrictionBranch, Mode};
 use rows::rows;
 pub(crate) use settings::FrictionSettings;
 use trace::Sweeper;
+
+/// The trace's integrator tolerance (at most as tight as the sweep's), as the frictionless
+/// trace's (`continuation::TRACE_INTEGRATION_TOL`): the nodes only guide the rows and bracket
+/// the events; every row, the event rows on their events, is solved at the sweep's own.
+const TRACE_INTEGRATION_TOL: f64 = 1e-9;
+
+/// The trace's residual tolerance (at most as tight as the sweep's).
+const TRACE_SOLVE_TOL: f64 = 1e-9;
+
+/// The trace's longest step in `(v, fn/F, ft/F, t)`, `F = max(1, |fn|)` (the frictionless
+/// sweep's default `max_step`; events are located by bisection down to 0.05 first).
+const MAX_STEP: f64 = 0.2;
 
 /// What the frictional sweep returns to [`crate::driver::sweep`].
 pub(crate) struct FrictionalRows {
@@ -110,18 +123,28 @@ pub(crate) fn frictional_rows(
     profile: &Profile,
     touch: &FirstTouch,
     set: &FrictionSettings,
+    progress: &mut dyn FnMut(SweepProgress),
 ) -> Result<FrictionalRows> {
+    // the trace at looser tolerances (its nodes only guide the rows and bracket the
+    // events, as the frictionless sweep's `continuation::trace_tightened`); the rows, the
+    // first node and the event rows on their events at the sweep's own (`rows`)
+    let tight = FrictionBranch {
+        whisker,
+        flow,
+        profile,
+        integration: Integration::adaptive(set.integration_tol),
+        tol: set.solve_tol,
+        mu: set.mu,
+    };
     let sw = Sweeper {
         b: FrictionBranch {
-            whisker,
-            flow,
-            profile,
-            integration: Integration::adaptive(set.integration_tol),
-            tol: set.solve_tol,
-            mu: set.mu,
+            integration: Integration::adaptive(set.integration_tol.max(TRACE_INTEGRATION_TOL)),
+            tol: set.solve_tol.max(TRACE_SOLVE_TOL),
+            ..tight.clone_shallow()
         },
+        tight: tight.clone_shallow(),
         event_tol: set.event_tol,
-        max_step: set.max_step.min(0.05),
+        max_step: set.max_step.min(MAX_STEP),
         max_steps: set.max_steps,
         check_penetration: set.check_penetration,
     };
@@ -151,9 +174,27 @@ pub(crate) fn frictional_rows(
     };
     let (_, n0) = sw.b.eval(phase, stick, w0, true)?;
     let first = sw.first_mode(&n0)?;
-    let tr = sw.trace(first)?;
+    // the first node exact at the sweep's tolerances (its state is the touch's, no solve)
+    let first = tight.eval(first.phase, first.mode, first.w, true)?.1;
+    progress(SweepProgress::Coarse { steps: 0 });
+    let tr = match sw.trace(first) {
+        Ok(tr) => tr,
+        // where the looser trace stalls (met at a fold in tangential contact, battery scene
+        // 160), the path traced again at the sweep's own tolerances, as before
+        Err(_) => Sweeper {
+            b: tight.clone_shallow(),
+            tight: tight.clone_shallow(),
+            ..sw
+        }
+        .trace(first)?,
+    };
     let separation = tr.end;
-    let rows = rows(&sw, &tr, set)?;
+    progress(SweepProgress::Coarse {
+        steps: tr.nodes.len(),
+    });
+    let rows = rows(&sw, &tight, &tr, set, &mut |done, total| {
+        progress(SweepProgress::Fine { done, total })
+    })?;
     Ok(FrictionalRows {
         rows,
         events: tr.events,
@@ -165,7 +206,9 @@ pub(crate) fn frictional_rows(
 /// The frictional sweep (`mu > 0`) from the free whisker's tip angle `phi1` and its first
 /// touch: the pre-contact rows of the frictionless sweep, then the frictional contact rows
 /// ([`frictional_rows`]), with the accuracy asked for (`SweepSettings::accuracy`) every row's
-/// estimate, the sweep refused where one exceeds it (no second, tighter pass here).
+/// estimate, the sweep refused where one exceeds it (no second, tighter pass here). Progress
+/// goes to `progress` as the frictionless sweep's: `Coarse` before and after the trace (its
+/// nodes), `Fine` for every row.
 pub(crate) fn sweep(
     whisker: &Whisker,
     flow: FluidLoad,
@@ -173,6 +216,7 @@ pub(crate) fn sweep(
     settings: &SweepSettings,
     (phi1, touch): (f64, &FirstTouch),
     mu: f64,
+    progress: &mut dyn FnMut(SweepProgress),
 ) -> Result<SweepResult> {
     let set = FrictionSettings {
         mu,
@@ -191,7 +235,7 @@ pub(crate) fn sweep(
             )
         }),
     };
-    let fr = frictional_rows(whisker, flow, profile, touch, &set)?;
+    let fr = frictional_rows(whisker, flow, profile, touch, &set, progress)?;
     let mut points = pre_contact_rows(whisker, flow, phi1, fr.first_x0, settings)?;
     let pre = points.len();
     points.extend(fr.rows.iter().map(|r| r.0));

@@ -52,7 +52,14 @@ impl Sweeper<'_> {
             n.w[2] + h * t[2],
             n.w[3] + h * t[3],
         ];
-        let Ok(m) = self.b.correct(n.phase, n.mode, p, Con::Base(n.x0 - dx)) else {
+        let Ok(m) = self.b.correct_near(
+            n.phase,
+            n.mode,
+            p,
+            Con::Base(n.x0 - dx),
+            Some(&n.jac),
+            false,
+        ) else {
             return false;
         };
         let [_, f, ft, tt] = m.w;

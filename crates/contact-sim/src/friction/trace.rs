@@ -11,6 +11,10 @@ use crate::sweep::Separation;
 /// law ([`Sweeper::probe`]).
 pub(super) const SWITCH_PROBE: f64 = 1e-4;
 
+/// Longest step over which an event is located (longer steps are shortened first; the
+/// trace's steps were at most this long before they grew to the frictionless sweep's 0.2).
+const EVENT_BRACKET: f64 = 0.05;
+
 /// The traced path: nodes in the order of the motion (a switch node appears twice, once in
 /// each mode), the switch events, and the end.
 pub(super) struct Trace {
@@ -20,7 +24,11 @@ pub(super) struct Trace {
 }
 
 pub(super) struct Sweeper<'a> {
+    /// The trace's equations (looser tolerances than the sweep's).
     pub(super) b: FrictionBranch<'a>,
+    /// The equations at the sweep's tolerances: a second contact is located on them (its
+    /// depth margin, 1e-10, is below the trace's integration tolerance).
+    pub(super) tight: FrictionBranch<'a>,
     pub(super) event_tol: f64,
     pub(super) max_step: f64,
     pub(super) max_steps: usize,
@@ -78,10 +86,14 @@ impl Sweeper<'_> {
                 cur.w[2] + raw * tn[2],
                 cur.w[3] + raw * tn[3],
             ];
-            let next = match self
-                .b
-                .correct(cur.phase, cur.mode, p, Con::Plane { n: tn, p })
-            {
+            let next = match self.b.correct_near(
+                cur.phase,
+                cur.mode,
+                p,
+                Con::Plane { n: tn, p },
+                Some(&cur.jac),
+                true,
+            ) {
                 Ok(n) if dot4(&self.b.tangent(&n, &tn), &tn) > 0.95 => Ok(n),
                 Ok(_) => Err(None),
                 Err(e) => Err(Some(e)),
@@ -107,6 +119,7 @@ impl Sweeper<'_> {
             // events between cur and next: the earliest
             let chord = sub4(&next.w, &cur.w);
             let mut first_ev: Option<(f64, Ev, Node)> = None;
+            let mut shrink = false;
             for &ev in self.events_of(cur.mode) {
                 let cb = self.condition(ev, &next, &chord)?;
                 if cb >= 0.0 {
@@ -117,10 +130,20 @@ impl Sweeper<'_> {
                     // already across at the start: only a switch that was just made
                     continue;
                 }
+                if norm4(&chord) > EVENT_BRACKET {
+                    // an event over a long step: the step shortened first (the chord's
+                    // trial points are solved on hyperplanes across it)
+                    shrink = true;
+                    break;
+                }
                 let (th, at) = self.locate(ev, &cur, &next, ca, cb)?;
                 if first_ev.as_ref().is_none_or(|f| th < f.0) {
                     first_ev = Some((th, ev, at));
                 }
+            }
+            if shrink {
+                h = 0.5 * h.min(norm4(&chord));
+                continue;
             }
             let Some((_, ev, at)) = first_ev else {
                 dir = self.b.tangent(&next, &tn);
@@ -192,7 +215,14 @@ impl Sweeper<'_> {
                             },
                         )
                     };
-                    let start = self.b.correct(at.phase, mode, at.w, Con::Base(at.x0))?;
+                    let start = self.b.correct_near(
+                        at.phase,
+                        mode,
+                        at.w,
+                        Con::Base(at.x0),
+                        Some(&at.jac),
+                        true,
+                    )?;
                     if !self.probe(&start, SWITCH_PROBE) {
                         let reason = match kind {
                             FrictionEventKind::StickToSlip => {

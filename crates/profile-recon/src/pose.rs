@@ -21,8 +21,10 @@
 //! lies on `y = 0` ([`in_base_frame`]): no rotation (a rotation would turn the flow of every
 //! row by its own `-gamma`, out of the range `(-pi/2, pi/2)` the identification and the
 //! stream check, and would differ row by row where the identified flow is one), and every
-//! existing method (`accurate`, `thesis`, accuracy on demand, the frictional reconstruction)
-//! runs unchanged in it. The angles `phi - psi` are compared wrapped to `(-pi, pi]`
+//! existing method (`accurate`, `thesis`, accuracy on demand, the stream) runs unchanged in
+//! it. The frictional reconstruction ([`crate::friction`]) returns its own type and is not
+//! wired through [`in_base_frame`] yet: its rows' points move the same way (`contact_sim`
+//! refuses friction with a rotation, so its logs are translations today). The angles `phi - psi` are compared wrapped to `(-pi, pi]`
 //! ([`base_shot`](crate::base_shot)), so a base turned by any `gamma` needs no unwrapping.
 //!
 //! What a pose changes besides the point: the order of the rows along the motion. The

@@ -433,3 +433,71 @@ fn wrec_a_whisking_log_gives_the_peg_and_a_translate_log_is_unchanged() {
     .unwrap();
     assert_eq!(plain, posed);
 }
+
+/// A translate log turned as a whole: every row's reactions turned by `delta` and its base
+/// angle by `delta` about its base, the base lifted by `y0` (the flow turned with them, as a
+/// turned experiment records it). The reconstruction is covariant: the points are the
+/// original ones turned by `delta` about each row's base and lifted by `y0`, the flow angle
+/// `alpha - delta` (spec/model.md: the load vector `q (cos alpha, -sin alpha)`), `psi + delta`.
+#[test]
+fn wrec_a_turned_and_lifted_log_gives_the_turned_and_lifted_points() {
+    let w = Whisker::new(0.7, 0.3, -0.2, 25.0);
+    let flow = FluidLoad { q: 2.0, alpha: 0.3 };
+    let res = sweep(
+        &w,
+        flow,
+        &Profile::g2(),
+        &SweepSettings {
+            points: 20,
+            ..SweepSettings::default()
+        },
+    )
+    .unwrap();
+    let rows = from_sweep(&res);
+    let plain =
+        reconstruct_with(&w, &rows, KnownFlow::default(), &ReconSettings::default()).unwrap();
+    for (delta, y0) in [(0.4, 0.25), (-0.7, -0.1), (1.1, 0.0)] {
+        let (sd, cd) = f64::sin_cos(delta);
+        let turned: Vec<ObservableRow> = rows
+            .iter()
+            .map(|r| ObservableRow {
+                ax: cd * r.ax - sd * r.ay,
+                ay: sd * r.ax + cd * r.ay,
+                phi0: r.phi0 + delta,
+                ..*r
+            })
+            .collect();
+        let poses = vec![RowPose { y0, gamma: delta }; rows.len()];
+        let rec = reconstruct_posed(
+            &w,
+            &turned,
+            &poses,
+            KnownFlow::default(),
+            &ReconSettings::default(),
+        )
+        .unwrap();
+        assert!(
+            (rec.identification.alpha - (flow.alpha - delta)).abs() < 1e-12,
+            "alpha {} at delta {delta}",
+            rec.identification.alpha
+        );
+        assert_eq!(rec.points.len(), plain.points.len());
+        let mut worst: f64 = 0.0;
+        for (p, q) in plain.points.iter().zip(&rec.points) {
+            assert_eq!((p.row, p.phase), (q.row, q.phase));
+            let (dx, dy) = (p.x - p.x0, p.y);
+            let (ex, ey) = (p.x0 + cd * dx - sd * dy, y0 + sd * dx + cd * dy);
+            worst = worst.max((q.x - ex).hypot(q.y - ey));
+            worst = worst.max((q.s1 - p.s1).abs()).max((q.f - p.f).abs());
+            let dpsi = (q.psi - p.psi - delta + std::f64::consts::PI)
+                .rem_euclid(std::f64::consts::TAU)
+                - std::f64::consts::PI;
+            worst = worst.max(dpsi.abs());
+        }
+        assert!(worst < 1e-10, "delta {delta}: {worst:e}");
+        println!(
+            "delta {delta}, y0 {y0}: worst {worst:.2e} over {} points",
+            rec.points.len()
+        );
+    }
+}

@@ -104,11 +104,19 @@ pub fn free_flow(ax: f64, ay: f64) -> FluidLoad {
     Reactions { ax, ay }.free_flow()
 }
 
-/// The quality measure [6.11]: `e = |y_rec - g(x_rec)|` per reconstructed point.
+/// The quality measure [6.11]: `e = |y_rec - g(x_rec)|` per reconstructed point (for a peg
+/// or a disc, touched from any side, the distance to it, [`contact_sim::Profile::clearance`]).
 pub fn contour_error(points: &[ReconPoint], profile: &contact_sim::Profile) -> Vec<f64> {
     points
         .iter()
-        .map(|p| (p.y - profile.y(p.x)).abs())
+        .map(|p| {
+            if profile.is_closed() {
+                // a peg or a disc touched from any side: the distance to it
+                profile.clearance(p.x, p.y).abs()
+            } else {
+                (p.y - profile.y(p.x)).abs()
+            }
+        })
         .collect()
 }
 

@@ -16,6 +16,8 @@
 //! | [`accuracy`] | accuracy on demand ([`reconstruct_to`]): the points at the tolerance an accuracy needs, each with its error estimate |
 //! | [`stream`] | rows one at a time, each point as soon as it is known |
 //! | [`noise`] | seeded sensor noise and the error-against-noise study |
+//! | [`pose`] | logs of any base motion: the rows' poses `(y0, gamma)` and the base frame the methods run in |
+//! | [`obstacle`] | a peg's position, a disc's centre and radius from the contact points, with standard errors |
 //! | [`friction`] | frictional logs: contact points, `fn`, `ft` and `mu` from the base observables alone |
 //! | [`calibrate`](mod@calibrate) | the whisker's own parameters from sweeps past known contours; design advice |
 //!
@@ -43,6 +45,8 @@ pub mod identify;
 mod judge;
 pub mod noise;
 pub mod observables;
+pub mod obstacle;
+pub mod pose;
 pub mod reconstruct;
 pub mod result;
 mod rows_par;
@@ -62,6 +66,8 @@ pub use friction::{
 pub use identify::identify;
 pub use noise::{add_noise, noise_study, NoiseResult};
 pub use observables::{from_sweep, ObservableRow};
+pub use obstacle::{estimate_disc, estimate_peg, DiscEstimate, PegEstimate};
+pub use pose::{in_base_frame, poses_of_sweep, reconstruct_posed, reconstruct_posed_to, RowPose};
 pub use reconstruct::{reconstruct, reconstruct_with};
 pub use result::{Identification, ReconPoint, Reconstruction};
 pub use stream::Streamer;

@@ -16,6 +16,9 @@
 //! the noise level, arriving first, would fix the flow); a sensor's stream starts free, and a
 //! robot that knows its flow should give it.
 //!
+//! Rows of any base motion come with their pose ([`Streamer::push_posed`], [`crate::pose`]):
+//! each is judged as it is and its point moved to the lab frame by its base's `y0`.
+//!
 //! The noise level is `ReconSettings::noise` ([`STREAM_NOISE`] if not given: a stream cannot
 //! be estimated ahead); the noise scales of the columns are the largest magnitudes seen so
 //! far.
@@ -28,6 +31,7 @@ use crate::error::Result;
 use crate::identify::check_known;
 use crate::judge::{flow_sd, Judge};
 use crate::observables::ObservableRow;
+use crate::pose::{in_base_frame, RowPose};
 use crate::reconstruct::reconstruct_with;
 use crate::result::ReconPoint;
 use beam_model::{FluidLoad, Whisker};
@@ -50,6 +54,8 @@ pub struct Streamer {
     count: usize,
     /// Rows held back until the flow is known: (index, row).
     held: Vec<(usize, ObservableRow)>,
+    /// The pose of every row received ([`Streamer::push_posed`]).
+    poses: Vec<RowPose>,
 }
 
 impl Streamer {
@@ -75,6 +81,7 @@ impl Streamer {
             scales: [0.0; 4],
             count: 0,
             held: Vec::new(),
+            poses: Vec::new(),
         })
     }
 
@@ -115,8 +122,30 @@ impl Streamer {
     /// [`ReconError::NonFinite`] for a non-finite value; [`ReconError::InconsistentRow`] with
     /// `consistency_tol`; solver errors.
     pub fn push(&mut self, row: ObservableRow) -> Result<Vec<ReconPoint>> {
+        self.push_posed(row, RowPose::TRANSLATE)
+    }
+
+    /// [`Streamer::push`] for a row of any base motion, with its pose `(y0, gamma)`
+    /// ([`crate::pose`]): the row is judged as it is (its shape does not depend on the pose)
+    /// and its point moved to the lab frame by `y0`.
+    ///
+    /// # Errors
+    /// As [`Streamer::push`]; [`ReconError::NonFinite`] for a non-finite pose.
+    pub fn push_posed(&mut self, row: ObservableRow, pose: RowPose) -> Result<Vec<ReconPoint>> {
         let i = self.count;
         row.validate(i)?;
+        pose.validate(i)?;
+        self.poses.push(pose);
+        let mut out = self.push_row(i, row)?;
+        for p in &mut out {
+            let x0 = p.x0;
+            crate::pose::point_to_lab(p, x0, x0, &self.poses[p.row]);
+        }
+        Ok(out)
+    }
+
+    /// Takes row `i` (validated), the points that became known in the base frame.
+    fn push_row(&mut self, i: usize, row: ObservableRow) -> Result<Vec<ReconPoint>> {
         self.count += 1;
         for (k, v) in [row.ax, row.ay, row.ma, row.phi0].into_iter().enumerate() {
             self.scales[k] = self.scales[k].max(v.abs());
@@ -158,7 +187,10 @@ impl Streamer {
             return Ok(Vec::new());
         }
         let rows: Vec<ObservableRow> = self.held.iter().map(|(_, r)| *r).collect();
-        let rec = reconstruct_with(&self.whisker, &rows, self.known, &self.settings)?;
+        let poses: Vec<RowPose> = self.held.iter().map(|(i, _)| self.poses[*i]).collect();
+        let rec = in_base_frame(&rows, &poses, |r| {
+            reconstruct_with(&self.whisker, r, self.known, &self.settings)
+        })?;
         Ok(rec
             .points
             .into_iter()

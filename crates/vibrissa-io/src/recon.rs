@@ -8,8 +8,8 @@
 //! (`vibrissa.reconstruct`, `vibrissa.Streamer`) both fill a [`ReconFlags`] and call these.
 
 use profile_recon::{
-    reconstruct_to, reconstruct_with, KnownFlow, ObservableRow, ReconError, ReconMethod,
-    ReconSettings, Reconstruction,
+    reconstruct_posed, reconstruct_posed_to, KnownFlow, ObservableRow, ReconError, ReconMethod,
+    ReconSettings, Reconstruction, RowPose,
 };
 
 use crate::csvio::Table;
@@ -138,10 +138,11 @@ pub fn reconstruct_log(
     table: &Table,
 ) -> Result<Reconstruction, IoError> {
     let rows = rows_of(table)?;
+    let poses = poses_of(table);
     let (whisker, known, settings) = (&r.scene.whisker, opts.known_flow(flags, r), opts.settings());
     match opts.accuracy {
-        Some(t) => reconstruct_to(whisker, &rows, known, &settings, t),
-        None => reconstruct_with(whisker, &rows, known, &settings),
+        Some(t) => reconstruct_posed_to(whisker, &rows, &poses, known, &settings, t),
+        None => reconstruct_posed(whisker, &rows, &poses, known, &settings),
     }
     .map_err(|e| recon_culprit(e, table, r, flags, opts.tol))
 }
@@ -167,6 +168,19 @@ pub fn rows_of(table: &Table) -> Result<Vec<ObservableRow>, IoError> {
             phi0: phi0[i],
         })
         .collect())
+}
+
+/// The base pose of every row of a log of any motion (spec/model.md, "Base motions"): the
+/// columns `y0` and `gamma` (radians) where present, 0 where absent (a log without them is a
+/// translation's; [`profile_recon::pose`]).
+pub fn poses_of(table: &Table) -> Vec<RowPose> {
+    let (y0, gamma) = (table.column("y0"), table.column("gamma"));
+    (0..table.rows())
+        .map(|i| RowPose {
+            y0: y0.map_or(0.0, |c| c[i]),
+            gamma: gamma.map_or(0.0, |c| c[i]),
+        })
+        .collect()
 }
 
 /// Maps a reconstruction error to its culprit: a line of the log, a flag, a model

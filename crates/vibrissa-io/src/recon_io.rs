@@ -79,7 +79,13 @@ const INPUT_QUANTITIES: [(&str, Quantity); 5] = [
     ("phi0", Quantity::Angle),
 ];
 
-/// Converts the columns x0, Ax, Ay, MA, phi0 of a log to the model's dimensionless variables:
+/// The quantities of the pose columns a log of any base motion carries besides `x0`
+/// (spec/cli.md: `y0`, and `gamma` in radians), read where present.
+pub const POSE_QUANTITIES: [(&str, Quantity); 2] =
+    [("y0", Quantity::Length), ("gamma", Quantity::Angle)];
+
+/// Converts the columns x0, Ax, Ay, MA, phi0 (and the pose columns y0, gamma where present)
+/// of a log to the model's dimensionless variables:
 /// by the units of its sidecar `NAME.units.csv` if there is one, else from the scene's units
 /// (`units`). Returns the x0 column as given, to be copied exactly into the outputs.
 pub fn to_model_units(table: &mut Table, units: &UnitSystem) -> Result<Vec<f64>, IoError> {
@@ -98,7 +104,9 @@ pub fn to_model_units_with(
 ) -> Result<Vec<f64>, IoError> {
     let factors = input_factors(given, units, origin)?;
     let x0 = table.column("x0").map(<[f64]>::to_vec).unwrap_or_default();
-    for ((name, _), f) in INPUT_QUANTITIES.iter().zip(factors) {
+    let pose = column_factors(given, &POSE_QUANTITIES, units, origin)?;
+    let columns = INPUT_QUANTITIES.iter().chain(&POSE_QUANTITIES);
+    for ((name, _), f) in columns.zip(factors.into_iter().chain(pose)) {
         if f != 1.0 {
             if let Some(col) = table.numeric.get_mut(*name) {
                 col.iter_mut().for_each(|v| *v *= f);

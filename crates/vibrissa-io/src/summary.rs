@@ -579,6 +579,92 @@ pub struct ReconSummary {
     pub max_estimate_row: Option<usize>,
 }
 
+/// The obstacle a log's contact points give (issue 38), in the scene's units: a peg's
+/// position or a disc's centre and radius, each with its standard errors
+/// ([`profile_recon::obstacle`]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "lowercase")]
+pub enum ObstacleSummary {
+    /// A peg: the mean of the points.
+    Peg {
+        /// Peg x.
+        x: f64,
+        /// Peg y.
+        y: f64,
+        /// Standard error of x.
+        stderr_x: f64,
+        /// Standard error of y.
+        stderr_y: f64,
+        /// Largest distance of a point from (x, y).
+        spread: f64,
+        /// Points used.
+        rows: usize,
+    },
+    /// A disc: the least-squares circle of the points.
+    Disc {
+        /// Centre x.
+        x: f64,
+        /// Centre y.
+        y: f64,
+        /// Radius.
+        r: f64,
+        /// Standard errors of x, y, r.
+        stderr: [f64; 3],
+        /// Root mean square distance of the points from the circle.
+        rms: f64,
+        /// Points used.
+        rows: usize,
+    },
+}
+
+/// Points closer together than this (relative to the largest point's error estimate, plus
+/// an absolute 1e-9) read as one peg when no profile says what the obstacle is.
+pub const PEG_SPREAD_SIGMAS: f64 = 6.0;
+
+impl ObstacleSummary {
+    /// The obstacle of `rec`'s points: the kind the true profile names (`peg:`, `disc:`), or
+    /// without a profile a peg when every point is the same point (their spread within
+    /// [`PEG_SPREAD_SIGMAS`] of their error estimates); `None` otherwise (a graph's contour
+    /// is the points themselves) or when the points determine nothing.
+    pub fn of(
+        rec: &profile_recon::Reconstruction,
+        truth: Option<&contact_sim::Profile>,
+        units: &UnitSystem,
+    ) -> Option<Self> {
+        use contact_sim::Profile;
+        let l = units.scale(Quantity::Length);
+        let peg = |e: profile_recon::PegEstimate| ObstacleSummary::Peg {
+            x: e.x * l,
+            y: e.y * l,
+            stderr_x: e.stderr_x * l,
+            stderr_y: e.stderr_y * l,
+            spread: e.spread * l,
+            rows: e.rows,
+        };
+        match truth {
+            Some(Profile::Peg { .. }) => profile_recon::estimate_peg(&rec.points).ok().map(peg),
+            Some(Profile::Disc { .. }) => {
+                profile_recon::estimate_disc(&rec.points)
+                    .ok()
+                    .map(|e| ObstacleSummary::Disc {
+                        x: e.x * l,
+                        y: e.y * l,
+                        r: e.r * l,
+                        stderr: e.stderr.map(|v| v * l),
+                        rms: e.rms * l,
+                        rows: e.rows,
+                    })
+            }
+            Some(_) => None,
+            None => {
+                let e = profile_recon::estimate_peg(&rec.points).ok()?;
+                let sigma = rec.points.iter().map(|p| p.sigma).fold(0.0, f64::max);
+                (e.rows >= 2 && e.spread <= PEG_SPREAD_SIGMAS * sigma + 1e-9).then(|| peg(e))
+            }
+        }
+    }
+}
+
 impl ReconSummary {
     /// The summary of `rec` from a log of `rows` rows by `method`, in `units`.
     pub fn of(

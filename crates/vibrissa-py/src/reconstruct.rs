@@ -12,7 +12,7 @@ use vibrissa_io::csvio::Table;
 use vibrissa_io::recon::{recon_model, reconstruct_log, ReconFlags, ReconOptions};
 use vibrissa_io::recon_io::{recon_values, to_model_units_with, REQUIRED_COLUMNS};
 use vibrissa_io::resolve::Value;
-use vibrissa_io::summary::ReconSummary;
+use vibrissa_io::summary::{ObstacleSummary, ReconSummary};
 use vibrissa_io::units::{Quantity, UnitSystem};
 use vibrissa_io::IoError;
 
@@ -81,6 +81,27 @@ pub fn log_table(py: Python<'_>, log: &Bound<'_, PyDict>) -> PyResult<Table> {
         }
         numeric.insert(name.to_string(), v);
     }
+    // the base pose of a log of any motion (issue 38), where the log has it
+    for name in ["y0", "gamma"] {
+        let Some(col) = log.get_item(name)? else {
+            continue;
+        };
+        let v = crate::convert::vector(&col)
+            .ok_or_else(|| invalid(py, "log", name, "the column must be a 1-D float64 array"))?;
+        if rows.is_some_and(|n| n != v.len()) {
+            return Err(invalid(
+                py,
+                "log",
+                name,
+                &format!(
+                    "{} rows where x0 has {}: the columns differ in length",
+                    v.len(),
+                    rows.unwrap_or(0)
+                ),
+            ));
+        }
+        numeric.insert(name.to_string(), v);
+    }
     let n = rows.unwrap_or(0);
     if n < 2 {
         return Err(invalid(py, "log", n, "a log needs at least 2 rows"));
@@ -111,7 +132,7 @@ pub fn reconstruct<'py>(
     let file = units_scene(spec)?;
     let truth_spec = ProfileSpec::from_spec(spec, "profile")?;
     let mut table = log_table(py, log)?;
-    let (rec, units, x0_given, errors, method) = compute(py, move || {
+    let (rec, units, x0_given, errors, method, obstacle) = compute(py, move || {
         let opts = ReconOptions::parse(&flags)?;
         let r = recon_model(&flags, file)?;
         let units = r.units();
@@ -119,7 +140,8 @@ pub fn reconstruct<'py>(
         let x0_given = log_to_model_units(&mut table, &units)?;
         let rec = reconstruct_log(&flags, &opts, &r, &table)?;
         let errors = truth.as_ref().map(|p| contour_error(&rec.points, p));
-        Ok((rec, units, x0_given, errors, opts.method))
+        let obstacle = ObstacleSummary::of(&rec, truth.as_ref(), &units);
+        Ok((rec, units, x0_given, errors, opts.method, obstacle))
     })?;
     let n = x0_given.len();
     let l = units.scale(Quantity::Length);
@@ -158,5 +180,8 @@ pub fn reconstruct<'py>(
     out.set_item("phase", phase)?;
     let summary = ReconSummary::of(&rec, method, n, &units);
     out.set_item("summary", record(py, &summary)?)?;
+    if let Some(o) = obstacle {
+        out.set_item("obstacle", record(py, &o)?)?;
+    }
     Ok(out)
 }

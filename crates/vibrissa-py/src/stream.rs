@@ -4,7 +4,7 @@
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use beam_model::Whisker;
-use profile_recon::{KnownFlow, ObservableRow, ReconPoint, ReconSettings};
+use profile_recon::{KnownFlow, ObservableRow, ReconPoint, ReconSettings, RowPose};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use vibrissa_io::recon::{recon_model, ReconOptions};
@@ -105,7 +105,10 @@ impl Streamer {
     /// point (a dict: row, x0, x, y, s1, f, psi, phase, sigma, residual, hypotheses) or
     /// `None` for a row before contact or held until the flow is known. Every point that
     /// becomes known (held rows included) is also appended to `points`.
-    #[allow(non_snake_case)]
+    /// A row of any base motion gives its pose `y0` (a length) and `gamma` (radians) too
+    /// (issue 38; 0 for the translating sweep).
+    #[allow(non_snake_case, clippy::too_many_arguments)]
+    #[pyo3(signature = (x0, Ax, Ay, MA, phi0, y0 = 0.0, gamma = 0.0))]
     fn push<'py>(
         &mut self,
         py: Python<'py>,
@@ -114,6 +117,8 @@ impl Streamer {
         Ay: f64,
         MA: f64,
         phi0: f64,
+        y0: f64,
+        gamma: f64,
     ) -> PyResult<Option<Bound<'py, PyDict>>> {
         let u = &self.units;
         let row = ObservableRow {
@@ -122,6 +127,10 @@ impl Streamer {
             ay: Ay / u.scale(Quantity::Force),
             ma: MA / u.scale(Quantity::Moment),
             phi0,
+        };
+        let pose = RowPose {
+            y0: y0 / u.scale(Quantity::Length),
+            gamma,
         };
         self.rows += 1;
         let this = self.rows - 1;
@@ -132,7 +141,7 @@ impl Streamer {
                 "the stream is finished: make a new Streamer".to_string(),
             ));
         };
-        let result = py.detach(|| catch_unwind(AssertUnwindSafe(|| inner.push(row))));
+        let result = py.detach(|| catch_unwind(AssertUnwindSafe(|| inner.push_posed(row, pose))));
         let points = match result {
             Ok(r) => r.map_err(|e| self.error(py, e))?,
             Err(_) => return Err(internal(py)),

@@ -375,10 +375,22 @@ class Streamer:
         )
         self._inner = _core.Streamer(spec)
 
-    def push(self, x0: float, Ax: float, Ay: float, MA: float, phi0: float) -> Optional[Dict[str, Any]]:
+    def push(
+        self,
+        x0: float,
+        Ax: float,
+        Ay: float,
+        MA: float,
+        phi0: float,
+        y0: float = 0.0,
+        gamma: float = 0.0,
+    ) -> Optional[Dict[str, Any]]:
         """Takes the next row; returns its contact point, or None (before contact, or held
-        until the flow is known)."""
-        return self._inner.push(float(x0), float(Ax), float(Ay), float(MA), float(phi0))
+        until the flow is known). A row of a rotation or a path gives its base pose ``y0``
+        and ``gamma`` (radians) too (0 for the translating sweep)."""
+        return self._inner.push(
+            float(x0), float(Ax), float(Ay), float(MA), float(phi0), float(y0), float(gamma)
+        )
 
     def finish(self) -> list:
         """Ends the stream; returns the points of rows still held."""

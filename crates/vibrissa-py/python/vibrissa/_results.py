@@ -153,6 +153,11 @@ class Reconstruction(_Columns):
         self.q_given: bool = s["q_given"]
         self.alpha_given: bool = s["alpha_given"]
         self.units: str = s["units"]
+        #: The obstacle the contact points give (issue 38): ``{"kind": "peg", "x", "y",
+        #: "stderr_x", "stderr_y", "spread", "rows"}`` for a peg (the ``profile`` a peg, or
+        #: every point the same point), ``{"kind": "disc", "x", "y", "r", "stderr": [3],
+        #: "rms", "rows"}`` for a ``disc:`` profile (the least-squares circle); else None.
+        self.obstacle: Optional[Dict[str, Any]] = raw.get("obstacle")
 
     @property
     def contact(self) -> np.ndarray:
@@ -220,7 +225,7 @@ class Calibration:
 
 def log_columns(log: Any) -> Dict[str, np.ndarray]:
     """The columns ``x0, Ax, Ay, MA, phi0`` of a Sweep, a DataFrame or a dict of arrays,
-    as contiguous float64 arrays."""
+    and the pose columns ``y0, gamma`` where present, as contiguous float64 arrays."""
     from ._errors import InvalidInput
 
     out: Dict[str, np.ndarray] = {}
@@ -242,6 +247,19 @@ def log_columns(log: Any) -> Dict[str, np.ndarray]:
             raise InvalidInput(
                 f"invalid value `{name}` for `log`: the column must be 1-D, got shape {arr.shape}"
             )
+        out[name] = arr
+    # the base pose of a log of any motion (issue 38), where the log has it
+    for name in ("y0", "gamma"):
+        try:
+            col = log[name]
+        except (KeyError, IndexError, TypeError):
+            continue
+        try:
+            arr = np.ascontiguousarray(np.asarray(col, dtype=np.float64))
+        except (TypeError, ValueError):
+            raise InvalidInput(
+                f"invalid value `{name}` for `log`: the column must be a 1-D array of numbers"
+            ) from None
         out[name] = arr
     return out
 

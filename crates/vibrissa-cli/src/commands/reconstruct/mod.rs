@@ -177,8 +177,12 @@ fn print_summary(
     let (units, method, out_dir) = (&inputs.units, inputs.opts.method, inputs.out_dir);
     let max_error = errors.map(max_of);
     let mut stdout = Printer::stdout().published(Some(out_dir));
+    let obstacle = vibrissa_io::summary::ObstacleSummary::of(rec, inputs.truth.as_ref(), units);
     if args.json {
-        let v = recon_json(rec, method, table.rows(), units, max_error, out_dir);
+        let mut v = recon_json(rec, method, table.rows(), units, max_error, out_dir);
+        if let Some(o) = obstacle {
+            v["obstacle"] = serde_json::to_value(o).unwrap_or_default();
+        }
         return stdout.line(v);
     }
     let title = inputs
@@ -198,6 +202,9 @@ fn print_summary(
             unit_suffix(units, Quantity::Length)
         ))?;
     }
+    if let Some(o) = obstacle {
+        stdout.line(obstacle_line(&o, &unit_suffix(units, Quantity::Length)))?;
+    }
     stdout.line(format_args!(
         "wrote {} files to {}",
         files,
@@ -208,6 +215,35 @@ fn print_summary(
 /// `reconstruct --mu`: the frictional reconstruction ([`vibrissa_io::recon_friction`]), the
 /// column `ft`, a warning on stderr when `--mu 0` meets a log that shows friction, and the
 /// JSON's `mu`.
+/// The obstacle from the points, one line: a peg's position or a disc's centre and radius with
+/// their standard errors.
+fn obstacle_line(o: &vibrissa_io::summary::ObstacleSummary, unit: &str) -> String {
+    use vibrissa_io::summary::ObstacleSummary;
+    match *o {
+        ObstacleSummary::Peg {
+            x,
+            y,
+            stderr_x,
+            stderr_y,
+            rows,
+            ..
+        } => format!(
+            "peg at ({x:.9}, {y:.9}){unit} +- ({stderr_x:.2e}, {stderr_y:.2e}) from {rows} contact rows"
+        ),
+        ObstacleSummary::Disc {
+            x,
+            y,
+            r,
+            stderr,
+            rows,
+            ..
+        } => format!(
+            "disc centre ({x:.9}, {y:.9}) radius {r:.9}{unit} +- ({:.2e}, {:.2e}, {:.2e}) from {rows} contact rows",
+            stderr[0], stderr[1], stderr[2]
+        ),
+    }
+}
+
 fn run_frictional(
     args: &ReconstructArgs,
     inputs: &Inputs<'_>,

@@ -7,7 +7,7 @@
 use std::io::BufRead;
 use std::path::{Path, PathBuf};
 
-use profile_recon::{ObservableRow, ReconError, ReconPoint, Streamer};
+use profile_recon::{ObservableRow, ReconError, ReconPoint, RowPose, Streamer};
 
 use super::options::{recon_model, ReconOptions};
 use super::REQUIRED_COLUMNS;
@@ -48,6 +48,8 @@ pub fn run_stream(args: &ReconstructArgs) -> Result<(), CliError> {
     // compute and write, row by row
     let mut out = StreamOut::new(&units)?;
     let mut reader: Option<LineReader> = None;
+    // the pose columns y0, gamma where the header has them (a log of any base motion)
+    let mut pose_readers: [Option<LineReader>; 2] = [None, None];
     // line numbers of the data rows (the library's 0-based row index -> input line)
     let mut lines: Vec<usize> = Vec::new();
     for (k, line) in std::io::stdin().lock().lines().enumerate() {
@@ -61,6 +63,7 @@ pub fn run_stream(args: &ReconstructArgs) -> Result<(), CliError> {
             reader = Some(
                 LineReader::header(line, &REQUIRED_COLUMNS).map_err(|p| line_err(n, line, p))?,
             );
+            pose_readers = ["y0", "gamma"].map(|c| LineReader::header(line, &[c]).ok());
             continue;
         };
         let v = rows.values(line).map_err(|p| line_err(n, line, p))?;
@@ -72,7 +75,21 @@ pub fn run_stream(args: &ReconstructArgs) -> Result<(), CliError> {
             ma: v[3] * factor[3],
             phi0: v[4] * factor[4],
         };
-        let points = stream.push(row).map_err(|e| at_row(&lines, e))?;
+        let mut pose = [0.0; 2];
+        for (k, r) in pose_readers.iter().enumerate() {
+            if let Some(r) = r {
+                let v = r.values(line).map_err(|p| pose_err(n, p))?;
+                // y0 a length as x0, gamma an angle as phi0
+                pose[k] = v[0] * factor[if k == 0 { 0 } else { 4 }];
+            }
+        }
+        let pose = RowPose {
+            y0: pose[0],
+            gamma: pose[1],
+        };
+        let points = stream
+            .push_posed(row, pose)
+            .map_err(|e| at_row(&lines, e))?;
         out.write(&points)?;
     }
     if reader.is_none() {
@@ -127,6 +144,18 @@ fn line_err(n: usize, line: &str, p: LineProblem) -> CliError {
 }
 
 /// A library error at the input line of its row.
+/// A bad cell of a pose column (`y0`, `gamma`).
+fn pose_err(n: usize, p: LineProblem) -> CliError {
+    let reason = match p {
+        LineProblem::Cell(_, value, problem) => {
+            format!("pose column (y0 or gamma): {}", problem.reason(&value))
+        }
+        // (the required columns' reader has seen the line's fields first)
+        other => return line_err(n, "", other),
+    };
+    stdin_err(n, reason)
+}
+
 fn at_row(lines: &[usize], e: ReconError) -> CliError {
     let row = match &e {
         ReconError::NonFinite { row, .. } | ReconError::InconsistentRow { row, .. } => Some(*row),

@@ -79,12 +79,12 @@ struct Tally {
     slowest: String,
 }
 
-/// Runs one case: the default method against the reference. Panics on a confident wrong
-/// answer; a refusal (`Inaccurate`, or a failed continuation) is counted.
-fn check(label: &str, scene: &Scene, tally: &mut Tally) {
+/// Runs one case: `method` against the reference. Panics on a confident wrong answer; a
+/// refusal (`Inaccurate`, or a failed continuation) is counted.
+fn check(label: &str, scene: &Scene, method: &Method, tally: &mut Tally) {
     tally.cases += 1;
     let t0 = std::time::Instant::now();
-    let result = solve(scene, &Method::accurate());
+    let result = solve(scene, method);
     let secs = t0.elapsed().as_secs_f64();
     if secs > tally.seconds_max {
         tally.seconds_max = secs;
@@ -220,9 +220,13 @@ fn cases(thetas: &[f64], full: bool) -> Vec<(String, Scene)> {
 }
 
 fn run(thetas: &[f64], full: bool) -> Tally {
+    run_with(thetas, full, &Method::accurate())
+}
+
+fn run_with(thetas: &[f64], full: bool, method: &Method) -> Tally {
     let mut tally = Tally::default();
     for (label, scene) in cases(thetas, full) {
-        check(&label, &scene, &mut tally);
+        check(&label, &scene, method, &mut tally);
     }
     println!("{tally:#?}");
     tally
@@ -244,6 +248,25 @@ fn slender_battery_full() {
         true,
     );
     assert_eq!(t.cases, 10 * 3 * 13);
+}
+
+/// `auto` at 1e-8 (`accurate`'s tolerance) on the battery's four thinnest whiskers, where
+/// its collocation rung can apply (`sqrt(f) / theta` above `COLLOCATION_GROWTH` needs
+/// `theta < 0.045` for the battery's largest tip force; elsewhere `auto` is unchanged by
+/// construction): 156 cases, the same checks as `accurate`'s (`docs/bvp-auto.md`):
+/// `cargo test --release -p beam-model --test battery -- --ignored --nocapture slender_battery_auto`.
+#[test]
+#[ignore = "minutes; run with --ignored"]
+fn slender_battery_auto() {
+    let t = run_with(
+        &[0.01, 0.015, 0.02, 0.03],
+        true,
+        &Method::Auto {
+            tol: 1e-8,
+            samples: 100,
+        },
+    );
+    assert_eq!(t.cases, 4 * 3 * 13);
 }
 
 /// The case: `solve --q 5 --theta 0.01` gave tip (0.720800, 0.487520), MA 1.754984

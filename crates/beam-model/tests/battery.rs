@@ -5,16 +5,17 @@
 //! stated tolerance (`stats.tolerance`), and the estimate must bound the error (up to the
 //! reference's own uncertainty).
 //!
-//! `slender_battery_subset` runs in CI; `slender_battery_full` (#[ignore], ~4 min on one
-//! busy core) covers theta 0.01..1 x loads x supports x pre-curvature (390 cases; measured
-//! with multiple shooting, then collocation (`Method::Collocation`, its own load
-//! continuation) as `accurate`'s last fallbacks: 375 accepted, 0 refused, 15 failed (12 AP
-//! forces f = 5, 15 on theta <= 0.02, whose thin tip curls into a spiral no mesh below
-//! 50,000 nodes resolves; 3 axial forces `f=10,b=90,q=10,a=-30` on theta = 0.01, a
-//! bifurcation of the tip where every continuation stalls), 17 accepted without an FDM
-//! reference within 1e-6, worst error 7.8e-8, worst error / estimate 0.19; 16 min wall on a
+//! `slender_battery_subset` runs in CI; `slender_battery_full` (#[ignore]) covers theta
+//! 0.01..1 x loads x supports x pre-curvature (390 cases; measured with multiple shooting,
+//! then collocation (`Method::Collocation`, its own load continuation) as `accurate`'s last
+//! fallbacks, on the separated elimination: 376 accepted, 0 refused, 14 failed (12 AP
+//! forces f = 5 on theta = 0.01 and f = 15 on theta <= 0.02, whose thin tip winds up into a
+//! spiral; 2 compressive combined loads `f=10,b=90,q=10,a=-30` on theta = 0.01, rigid and
+//! k = 10, where every continuation stalls; `docs/bvp-auto.md`), 18 accepted without an FDM
+//! reference within 1e-6, worst error 7.8e-8, worst error / estimate 0.19; 19 min wall on a
 //! loaded 2-core machine):
-//! `cargo test --release -p beam-model --test battery -- --ignored --nocapture`.
+//! `cargo test --release -p beam-model --test battery -- --ignored --nocapture slender_battery_full`.
+//! `slender_battery_auto` (#[ignore]) runs `auto` at 1e-8 on the four thinnest whiskers.
 
 mod support;
 

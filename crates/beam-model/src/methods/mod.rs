@@ -7,7 +7,7 @@
 //! | [`Method::Accurate`] | adaptive DOP853 shooting from the loaded end | 8 | — |
 //! | [`Method::MultipleShooting`] | DOP853 multiple shooting on `[0, s1]` with node insertion (`bvp_solvers::multiple_shooting`), from the FDM's branch; `accurate`'s last fallback | 8 | — |
 //! | [`Method::Collocation`] | 3-point Lobatto IIIA collocation on `[0, s1]` with residual control and mesh refinement (`bvp_solvers::collocation`), its own load continuation from zero; `accurate`'s last fallback, `auto`'s rung for thin tips under tip forces | 4 | — |
-//! | [`Method::Auto`] | the cheapest of: linear theory where its a-priori bound meets the tolerance, the spectral Picard iteration, a cheap shot, collocation where `sqrt(f)/theta >= 20` (DP), then `accurate` at the tolerance that suffices | spectral / 4 / 8 | — |
+//! | [`Method::Auto`] | the cheapest of: linear theory where its a-priori bound meets the tolerance, the spectral Picard iteration, a cheap shot, collocation where `sqrt(f)/theta >= 20` (DP, not pushing the tip), then `accurate` at the tolerance that suffices | spectral / 4 / 8 | — |
 
 pub(crate) mod accurate;
 pub(crate) mod collocation;
@@ -83,7 +83,8 @@ pub enum Method {
     /// Picard iteration of the integral form (it contracts for weak and moderate loads);
     /// then `accurate` with the integrator tolerance that suffices (and its FDM +
     /// Richardson fallback); where the first shot fails on a thin tip under a
-    /// direction-preserving tip force (`sqrt(f) / theta >=` [`COLLOCATION_GROWTH`]),
+    /// direction-preserving tip force (`sqrt(f) / theta >=` [`COLLOCATION_GROWTH`], not
+    /// pushing the tip: [`COLLOCATION_MIN_PULL`]),
     /// collocation ([`Method::Collocation`]) before the rest. `stats.model_used` says which
     /// model answered (`linear` or `elastica`), `stats.method_used` which method (`picard`
     /// for the first two rungs).
@@ -482,14 +483,27 @@ pub const DEFAULT_AUTO_TOL: f64 = 1e-8;
 /// multiple shooting (0.13-0.8 s), where collocation answered in 0.002-0.065 s.
 pub const COLLOCATION_GROWTH: f64 = 20.0;
 
+/// Smallest `cos(phi_unloaded(s1) + beta)` of a direction-preserving tip force for
+/// `auto`'s collocation rung: `m' = f sin(phi + beta)` [3.25] pulls the tip along itself
+/// where this is positive and pushes it where negative. Under a push the thin tip passes
+/// many of its buckling loads (the phase of the linearised tip, `sqrt(f) / theta`, counts
+/// them in units of `pi`), and collocation's branch guard, which leaves the tip's angle out
+/// (module `collocation`), can arrive on a looped equilibrium: measured on theta 0.03,
+/// rigid, `f = 10` at 90 degrees with `q = 10` at -30 degrees, a tip angle `2 pi` from the
+/// FDM's continuation (which guards every node). Such scenes keep the old chain.
+pub const COLLOCATION_MIN_PULL: f64 = -0.25;
+
 /// `auto`'s collocation rung applies: a direction-preserving tip force (an angle-preserving
 /// one curls a thin tip into a spiral where collocation's continuation needs seconds or
-/// fails, while shooting answers from `theta = 0.015` up) whose growth exponent
-/// `sqrt(f) / theta` is at least [`COLLOCATION_GROWTH`]. A rule on the scene's numbers, no solve.
+/// fails, while shooting answers from `theta = 0.015` up) that does not push the unloaded
+/// tip ([`COLLOCATION_MIN_PULL`]) and whose growth exponent `sqrt(f) / theta` is at least
+/// [`COLLOCATION_GROWTH`]. A rule on the scene's numbers, no solve.
 pub(crate) fn collocation_first(scene: &Scene) -> bool {
     let tip = &scene.loads.tip;
+    let pull = (scene.whisker.phi_unloaded(scene.loads.s1) + tip.beta).cos();
     tip.kind == crate::loads::LoadKind::Dp
         && tip.f > 0.0
+        && pull >= COLLOCATION_MIN_PULL
         && tip.f.sqrt() / scene.whisker.theta >= COLLOCATION_GROWTH
 }
 

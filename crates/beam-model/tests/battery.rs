@@ -5,16 +5,17 @@
 //! stated tolerance (`stats.tolerance`), and the estimate must bound the error (up to the
 //! reference's own uncertainty).
 //!
-//! `slender_battery_subset` runs in CI; `slender_battery_full` (#[ignore], ~4 min on one
-//! busy core) covers theta 0.01..1 x loads x supports x pre-curvature (390 cases; measured
-//! with multiple shooting, then collocation (`Method::Collocation`, its own load
-//! continuation) as `accurate`'s last fallbacks: 375 accepted, 0 refused, 15 failed (12 AP
-//! forces f = 5, 15 on theta <= 0.02, whose thin tip curls into a spiral no mesh below
-//! 50,000 nodes resolves; 3 axial forces `f=10,b=90,q=10,a=-30` on theta = 0.01, a
-//! bifurcation of the tip where every continuation stalls), 17 accepted without an FDM
-//! reference within 1e-6, worst error 7.8e-8, worst error / estimate 0.19; 16 min wall on a
+//! `slender_battery_subset` runs in CI; `slender_battery_full` (#[ignore]) covers theta
+//! 0.01..1 x loads x supports x pre-curvature (390 cases; measured with multiple shooting,
+//! then collocation (`Method::Collocation`, its own load continuation) as `accurate`'s last
+//! fallbacks, on the separated elimination: 376 accepted, 0 refused, 14 failed (12 AP
+//! forces f = 5 on theta = 0.01 and f = 15 on theta <= 0.02, whose thin tip winds up into a
+//! spiral; 2 compressive combined loads `f=10,b=90,q=10,a=-30` on theta = 0.01, rigid and
+//! k = 10, where every continuation stalls; `docs/bvp-auto.md`), 18 accepted without an FDM
+//! reference within 1e-6, worst error 7.8e-8, worst error / estimate 0.19; 19 min wall on a
 //! loaded 2-core machine):
-//! `cargo test --release -p beam-model --test battery -- --ignored --nocapture`.
+//! `cargo test --release -p beam-model --test battery -- --ignored --nocapture slender_battery_full`.
+//! `slender_battery_auto` (#[ignore]) runs `auto` at 1e-8 on the four thinnest whiskers.
 
 mod support;
 
@@ -79,12 +80,12 @@ struct Tally {
     slowest: String,
 }
 
-/// Runs one case: the default method against the reference. Panics on a confident wrong
-/// answer; a refusal (`Inaccurate`, or a failed continuation) is counted.
-fn check(label: &str, scene: &Scene, tally: &mut Tally) {
+/// Runs one case: `method` against the reference. Panics on a confident wrong answer; a
+/// refusal (`Inaccurate`, or a failed continuation) is counted.
+fn check(label: &str, scene: &Scene, method: &Method, tally: &mut Tally) {
     tally.cases += 1;
     let t0 = std::time::Instant::now();
-    let result = solve(scene, &Method::accurate());
+    let result = solve(scene, method);
     let secs = t0.elapsed().as_secs_f64();
     if secs > tally.seconds_max {
         tally.seconds_max = secs;
@@ -220,9 +221,13 @@ fn cases(thetas: &[f64], full: bool) -> Vec<(String, Scene)> {
 }
 
 fn run(thetas: &[f64], full: bool) -> Tally {
+    run_with(thetas, full, &Method::accurate())
+}
+
+fn run_with(thetas: &[f64], full: bool, method: &Method) -> Tally {
     let mut tally = Tally::default();
     for (label, scene) in cases(thetas, full) {
-        check(&label, &scene, &mut tally);
+        check(&label, &scene, method, &mut tally);
     }
     println!("{tally:#?}");
     tally
@@ -244,6 +249,26 @@ fn slender_battery_full() {
         true,
     );
     assert_eq!(t.cases, 10 * 3 * 13);
+}
+
+/// `auto` at 1e-8 (`accurate`'s tolerance) on the battery's four thinnest whiskers, where
+/// its collocation rung can apply (`sqrt(f) / theta` above `COLLOCATION_GROWTH` needs
+/// `theta < 0.045` for the battery's largest tip force; elsewhere `auto` is unchanged by
+/// construction): 156 cases, the same checks as `accurate`'s (measured: 142 accepted, 0
+/// refused, 14 failed as `accurate`'s, worst error / estimate 0.105; 24 min; `docs/bvp-auto.md`):
+/// `cargo test --release -p beam-model --test battery -- --ignored --nocapture slender_battery_auto`.
+#[test]
+#[ignore = "minutes; run with --ignored"]
+fn slender_battery_auto() {
+    let t = run_with(
+        &[0.01, 0.015, 0.02, 0.03],
+        true,
+        &Method::Auto {
+            tol: 1e-8,
+            samples: 100,
+        },
+    );
+    assert_eq!(t.cases, 4 * 3 * 13);
 }
 
 /// The case: `solve --q 5 --theta 0.01` gave tip (0.720800, 0.487520), MA 1.754984

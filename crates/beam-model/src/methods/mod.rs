@@ -6,8 +6,8 @@
 //! | [`Method::Rk4`] | RK4 shooting from the loaded end, exact Newton derivatives | 4 | ch. 4 (comparison) |
 //! | [`Method::Accurate`] | adaptive DOP853 shooting from the loaded end | 8 | — |
 //! | [`Method::MultipleShooting`] | DOP853 multiple shooting on `[0, s1]` with node insertion (`bvp_solvers::multiple_shooting`), from the FDM's branch; `accurate`'s last fallback | 8 | — |
-//! | [`Method::Collocation`] | 3-point Lobatto IIIA collocation on `[0, s1]` with residual control and mesh refinement (`bvp_solvers::collocation`), its own load continuation from zero; `accurate`'s (and so `auto`'s) last fallback | 4 | — |
-//! | [`Method::Auto`] | the cheapest of: linear theory where its a-priori bound meets the tolerance, the spectral Picard iteration, then `accurate` at the tolerance that suffices | spectral / 8 | — |
+//! | [`Method::Collocation`] | 3-point Lobatto IIIA collocation on `[0, s1]` with residual control and mesh refinement (`bvp_solvers::collocation`), its own load continuation from zero; `accurate`'s last fallback, `auto`'s rung for thin tips under tip forces | 4 | — |
+//! | [`Method::Auto`] | the cheapest of: linear theory where its a-priori bound meets the tolerance, the spectral Picard iteration, a cheap shot, collocation where `sqrt(f)/theta >= 20` (DP, not pushing the tip), then `accurate` at the tolerance that suffices | spectral / 4 / 8 | — |
 
 pub(crate) mod accurate;
 pub(crate) mod collocation;
@@ -82,8 +82,12 @@ pub enum Method {
     /// constant of the integral form) plus its grid estimate meets `tol`; then the spectral
     /// Picard iteration of the integral form (it contracts for weak and moderate loads);
     /// then `accurate` with the integrator tolerance that suffices (and its FDM +
-    /// Richardson fallback). `stats.model_used` says which model answered (`linear` or
-    /// `elastica`), `stats.method_used` which method (`picard` for the first two rungs).
+    /// Richardson fallback); where the first shot fails on a thin tip under a
+    /// direction-preserving tip force (`sqrt(f) / theta >=` [`COLLOCATION_GROWTH`], not
+    /// pushing the tip: [`COLLOCATION_MIN_PULL`]),
+    /// collocation ([`Method::Collocation`]) before the rest. `stats.model_used` says which
+    /// model answered (`linear` or `elastica`), `stats.method_used` which method (`picard`
+    /// for the first two rungs).
     Auto {
         /// The accuracy asked for, in `[1e-12, 1e-2]`.
         tol: f64,
@@ -291,7 +295,7 @@ pub fn solve(scene: &Scene, method: &Method) -> Result<Solution> {
     let scene = &scene.normalised();
     let tolerance = method.tolerance();
     let mut sol = match *method {
-        Method::Accurate { tol, samples } => accurate(scene, tol, samples, tolerance)?,
+        Method::Accurate { tol, samples } => accurate(scene, tol, samples, tolerance, true)?,
         Method::Rk4 { n } => {
             let mut sol = fixed::solve(scene, &Integration::Rk4 { n }, n, "rk4", RK4_BUDGET)?;
             let fine = Integration::Rk4 {
@@ -353,8 +357,16 @@ fn check_estimate(scene: &Scene, sol: &Solution) -> Result<()> {
 
 /// `accurate`: DOP853 shooting with an independent estimate (a second solution at
 /// `tolerance / 100`, or a second shot at `tol * CHECK_TOL_RATIO`);
-/// the FDM + Richardson fallback where shooting fails or does not meet `tolerance`.
-fn accurate(scene: &Scene, tol: f64, samples: usize, tolerance: f64) -> Result<Solution> {
+/// the FDM + Richardson fallback where shooting fails or does not meet `tolerance`; then
+/// multiple shooting and, with `collocation` (false where `auto` has tried it already),
+/// collocation.
+fn accurate(
+    scene: &Scene,
+    tol: f64,
+    samples: usize,
+    tolerance: f64,
+    collocation: bool,
+) -> Result<Solution> {
     let check_tol = (tol * CHECK_TOL_RATIO).max(MIN_CHECK_TOL);
     let shot = accurate::solve_accurate(
         scene,
@@ -388,10 +400,12 @@ fn accurate(scene: &Scene, tol: f64, samples: usize, tolerance: f64) -> Result<S
             }
         }
         // last: collocation, which needs no start (its own load continuation from zero)
-        if let Ok(mut sol) = collocation::solve(scene, tolerance, samples) {
-            if sol.stats.error_estimate <= tolerance {
-                sol.stats.evaluations += shooting_evaluations;
-                return Ok(sol);
+        if collocation {
+            if let Ok(mut sol) = collocation::solve(scene, tolerance, samples) {
+                if sol.stats.error_estimate <= tolerance {
+                    sol.stats.evaluations += shooting_evaluations;
+                    return Ok(sol);
+                }
             }
         }
     }
@@ -457,6 +471,42 @@ pub const AUTO_DENSE_MARGIN: f64 = 10.0;
 /// The default accuracy of `--method auto` (the default `accurate`'s tolerance).
 pub const DEFAULT_AUTO_TOL: f64 = 1e-8;
 
+/// The growth exponent `sqrt(f) / theta` of a direction-preserving tip force from which
+/// `auto` tries collocation ([`Method::Collocation`]) where its cheap shot failed, before
+/// the tight shot and the fallbacks. The linearised elastica [3.25] near the loaded end,
+/// `m'' = f m / e(s)^4`, has modes growing like `exp(sqrt(f) integral of ds / e(s)^2)`,
+/// and with the taper `e(s) = 1 - (1 - theta) s` [3.8] that integral over `[0, 1]` is
+/// exactly `1 / theta`: single shooting integrates through `exp(sqrt(f) / theta)`, and
+/// the FDM's uniform grids must resolve a boundary layer of width `theta^2 / sqrt(f)`.
+/// Measured (`docs/bvp-auto.md`, `tests/colloc.rs`, 108 tip-force scenes at `1e-8`): every
+/// direction-preserving scene from 20 up whose cheap shot failed went to FDM + Richardson or
+/// multiple shooting (0.13-0.8 s), where collocation answered in 0.002-0.065 s.
+pub const COLLOCATION_GROWTH: f64 = 20.0;
+
+/// Smallest `cos(phi_unloaded(s1) + beta)` of a direction-preserving tip force for
+/// `auto`'s collocation rung: `m' = f sin(phi + beta)` [3.25] pulls the tip along itself
+/// where this is positive and pushes it where negative. Under a push the thin tip passes
+/// many of its buckling loads (the phase of the linearised tip, `sqrt(f) / theta`, counts
+/// them in units of `pi`), and collocation's branch guard, which leaves the tip's angle out
+/// (module `collocation`), can arrive on a looped equilibrium: measured on theta 0.03,
+/// rigid, `f = 10` at 90 degrees with `q = 10` at -30 degrees, a tip angle `2 pi` from the
+/// FDM's continuation (which guards every node). Such scenes keep the old chain.
+pub const COLLOCATION_MIN_PULL: f64 = -0.25;
+
+/// `auto`'s collocation rung applies: a direction-preserving tip force (an angle-preserving
+/// one curls a thin tip into a spiral where collocation's continuation needs seconds or
+/// fails, while shooting answers from `theta = 0.015` up) that does not push the unloaded
+/// tip ([`COLLOCATION_MIN_PULL`]) and whose growth exponent `sqrt(f) / theta` is at least
+/// [`COLLOCATION_GROWTH`]. A rule on the scene's numbers, no solve.
+pub(crate) fn collocation_first(scene: &Scene) -> bool {
+    let tip = &scene.loads.tip;
+    let pull = (scene.whisker.phi_unloaded(scene.loads.s1) + tip.beta).cos();
+    tip.kind == crate::loads::LoadKind::Dp
+        && tip.f > 0.0
+        && pull >= COLLOCATION_MIN_PULL
+        && tip.f.sqrt() / scene.whisker.theta >= COLLOCATION_GROWTH
+}
+
 /// `auto`: linear theory where its a-priori bound proves it meets `tol` (module
 /// `linear_rung`: one application of the integral map per grid, cheaper than any other
 /// rung; `stats.model_used` linear), else the spectral Picard iteration where it
@@ -464,7 +514,8 @@ pub const DEFAULT_AUTO_TOL: f64 = 1e-8;
 /// at the asked accuracy `tol` (its shot the estimate's second solution) and the dense
 /// shot at `tol / 10` where the scene's resolution floor leaves room (else tighter, down
 /// to `tol / 100`), again at `tol / 100` where that estimate does not meet `tol`; where
-/// that one does not either, `accurate` at `1e-4 tol`
+/// that one does not either, collocation where [`collocation_first`] (its own estimate
+/// against `tol`), else or then `accurate` at `1e-4 tol`
 /// (at most 1e-12; the estimate's tolerance floored at 1e-10). Measured against the lower
 /// envelope of every method's work-precision curve (`cargo xtask reproduce chapter4`) and
 /// for its honesty over 1000 random scenes (`tests/auto.rs`: the estimate bounds every
@@ -500,9 +551,24 @@ fn auto(scene: &Scene, tol: f64, samples: usize) -> Result<Solution> {
     let mut sol = match cheap {
         Ok(sol) if sol.stats.error_estimate <= tol => sol,
         cheap => {
-            let spent = cheap.map_or(0, |s| s.stats.evaluations);
+            let mut spent = cheap.map_or(0, |s| s.stats.evaluations);
+            // Where the cheap shot failed on a thin tip under a direction-preserving tip
+            // force: collocation, before the tight shot, the FDM's ladder and multiple
+            // shooting (measured 5-100 times cheaper there, `docs/bvp-auto.md`)
+            let tried_collocation = collocation_first(scene);
+            if tried_collocation {
+                match collocation::solve(scene, tol, samples) {
+                    Ok(mut sol) if sol.stats.error_estimate <= tol => {
+                        sol.stats.evaluations += spent;
+                        sol.stats.tolerance = tol;
+                        return Ok(sol);
+                    }
+                    Ok(sol) => spent += sol.stats.evaluations,
+                    Err(_) => {}
+                }
+            }
             let itol = (tol * 1e-4).clamp(MIN_TOL, 1e-12);
-            let mut sol = accurate(scene, itol, samples, tol.max(1e-10))?;
+            let mut sol = accurate(scene, itol, samples, tol.max(1e-10), !tried_collocation)?;
             sol.stats.evaluations += spent;
             sol
         }

@@ -9,11 +9,13 @@
 //! 0.01..1 x loads x supports x pre-curvature (390 cases; measured with multiple shooting,
 //! then collocation (`Method::Collocation`, its own load continuation) as `accurate`'s last
 //! fallbacks, on the separated elimination: 376 accepted, 0 refused, 14 failed (12 AP
-//! forces f = 5 on theta = 0.01 and f = 15 on theta <= 0.02, whose thin tip winds up into a
-//! spiral; 2 compressive combined loads `f=10,b=90,q=10,a=-30` on theta = 0.01, rigid and
+//! forces f = 5 on theta = 0.01 and f = 15 on theta <= 0.02, where every continuation
+//! stalls or collocation needs more than 20,000 nodes; 2 compressive combined loads `f=10,b=90,q=10,a=-30` on theta = 0.01, rigid and
 //! k = 10, where every continuation stalls; `docs/bvp-auto.md`), 18 accepted without an FDM
 //! reference within 1e-6, worst error 7.8e-8, worst error / estimate 0.19; 19 min wall on a
-//! loaded 2-core machine):
+//! loaded 2-core machine). Since then collocation is not `accurate`'s last fallback under a
+//! tip force pushing along the tip (`COLLOCATION_MIN_PULL`): the one answer it gave there
+//! (theta 0.01, A=2/B=-1/k=20, `f=10,b=90,q=10,a=-30`, no reference) is refused, 375 / 0 / 15:
 //! `cargo test --release -p beam-model --test battery -- --ignored --nocapture slender_battery_full`.
 //! `slender_battery_auto` (#[ignore]) runs `auto` at 1e-8 on the four thinnest whiskers.
 

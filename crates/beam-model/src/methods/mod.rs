@@ -399,8 +399,10 @@ fn accurate(
                 return Ok(sol);
             }
         }
-        // last: collocation, which needs no start (its own load continuation from zero)
-        if collocation {
+        // last: collocation, which needs no start (its own load continuation from zero);
+        // not under a tip force pushing along the thin tip, where its branch guard can land
+        // on a looped equilibrium ([`COLLOCATION_MIN_PULL`]): such a scene is refused
+        if collocation && !pushes_the_tip(scene) {
             if let Ok(mut sol) = collocation::solve(scene, tolerance, samples) {
                 if sol.stats.error_estimate <= tolerance {
                     sol.stats.evaluations += shooting_evaluations;
@@ -492,6 +494,18 @@ pub const COLLOCATION_GROWTH: f64 = 20.0;
 /// rigid, `f = 10` at 90 degrees with `q = 10` at -30 degrees, a tip angle `2 pi` from the
 /// FDM's continuation (which guards every node). Such scenes keep the old chain.
 pub const COLLOCATION_MIN_PULL: f64 = -0.25;
+
+/// A direction-preserving tip force that pushes along the unloaded tip
+/// (`cos(phi_unloaded(s1) + beta) <` [`COLLOCATION_MIN_PULL`]): collocation is not trusted
+/// there, neither as `auto`'s rung nor as `accurate`'s last fallback (measured: a tip angle
+/// `2 pi` off under an estimate of 3.0e-9 on theta 0.03, and an unverified answer on
+/// theta 0.01; `docs/bvp-auto.md`).
+fn pushes_the_tip(scene: &Scene) -> bool {
+    let tip = &scene.loads.tip;
+    tip.kind == crate::loads::LoadKind::Dp
+        && tip.f > 0.0
+        && (scene.whisker.phi_unloaded(scene.loads.s1) + tip.beta).cos() < COLLOCATION_MIN_PULL
+}
 
 /// `auto`'s collocation rung applies: a direction-preserving tip force (an angle-preserving
 /// one curls a thin tip into a spiral where collocation's continuation needs seconds or

@@ -162,3 +162,96 @@ fn a_wrong_mu_is_refused_on_one_line() {
         assert!(!cwd.join("rec").exists());
     }
 }
+
+/// The log written by [`frictional_log`], read back as the library's rows.
+fn rows_of_log(cwd: &Path) -> Vec<profile_recon::ObservableRow> {
+    let (_, rows) = parse(&fs::read_to_string(cwd.join("log.csv")).unwrap());
+    rows.iter()
+        .map(|r| {
+            let v: Vec<f64> = r.iter().map(|c| c.parse().unwrap()).collect();
+            profile_recon::ObservableRow {
+                x0: v[0],
+                ax: v[1],
+                ay: v[2],
+                ma: v[3],
+                phi0: v[4],
+            }
+        })
+        .collect()
+}
+
+/// `reconstruct` without `--mu` (spec/cli.md: the JSON gives mu identified with its standard
+/// error): on a frictionless log today's points, bit for bit the library's frictionless
+/// reconstruction, no `ft` column, and mu consistent with 0 within 3 standard errors; on a
+/// frictional log (mu 0.4) mu to 1e-9 with its standard error, the warning of a biased
+/// frictionless reconstruction and error estimates that cover the truth.
+#[test]
+fn frec_without_mu_identifies_mu_beside_the_frictionless_points() {
+    let dir = tempfile::tempdir().unwrap();
+    let cwd = dir.path();
+    frictional_log(cwd, 0.0);
+    let o = reconstruct(cwd, &["--json", "--figures", "none", "--out", "plain"]);
+    assert!(
+        o.status.success() && !stderr(&o).contains("warning"),
+        "{}",
+        stderr(&o)
+    );
+    let v = json(&o);
+    let (value, se) = (
+        v["mu"]["value"].as_f64().unwrap(),
+        v["mu"]["stderr"].as_f64().unwrap(),
+    );
+    assert!(value.abs() <= 3.0 * se && se < 1e-8, "{v}");
+    assert!(!v["friction"]["proves_friction"].as_bool().unwrap(), "{v}");
+    let text = fs::read_to_string(cwd.join("plain/reconstruction.csv")).unwrap();
+    assert!(text.starts_with("x0,x,y,s1,f,psi,phase,sigma,residual,hypotheses\n"));
+    let w = Whisker::new(0.5, 0.0, 0.0, 10.0);
+    let lib = profile_recon::reconstruct_with(
+        &w,
+        &rows_of_log(cwd),
+        profile_recon::KnownFlow::default(),
+        &profile_recon::ReconSettings::default(),
+    )
+    .unwrap();
+    let (header, rows) = parse(&text);
+    let c = |n: &str| header.iter().position(|h| h == n).unwrap();
+    assert_eq!(rows.len(), lib.points.len());
+    for (r, p) in rows.iter().zip(&lib.points) {
+        let num = |k: &str| r[c(k)].parse::<f64>().unwrap();
+        assert_eq!(
+            [num("x"), num("y"), num("f"), num("sigma")],
+            [p.x, p.y, p.f, p.sigma],
+            "{r:?}"
+        );
+    }
+
+    let truth = frictional_log(cwd, 0.4);
+    let o = reconstruct(cwd, &["--json", "--figures", "none", "--out", "fr"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("warning: the log shows friction"),
+        "{}",
+        stderr(&o)
+    );
+    let v = json(&o);
+    let (value, se) = (
+        v["mu"]["value"].as_f64().unwrap(),
+        v["mu"]["stderr"].as_f64().unwrap(),
+    );
+    assert!(
+        (value - 0.4).abs() <= 1e-9 && se < 1e-8 && !v["mu"]["given"].as_bool().unwrap(),
+        "{v}"
+    );
+    assert!(v["friction"]["proves_friction"].as_bool().unwrap(), "{v}");
+    let (header, rows) = parse(&fs::read_to_string(cwd.join("fr/reconstruction.csv")).unwrap());
+    let c = |n: &str| header.iter().position(|h| h == n).unwrap();
+    assert!(!header.iter().any(|h| h == "ft"), "{header:?}");
+    for r in &rows {
+        let num = |k: &str| r[c(k)].parse::<f64>().unwrap();
+        let t = truth.points.iter().find(|p| p.x0 == num("x0")).unwrap();
+        assert!(
+            (num("x") - t.xc).hypot(num("y") - t.yc) <= num("sigma") + 1e-10,
+            "{r:?}"
+        );
+    }
+}

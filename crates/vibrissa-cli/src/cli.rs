@@ -364,6 +364,8 @@ pub struct ReconstructArgs {
     /// frictional log and identifies mu from the sliding rows (JSON `mu` with its standard
     /// error); a number MU in [0, 10] fixes it (0: the frictionless points, checked: a log
     /// that shows friction gets a warning and wider error estimates). Adds the column `ft`.
+    /// With --stream: each contact row's frictional point with `ft` as soon as it is known
+    /// (a tip contact's tangent from the points so far), mu on standard error at the end.
     /// Method accurate, not with --tol [default: none: mu identified with its standard
     /// error beside today's frictionless points, which stay unchanged unless the log proves
     /// friction (some |ft| beyond 6 standard deviations): then the frictional points and

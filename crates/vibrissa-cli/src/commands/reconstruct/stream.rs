@@ -113,7 +113,9 @@ pub fn run_stream(args: &ReconstructArgs) -> Result<(), CliError> {
     }
 }
 
-/// The stream's reconstruction: frictionless (without `--mu`, today's) or frictional.
+/// The stream's reconstruction: frictionless (without `--mu`, today's) or frictional (one
+/// value per run: the sizes do not matter).
+#[allow(clippy::large_enum_variant)]
 enum Stream {
     Plain(Streamer),
     Frictional(FrictionalStreamer),

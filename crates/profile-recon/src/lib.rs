@@ -59,6 +59,7 @@ pub use common::{
     contact_force, contour_error, free_flow, KnownFlow, NoiseScales, ReconMethod, ReconSettings,
 };
 pub use error::{ReconError, Result};
+pub use friction::stream::{FrictionalStreamEnd, FrictionalStreamer};
 pub use friction::{
     reconstruct_frictional, reconstruct_frictional_on, widen_frictionless, FrictionEvidence,
     FrictionalPoint, FrictionalReconstruction, MuEstimate,

@@ -364,8 +364,12 @@ pub struct ReconstructArgs {
     /// frictional log and identifies mu from the sliding rows (JSON `mu` with its standard
     /// error); a number MU in [0, 10] fixes it (0: the frictionless points, checked: a log
     /// that shows friction gets a warning and wider error estimates). Adds the column `ft`.
-    /// Method accurate, not with --tol or --stream [default: none, today's frictionless
-    /// reconstruction without the check]
+    /// With --stream: each contact row's frictional point with `ft` as soon as it is known
+    /// (a tip contact's tangent from the points so far), mu on standard error at the end.
+    /// Method accurate, not with --tol [default: none: mu identified with its standard
+    /// error beside today's frictionless points, which stay unchanged unless the log proves
+    /// friction (some |ft| beyond 6 standard deviations): then the frictional points and
+    /// `ft` are written]
     #[arg(long, value_name = "MU|identify", allow_hyphen_values = true)]
     pub mu: Option<String>,
     /// Print one JSON object on stdout instead of a human summary.

@@ -162,3 +162,161 @@ fn a_wrong_mu_is_refused_on_one_line() {
         assert!(!cwd.join("rec").exists());
     }
 }
+
+/// The log written by [`frictional_log`], read back as the library's rows.
+fn rows_of_log(cwd: &Path) -> Vec<profile_recon::ObservableRow> {
+    let (_, rows) = parse(&fs::read_to_string(cwd.join("log.csv")).unwrap());
+    rows.iter()
+        .map(|r| {
+            let v: Vec<f64> = r.iter().map(|c| c.parse().unwrap()).collect();
+            profile_recon::ObservableRow {
+                x0: v[0],
+                ax: v[1],
+                ay: v[2],
+                ma: v[3],
+                phi0: v[4],
+            }
+        })
+        .collect()
+}
+
+/// `reconstruct` without `--mu` (spec/cli.md: the JSON gives mu identified with its standard
+/// error): on a frictionless log today's points, bit for bit the library's frictionless
+/// reconstruction, no `ft` column, and mu consistent with 0 within 3 standard errors; on a
+/// frictional log (mu 0.4) mu to 1e-9 with its standard error, the warning of a biased
+/// frictionless reconstruction and error estimates that cover the truth.
+#[test]
+fn frec_without_mu_identifies_mu_beside_the_frictionless_points() {
+    let dir = tempfile::tempdir().unwrap();
+    let cwd = dir.path();
+    frictional_log(cwd, 0.0);
+    let o = reconstruct(cwd, &["--json", "--figures", "none", "--out", "plain"]);
+    assert!(
+        o.status.success() && !stderr(&o).contains("warning"),
+        "{}",
+        stderr(&o)
+    );
+    let v = json(&o);
+    let (value, se) = (
+        v["mu"]["value"].as_f64().unwrap(),
+        v["mu"]["stderr"].as_f64().unwrap(),
+    );
+    assert!(value.abs() <= 3.0 * se && se < 1e-8, "{v}");
+    assert!(!v["friction"]["proves_friction"].as_bool().unwrap(), "{v}");
+    let text = fs::read_to_string(cwd.join("plain/reconstruction.csv")).unwrap();
+    assert!(text.starts_with("x0,x,y,s1,f,psi,phase,sigma,residual,hypotheses\n"));
+    let w = Whisker::new(0.5, 0.0, 0.0, 10.0);
+    let lib = profile_recon::reconstruct_with(
+        &w,
+        &rows_of_log(cwd),
+        profile_recon::KnownFlow::default(),
+        &profile_recon::ReconSettings::default(),
+    )
+    .unwrap();
+    let (header, rows) = parse(&text);
+    let c = |n: &str| header.iter().position(|h| h == n).unwrap();
+    assert_eq!(rows.len(), lib.points.len());
+    for (r, p) in rows.iter().zip(&lib.points) {
+        let num = |k: &str| r[c(k)].parse::<f64>().unwrap();
+        assert_eq!(
+            [num("x"), num("y"), num("f"), num("sigma")],
+            [p.x, p.y, p.f, p.sigma],
+            "{r:?}"
+        );
+    }
+
+    let truth = frictional_log(cwd, 0.4);
+    let o = reconstruct(cwd, &["--json", "--figures", "none", "--out", "fr"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("warning: the log shows friction"),
+        "{}",
+        stderr(&o)
+    );
+    let v = json(&o);
+    let (value, se) = (
+        v["mu"]["value"].as_f64().unwrap(),
+        v["mu"]["stderr"].as_f64().unwrap(),
+    );
+    assert!(
+        (value - 0.4).abs() <= 1e-9 && se < 1e-8 && !v["mu"]["given"].as_bool().unwrap(),
+        "{v}"
+    );
+    assert!(v["friction"]["proves_friction"].as_bool().unwrap(), "{v}");
+    let (header, rows) = parse(&fs::read_to_string(cwd.join("fr/reconstruction.csv")).unwrap());
+    let c = |n: &str| header.iter().position(|h| h == n).unwrap();
+    assert!(!header.iter().any(|h| h == "ft"), "{header:?}");
+    for r in &rows {
+        let num = |k: &str| r[c(k)].parse::<f64>().unwrap();
+        let t = truth.points.iter().find(|p| p.x0 == num("x0")).unwrap();
+        assert!(
+            (num("x") - t.xc).hypot(num("y") - t.yc) <= num("sigma") + 1e-10,
+            "{r:?}"
+        );
+    }
+}
+
+/// `reconstruct --stream --mu identify` on the frictional log: the header of the file with
+/// `ft`, one row per contact row with the point, s1 and phase of the batch `reconstruct --mu
+/// identify` (to 1e-12: the stream's flow is its first free row's, the batch's the mean of
+/// the pre-contact rows), each `ft` within 1e-5 of the truth (the batch's bound; NaN on the
+/// first two contact rows, whose tangent needs three points), and mu on standard error (to
+/// 1e-8 of 0.4).
+#[test]
+fn frec_stream_with_mu_gives_the_batch_points_and_ft() {
+    let dir = tempfile::tempdir().unwrap();
+    let cwd = dir.path();
+    let truth = frictional_log(cwd, 0.4);
+    let o = reconstruct(
+        cwd,
+        &["--mu", "identify", "--figures", "none", "--out", "rec"],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let (hb, rb) = parse(&fs::read_to_string(cwd.join("rec/reconstruction.csv")).unwrap());
+    let body = fs::read(cwd.join("log.csv")).unwrap();
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_vibrissa"))
+        .args(["reconstruct", "--stream", "--mu", "identify"])
+        .args(WHISKER)
+        .current_dir(cwd)
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    use std::io::Write;
+    child.stdin.take().unwrap().write_all(&body).unwrap();
+    let o = child.wait_with_output().unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let (hs, rs) = parse(&String::from_utf8_lossy(&o.stdout));
+    assert_eq!(hs, hb, "the stream's header is the file's");
+    assert_eq!(rs.len(), rb.len());
+    let c = |n: &str| hs.iter().position(|h| h == n).unwrap();
+    let mut unknown = 0;
+    for (s, b) in rs.iter().zip(&rb) {
+        let num = |r: &Vec<String>, k: &str| r[c(k)].parse::<f64>().unwrap();
+        assert_eq!(s[c("x0")].parse::<f64>().unwrap(), num(b, "x0"));
+        assert_eq!(s[c("phase")], b[c("phase")]);
+        for k in ["x", "y", "s1"] {
+            assert!((num(s, k) - num(b, k)).abs() < 1e-12, "{k}: {s:?} vs {b:?}");
+        }
+        let t = truth.points.iter().find(|p| p.x0 == num(s, "x0")).unwrap();
+        if num(s, "ft").is_nan() {
+            // a tip contact before three distinct points: the tangent is not known yet
+            unknown += 1;
+            continue;
+        }
+        assert!((num(s, "ft") - t.ft).abs() < 1e-5, "{s:?} vs {t:?}");
+    }
+    assert!(unknown <= 2, "{unknown} rows without ft");
+    let err = stderr(&o);
+    let mu: f64 = err
+        .split("mu = ")
+        .nth(1)
+        .and_then(|r| r.split_whitespace().next())
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("no mu on stderr: {err}"));
+    assert!(
+        (mu - 0.4).abs() < 1e-8 && err.contains("sliding rows"),
+        "{err}"
+    );
+}

@@ -1,7 +1,9 @@
 //! The frictional reconstruction of a log without a command line (spec/cli.md, "Friction,
 //! base motions and obstacles"; issue 39 item 3): the request `--mu` ([`MuRequest`]), the
 //! compute ([`reconstruct_frictional_log`], each failure named by its culprit as
-//! [`crate::recon::reconstruct_log`] does), the `ft` column of
+//! [`crate::recon::reconstruct_log`] does), the reconstruction without `--mu`
+//! ([`reconstruct_default_log`]: mu identified beside today's points, the frictional points
+//! where the log proves friction), the `ft` column of
 //! `reconstruction.csv` and the serialisable `mu` / evidence part of the JSON summary
 //! ([`FrictionSummary`]).
 
@@ -105,15 +107,7 @@ pub fn reconstruct_frictional_log(
             "not with --tol: the frictional points carry their own error estimates",
         ));
     }
-    let rows = rows_of(table)?;
-    let (whisker, known) = (&r.scene.whisker, opts.known_flow(flags, r));
-    // the phases of a frictional log are not tangency-consistent: no consistency check
-    let settings = profile_recon::ReconSettings {
-        consistency_tol: None,
-        ..opts.settings()
-    };
-    let fr = reconstruct_frictional(whisker, &rows, known, &settings, mu.given())
-        .map_err(|e| recon_culprit(e, table, r, flags, None))?;
+    let fr = frictional_of(flags, opts, r, table, mu.given())?;
     let ft_of = |row: usize| {
         fr.points
             .iter()
@@ -152,11 +146,107 @@ pub fn reconstruct_frictional_log(
     }
 }
 
+/// The frictional reconstruction of `table` (method accurate, no consistency check: the
+/// phases of a frictional log are not tangency-consistent), `mu` given or identified.
+fn frictional_of(
+    flags: &ReconFlags,
+    opts: &ReconOptions,
+    r: &Resolved,
+    table: &Table,
+    mu: Option<f64>,
+) -> Result<FrictionalReconstruction, IoError> {
+    let rows = rows_of(table)?;
+    let (whisker, known) = (&r.scene.whisker, opts.known_flow(flags, r));
+    let settings = profile_recon::ReconSettings {
+        consistency_tol: None,
+        ..opts.settings()
+    };
+    reconstruct_frictional(whisker, &rows, known, &settings, mu)
+        .map_err(|e| recon_culprit(e, table, r, flags, None))
+}
+
+/// The answer of `reconstruct` without `--mu` (spec/cli.md: "its JSON gives `mu`
+/// (identified, with its standard error) unless `--mu` fixes it").
+#[derive(Clone, Debug)]
+pub struct DefaultAnswer {
+    /// Today's frictionless points (error estimates widened where the log proves friction).
+    pub rec: Reconstruction,
+    /// The frictional reconstruction (mu identified with its standard error, the evidence),
+    /// or why there is none (`--method thesis`, `--tol`, or its failure).
+    pub frictional: Result<FrictionalReconstruction, String>,
+    /// The log proves friction: the evidence (warn: the frictionless points are biased,
+    /// their error estimates widened; `--mu identify` gives the frictional points).
+    pub biased: Option<FrictionEvidence>,
+}
+
+/// `reconstruct` without `--mu` (module docs; docs/friction-recon.md, "reconstruct without
+/// --mu"): today's frictionless points, their numbers, consistency check and errors
+/// unchanged, and beside them mu identified with its standard error by the frictional
+/// reconstruction. Where the log proves friction ([`FrictionEvidence::proves_friction`]:
+/// some `|ft|` beyond 6 standard deviations) the frictionless points are biased: their error
+/// estimates are widened to cover the frictional points and the evidence is returned for a
+/// warning, as `--mu 0` does; a row the frictionless reconstruction finds inconsistent is
+/// still an error, its message naming the friction found. The frictional points are not
+/// chosen on their own: a wrong whisker also shows a tangential force (docs), so they come
+/// only with `--mu identify`. With `--method thesis` or `--tol` (refused with `--mu`) mu is
+/// not identified; a frictional reconstruction that fails leaves the answer as it was (its
+/// reason in `frictional`).
+///
+/// # Errors
+/// Those of [`reconstruct_log`].
+pub fn reconstruct_default_log(
+    flags: &ReconFlags,
+    opts: &ReconOptions,
+    r: &Resolved,
+    table: &Table,
+) -> Result<DefaultAnswer, IoError> {
+    let frictional = if opts.method != profile_recon::ReconMethod::Accurate {
+        Err("mu is identified by the method accurate (not with --method thesis)".to_string())
+    } else if opts.accuracy.is_some() {
+        Err("mu is not identified with --tol".to_string())
+    } else {
+        frictional_of(flags, opts, r, table, None).map_err(|e| e.to_string())
+    };
+    match reconstruct_log(flags, opts, r, table) {
+        Ok(mut rec) => {
+            let biased = frictional
+                .as_ref()
+                .ok()
+                .and_then(|fr| profile_recon::widen_frictionless(&mut rec, fr));
+            Ok(DefaultAnswer {
+                rec,
+                frictional,
+                biased,
+            })
+        }
+        Err(mut e) => {
+            if let (Ok(fr), IoError::Csv { reason, .. }) = (&frictional, &mut e) {
+                if let Some(ev) = fr.evidence.filter(|e| e.proves_friction()) {
+                    let mu = fr.mu.map_or(String::new(), |m| {
+                        format!(
+                            ", mu = {:.4} +- {:.1e} from {} sliding rows",
+                            m.value, m.stderr, m.rows
+                        )
+                    });
+                    let line = table.line_of(ev.row).unwrap_or(ev.row + 2);
+                    reason.push_str(&format!(
+                        "; or friction: with a tangential contact force the log fits (line \
+                         {line}: ft {:.1} standard deviations from 0{mu}): reconstruct with \
+                         --mu identify if the whisker is right",
+                        ev.z()
+                    ));
+                }
+            }
+            Err(e)
+        }
+    }
+}
+
 /// The warning of `--mu 0` on a log that proves friction (the row numbered as the log's
 /// line `line`).
 pub fn biased_warning(ev: &FrictionEvidence, line: usize) -> String {
     format!(
-        "warning: the log shows friction (line {line}, x0 = {}: tangential contact force ft = {:.3e}, {:.1} standard deviations from 0); the frictionless points are biased, their error estimates widened (reconstruct without --mu 0 to identify mu)",
+        "warning: the log shows friction (line {line}, x0 = {}: tangential contact force ft = {:.3e}, {:.1} standard deviations from 0); the frictionless points are biased, their error estimates widened (reconstruct with --mu identify for the frictional points and mu)",
         ev.x0,
         ev.ft,
         ev.z()
@@ -174,6 +264,9 @@ pub struct MuSummary {
     pub given: bool,
     /// The sliding rows it is identified from (0 when given).
     pub rows: usize,
+    /// `chi^2 / (n - 1)` of the sliding rows' ratios about it (about 1 when they follow
+    /// Coulomb's law; NaN, written null, when given or from one row).
+    pub chi2_dof: f64,
 }
 
 /// The friction part of `reconstruct --json` (spec/cli.md: `mu` with its standard error).
@@ -202,12 +295,14 @@ impl FrictionSummary {
                 stderr: 0.0,
                 given: true,
                 rows: 0,
+                chi2_dof: f64::NAN,
             }),
             (None, Some(m)) => Some(MuSummary {
                 value: m.value,
                 stderr: m.stderr,
                 given: false,
                 rows: m.rows,
+                chi2_dof: m.chi2_dof,
             }),
             (None, None) => None,
         };

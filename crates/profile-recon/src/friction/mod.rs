@@ -27,7 +27,10 @@
 //! through the row's sensitivities, by central differences of the whole evaluation, and in
 //! phase A the tangent's error estimate), its standard error `1 / sqrt(sum w)` times the
 //! Birge ratio `sqrt(chi^2 / (n - 1))` where that exceeds 1 (the rows scatter more than their
-//! deviations say). Rows with `fn` within `K_SIGMA` deviations of zero carry no ratio.
+//! deviations say), and the error of an identified flow, which every row shares: each ratio's
+//! change per standard deviation of the flow's components `(q cos alpha, q sin alpha)`
+//! (one-sided differences, two more integrations per row) averaged with the same weights,
+//! added in quadrature. Rows with `fn` within `K_SIGMA` deviations of zero carry no ratio.
 //!
 //! **Evidence of friction** ([`FrictionEvidence`]): the row whose tangential force is the most
 //! standard deviations away from zero. A frictionless reconstruction asked of a log with
@@ -38,9 +41,11 @@
 //! |---|---|
 //! | `row` | one row: the integration from the base, the hypotheses, the force split |
 //! | `contour` | the order of the motion, the tangent at tip contacts, the sliding rows |
+//! | `stream` | the rows one at a time ([`stream::FrictionalStreamer`]) |
 
 pub mod contour;
 pub mod row;
+pub mod stream;
 
 use crate::base_shot::K_SIGMA;
 use crate::common::{KnownFlow, NoiseScales, ReconSettings};
@@ -114,6 +119,10 @@ pub struct FrictionalPoint {
     pub residual: f64,
     /// Other phase-B roots that are admissible contacts too.
     pub alternatives: usize,
+    /// The change of `|ft| / fn` per standard deviation of each component `(q cos alpha,
+    /// q sin alpha)` of an identified flow (0 for a flow given): an error shared by every
+    /// row, propagated into mu's standard error.
+    pub dratio_flow: [f64; 2],
 }
 
 impl FrictionalPoint {
@@ -233,6 +242,9 @@ struct RowFit {
     alternatives: usize,
     /// Largest distance to an alternative.
     alt_dist: f64,
+    /// The change of `[x, y, s1, phi, Fx, Fy]` per standard deviation of each flow
+    /// component (one-sided differences; 0 for a flow given).
+    jflow: [[f64; 2]; 6],
 }
 
 impl RowFit {
@@ -255,6 +267,21 @@ impl RowFit {
         let (sf, st) = (level * vf.sqrt(), level * vt.sqrt());
         [fnn, ft, sf.hypot(ft * sd_psi), st.hypot(fnn * sd_psi)]
     }
+
+    /// The change of `|ft| / fn` per standard deviation of each flow component, `psi`
+    /// moving by `dpsi` per deviation (phase B: `dphi(s1)`, a known contour `psi'(x) dx`).
+    fn ratio_flow(&self, psi: f64, dpsi: [f64; 2]) -> [f64; 2] {
+        let (fnn, ft) = self.c.split(psi);
+        let (sp, cp) = psi.sin_cos();
+        let mut out = [0.0; 2];
+        for (a, o) in out.iter_mut().enumerate() {
+            let (dfx, dfy) = (self.jflow[4][a], self.jflow[5][a]);
+            let dfn = dfx * sp - dfy * cp + ft * dpsi[a];
+            let dft = dfx * cp + dfy * sp - fnn * dpsi[a];
+            *o = ft.signum() * dft / fnn - ft.abs() * dfn / (fnn * fnn);
+        }
+        out
+    }
 }
 
 /// The values `[x, y, s1, phi, Fx, Fy]` of a candidate.
@@ -275,7 +302,7 @@ fn track(shot: &Shot, phase: Phase, c: &Candidate) -> Option<Candidate> {
 }
 
 /// One contact row: its shots, the phase decision and the sensitivities (module docs).
-#[allow(clippy::needless_range_loop)]
+#[allow(clippy::needless_range_loop, clippy::too_many_arguments)]
 fn fit_row(
     whisker: &Whisker,
     flow: FluidLoad,
@@ -283,9 +310,45 @@ fn fit_row(
     row: &ObservableRow,
     scales: &NoiseScales,
     level: f64,
+    flow_sd: [f64; 2],
     integrator: &Dop853,
 ) -> Result<RowFit> {
     let base = shoot(whisker, flow, row, integrator)?;
+    // one-sided differences in each flow component (q cos alpha, q sin alpha), by its
+    // standard deviation: the error every row shares when the flow is identified
+    let mut flow_shots: Vec<Option<(Shot, f64)>> = Vec::with_capacity(2);
+    for (a, &sd) in flow_sd.iter().enumerate() {
+        if sd == 0.0 {
+            flow_shots.push(None);
+            continue;
+        }
+        let (mut qc, mut qs) = (flow.q * flow.alpha.cos(), flow.q * flow.alpha.sin());
+        let d = FD_STEP * flow.q.max(sd);
+        if a == 0 {
+            qc += d;
+        } else {
+            qs += d;
+        }
+        let moved_flow = FluidLoad {
+            q: qc.hypot(qs),
+            alpha: qs.atan2(qc),
+        };
+        flow_shots.push(Some((shoot(whisker, moved_flow, row, integrator)?, d / sd)));
+    }
+    let flow_sens = |phase: Phase, c: &Candidate| -> [[f64; 2]; 6] {
+        let mut jf = [[0.0; 2]; 6];
+        for (a, p) in flow_shots.iter().enumerate() {
+            let Some((shot, h)) = p else { continue };
+            let Some(m) = track(shot, phase, c) else {
+                continue;
+            };
+            let (vm, v0) = (values(&m), values(c));
+            for k in 0..6 {
+                jf[k][a] = (vm[k] - v0[k]) / h;
+            }
+        }
+        jf
+    };
     // central differences of every shot: +-d in each column
     let mut pm: Vec<Option<(Shot, Shot, f64)>> = Vec::with_capacity(4);
     for (j, &sc) in scales.0.iter().enumerate() {
@@ -331,6 +394,7 @@ fn fit_row(
         m1: base.m1,
         alternatives,
         alt_dist,
+        jflow: flow_sens(phase, &c),
     };
     if let Some(tip) = base.tip {
         if base.m1.abs() <= K_SIGMA * sd_m1 {
@@ -349,6 +413,7 @@ fn fit_row(
             m1: base.m1,
             alternatives: 0,
             alt_dist: 0.0,
+            jflow: [[0.0; 2]; 6],
         };
         let [fnn, ft, sf, st] = probe.split(c.phi, probe.jac[3], 0.0, level);
         if fnn >= -K_SIGMA * sf && ft.abs() <= MU_MAX * fnn.max(0.0) + K_SIGMA * st {
@@ -441,9 +506,19 @@ pub fn reconstruct_frictional_on(
     let scales = ided.scales;
     let flow = id.flow();
     let integrator = Dop853::new(settings.tol, settings.tol).with_dense(true);
+    let flow_sd = crate::judge::flow_sd(&known, level, &scales, id.pre_contact.len());
     let fits = crate::rows_par::map_rows(contact.len(), |k| {
         let i = contact[k];
-        fit_row(whisker, flow, i, &rows[i], &scales, level, &integrator)
+        fit_row(
+            whisker,
+            flow,
+            i,
+            &rows[i],
+            &scales,
+            level,
+            flow_sd,
+            &integrator,
+        )
     })?;
     let points = frictional_points(rows, &fits, level, profile);
     let (mu_est, violations) = mu_of(&points, mu);
@@ -490,27 +565,41 @@ fn frictional_points(
         .iter()
         .map(|f| {
             // psi, its noise correlated with the force's (per column), its own deviation
-            let (psi, dpsi, sd_psi, source) = match (f.phase, profile) {
-                (Phase::B, _) => (wrap(f.c.phi), f.jac[3], 0.0, PsiSource::Tangency),
+            // (the traced contour moves with the flow as a whole: its tangent's share of
+            // the flow's error is left out, its own deviation being conservative)
+            let (psi, dpsi, dpsi_flow, sd_psi, source) = match (f.phase, profile) {
+                (Phase::B, _) => (
+                    wrap(f.c.phi),
+                    f.jac[3],
+                    f.jflow[3],
+                    0.0,
+                    PsiSource::Tangency,
+                ),
                 (_, Some(g)) => {
                     let (_, d1, d2) = g.eval(f.c.x);
                     let k = d2 / (1.0 + d1 * d1);
                     (
                         g.psi(f.c.x),
                         f.jac[0].map(|dx| k * dx),
+                        f.jflow[0].map(|dx| k * dx),
                         0.0,
                         PsiSource::Known,
                     )
                 }
                 _ => match tangent_at(&contour, f.c.x) {
-                    Some((psi, e)) => (psi, [0.0; 4], e, PsiSource::Contour),
-                    None => (f64::NAN, [0.0; 4], f64::NAN, PsiSource::Unknown),
+                    Some((psi, e)) => (psi, [0.0; 4], [0.0; 2], e, PsiSource::Contour),
+                    None => (f64::NAN, [0.0; 4], [0.0; 2], f64::NAN, PsiSource::Unknown),
                 },
             };
             let [fnn, ft, sf, st] = if psi.is_finite() {
                 f.split(psi, dpsi, sd_psi, level)
             } else {
                 [f64::NAN; 4]
+            };
+            let dratio_flow = if psi.is_finite() {
+                f.ratio_flow(psi, dpsi_flow)
+            } else {
+                [0.0; 2]
             };
             let sd_psi = level * dpsi.iter().map(|v| v * v).sum::<f64>().sqrt() + sd_psi;
             FrictionalPoint {
@@ -531,6 +620,7 @@ fn frictional_points(
                 sigma_psi: sd_psi,
                 residual: if f.phase == Phase::A { f.m1.abs() } else { 0.0 },
                 alternatives: f.alternatives,
+                dratio_flow,
             }
         })
         .collect();
@@ -585,20 +675,20 @@ fn mark_sliding(
 
 /// `mu` from the sliding rows, or the violations of a given `mu` (module docs).
 fn mu_of(points: &[FrictionalPoint], given: Option<f64>) -> (Option<MuEstimate>, usize) {
-    let ratios: Vec<(f64, f64, bool)> = points
+    let ratios: Vec<(f64, f64, bool, [f64; 2])> = points
         .iter()
         .filter(|p| p.f > K_SIGMA * p.sigma_f)
         .map(|p| {
             let (r, sd) = p.ratio();
-            (r, sd, p.slip == SlipState::Slip)
+            (r, sd, p.slip == SlipState::Slip, p.dratio_flow)
         })
-        .filter(|(r, sd, _)| r.is_finite() && sd.is_finite())
+        .filter(|(r, sd, _, _)| r.is_finite() && sd.is_finite())
         .collect();
     if let Some(mu) = given {
         let tiny = 1e-12;
         let v = ratios
             .iter()
-            .filter(|(r, sd, slides)| {
+            .filter(|(r, sd, slides, _)| {
                 let off = (r - mu) / sd.max(tiny);
                 off > K_SIGMA || (*slides && off < -K_SIGMA)
             })
@@ -610,6 +700,7 @@ fn mu_of(points: &[FrictionalPoint], given: Option<f64>) -> (Option<MuEstimate>,
         .filter(|t| t.2)
         .map(|t| (t.0, t.1.max(1e-15)))
         .collect();
+    let flow_share: Vec<[f64; 2]> = ratios.iter().filter(|t| t.2).map(|t| t.3).collect();
     if sliding.is_empty() {
         return (None, 0);
     }
@@ -630,10 +721,22 @@ fn mu_of(points: &[FrictionalPoint], given: Option<f64>) -> (Option<MuEstimate>,
     } else {
         1.0
     };
+    // the flow's error, shared by every row: d(mu) = sum w_i d(r_i) / sum w per deviation
+    let var_flow: f64 = (0..2)
+        .map(|a| {
+            let g: f64 = sliding
+                .iter()
+                .zip(&flow_share)
+                .map(|((_, s), d)| d[a] / (s * s))
+                .sum::<f64>()
+                / sw;
+            g * g
+        })
+        .sum();
     (
         Some(MuEstimate {
             value: mean,
-            stderr: birge / sw.sqrt(),
+            stderr: (birge * birge / sw + var_flow).sqrt(),
             rows: n,
             chi2_dof,
         }),

@@ -69,18 +69,85 @@ pub fn run(args: &ReconstructArgs, style: FigureStyle) -> Result<(), CliError> {
     if let Some(mu) = mu {
         return run_frictional(args, &inputs, &table, &x0_given, mu, style);
     }
-    let rec = reconstruct_log(args, &inputs.opts, &inputs.r, &table)?;
+    let ans = vibrissa_io::recon_friction::reconstruct_default_log(
+        &args.into(),
+        &inputs.opts,
+        &inputs.r,
+        &table,
+    )?;
+    if let Some(ev) = &ans.biased {
+        let line = table.line_of(ev.row).unwrap_or(ev.row + 2);
+        eprintln!("{}", vibrissa_io::recon_friction::biased_warning(ev, line));
+    }
+    let rec = &ans.rec;
     let errors = inputs.truth.as_ref().map(|p| contour_error(&rec.points, p));
     let files = write(
         args,
         &inputs,
-        &rec,
+        rec,
         None,
         errors.as_deref(),
         &x0_given,
         style,
     )?;
-    print_summary(args, &inputs, &rec, &table, errors.as_deref(), files.len())
+    if args.json {
+        let (units, method) = (&inputs.units, inputs.opts.method);
+        let max_error = errors.as_deref().map(max_of);
+        let mut v = recon_json(rec, method, table.rows(), units, max_error, inputs.out_dir);
+        default_friction_json(&mut v, &ans, &table);
+        let mut stdout = Printer::stdout().published(Some(inputs.out_dir));
+        return stdout.line(v);
+    }
+    print_summary(args, &inputs, rec, &table, errors.as_deref(), files.len())?;
+    let mut stdout = Printer::stdout().published(Some(inputs.out_dir));
+    stdout.line(default_friction_line(&ans, &table))
+}
+
+/// The JSON's `mu` and `friction` of a reconstruction without `--mu`: `mu` identified (value,
+/// standard error, rows, chi2_dof) or null, `friction` the evidence, or `{"identified":
+/// false, "reason": ...}`.
+fn default_friction_json(
+    v: &mut serde_json::Value,
+    ans: &vibrissa_io::recon_friction::DefaultAnswer,
+    table: &Table,
+) {
+    use vibrissa_io::recon_friction as rf;
+    match &ans.frictional {
+        Ok(fr) => {
+            let friction = rf::FrictionSummary::of(fr, table);
+            v["mu"] = serde_json::to_value(friction.mu).unwrap_or_default();
+            v["friction"] = serde_json::to_value(&friction).unwrap_or_default();
+        }
+        Err(reason) => {
+            v["mu"] = serde_json::Value::Null;
+            v["friction"] = serde_json::json!({ "identified": false, "reason": reason });
+        }
+    }
+}
+
+/// The summary's friction line of a reconstruction without `--mu`.
+fn default_friction_line(
+    ans: &vibrissa_io::recon_friction::DefaultAnswer,
+    table: &Table,
+) -> String {
+    use vibrissa_io::recon_friction::FrictionSummary;
+    let fr = match &ans.frictional {
+        Ok(fr) => fr,
+        Err(reason) => return format!("mu not identified: {reason}"),
+    };
+    let s = FrictionSummary::of(fr, table);
+    let mu = match s.mu {
+        Some(m) => format!(
+            "mu = {:.6} +- {:.2e} (identified from {} sliding rows)",
+            m.value, m.stderr, m.rows
+        ),
+        None => "mu not identified (no sliding row with a contact force)".to_string(),
+    };
+    if s.proves_friction {
+        format!("{mu}; the log shows friction: the frictionless points are biased (--mu identify)")
+    } else {
+        format!("{mu}; no evidence of friction")
+    }
 }
 
 /// Parse and resolve: the flags, the log and scene to read (a sweep folder gives both),

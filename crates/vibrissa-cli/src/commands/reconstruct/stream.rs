@@ -7,7 +7,11 @@
 use std::io::BufRead;
 use std::path::{Path, PathBuf};
 
-use profile_recon::{ObservableRow, ReconError, ReconPoint, RowPose, Streamer};
+use profile_recon::{
+    FrictionalPoint, FrictionalStreamer, ObservableRow, ReconError, ReconPoint, RowPose,
+    Streamer,
+};
+use vibrissa_io::recon_friction::MuRequest;
 
 use super::options::{recon_model, ReconOptions};
 use super::REQUIRED_COLUMNS;
@@ -37,16 +41,25 @@ pub fn run_stream(args: &ReconstructArgs) -> Result<(), CliError> {
         ));
     }
     let opts = ReconOptions::parse_stream(&args.into())?;
+    let mu = args.mu.as_deref().map(MuRequest::parse).transpose()?;
     let scene = stream_scene(args.scene.as_deref().or(args.observables.as_deref()))?;
     let file = LoadedScene::load_opt(scene.as_deref())?;
     let r = recon_model(args, file)?;
     let units = r.units();
     let factor = recon_io::input_factors(&Default::default(), &units, Path::new(STDIN))?;
     let (flow, settings) = (opts.known_flow(&args.into(), &r), opts.settings());
-    let mut stream = Streamer::new(&r.scene.whisker, flow, &settings)
-        .map_err(|e| stdin_err(1, e.to_string()))?;
+    let mut stream = match mu {
+        None => Stream::Plain(
+            Streamer::new(&r.scene.whisker, flow, &settings)
+                .map_err(|e| stdin_err(1, e.to_string()))?,
+        ),
+        Some(m) => Stream::Frictional(
+            FrictionalStreamer::new(&r.scene.whisker, flow, &settings, m.given())
+                .map_err(|e| stdin_err(1, e.to_string()))?,
+        ),
+    };
     // compute and write, row by row
-    let mut out = StreamOut::new(&units)?;
+    let mut out = StreamOut::new(&units, mu.is_some())?;
     let mut reader: Option<LineReader> = None;
     // the pose columns y0, gamma where the header has them (a log of any base motion)
     let mut pose_readers: [Option<LineReader>; 2] = [None, None];
@@ -87,10 +100,22 @@ pub fn run_stream(args: &ReconstructArgs) -> Result<(), CliError> {
             y0: pose[0],
             gamma: pose[1],
         };
-        let points = stream
-            .push_posed(row, pose)
-            .map_err(|e| at_row(&lines, e))?;
-        out.write(&points)?;
+        match &mut stream {
+            Stream::Plain(s) => {
+                out.write(&s.push_posed(row, pose).map_err(|e| at_row(&lines, e))?)?;
+            }
+            // friction is swept along translations only (contact-sim refuses the others)
+            Stream::Frictional(_) if pose.y0 != 0.0 || pose.gamma != 0.0 => {
+                return Err(stdin_err(
+                    n,
+                    "--mu with a log of a turned or lifted base (y0, gamma) is not implemented"
+                        .to_string(),
+                ));
+            }
+            Stream::Frictional(s) => {
+                out.write_ft(&s.push(row).map_err(|e| at_row(&lines, e))?)?;
+            }
+        }
     }
     if reader.is_none() {
         return Err(stdin_err(
@@ -102,8 +127,47 @@ pub fn run_stream(args: &ReconstructArgs) -> Result<(), CliError> {
             ),
         ));
     }
-    let points = stream.finish().map_err(|e| at_row(&lines, e))?;
-    out.write(&points)
+    match stream {
+        Stream::Plain(s) => out.write(&s.finish().map_err(|e| at_row(&lines, e))?),
+        Stream::Frictional(s) => {
+            let end = s.finish().map_err(|e| at_row(&lines, e))?;
+            out.write_ft(&end.held)?;
+            // standard output is the CSV: mu (the batch's, over every row) on standard error
+            eprintln!("{}", end_line(&end));
+            Ok(())
+        }
+    }
+}
+
+/// The stream's reconstruction: frictionless (without `--mu`, today's) or frictional (one
+/// value per run: the sizes do not matter).
+#[allow(clippy::large_enum_variant)]
+enum Stream {
+    Plain(Streamer),
+    Frictional(FrictionalStreamer),
+}
+
+/// The last line of a frictional stream (on standard error): mu identified over every row
+/// with its standard error, or the given mu's violations.
+fn end_line(end: &profile_recon::FrictionalStreamEnd) -> String {
+    match end.mu {
+        Some(m) => format!(
+            "mu = {:.6} +- {:.2e} (identified from {} sliding rows of {} contact rows)",
+            m.value,
+            m.stderr,
+            m.rows,
+            end.points.len()
+        ),
+        None if end.violations > 0 => format!(
+            "warning: {} rows break the given mu (their |ft| / fn beyond the cone, or sliding \
+             rows off its edge)",
+            end.violations
+        ),
+        None => format!(
+            "mu not identified ({} contact rows, none sliding with a contact force, or mu given)",
+            end.points.len()
+        ),
+    }
 }
 
 /// An error at line `line` of standard input.
@@ -209,13 +273,30 @@ struct StreamOut<'u> {
 }
 
 impl<'u> StreamOut<'u> {
-    fn new(units: &'u UnitSystem) -> Result<Self, CliError> {
+    /// The header; with `ft`, the column `ft` last (a frictional stream, as the file).
+    fn new(units: &'u UnitSystem, ft: bool) -> Result<Self, CliError> {
         let mut s = StreamOut {
             out: Printer::stdout(),
             units,
         };
-        s.line(&recon_io::reconstruction_header(false).join(","))?;
+        let mut header = recon_io::reconstruction_header(false);
+        if ft {
+            header.push("ft");
+        }
+        s.line(&header.join(","))?;
         Ok(s)
+    }
+
+    /// Frictional points: the row of the file with `ft` (a force) last.
+    fn write_ft(&mut self, points: &[FrictionalPoint]) -> Result<(), CliError> {
+        let fs = self.units.scale(crate::units::Quantity::Force);
+        for p in points {
+            let mut cells = recon_io::recon_cells(&p.to_recon_point(), self.units, &[], None);
+            cells.push(Cell::Num(p.ft * fs));
+            let text = plain_line(&cells);
+            self.line(&text)?;
+        }
+        Ok(())
     }
 
     fn line(&mut self, text: &str) -> Result<(), CliError> {

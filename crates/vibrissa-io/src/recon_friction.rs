@@ -155,6 +155,20 @@ fn frictional_of(
     table: &Table,
     mu: Option<f64>,
 ) -> Result<FrictionalReconstruction, IoError> {
+    // friction is swept along translations only (contact-sim refuses the other motions):
+    // a log with a turned or lifted base has no frictional reconstruction yet
+    if let Some(i) = crate::recon::poses_of(table)
+        .iter()
+        .position(|p| p.y0 != 0.0 || p.gamma != 0.0)
+    {
+        return Err(IoError::InvalidArgument {
+            flag: "--mu".to_string(),
+            value: format!("row {} with y0, gamma", table.line_of(i).unwrap_or(i + 2)),
+            reason: "the frictional reconstruction of a log of a turned or lifted base (y0, \
+                     gamma) is not implemented"
+                .to_string(),
+        });
+    }
     let rows = rows_of(table)?;
     let (whisker, known) = (&r.scene.whisker, opts.known_flow(flags, r));
     let settings = profile_recon::ReconSettings {

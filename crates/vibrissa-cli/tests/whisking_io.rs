@@ -84,6 +84,53 @@ fn wio_rotate_past_a_peg_through_the_cli() {
     assert!(linear >= 3, "{linear} rows in the linear range");
 }
 
+/// The figures of a whisking sweep: the observables against the turn gamma in degrees,
+/// the fan of shapes about the fixed base, the obstacle drawn whole (a peg as a dot, a disc
+/// as a filled circle).
+#[test]
+fn wio_whisking_figures_are_drawn_against_the_turn() {
+    let dir = tempfile::tempdir().unwrap();
+    for (profile, legend) in [
+        ("peg:-0.2,0.6", "peg (a point obstacle)"),
+        ("disc:-0.3,0.8,0.15", "disc (solid inside)"),
+    ] {
+        let out = if profile.starts_with("peg") { "p" } else { "d" };
+        let o = run(
+            &[
+                "sweep",
+                "--motion",
+                "rotate",
+                "--theta",
+                "0.6",
+                "--k",
+                "25",
+                "--profile",
+                profile,
+                "--points",
+                "20",
+                "--out",
+                out,
+            ],
+            dir.path(),
+        );
+        assert!(o.status.success(), "{}", stderr(&o));
+        let svg =
+            |n: &str| common::svg_text(&fs::read_to_string(dir.path().join(out).join(n)).unwrap());
+        let obs = svg("observables.svg");
+        assert!(
+            obs.contains("base turn γ [°]") && !obs.contains("base x"),
+            "{obs}"
+        );
+        assert!(obs.contains("turns counter-clockwise"), "{obs}");
+        let shapes = svg("shapes.svg");
+        assert!(
+            shapes.contains(legend) && shapes.contains("base (fixed, turning)"),
+            "{shapes}"
+        );
+        assert!(!shapes.contains("sweep (base → −x)"), "{shapes}");
+    }
+}
+
 /// The same whisking scene in a physical scene (the beta whisker, lengths in mm: the base
 /// at (--x0, --y0) mm, the peg in mm) and in whisker lengths (every length divided by L)
 /// gives the same rows: lengths in mm = L x the dimensionless ones, angles equal.

@@ -121,3 +121,19 @@ def test_bad_motions_are_refused_by_name():
                        path={"x0": [0, 0], "y0": [0, 0], "gamma_deg": [0, 9], "k": [1, -1]})
     with pytest.raises(vibrissa.SolverError, match="not implemented"):
         vibrissa.sweep(profile="peg:-0.2,0.6", motion="rotate", mu=0.3)
+
+
+def test_a_scene_files_motion_is_read(tmp_path):
+    """`load_scene` gives the scene's motion keys; `sweep(**load_scene(p))` whisks as the
+    keywords do, and `solve(**load_scene(p))` ignores them."""
+    p = tmp_path / "whisk.ron"
+    p.write_text('(whisker: (theta: 0.6, k: Some(25.0)), profile: Some("disc:-0.3,0.8,0.15"), '
+                 'motion: "rotate", x0: 0.05, y0: -0.02, gamma_deg: -10.0, '
+                 'sweep: Some((points: 24)), loads: (q: 0.5, alpha_deg: 20.0))')
+    kw = vibrissa.load_scene(p)
+    assert (kw["motion"], kw["x0"], kw["y0"], kw["gamma_deg"]) == ("rotate", 0.05, -0.02, -10.0)
+    a = vibrissa.sweep(**kw)
+    b = vibrissa.sweep(**DISC)
+    for col in COLUMNS:
+        assert_same(a[col], b[col], col)
+    vibrissa.solve(**kw)

@@ -123,6 +123,11 @@ def solve(
     profile: Any = None,
     points: Any = None,
     mu: Any = None,
+    motion: Any = None,
+    x0: Any = None,
+    y0: Any = None,
+    gamma_deg: Any = None,
+    path: Any = None,
 ) -> Solution:
     """Solves one equilibrium of the whisker [3.27] (``vibrissa solve``).
 
@@ -140,8 +145,8 @@ def solve(
     moderate loads; ``stats["model_used"]`` which model: ``"linear"`` where linear
     small-deflection theory provably meets it, else ``"elastica"``).
     None: ``accurate``'s default accuracy (estimate <= 1e-8).
-    ``profile``, ``points`` and ``mu`` are ignored (as ``vibrissa solve SCENE.ron`` ignores
-    them), so that ``solve(**load_scene(path))`` works.
+    ``profile``, ``points``, ``mu`` and the base motion (``motion, x0, y0, gamma_deg,
+    path``) are ignored (as ``vibrissa solve SCENE.ron`` ignores them), so that ``solve(**load_scene(path))`` works.
 
     Returns a :class:`Solution`. Raises :class:`InvalidInput` for a bad parameter and
     :class:`SolverError` when no solution meets the accuracy.

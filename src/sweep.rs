@@ -119,7 +119,9 @@ impl Sweep {
 impl Scene {
     /// Sweeps the scene's whisker past its `profile` under its flow, with `sweep.points`
     /// contact rows at `sweep.tol` and Coulomb friction `mu` at the contact (spec/model.md,
-    /// "Friction at the contact"; 0: frictionless) (as `vibrissa sweep SCENE.ron`): the rows of
+    /// "Friction at the contact"; 0: frictionless), the base moving as its `motion` says
+    /// (translate, rotate from `x0`, `y0`, `gamma_deg`, or a `path`; "Base motions") (as
+    /// `vibrissa sweep SCENE.ron`): the rows of
     /// `observables.csv`, bit for bit, in the scene's units. A whisker that never touches
     /// is [`Error::NoContact`].
     pub fn sweep(&self) -> Result<Sweep, Error> {
@@ -133,13 +135,18 @@ impl Scene {
         check_sweep_loads(&r)?;
         let units = r.units();
         let contour = profile.parse(&units)?;
-        let result = contact_sim::sweep(
-            &r.scene.whisker,
-            r.scene.loads.fluid,
-            &contour,
-            &sweep_settings_with(requested, tol, law),
-        )
-        .map_err(|e| r.contact_culprit(e, &profile))?;
+        // the scene's base motion (`motion`, `x0`, `y0`, `gamma_deg`, `path`)
+        let motion = vibrissa_io::resolve::motion::sweep_motion(
+            &vibrissa_io::resolve::motion::MotionGiven::default(),
+            Some(&loaded),
+            &units,
+        )?;
+        let settings = contact_sim::SweepSettings {
+            motion: motion.motion,
+            ..sweep_settings_with(requested, tol, law)
+        };
+        let result = contact_sim::sweep(&r.scene.whisker, r.scene.loads.fluid, &contour, &settings)
+            .map_err(|e| r.contact_culprit(e, &profile))?;
         let rows = result
             .points
             .iter()

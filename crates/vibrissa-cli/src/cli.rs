@@ -39,8 +39,10 @@ Examples:
   vibrissa sweep --profile parabola:2,0.4,0.5 --q 1 --out out/parabola
   vibrissa sweep --profile points:contour.csv --theta 0.75 --k 20 --q 5 --out out/tab
   vibrissa sweep scenes/c5-tapered-precurved-elastic-g1.ron --points 50 --out out/c5
+  vibrissa sweep --motion rotate --gamma-deg -10 --profile peg:-0.2,0.6 --out out/whisk
 
-Profiles: g1, g2, ge, parabola:a,xv,yv, cosh:a,c,xv,d, circle:xc,yc,r, points:FILE.csv.
+Profiles: g1, g2, ge, parabola:a,xv,yv, cosh:a,c,xv,d, circle:xc,yc,r, points:FILE.csv;
+obstacles touched from any side: peg:x,y (a point, such as a thin pole), disc:x,y,r.
 A points file is a CSV table whose header names the x and y columns, units allowed
 (x,y or x_mm;y_mm or x [mm]<TAB>y [mm]); comma, tab or semicolon separated; it need only
 cover the part of the contour the whisker touches. In a physical scene (units:
@@ -55,7 +57,10 @@ Frame: the base at (x0, 0) points along +y and moves towards -x; the obstacle is
 above its contour, y > g(x); a flow at alpha = 0 pushes along +x. Phases: A, the tip rests on
 the obstacle; B, the whisker touches it tangentially with a point before its tip (the part
 beyond is unloaded). A contact ends by a snap (the whisker jumps off where the contact
-branch turns back) or a release (the flow lifts it off: the contact force falls to 0).";
+branch turns back) or a release (the flow lifts it off: the contact force falls to 0).
+Whisking (--motion rotate): the base stays at (--x0, --y0) and turns counter-clockwise
+(gamma rising; the unloaded base direction is 90° + gamma, so phi0 = 90° + gamma - MA/k); a
+peg is released when the tip slides past it.";
 
 const RECONSTRUCT_EXAMPLES: &str = "\
 Examples:
@@ -272,8 +277,8 @@ pub struct SweepArgs {
     /// The obstacle contour (required here or in the scene file).
     #[arg(long, value_name = "P")]
     pub profile: Option<String>,
-    /// Contact rows, 2..=100000, evenly spaced in the base position x0 from the first contact
-    /// to the separation (both included). One row is added at each phase switch; 10 rows
+    /// Contact rows, 2..=100000, evenly spaced in the base position x0 (in the turn gamma of
+    /// a rotation) from the first contact to the separation (both included). One row is added at each phase switch; 10 rows
     /// before contact (flow only) come first. The summary counts them all [default: 200]
     #[arg(long, value_name = "N", allow_hyphen_values = true)]
     pub points: Option<String>,
@@ -292,6 +297,28 @@ pub struct SweepArgs {
     /// show it. Also the scene's `mu` [default: 0, frictionless]
     #[arg(long, value_name = "MU", allow_hyphen_values = true)]
     pub mu: Option<String>,
+    /// How the base moves: `translate` (the base at (x0, 0) moves towards -x, unturned: the
+    /// thesis's sweep), `rotate` (whisking: the base stays at (--x0, --y0) and turns
+    /// counter-clockwise from --gamma-deg until the whisker separates; rows evenly spaced in
+    /// the turn gamma), or `path:FILE.csv` (a table of poses with the header
+    /// `x0,y0,gamma_deg` and optionally `k`, the follicle stiffness along the path; linear
+    /// between rows; units allowed in the names: `x0_mm`, `gamma [rad]`, `k [N mm/rad]`).
+    /// Lengths in the scene's unit (mm in a physical scene), k in its stiffness unit (N m/rad
+    /// physical). The log's `y0` and `gamma` (rad) columns carry each row's pose. Friction
+    /// (--mu > 0) is for the translation past graphs only. Also the scene's `motion`
+    /// [default: translate]
+    #[arg(long, value_name = "M")]
+    pub motion: Option<String>,
+    /// The base x where a rotation starts (scene's length unit; --motion rotate) [default: 0]
+    #[arg(long, value_name = "X", allow_hyphen_values = true)]
+    pub x0: Option<String>,
+    /// The base y where a rotation starts (scene's length unit; --motion rotate) [default: 0]
+    #[arg(long, value_name = "Y", allow_hyphen_values = true)]
+    pub y0: Option<String>,
+    /// The turn of the follicle where a rotation starts, degrees counter-clockwise (the
+    /// unloaded base direction is 90° + G; --motion rotate) [default: 0]
+    #[arg(long, value_name = "G", allow_hyphen_values = true)]
+    pub gamma_deg: Option<String>,
     /// Also write shapes.csv: the whisker's shape at every row (row, s, x, y, phi; 100
     /// intervals of arc length up to the contact point, then the load-free segment beyond a
     /// tangential contact, to the tip), in the scene's units.

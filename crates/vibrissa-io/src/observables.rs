@@ -8,7 +8,6 @@ use contact_sim::{Phase, SlipState, SweepPoint, SweepResult};
 
 use crate::csvio::CsvWriter;
 use crate::error::IoError;
-use crate::outputs::write_units_of;
 use crate::units::{Quantity, UnitSystem};
 
 /// The header of `observables.csv` (spec/cli.md): the thesis's observables, then, after
@@ -84,6 +83,59 @@ pub struct SweepRow {
     pub y0: f64,
     /// The base's turn (radians; 0 for the translating sweep).
     pub gamma: f64,
+    /// The follicle stiffness at the row where the motion (a path) sets it, in the scene's
+    /// stiffness unit (N m/rad physical, as the scene's `whisker.k`); the column `k` is
+    /// written after `gamma` only when some row has it ([`observables_csv_in`]).
+    #[serde(skip)]
+    pub k: Option<f64>,
+}
+
+/// The column `k` of a log whose motion sets the follicle stiffness along the path.
+pub const K_COLUMN: &str = "k";
+
+/// The unit of the `k` column in `units`: the scene's stiffness unit (`N m/rad` in a
+/// physical scene, as the scene file's `whisker.k`; `1` dimensionless).
+pub fn stiffness_unit(units: &UnitSystem) -> &'static str {
+    if units.is_physical() {
+        "N m/rad"
+    } else {
+        "1"
+    }
+}
+
+/// The factor from the model's dimensionless stiffness `k = K L / (E I_b)` [3.19] to the
+/// scene's stiffness unit ([`stiffness_unit`]).
+pub fn stiffness_scale(units: &UnitSystem) -> f64 {
+    units.physical.map_or(1.0, |p| p.moment_scale())
+}
+
+/// The header of a log: [`OBSERVABLES_HEADER`], and `k` after it when `with_k`.
+pub fn observables_header(with_k: bool) -> Vec<&'static str> {
+    let mut h = OBSERVABLES_HEADER.to_vec();
+    if with_k {
+        h.push(K_COLUMN);
+    }
+    h
+}
+
+/// Writes the units sidecar of a log (header [`observables_header`]`(with_k)`) at `csv`.
+pub fn write_observables_units(
+    csv: &Path,
+    units: &UnitSystem,
+    with_k: bool,
+) -> Result<(), IoError> {
+    let mut u: Vec<&str> = OBSERVABLES_QUANTITIES
+        .iter()
+        .map(|q| units.unit(*q))
+        .collect();
+    if with_k {
+        u.push(stiffness_unit(units));
+    }
+    crate::csvio::write_units_sidecar(
+        &crate::csvio::units_sidecar_path(csv),
+        &observables_header(with_k),
+        &u,
+    )
 }
 
 /// The former name of [`SweepRow`].
@@ -99,10 +151,11 @@ pub fn serialize_slip<S: serde::Serializer>(p: &SlipState, s: S) -> Result<S::Ok
     s.serialize_str(p.label())
 }
 
-/// The base pose `(y0, gamma)` of a row (spec/model.md, "Base motions"): the translating
-/// sweep keeps `y0 = 0`, `gamma = 0` (its rows carry no pose of their own).
-pub fn pose_of(_p: &SweepPoint) -> (f64, f64) {
-    (0.0, 0.0)
+/// The base pose `(y0, gamma)` of a row (spec/model.md, "Base motions"), dimensionless:
+/// the row's own (`y0 = 0`, `gamma = 0` throughout a translation; the base's fixed `y0` and
+/// the turn of a rotation; the pose of a path).
+pub fn pose_of(p: &SweepPoint) -> (f64, f64) {
+    (p.y0, p.gamma)
 }
 
 impl SweepRow {
@@ -130,6 +183,7 @@ impl SweepRow {
             slip: p.slip,
             y0: pose_of(p).0 * l,
             gamma: pose_of(p).1,
+            k: p.k.map(|k| k * stiffness_scale(units)),
         }
     }
 }
@@ -140,10 +194,17 @@ pub fn observables_csv(points: &[SweepPoint]) -> Result<CsvWriter, IoError> {
     observables_csv_in(points, &UnitSystem::DIMENSIONLESS)
 }
 
-/// The rows of `observables.csv` in `units` (mm, N, N mm for a physical scene).
+/// The rows of `observables.csv` in `units` (mm, N, N mm for a physical scene); with the
+/// column `k` after `gamma` when some row has the follicle stiffness of a path.
 pub fn observables_csv_in(points: &[SweepPoint], units: &UnitSystem) -> Result<CsvWriter, IoError> {
-    let mut w = CsvWriter::new(&OBSERVABLES_HEADER);
-    w.push_records(points.iter().map(|p| SweepRow::of(p, units)))?;
+    let with_k = points.iter().any(|p| p.k.is_some());
+    let mut w = CsvWriter::new(&observables_header(with_k));
+    let rows = points.iter().map(|p| SweepRow::of(p, units));
+    if with_k {
+        w.push_records(rows.map(|r| (r, r.k.unwrap_or(f64::NAN))))?;
+    } else {
+        w.push_records(rows)?;
+    }
     Ok(w)
 }
 /// Writes `observables.csv` of a sweep in `units` and its units sidecar.
@@ -153,5 +214,67 @@ pub fn write_observables_csv(
     path: &Path,
 ) -> Result<(), IoError> {
     observables_csv_in(&res.points, units)?.write(path)?;
-    write_units_of(path, &OBSERVABLES_HEADER, &OBSERVABLES_QUANTITIES, units)
+    write_observables_units(path, units, res.points.iter().any(|p| p.k.is_some()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A log's pose columns carry each row's pose (`y0` in the length unit, `gamma` in
+    /// radians) and, where a path sets it, `k` in the stiffness unit as the 16th column.
+    #[test]
+    fn pose_and_k_columns_carry_the_rows_values() {
+        let p = beam_model::Preset::from_name("beta").unwrap().whisker();
+        let u = UnitSystem::new(Some(p));
+        let a = SweepPoint {
+            x0: 0.1,
+            ax: 0.0,
+            ay: 0.0,
+            ma: 0.0,
+            phi0: 1.0,
+            f: 0.0,
+            s1: 1.0,
+            phi1: 1.0,
+            phase: Phase::None,
+            xc: f64::NAN,
+            yc: f64::NAN,
+            psi: f64::NAN,
+            ft: 0.0,
+            slip: SlipState::None,
+            slip_distance: 0.0,
+            y0: -0.25,
+            gamma: 0.3,
+            k: None,
+        };
+        let text = observables_csv_in(&[a], &u).unwrap().as_str().to_string();
+        let mut lines = text.lines();
+        assert_eq!(lines.next().unwrap(), OBSERVABLES_HEADER.join(","));
+        let cells: Vec<f64> = lines
+            .next()
+            .unwrap()
+            .split(',')
+            .filter_map(|c| c.parse().ok())
+            .collect();
+        let row = SweepRow::of(&a, &u);
+        assert_eq!(row.y0, -0.25 * u.scale(Quantity::Length));
+        assert_eq!(row.gamma, 0.3);
+        assert!(cells.contains(&row.y0) && cells.contains(&0.3));
+        let mut b = a;
+        b.k = Some(20.0);
+        let text = observables_csv_in(&[a, b], &u)
+            .unwrap()
+            .as_str()
+            .to_string();
+        let mut lines = text.lines();
+        assert!(lines.next().unwrap().ends_with(",gamma,k"));
+        let k_of = |l: &str| l.rsplit(',').next().unwrap().to_string();
+        assert_eq!(k_of(lines.next().unwrap()), "NaN");
+        let k: f64 = k_of(lines.next().unwrap()).parse().unwrap();
+        // back through [3.19]: the dimensionless stiffness again
+        assert!(
+            (p.dimensionless_stiffness(k) / 20.0 - 1.0).abs() < 1e-15,
+            "{k}"
+        );
+    }
 }

@@ -53,6 +53,11 @@ pub fn output_scene(r: &Resolved, profile: Option<String>, points: Option<usize>
         },
         profile,
         mu: 0.0,
+        motion: None,
+        x0: None,
+        y0: None,
+        gamma_deg: None,
+        path: None,
         sweep: points.map(|points| SweepSpec { points, tol: None }),
         method: MethodSpec {
             name: r.method.name().to_string(),

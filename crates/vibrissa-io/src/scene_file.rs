@@ -8,6 +8,9 @@
 //!     loads: (f: 0.0, beta_deg: 0.0, load: Dp, q: 5.0, alpha_deg: 0.0),
 //!     profile: Some("g1"),             // the profile spec strings of cli.md
 //!     mu: 0.0,                         // Coulomb friction at the contact (dimensionless)
+//!     motion: "translate",             // or "rotate" (from x0, y0, gamma_deg), or "path"
+//!     // x0: -0.1, y0: 0.0, gamma_deg: -10.0,   // where a rotation starts (length unit, deg)
+//!     // path: "poses.csv",            // a path's poses (x0,y0,gamma_deg[,k]), or inline
 //!     sweep: Some((points: 200)),
 //!     method: (name: "accurate", n: None),
 //! )
@@ -45,6 +48,24 @@ pub struct SceneFile {
     /// written as before.
     #[serde(default, skip_serializing_if = "is_zero")]
     pub mu: f64,
+    /// How the base moves (`sweep --motion`): `translate` (the default), `rotate` or `path`
+    /// (spec/model.md, "Base motions"). Left out of a written scene when not given.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub motion: Option<String>,
+    /// The base x where a rotation starts (`--x0`), in the scene's length unit.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub x0: Option<f64>,
+    /// The base y where a rotation starts (`--y0`), in the scene's length unit.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub y0: Option<f64>,
+    /// The turn where a rotation starts (`--gamma-deg`), in degrees.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gamma_deg: Option<f64>,
+    /// The poses of a path motion: a CSV file relative to the scene file (columns
+    /// `x0,y0,gamma_deg`, optionally `k`; `vibrissa_io::resolve::motion`), or the table
+    /// itself inline (a string with line breaks).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub path: Option<String>,
     /// Sweep settings, if the scene describes a sweep.
     #[serde(default)]
     pub sweep: Option<SweepSpec>,
@@ -203,6 +224,11 @@ impl SceneFile {
             loads: LoadSpec::default(),
             profile: None,
             mu: 0.0,
+            motion: None,
+            x0: None,
+            y0: None,
+            gamma_deg: None,
+            path: None,
             sweep: None,
             method: MethodSpec::default(),
         }

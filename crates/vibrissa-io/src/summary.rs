@@ -413,6 +413,49 @@ impl FrictionEventSummary {
     }
 }
 
+/// The range `[least, greatest]` of the base pose over a sweep's contact rows (all its rows
+/// if none touched): `x0`, `y0` in the scene's length unit, the turn `gamma_deg` in degrees.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct PoseRange {
+    /// Base x.
+    pub x0: [f64; 2],
+    /// Base y.
+    pub y0: [f64; 2],
+    /// The turn of the follicle (degrees).
+    pub gamma_deg: [f64; 2],
+}
+
+impl PoseRange {
+    /// The range over the rows of `res` in `units`.
+    pub fn of(res: &SweepResult, units: &UnitSystem) -> Self {
+        let l = units.scale(Quantity::Length);
+        let contact: Vec<_> = res.contact_points().collect();
+        let rows: Vec<_> = if contact.is_empty() {
+            res.points.iter().collect()
+        } else {
+            contact
+        };
+        let range = |f: &dyn Fn(&contact_sim::SweepPoint) -> f64| {
+            let (lo, hi) = rows
+                .iter()
+                .map(|p| f(p))
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+                    (lo.min(v), hi.max(v))
+                });
+            if lo <= hi {
+                [lo, hi]
+            } else {
+                [0.0, 0.0]
+            }
+        };
+        PoseRange {
+            x0: range(&|p| p.x0 * l),
+            y0: range(&|p| p.y0 * l),
+            gamma_deg: range(&|p| p.gamma.to_degrees()),
+        }
+    }
+}
+
 /// A sweep (`sweep --json`, the Python `summary`): how the contact began and ended, the
 /// phases, the row counts and the events (rows numbered from 1 as in [`RowCounts`]), the
 /// flow, positions and loads in the scene's units.
@@ -451,6 +494,11 @@ pub struct SweepSummary {
     pub mu: f64,
     /// The stick/slip switches in the order of the motion (empty without friction).
     pub friction_events: Vec<FrictionEventSummary>,
+    /// How the base moved: `translate`, `rotate` or `path` (spec/cli.md `--motion`; set by
+    /// [`SweepSummary::with_motion`], `translate` otherwise).
+    pub motion: &'static str,
+    /// The range of the base pose over the contact rows (all rows if none touched).
+    pub pose: PoseRange,
     /// The fluid load (the scene's line-load unit).
     #[serde(serialize_with = "finite")]
     pub q: f64,
@@ -480,6 +528,12 @@ pub struct SweepSummary {
 }
 
 impl SweepSummary {
+    /// The summary naming the base motion `motion` (its [`contact_sim::BaseMotion::label`]).
+    pub fn with_motion(mut self, motion: &contact_sim::BaseMotion) -> Self {
+        self.motion = motion.label();
+        self
+    }
+
     /// The summary of the sweep `res` of `requested` contact rows under the contact law
     /// `law` in `units`.
     pub fn of(res: &SweepResult, requested: usize, law: ContactLaw, units: &UnitSystem) -> Self {
@@ -510,6 +564,8 @@ impl SweepSummary {
                 .collect(),
             mu: law.mu(),
             friction_events: FrictionEventSummary::of(res, units),
+            motion: "translate",
+            pose: PoseRange::of(res, units),
             q: res.q * units.scale(Quantity::LineLoad),
             alpha_deg: res.alpha.to_degrees(),
             units: units_word(units),

@@ -99,9 +99,16 @@ pub fn sweep_summary(res: &SweepResult, requested: usize, units: &UnitSystem) ->
         "1" => String::new(),
         u => format!(" {u}"),
     };
+    // a sweep that turns the base names its rows by the turn, a translation by x0
+    let turns = res.points.iter().any(|p| p.gamma != 0.0);
     let at = |row: Option<usize>| {
         row.map_or(String::new(), |r| {
-            format!(" at row {r} (x0 = {:.6}{lu})", res.points[r - 1].x0 * l)
+            let p = &res.points[r - 1];
+            if turns {
+                format!(" at row {r} (gamma = {:.6}°)", p.gamma.to_degrees())
+            } else {
+                format!(" at row {r} (x0 = {:.6}{lu})", p.x0 * l)
+            }
         })
     };
     let sep = match res.separation {

@@ -292,4 +292,63 @@ mod tests {
             .contains("physical scene"));
         assert!(u.factor_from("N", Quantity::Length).is_err());
     }
+
+    /// A peg and a disc given in mm in a physical scene are the dimensionless obstacle of
+    /// the same numbers divided by the whisker's length (the radius too); in a
+    /// dimensionless scene they pass unchanged: both ways round to the bit pattern's last
+    /// digit.
+    #[test]
+    fn pegs_and_discs_scale_with_the_length_unit() {
+        let p = beam_model::Preset::from_name("beta").unwrap().whisker();
+        let u = UnitSystem::new(Some(p));
+        let l = u.length_mm().unwrap();
+        for (spec_mm, want) in [
+            (
+                "peg:-10,30".to_string(),
+                Profile::Peg {
+                    x: -10.0 / l,
+                    y: 30.0 / l,
+                },
+            ),
+            (
+                "disc:5,40,3.5".to_string(),
+                Profile::Disc {
+                    x: 5.0 / l,
+                    y: 40.0 / l,
+                    r: 3.5 / l,
+                },
+            ),
+        ] {
+            let got = u.dimensionless_profile(&spec_mm, Profile::parse(&spec_mm).unwrap());
+            assert_eq!(got, want, "{spec_mm}");
+            // written back in mm and read again: the same obstacle
+            let back = match got {
+                Profile::Peg { x, y } => format!("peg:{},{}", x * l, y * l),
+                Profile::Disc { x, y, r } => format!("disc:{},{},{}", x * l, y * l, r * l),
+                _ => unreachable!(),
+            };
+            let again = u.dimensionless_profile(&back, Profile::parse(&back).unwrap());
+            let close = |a: f64, b: f64| (a - b).abs() <= 4.0 * f64::EPSILON * b.abs();
+            match (again, want) {
+                (Profile::Peg { x, y }, Profile::Peg { x: wx, y: wy }) => {
+                    assert!(close(x, wx) && close(y, wy))
+                }
+                (
+                    Profile::Disc { x, y, r },
+                    Profile::Disc {
+                        x: wx,
+                        y: wy,
+                        r: wr,
+                    },
+                ) => {
+                    assert!(close(x, wx) && close(y, wy) && close(r, wr))
+                }
+                other => panic!("{other:?}"),
+            }
+            // dimensionless: unchanged
+            let d = UnitSystem::DIMENSIONLESS;
+            let p = Profile::parse(&spec_mm).unwrap();
+            assert_eq!(d.dimensionless_profile(&spec_mm, p.clone()), p);
+        }
+    }
 }

@@ -18,6 +18,9 @@ pub enum Style {
     /// An obstacle's contour: a line with the solid side (above it, `y > g(x)`) filled
     /// light grey up to the top of the plot.
     Obstacle,
+    /// A closed obstacle (a disc): its outline as a line, the region inside filled light
+    /// grey (the points go once round; the last joins the first).
+    Region,
 }
 
 /// A line's dash pattern; colour is never the only thing that tells two lines apart.

@@ -448,6 +448,12 @@ fn draw_series(svg: &mut Svg, chart: &Chart, axes: (&Axis, &Axis), rect: Rect, c
             svg.polygon(&px, OBSTACLE_FILL, &format!("{clip}f"));
         }
     }
+    for s in chart.series.iter().filter(|s| s.style == Style::Region) {
+        for run in runs(&s.points, xl, yl) {
+            let px: Vec<(f64, f64)> = run.iter().map(|&p| to_px(p)).collect();
+            svg.polygon(&px, OBSTACLE_FILL, &format!("{clip}f"));
+        }
+    }
     for s in &chart.series {
         let col = rgb(palette(s.color));
         let dense = s.points.len() > 60;

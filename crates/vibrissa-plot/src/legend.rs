@@ -106,7 +106,7 @@ pub(super) fn draw_legend_entry(svg: &mut Svg, x: f64, cy: f64, e: &Entry<'_>) {
     match e {
         Entry::Series(s) => {
             let col = rgb(palette(s.color));
-            if s.style == Style::Obstacle {
+            if matches!(s.style, Style::Obstacle | Style::Region) {
                 svg.rect(
                     Rect {
                         x: sx0,

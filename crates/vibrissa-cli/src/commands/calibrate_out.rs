@@ -85,6 +85,11 @@ pub fn write_calibrated_scene(
         },
         profile: Some(inputs[0].profile.0.clone()),
         mu: 0.0,
+        motion: None,
+        x0: None,
+        y0: None,
+        gamma_deg: None,
+        path: None,
         sweep: None,
         method: MethodSpec::default(),
     };

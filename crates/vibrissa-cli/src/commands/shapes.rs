@@ -64,7 +64,7 @@ pub fn write_shapes_csv(
                 (i + 1) as f64,
                 e.s[k] * l,
                 (p.x0 + e.x[k]) * l,
-                e.y[k] * l,
+                (p.y0 + e.y[k]) * l,
                 e.phi[k],
             ])?;
         }
@@ -107,12 +107,17 @@ fn drawn_shape(r: &Resolved, res: &SweepResult, p: &SweepPoint) -> Option<Vec<(f
     };
     let sol = row_shape(&r.scene.whisker, flow, p, 200).ok()?;
     // Draw only shapes that pass through their contact point.
-    let miss = (sol.loaded_end.x + p.x0 - p.xc).hypot(sol.loaded_end.y - p.yc);
+    let miss = (sol.loaded_end.x + p.x0 - p.xc).hypot(sol.loaded_end.y + p.y0 - p.yc);
     if miss.is_nan() || miss >= 1e-4 {
         return None;
     }
     let e = &sol.elastica;
-    Some(e.x.iter().zip(&e.y).map(|(x, y)| (x + p.x0, *y)).collect())
+    Some(
+        e.x.iter()
+            .zip(&e.y)
+            .map(|(x, y)| (x + p.x0, y + p.y0))
+            .collect(),
+    )
 }
 
 /// The legend text of a whisker drawn in phase `p`.
@@ -130,6 +135,7 @@ struct Shapes {
     contact: Vec<(f64, f64)>,
     bases: Vec<(f64, f64)>,
     x_range: Option<(f64, f64)>,
+    y_range: Option<(f64, f64)>,
 }
 
 impl Shapes {
@@ -139,6 +145,7 @@ impl Shapes {
             contact: Vec::new(),
             bases: Vec::new(),
             x_range: None,
+            y_range: None,
         };
         let mut named = NamedOnce::default();
         for &i in picks {
@@ -151,6 +158,9 @@ impl Shapes {
                 let x = q.0 / l;
                 let (lo, hi) = s.x_range.unwrap_or((f64::INFINITY, f64::NEG_INFINITY));
                 s.x_range = Some((lo.min(x), hi.max(x)));
+                let y = q.1 / l;
+                let (lo, hi) = s.y_range.unwrap_or((f64::INFINITY, f64::NEG_INFINITY));
+                s.y_range = Some((lo.min(y), hi.max(y)));
             }
             // a contact row is drawn as phase A unless it is phase B
             let phase = if p.phase == Phase::B {
@@ -165,7 +175,7 @@ impl Shapes {
                     .dash(phase_dash(phase)),
             );
             s.contact.push((p.xc * l, p.yc * l));
-            s.bases.push((p.x0 * l, 0.0));
+            s.bases.push((p.x0 * l, p.y0 * l));
         }
         s
     }
@@ -186,6 +196,35 @@ fn contour_line(contour: &Profile, (a, b): (f64, f64), l: f64) -> Vec<(f64, f64)
 
 /// The events marked at their contact points: first contact a triangle, the separation a
 /// diamond, the switches between by turns.
+/// The obstacle as drawn: a graph as its contour with the solid side above filled, a disc
+/// as its whole circle filled inside, a peg as a dot.
+fn obstacle_series(contour: &Profile, (a, b): (f64, f64), l: f64) -> Series {
+    match *contour {
+        Profile::Peg { x, y } => Series::new(
+            "peg (a point obstacle)",
+            vec![(x * l, y * l)],
+            Style::Points,
+        )
+        .color(6)
+        .marker(Marker::Circle),
+        Profile::Disc { x, y, r } => {
+            let pts = (0..=180)
+                .map(|i| {
+                    let t = std::f64::consts::TAU * i as f64 / 180.0;
+                    ((x + r * t.cos()) * l, (y + r * t.sin()) * l)
+                })
+                .collect();
+            Series::new("disc (solid inside)", pts, Style::Region).color(6)
+        }
+        _ => Series::new(
+            "obstacle (solid above)",
+            contour_line(contour, (a, b), l),
+            Style::Obstacle,
+        )
+        .color(6),
+    }
+}
+
 fn event_marks(chart: Chart, res: &SweepResult, events: &[SweepEvent], l: f64) -> Chart {
     let last = events.len().saturating_sub(1);
     events.iter().enumerate().fold(chart, |chart, (k, e)| {
@@ -259,23 +298,26 @@ pub(crate) fn write_shapes_svg(
         return Ok(());
     };
     let (dlo, dhi) = contour.domain();
-    let (a, b) = ((lo - 0.2).max(dlo), (hi + 0.2).min(dhi));
+    let (a, b) = match contour {
+        // a peg or a disc is drawn whole, wherever the whisker is
+        Profile::Peg { .. } | Profile::Disc { .. } => (lo - 0.2, hi + 0.2),
+        _ => ((lo - 0.2).max(dlo), (hi + 0.2).min(dhi)),
+    };
+    let turn = res.points.iter().any(|p| p.gamma != res.points[0].gamma);
+    let title = if turn {
+        "whisker shapes as the base turns (counter-clockwise)"
+    } else {
+        "whisker shapes along the sweep"
+    };
     // The obstacle first (its solid side filled under everything else).
     let mut chart = Chart::new(
-        "whisker shapes along the sweep",
+        title,
         ctx.units.label("x", Quantity::Length),
         ctx.units.label("y", Quantity::Length),
     )
     .equal_aspect()
     .note(format!("{}; {}", ctx.scene, ctx.units.describe()))
-    .with(
-        Series::new(
-            "obstacle (solid above)",
-            contour_line(contour, (a, b), l),
-            Style::Obstacle,
-        )
-        .color(6),
-    );
+    .with(obstacle_series(contour, (a, b), l));
     for s in shapes.series {
         chart = chart.with(s);
     }
@@ -286,16 +328,30 @@ pub(crate) fn write_shapes_svg(
                 .marker(Marker::Circle),
         )
         .with(
-            Series::new("base positions", shapes.bases, Style::Points)
-                .color(7)
-                .marker(Marker::Square),
+            Series::new(
+                if turn {
+                    "base (fixed, turning)"
+                } else {
+                    "base positions"
+                },
+                shapes.bases,
+                Style::Points,
+            )
+            .color(7)
+            .marker(Marker::Square),
         );
     chart = event_marks(chart, res, &events, l);
     let first_x0 = contact.first().map_or(hi, |&i| res.points[i].x0);
-    chart = direction_arrows(chart, res, first_x0, (lo, hi), a, l);
+    if !turn {
+        chart = direction_arrows(chart, res, first_x0, (lo, hi), a, l);
+    }
     // The figure's height follows the data (equal scales): whisker lengths above the base
-    // line, the arrow below it.
-    let (xspan, yspan) = ((b - a).max(0.5), 1.4);
+    // line, the arrow below it; a turning base's fan as far as it reaches.
+    let yspan = match shapes.y_range {
+        Some((ylo, yhi)) if turn => (yhi - ylo + 0.3).max(0.5),
+        _ => 1.4,
+    };
+    let (xspan, yspan) = ((b - a).max(0.5), yspan);
     let plot_w = 1000.0 - 380.0;
     let height = (plot_w * yspan / xspan + 170.0).clamp(420.0, 900.0) as u32;
     Ok(ctx.style.write_svg(&chart, path, (1000, height))?)

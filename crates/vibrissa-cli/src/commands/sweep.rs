@@ -23,6 +23,7 @@ use crate::plot::FigureStyle;
 use crate::printer::Printer;
 use crate::resolve::{profile_arg, resolve_model, LoadedScene, ProfileArg, Resolved};
 use crate::units::{Quantity, UnitSystem};
+use vibrissa_io::resolve::motion::{sweep_motion, MotionGiven, ResolvedMotion};
 use vibrissa_io::summary::SweepSummary;
 
 pub use vibrissa_io::resolve::sweep::{
@@ -47,12 +48,16 @@ pub fn run(args: &SweepArgs, style: FigureStyle) -> Result<(), CliError> {
     check_sweep_loads(&r)?;
     let units = r.units();
     let contour = profile.parse(&units)?;
+    let motion = sweep_motion(&motion_given(args), r.file.as_ref(), &units)?;
     let mut inputs: Vec<(&str, PathBuf)> = Vec::new();
     if let Some(scene) = &args.scene {
         inputs.push(("scene file", scene.clone()));
     }
     if let Some(points) = profile.points_path() {
         inputs.push(("contour table", points));
+    }
+    if let Some(path) = &motion.path_file {
+        inputs.push(("path table", path.clone()));
     }
     let inputs: Vec<(&str, &std::path::Path)> =
         inputs.iter().map(|(w, p)| (*w, p.as_path())).collect();
@@ -63,16 +68,31 @@ pub fn run(args: &SweepArgs, style: FigureStyle) -> Result<(), CliError> {
     // the lock and the parent folders made for --out).
     let out = OutputDir::create(&args.out)?;
     write_sweep_units(&r, &out)?;
-    let settings = sweep_settings_with(points, tol, law);
+    let settings = SweepSettings {
+        motion: motion.motion.clone(),
+        ..sweep_settings_with(points, tol, law)
+    };
     let res = run_sweep_with(&r, &contour, &profile, &settings)?;
     write_sweep_outputs(&r, &contour, &res, &profile, (points, law), &out, style)?;
+    write_motion(&out, &motion)?;
+    if res.points.iter().any(|p| p.k.is_some()) {
+        // a path that sets the follicle stiffness: the log has the column `k`
+        vibrissa_io::observables::write_observables_units(
+            &out.path_for("observables.csv"),
+            &units,
+            true,
+        )?;
+    }
     if args.shapes {
         write_shapes_csv(&r, &res, &out.path_for("shapes.csv"))?;
     }
     let files = out.commit()?;
     let mut stdout = Printer::stdout().published(Some(args.out.as_path()));
     if args.json {
-        let mut v = sweep_json(&res, points, law, &units);
+        let mut v = serde_json::to_value(
+            SweepSummary::of(&res, points, law, &units).with_motion(&motion.motion),
+        )
+        .unwrap_or_default();
         v["profile"] = serde_json::Value::String(profile.spec.clone());
         v["out"] = serde_json::Value::String(args.out.display().to_string());
         v["files"] = serde_json::Value::from(files.len());
@@ -92,6 +112,47 @@ pub fn run(args: &SweepArgs, style: FigureStyle) -> Result<(), CliError> {
             accuracy_note(&res)
         ))
     }
+}
+
+/// The motion flags as typed (`--motion`, `--x0`, `--y0`, `--gamma-deg`).
+fn motion_given(args: &SweepArgs) -> MotionGiven {
+    MotionGiven {
+        motion: crate::cli::text(&args.motion),
+        x0: crate::cli::text(&args.x0),
+        y0: crate::cli::text(&args.y0),
+        gamma_deg: crate::cli::text(&args.gamma_deg),
+        path: None,
+    }
+}
+
+/// Records the base motion in the folder's `scene.ron` (rewritten with the keys `motion`,
+/// `x0`, `y0`, `gamma_deg`, `path`; a path table read from a file is copied beside it as
+/// `path.csv`), so that the folder sweeps and reconstructs again as it was made. Nothing is
+/// changed for a translation.
+fn write_motion(out: &OutputDir, motion: &ResolvedMotion) -> Result<(), CliError> {
+    if motion.motion == contact_sim::BaseMotion::Translate {
+        return Ok(());
+    }
+    let path = out.path_for("scene.ron");
+    let text = std::fs::read_to_string(&path).map_err(|e| CliError::io(&path, e))?;
+    let notes: Vec<String> = text
+        .lines()
+        .take_while(|l| l.starts_with("// "))
+        .map(|l| l[3..].to_string())
+        .collect();
+    let mut scene = vibrissa_io::scene_file::SceneFile::parse(&text, &path)?;
+    scene.motion = Some(motion.label.to_string());
+    if let Some((x0, y0, g0)) = motion.start {
+        (scene.x0, scene.y0, scene.gamma_deg) = (Some(x0), Some(y0), Some(g0));
+    }
+    if let Some(file) = &motion.path_file {
+        let bytes = std::fs::read(file).map_err(|e| CliError::io(file, e))?;
+        write_atomic(&out.path_for("path.csv"), &bytes)?;
+        scene.path = Some("path.csv".to_string());
+    } else if let Some(inline) = &motion.path_inline {
+        scene.path = Some(inline.clone());
+    }
+    Ok(write_scene_ron(&path, &scene, &notes)?)
 }
 
 /// `; worst row estimate E (row r) for --tol T` after the summary of a sweep run with an

@@ -40,13 +40,56 @@ fn run_name(phase: Phase, slip: SlipState) -> String {
     }
 }
 
+/// The abscissa of a sweep's figures: the base position x0 (scene's length unit) of a
+/// translation, the turn gamma in degrees of a sweep that turns the base (whisking).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Abscissa {
+    /// Whether the rows turn the base (gamma varies).
+    pub turn: bool,
+    /// The factor from the model's value (x0 dimensionless, gamma in rad) to the axis.
+    pub scale: f64,
+}
+
+impl Abscissa {
+    /// x0 in `units`, or gamma in degrees where the rows of `res` turn the base.
+    pub fn of(res: &SweepResult, units: &UnitSystem) -> Self {
+        let turn = res.points.iter().any(|p| p.gamma != res.points[0].gamma);
+        Abscissa {
+            turn,
+            scale: if turn {
+                180.0 / std::f64::consts::PI
+            } else {
+                units.scale(Quantity::Length)
+            },
+        }
+    }
+
+    /// The row's coordinate on the axis.
+    pub fn at(&self, p: &contact_sim::SweepPoint) -> f64 {
+        if self.turn {
+            p.gamma * self.scale
+        } else {
+            p.x0 * self.scale
+        }
+    }
+
+    /// The axis label.
+    pub fn label(&self, units: &UnitSystem) -> String {
+        if self.turn {
+            "base turn γ [°]".to_string()
+        } else {
+            units.label("base x_0", Quantity::Length)
+        }
+    }
+}
+
 /// Series of `value` against x0, one per run of equal phase and slip state (coloured and
 /// dashed by phase, heavy where stuck; runs touch so the curve is continuous, except at the
 /// jump of a tangential first contact), only contact rows if `contact_only`. Each legend
 /// text is given once.
 fn phase_series(
     res: &SweepResult,
-    x_scale: f64,
+    x: Abscissa,
     value: impl Fn(&contact_sim::SweepPoint) -> f64,
     contact_only: bool,
 ) -> Vec<Series> {
@@ -64,10 +107,7 @@ fn phase_series(
         while j < rows.len() && rows[j].phase == phase && rows[j].slip == slip {
             j += 1;
         }
-        let mut pts: Vec<(f64, f64)> = rows[i..j]
-            .iter()
-            .map(|p| (p.x0 * x_scale, value(p)))
-            .collect();
+        let mut pts: Vec<(f64, f64)> = rows[i..j].iter().map(|p| (x.at(p), value(p))).collect();
         if j < rows.len() {
             // At a tangential first contact the observables jump (the flow beyond s1 is
             // dropped): the free whisker's values run on to that x0, and no line joins them
@@ -79,7 +119,7 @@ fn phase_series(
             } else {
                 value(rows[j])
             };
-            pts.push((rows[j].x0 * x_scale, v));
+            pts.push((x.at(rows[j]), v));
         }
         let mut name = run_name(phase, slip);
         if named.contains(&name) {
@@ -101,18 +141,16 @@ fn phase_series(
 
 /// The event lines of a sweep: its events ([`sweep_events`]) and its stick/slip switches
 /// ([`friction_switches`], labelled `stick→slip`, `slip→stick`).
-fn event_marks(res: &SweepResult, x_scale: f64) -> Vec<Mark> {
+fn event_marks(res: &SweepResult, x: Abscissa) -> Vec<Mark> {
     let mut marks: Vec<Mark> = sweep_events(res)
         .into_iter()
-        .map(|e| Mark::vline(res.points[e.index].x0 * x_scale, e.label, 6))
+        .map(|e| Mark::vline(x.at(&res.points[e.index]), e.label, 6))
         .collect();
-    marks.extend(friction_switches(res).into_iter().map(|s| {
-        Mark::vline(
-            res.points[s.index].x0 * x_scale,
-            friction_label(s.event.kind),
-            4,
-        )
-    }));
+    marks.extend(
+        friction_switches(res)
+            .into_iter()
+            .map(|s| Mark::vline(x.at(&res.points[s.index]), friction_label(s.event.kind), 4)),
+    );
     marks
 }
 
@@ -173,27 +211,28 @@ pub fn write_sweep_figures(
         u.scale(Quantity::Force),
         u.scale(Quantity::Moment),
     );
-    let x_label = u.label("base x_0", Quantity::Length);
-    let marks = event_marks(res, l);
+    let x = Abscissa::of(res, u);
+    let x_label = x.label(u);
+    let marks = event_marks(res, x);
     let mut charts = vec![
         chart_of(
             "horizontal base force",
             &u.label("A_x", Quantity::Force),
-            phase_series(res, l, |p| p.ax * fs, false),
+            phase_series(res, x, |p| p.ax * fs, false),
             &x_label,
             &marks,
         ),
         chart_of(
             "vertical base force",
             &u.label("A_y", Quantity::Force),
-            phase_series(res, l, |p| p.ay * fs, false),
+            phase_series(res, x, |p| p.ay * fs, false),
             &x_label,
             &marks,
         ),
         chart_of(
             "base moment",
             &u.label("M_A", Quantity::Moment),
-            phase_series(res, l, |p| p.ma * ms, false),
+            phase_series(res, x, |p| p.ma * ms, false),
             &x_label,
             &marks,
         ),
@@ -202,16 +241,22 @@ pub fn write_sweep_figures(
         charts.push(chart_of(
             "base angle",
             &u.label("φ_0", Quantity::Angle),
-            phase_series(res, l, |p| p.phi0, false),
+            phase_series(res, x, |p| p.phi0, false),
             &x_label,
             &marks,
         ));
     }
-    let mut note = format!(
-        "{}; the base moves towards −x (right to left); {}",
-        ctx.scene,
-        u.describe()
-    );
+    let motion = if x.turn {
+        let p = &res.points[0];
+        format!(
+            "the base at ({}, {}) turns counter-clockwise (γ rising, left to right)",
+            vibrissa_io::units::round_sig(p.x0 * l),
+            vibrissa_io::units::round_sig(p.y0 * l)
+        )
+    } else {
+        "the base moves towards −x (right to left)".to_string()
+    };
+    let mut note = format!("{}; {motion}; {}", ctx.scene, u.describe());
     if charts.len() == 3 {
         note += "; φ_0 = π/2 throughout (rigid support, no panel)";
     }
@@ -240,7 +285,7 @@ pub fn write_sweep_figures(
             chart_of(
                 "contact force",
                 &u.label("f", Quantity::Force),
-                phase_series(res, l, |p| p.f * fs, true),
+                phase_series(res, x, |p| p.f * fs, true),
                 &x_label,
                 &marks,
             )
@@ -248,14 +293,14 @@ pub fn write_sweep_figures(
             chart_of(
                 "contact on the whisker",
                 &u.label("s_1", Quantity::Length),
-                phase_series(res, l, |p| p.s1 * l, true),
+                phase_series(res, x, |p| p.s1 * l, true),
                 &x_label,
                 &marks,
             ),
             chart_of(
                 "contact on the obstacle",
                 &u.label("x_c", Quantity::Length),
-                phase_series(res, l, |p| p.xc * l, true),
+                phase_series(res, x, |p| p.xc * l, true),
                 &x_label,
                 &marks,
             ),
@@ -315,7 +360,12 @@ mod tests {
             free.ax,
             touch.ax
         );
-        let series = phase_series(&res, 1.0, |p| p.ax, false);
+        let x = Abscissa {
+            turn: false,
+            scale: 1.0,
+        };
+        assert_eq!(Abscissa::of(&res, &UnitSystem::DIMENSIONLESS), x);
+        let series = phase_series(&res, x, |p| p.ax, false);
         let end = *series[0].points.last().unwrap();
         assert_eq!(end, (touch.x0, free.ax), "the free run ends at the jump");
         assert_eq!(series[1].points[0], (touch.x0, touch.ax));

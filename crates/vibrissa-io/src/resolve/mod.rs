@@ -24,6 +24,7 @@ use crate::scene_file::{self, locate_field, SceneFile, Units};
 use crate::units::UnitSystem;
 
 pub mod flags;
+pub mod motion;
 pub mod profile;
 pub mod sweep;
 

@@ -97,6 +97,11 @@ def _scene(spec: Dict[str, Any], profile: Any = None, points: Any = None) -> Dic
         out["points"] = points
     if spec.get("mu"):
         out["mu"] = spec["mu"]
+    if spec.get("motion") not in (None, "translate"):
+        out["motion"] = spec["motion"]
+    for key in ("x0", "y0", "gamma_deg", "path"):
+        if spec.get(key) is not None:
+            out[key] = spec[key]
     return out
 
 
@@ -118,6 +123,11 @@ def solve(
     profile: Any = None,
     points: Any = None,
     mu: Any = None,
+    motion: Any = None,
+    x0: Any = None,
+    y0: Any = None,
+    gamma_deg: Any = None,
+    path: Any = None,
 ) -> Solution:
     """Solves one equilibrium of the whisker [3.27] (``vibrissa solve``).
 
@@ -135,8 +145,8 @@ def solve(
     moderate loads; ``stats["model_used"]`` which model: ``"linear"`` where linear
     small-deflection theory provably meets it, else ``"elastica"``).
     None: ``accurate``'s default accuracy (estimate <= 1e-8).
-    ``profile``, ``points`` and ``mu`` are ignored (as ``vibrissa solve SCENE.ron`` ignores
-    them), so that ``solve(**load_scene(path))`` works.
+    ``profile``, ``points``, ``mu`` and the base motion (``motion, x0, y0, gamma_deg,
+    path``) are ignored (as ``vibrissa solve SCENE.ron`` ignores them), so that ``solve(**load_scene(path))`` works.
 
     Returns a :class:`Solution`. Raises :class:`InvalidInput` for a bad parameter and
     :class:`SolverError` when no solution meets the accuracy.
@@ -166,6 +176,11 @@ def sweep(
     tol: Optional[float] = None,
     units: Any = None,
     mu: float = 0.0,
+    motion: str = "translate",
+    x0: float = 0.0,
+    y0: float = 0.0,
+    gamma_deg: float = 0.0,
+    path: Any = None,
 ) -> Sweep:
     """Sweeps the whisker past the obstacle ``profile`` under the flow (``vibrissa sweep``).
 
@@ -184,6 +199,14 @@ def sweep(
     ``sweep --mu``): stick (the touching point of the whisker stays put, |ft| <= mu f) and
     slip (|ft| = mu f against the sliding), in the columns ``ft`` and ``slip`` and the
     ``friction_events``. 0 is the frictionless sweep, bit for bit.
+    ``motion``: how the base moves (``sweep --motion``): ``"translate"`` (the base at
+    (x0, 0) moves towards -x), ``"rotate"`` (whisking: the base stays at (``x0``, ``y0``),
+    in the scene's length unit, and turns counter-clockwise from ``gamma_deg`` degrees until
+    the whisker separates; rows evenly spaced in the turn), or ``"path"`` with ``path`` a
+    pandas DataFrame or a dict of 1-D arrays ``x0, y0, gamma_deg`` and optionally ``k`` (the
+    follicle stiffness along the path, in the scene's stiffness unit). ``x0, y0,
+    gamma_deg`` other than 0 belong to a rotation. Profiles also name obstacles touched
+    from any side: ``"peg:x,y"`` (a point) and ``"disc:x,y,r"``.
 
     Returns a :class:`Sweep`. Raises :class:`InvalidInput`, :class:`NoContact` when the
     whisker never touches the obstacle, :class:`SolverError` when a contact phase cannot be
@@ -194,8 +217,49 @@ def sweep(
     spec["profile"] = profile_spec(profile)
     spec["points"] = points
     spec["mu"] = number("mu", mu)
+    spec.update(_motion_spec(motion, x0, y0, gamma_deg, path))
     raw = _core.sweep(spec)
     return Sweep(raw, _scene(spec, profile if profile is not None else raw["scene"]["profile"], points))
+
+
+def _motion_spec(motion: Any, x0: Any, y0: Any, gamma_deg: Any, path: Any) -> Dict[str, Any]:
+    """The base motion's entries of a sweep's spec: the motion's name, the start pose of a
+    rotation (given only where it is one, or not 0: the library refuses a start pose without
+    a rotation), and a path's columns as contiguous float64 arrays."""
+    if not isinstance(motion, str):
+        raise InvalidInput(f"invalid value `{motion!r}` for `motion`: expected \"translate\", \"rotate\" or \"path\"")
+    out: Dict[str, Any] = {"motion": motion}
+    rotate = motion.strip().lower() == "rotate"
+    for name, v in (("x0", x0), ("y0", y0), ("gamma_deg", gamma_deg)):
+        v = number(name, v)
+        if rotate or (v is not None and v != 0.0):
+            out[name] = v
+    if path is not None:
+        cols: Dict[str, Any] = {}
+        for name in ("x0", "y0", "gamma_deg", "k"):
+            try:
+                c = path[name]
+            except (KeyError, IndexError, TypeError):
+                if name == "k":
+                    continue
+                raise InvalidInput(
+                    f"invalid value `{name}` for `path`: missing column: a path has the "
+                    "columns x0, y0, gamma_deg[, k]"
+                ) from None
+            c = getattr(c, "to_numpy", lambda c=c: c)()
+            try:
+                arr = np.ascontiguousarray(c, dtype=np.float64)
+            except (TypeError, ValueError):
+                raise InvalidInput(
+                    f"invalid value `{name}` for `path`: a column must be a 1-D sequence of numbers"
+                ) from None
+            if arr.ndim != 1:
+                raise InvalidInput(
+                    f"invalid value `{name}` for `path`: a column must be a 1-D sequence of numbers"
+                )
+            cols[name] = arr
+        out["path"] = cols
+    return out
 
 
 def reconstruct(

@@ -124,4 +124,8 @@ def scene_kwargs(scene: Mapping[str, Any]) -> Dict[str, Any]:
         "profile": scene.get("profile"),
         "points": None if sweep is None else sweep.get("points"),
         **({"mu": scene["mu"]} if scene.get("mu") else {}),
+        # the base motion where the scene sets one (a path's table stays a file name:
+        # give sweep() its columns as path=)
+        **{key: scene[key] for key in ("motion", "x0", "y0", "gamma_deg", "path")
+           if scene.get(key) is not None},
     }

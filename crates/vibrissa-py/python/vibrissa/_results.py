@@ -85,8 +85,9 @@ class Sweep(_Columns):
     point and angle are NaN) and ``phase`` (``"A"``, ``"B"``, ``"none"``), then ``ft`` (the
     tangential part of the contact force along the contour's tangent; 0 without friction;
     ``f`` is the normal part), ``slip`` (``"stick"``, ``"slip"``, ``"none"`` before contact
-    and without friction), ``y0`` and ``gamma`` (the base pose: 0 for this translating
-    sweep); rows in the order the base travels (x0 strictly falling). ``first_contact``
+    and without friction), ``y0`` and ``gamma`` (the base pose, gamma in radians: 0 for the translating
+    sweep); rows in the order of the motion (x0 strictly falling for a translation, gamma
+    rising for a rotation). ``first_contact``
     (``"tip"`` / ``"tangential"``), ``separation`` (``"snap"``, ``"release"``, ...),
     ``phases`` (e.g. ``"AB"``), ``events`` (dicts: event, row (1-based), x0), ``mu`` (the
     friction coefficient), ``friction_events`` (dicts: event ``"stick→slip"`` /
@@ -111,6 +112,9 @@ class Sweep(_Columns):
         self.events: List[Dict[str, Any]] = s["events"]
         self.mu: float = s["mu"]
         self.friction_events: List[Dict[str, Any]] = s["friction_events"]
+        self.motion: str = s.get("motion", "translate")
+        self.pose: Dict[str, Any] = s.get("pose", {})
+        self.k: Optional[np.ndarray] = raw["columns"].get("k")
         self.units: str = s["units"]
         self.scene: Dict[str, Any] = scene
 

@@ -16,7 +16,7 @@
 //! loaded 2-core machine):
 //! `cargo test --release -p beam-model --test battery -- --ignored --nocapture`.
 
-mod support;
+use crate::support;
 
 use beam_model::{solve, Loads, Method, ModelError, Scene, Solution, TipForce, Whisker};
 use std::f64::consts::FRAC_PI_2;

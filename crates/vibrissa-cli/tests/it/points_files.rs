@@ -6,7 +6,7 @@ use std::fs;
 use vibrissa_cli::resolve::read_points_file;
 use vibrissa_cli::units::UnitSystem;
 
-mod common;
+use crate::common;
 use common::*;
 
 #[test]

@@ -3,7 +3,7 @@
 //! scene's `sweep.tol` round trip, a request no row can meet (exit 1 naming the row) and bad
 //! values (exit 2 naming `--tol`).
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

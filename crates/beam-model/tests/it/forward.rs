@@ -2,7 +2,7 @@
 //! the linear limit, load-free arcs and Euler spirals, balance of forces and moments, and
 //! the convergence of the fixed-step methods.
 
-mod support;
+use crate::support;
 
 use beam_model::{solve, Loads, Method, ModelError, Scene, Support, TipForce, Whisker};
 use std::f64::consts::FRAC_PI_2;

@@ -3,7 +3,7 @@
 //! table), the theoretical orders of the fixed-step methods, the thesis's printed errors
 //! (4.26), and stability maps whose failures are data.
 
-#[path = "../../crates/beam-model/tests/support/mod.rs"]
+#[path = "../../../crates/beam-model/tests/support/mod.rs"]
 mod support;
 
 use beam_model::{scenarios, solve, Loads, Method, ModelError, Scene, TipForce, Whisker};

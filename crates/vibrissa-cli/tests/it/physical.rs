@@ -4,7 +4,7 @@
 use std::fs;
 use std::path::Path;
 
-mod common;
+use crate::common;
 use common::*;
 
 /// The named contours g1, g2, ge are in whisker lengths in every unit system [5.2, 5.3,

@@ -8,7 +8,7 @@ use bvp_solvers::shooting::{Shooting, ShootingIntegrator};
 use bvp_solvers::trust_region::TrustRegionOptions;
 use bvp_solvers::BvpError;
 
-mod bratu;
+use crate::bratu;
 use bratu::{bratu_theta, slope_at_zero, Bratu};
 
 /// A corrector with a budget of `max_iters` trust-region iterations per solve (from the

@@ -4,7 +4,7 @@
 //! below 1e-10) on a seeded battery over the parameter space the CLI accepts for weak and
 //! moderate loads, where the spectral Picard iteration is meant to answer.
 
-mod support;
+use crate::support;
 
 use beam_model::{solve, Loads, Method, MethodKind, ModelKind, Scene, TipForce, Whisker};
 

@@ -1,16 +1,16 @@
 //! The beam examples (crates/bvp-solvers/examples/beam_*.rs, rod_kirchhoff.rs) against
 //! closed forms and published values.
 
-#[path = "../examples/beam_buckling.rs"]
+#[path = "../../examples/beam_buckling.rs"]
 #[allow(dead_code)]
 mod beam_buckling;
-#[path = "../examples/beam_reissner.rs"]
+#[path = "../../examples/beam_reissner.rs"]
 #[allow(dead_code)]
 mod beam_reissner;
-#[path = "../examples/beam_winkler.rs"]
+#[path = "../../examples/beam_winkler.rs"]
 #[allow(dead_code)]
 mod beam_winkler;
-#[path = "../examples/rod_kirchhoff.rs"]
+#[path = "../../examples/rod_kirchhoff.rs"]
 #[allow(dead_code)]
 mod rod_kirchhoff;
 

@@ -10,7 +10,7 @@ use std::path::Path;
 use beam_model::{FluidLoad, Whisker};
 use contact_sim::{sweep, ContactLaw, Phase, Profile, SweepResult, SweepSettings};
 
-mod common;
+use crate::common;
 use common::{json, parse, run, stderr};
 
 const WHISKER: [&str; 4] = ["--theta", "0.5", "--k", "10"];

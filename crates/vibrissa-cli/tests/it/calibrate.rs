@@ -6,7 +6,7 @@ use std::fs;
 use std::path::Path;
 use std::process::Output;
 
-mod common;
+use crate::common;
 use common::{json, run, stderr};
 
 /// A failure: exit code `code`, one line on stderr mentioning every needle, no panic, no

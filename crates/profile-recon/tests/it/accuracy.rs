@@ -10,7 +10,7 @@ use profile_recon::{
     from_sweep, reconstruct_to, reconstruct_with, KnownFlow, ReconError, ReconMethod, ReconSettings,
 };
 
-#[path = "../../contact-sim/tests/common/random_scene.rs"]
+#[path = "../../../contact-sim/tests/common/random_scene.rs"]
 mod random_scene;
 use random_scene::{random_scene, Seeded};
 

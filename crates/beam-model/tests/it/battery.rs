@@ -19,7 +19,7 @@
 //! `cargo test --release -p beam-model --test battery -- --ignored --nocapture slender_battery_full`.
 //! `slender_battery_auto` (#[ignore]) runs `auto` at 1e-8 on the four thinnest whiskers.
 
-mod support;
+use crate::support;
 
 use beam_model::{solve, Loads, Method, ModelError, Scene, Solution, TipForce, Whisker};
 use std::f64::consts::FRAC_PI_2;

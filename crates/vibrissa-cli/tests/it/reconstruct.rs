@@ -5,7 +5,7 @@ use std::fs;
 use std::path::Path;
 use std::process::{Command, Output};
 
-mod common;
+use crate::common;
 use common::{json, parse, run, stderr};
 
 /// A failure: non-zero exit, one line on stderr mentioning every needle, no panic, and no

@@ -3,7 +3,7 @@
 //! the refusals, `--mu 0` byte for byte the frictionless sweep, and logs with and without
 //! the new columns read by `reconstruct`.
 
-mod common;
+use crate::common;
 
 use std::collections::BTreeMap;
 use std::fs;

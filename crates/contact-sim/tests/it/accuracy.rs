@@ -7,8 +7,7 @@
 use beam_model::{FluidLoad, Whisker};
 use contact_sim::{sweep, ContactError, Phase, Profile, SweepResult, SweepSettings};
 
-#[path = "common/random_scene.rs"]
-mod random_scene;
+use crate::random_scene;
 use random_scene::{random_scene, Seeded};
 
 /// The largest difference of two rows' observables, base position and contact point.

@@ -11,3 +11,4 @@ mod battery;
 mod folds;
 mod forward;
 mod scenarios;
+mod colloc;

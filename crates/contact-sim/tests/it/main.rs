@@ -12,3 +12,4 @@ mod friction;
 mod precurved;
 mod sweep;
 mod whisk;
+mod path;

@@ -12,3 +12,5 @@ mod noise;
 mod roundtrip;
 mod stream;
 mod thesis;
+mod friction_stream;
+mod whisk_recon;

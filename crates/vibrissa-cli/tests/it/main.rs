@@ -20,3 +20,5 @@ mod points_files;
 mod reconstruct;
 mod reconstruct_friction;
 mod safety;
+mod reconstruct_whisk;
+mod whisking_io;

@@ -2,7 +2,7 @@
 //! log's pose columns, the JSON's motion and pose range, physical units of the base and of
 //! pegs, and the refusals. `cargo test -p vibrissa-cli --test whisking_io wio`
 
-mod common;
+use crate::common;
 
 use std::fs;
 

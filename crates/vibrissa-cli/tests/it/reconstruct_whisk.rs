@@ -5,7 +5,7 @@
 //!
 //! `cargo test -p vibrissa-cli --test reconstruct_whisk wrec`
 
-mod common;
+use crate::common;
 
 use std::fs;
 use std::io::Write;

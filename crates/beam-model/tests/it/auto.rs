@@ -79,7 +79,7 @@ fn auto_meets_every_accuracy_asked_for() {
 /// The same over the CLI's whole range of loads (f, q up to 30) and tapers down to 0.05:
 /// where the iteration does not contract, shooting answers, and every estimate still
 /// bounds its error. ~1 min in release:
-/// `cargo test --release -p beam-model --test auto -- --ignored --nocapture`.
+/// `cargo test --release -p beam-model --test it -- auto:: --ignored --nocapture`.
 #[test]
 #[ignore]
 fn auto_battery_wide() {
@@ -288,7 +288,7 @@ fn estimates_of_accurate_and_auto_bound_their_errors() {
 
 /// The same on 1000 scenes (~1 min in release; measured: ~820 scenes by shooting per
 /// method, worst error / estimate 0.56):
-/// `cargo test --release -p beam-model --test auto -- --ignored --nocapture`.
+/// `cargo test --release -p beam-model --test it -- auto:: --ignored --nocapture`.
 #[test]
 #[ignore]
 fn estimates_of_accurate_and_auto_bound_their_errors_wide() {
@@ -538,7 +538,7 @@ fn ap_forces_on_soft_springs_meet_the_accuracy_asked_for() {
     assert!(answers >= 24, "only {answers} answers compared");
 }
 
-/// The same on 300 scenes: `cargo test --release -p beam-model --test auto -- --ignored
+/// The same on 300 scenes: `cargo test --release -p beam-model --test it -- auto:: --ignored
 /// --nocapture`. Measured: 780 answers compared (40 scenes skipped), worst error /
 /// estimate 0.49 (case 152 at 1e-8), worst error / tol 0.34. Before the fix of
 /// `ASYMPTOTIC_STEPS` (module `accurate`) it failed at case 90 (theta 0.978, A 0.644,
@@ -553,7 +553,7 @@ fn ap_forces_on_soft_springs_meet_the_accuracy_asked_for_wide() {
 }
 
 /// Issue 34's widened space ([`AP_SPACE_WIDE`]: springs down to k = 0.2, forces up to
-/// f = 15), 300 scenes: `cargo test --release -p beam-model --test auto -- --ignored
+/// f = 15), 300 scenes: `cargo test --release -p beam-model --test it -- auto:: --ignored
 /// --nocapture wider`.
 #[test]
 #[ignore = "300 scenes, about a minute; run with --ignored"]

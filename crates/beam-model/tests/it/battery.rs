@@ -16,7 +16,7 @@
 //! loaded 2-core machine). Since then collocation is not `accurate`'s last fallback under a
 //! tip force pushing along the tip (`COLLOCATION_MIN_PULL`): the one answer it gave there
 //! (theta 0.01, A=2/B=-1/k=20, `f=10,b=90,q=10,a=-30`, no reference) is refused, 375 / 0 / 15:
-//! `cargo test --release -p beam-model --test battery -- --ignored --nocapture slender_battery_full`.
+//! `cargo test --release -p beam-model --test it -- slender_battery_full --ignored --nocapture`.
 //! `slender_battery_auto` (#[ignore]) runs `auto` at 1e-8 on the four thinnest whiskers.
 
 use crate::support;
@@ -258,7 +258,7 @@ fn slender_battery_full() {
 /// `theta < 0.045` for the battery's largest tip force; elsewhere `auto` is unchanged by
 /// construction): 156 cases, the same checks as `accurate`'s (measured: 142 accepted, 0
 /// refused, 14 failed as `accurate`'s, worst error / estimate 0.105; 24 min; `docs/bvp-auto.md`):
-/// `cargo test --release -p beam-model --test battery -- --ignored --nocapture slender_battery_auto`.
+/// `cargo test --release -p beam-model --test it -- slender_battery_auto --ignored --nocapture`.
 #[test]
 #[ignore = "minutes; run with --ignored"]
 fn slender_battery_auto() {

@@ -5,7 +5,7 @@
 //! the time of each solve, the method `auto` used, both estimates and their difference
 //! (two independent discretisations), with the growth exponent `sqrt(f) / theta` of the
 //! tip's boundary layer that `auto`'s rule reads (`docs/bvp-auto.md`):
-//! `cargo test --release -p beam-model --test colloc -- --ignored --nocapture colloc_rung_measure`.
+//! `cargo test --release -p beam-model --test it -- colloc_rung_measure --ignored --nocapture`.
 
 use beam_model::{solve, Loads, Method, Scene, Solution, TipForce, Whisker};
 use std::time::Instant;
@@ -145,7 +145,7 @@ fn auto_keeps_its_other_rungs_outside_the_rule() {
 /// winds the tip up (the number of turns `(phi(1) - phi(0)) / 2 pi` against the force),
 /// and the compressive combined load on `theta = 0.01`; each by collocation at 1e-8 and by
 /// `accurate`, with the error or the load scale where the continuation stopped:
-/// `cargo test --release -p beam-model --test colloc -- --ignored --nocapture colloc_failures`.
+/// `cargo test --release -p beam-model --test it -- colloc_failures --ignored --nocapture`.
 #[test]
 #[ignore = "a diagnostic of a minute; run with --ignored --nocapture"]
 fn colloc_failures() {

@@ -13,7 +13,7 @@
 //!   stalls): it never returns another equilibrium.
 //!
 //! `folds_subset` (60 scenes) runs in CI; `folds_full` (300 scenes, ~10 s in release) with
-//! `cargo test --release -p beam-model --test folds -- --ignored --nocapture`.
+//! `cargo test --release -p beam-model --test it -- folds:: --ignored --nocapture`.
 
 use beam_model::shot::base_residual;
 use beam_model::{solve, Loads, Method, Scene, TipForce, Whisker};

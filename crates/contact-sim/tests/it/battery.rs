@@ -17,7 +17,7 @@
 //! - x0 falls strictly from row to row;
 //! - the first touch lies on the contour, tangent to the free whisker (phase B) or at its tip.
 //!
-//! `cargo test -p contact-sim --release --test battery -- --ignored --nocapture` runs the
+//! `cargo test -p contact-sim --release --test it -- battery:: --ignored --nocapture` runs the
 //! full battery and prints its figures; the default run takes a smaller seeded subset.
 
 use beam_model::equations::{Sensitivities, WhiskerOde};

@@ -12,7 +12,7 @@
 //!   the follicle law, the observables as the force balance of `F = fn n + ft t`, the force in
 //!   the cone (on its edge in slip), the slip law between consecutive rows, and no penetration.
 //!
-//! `cargo test -p contact-sim --release --test friction -- --ignored --nocapture` runs the full
+//! `cargo test -p contact-sim --release --test it -- friction:: --ignored --nocapture` runs the full
 //! battery and prints its figures; the default run takes a seeded subset.
 
 use beam_model::{FluidLoad, Whisker};
@@ -785,7 +785,7 @@ fn friction_battery_subset() {
     assert_figures(&fig);
 }
 
-/// The full battery: `cargo test -p contact-sim --release --test friction -- --ignored
+/// The full battery: `cargo test -p contact-sim --release --test it -- friction:: --ignored
 /// --nocapture`.
 #[test]
 #[ignore]
@@ -795,7 +795,7 @@ fn friction_battery_full() {
 }
 
 /// One scene of the full battery, its rows printed: `FRICTION_SCENE=N cargo test -p
-/// contact-sim --release --test friction one_scene -- --ignored --nocapture`.
+/// contact-sim --release --test it -- friction::one_scene --ignored --nocapture`.
 #[test]
 #[ignore]
 fn one_scene() {

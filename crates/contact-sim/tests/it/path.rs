@@ -13,7 +13,7 @@
 //!   integrator, the other direction), the base law `phi0 = pi/2 + gamma - MA/k(p)` row by
 //!   row, the rows' poses on the path and advancing along it.
 //!
-//! `cargo test -p contact-sim --test path -- --ignored --nocapture` runs the full seeded
+//! `cargo test -p contact-sim --test it -- path:: --ignored --nocapture` runs the full seeded
 //! battery and prints its figures; the default run takes a small subset.
 
 use beam_model::equations::{Sensitivities, WhiskerOde};
@@ -633,7 +633,7 @@ fn wpath_battery_subset() {
 }
 
 #[test]
-#[ignore = "the full path battery: cargo test -p contact-sim --test path wpath_battery_full -- --ignored --nocapture"]
+#[ignore = "the full path battery: cargo test -p contact-sim --test it -- wpath_battery_full --ignored --nocapture"]
 fn wpath_battery_full() {
     run_battery(1000, 0x5EED_0038_0002);
 }

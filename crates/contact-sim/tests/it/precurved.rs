@@ -22,7 +22,7 @@
 //! whisker next to the contact touches (the tip running along the contour the other way,
 //! `sin(phi(1) - psi) = 0`; a tangential contact bending as sharply as the contour).
 //!
-//! `cargo test -p contact-sim --release --test precurved -- --ignored --nocapture` runs the
+//! `cargo test -p contact-sim --release --test it -- precurved:: --ignored --nocapture` runs the
 //! full battery (240 sweeps) and prints its figures; the default run takes 16.
 
 use bvp_solvers::integrator::{Dop853, OdeSolution, OdeSystem};

@@ -14,7 +14,7 @@
 //!   obstacle at the contact point, the phase condition, the force balance, the base law
 //!   `phi0 = pi/2 + gamma - MA/k`, no other point inside the obstacle; gamma rising.
 //!
-//! `cargo test -p contact-sim --release --test whisk -- --ignored --nocapture` runs the full
+//! `cargo test -p contact-sim --release --test it -- whisk:: --ignored --nocapture` runs the full
 //! seeded battery and prints its figures; the default run takes a small subset.
 
 use beam_model::equations::{Sensitivities, WhiskerOde};
@@ -493,7 +493,7 @@ fn battery_subset() {
 }
 
 #[test]
-#[ignore = "the full whisking battery: cargo test -p contact-sim --release --test whisk -- --ignored --nocapture"]
+#[ignore = "the full whisking battery: cargo test -p contact-sim --release --test it -- whisk:: --ignored --nocapture"]
 fn battery_full() {
     run_battery(1000, 0x5EED_0038, 150);
 }

@@ -11,7 +11,7 @@
 //!   the sweep's hidden contact point. Scenes where the sweep itself fails are counted and
 //!   printed, not hidden.
 //!
-//! Figures are printed (`cargo test --release -p profile-recon --test battery -- --nocapture
+//! Figures are printed (`cargo test --release -p profile-recon --test it -- battery:: --skip calibrate_battery:: --nocapture
 //! --include-ignored`).
 
 use beam_model::{solve, FluidLoad, Loads, Method, Scene, Whisker};

@@ -10,8 +10,8 @@
 //!   alone; three contact rows are not taken for the flow's, one free row is recognised;
 //! - `design_*`: the predicted standard errors of the design advice against a fit.
 //!
-//! The default tests take ~5 s (`cargo test -p profile-recon --test calibrate`); the big
-//! battery is ignored: `cargo test --release -p profile-recon --test calibrate --
+//! The default tests take ~5 s (`cargo test -p profile-recon --test it -- calibrate::`); the big
+//! battery is ignored: `cargo test --release -p profile-recon --test it -- calibrate::
 //! --ignored --nocapture` (about 60 s in release on the 2-core machine).
 
 use beam_model::{FluidLoad, Whisker};
@@ -637,7 +637,7 @@ fn bad_requests_are_refused() {
 }
 
 /// The figure of the issue: one calibration of a 200-row log (release: `cargo test --release
-/// -p profile-recon --test calibrate timing -- --ignored --nocapture`).
+/// -p profile-recon --test it -- calibrate::timing --ignored --nocapture`).
 #[test]
 #[ignore = "timing: run in release"]
 fn timing_200_rows() {
@@ -679,7 +679,7 @@ fn timing_200_rows() {
 /// `CALIB_EXACT=1` for the exact log of the case; all cases that miss without
 /// `CALIB_CASES`): the local fits, the fit from the truth, the
 /// rows that dominate the cost and the rows whose phase differs from the sweep's, and the
-/// conditioning. `cargo test --release -p profile-recon --test calibrate diagnose --
+/// conditioning. `cargo test --release -p profile-recon --test it -- calibrate::diagnose
 /// --ignored --nocapture`.
 #[test]
 #[ignore = "diagnostics"]
@@ -758,7 +758,7 @@ fn diagnose_battery_cases() {
 
 /// A long log (issue 34: 100,000 rows took ~280 s): ten noisy passes (relative noise 1e-4)
 /// of a 10,000-row sweep, calibrated from a wrong start; the progress reports counted.
-/// `CALIB_ROWS=100000` for the issue's size. `cargo test -p profile-recon --test calibrate
+/// `CALIB_ROWS=100000` for the issue's size. `cargo test -p profile-recon --test it -- calibrate::
 /// long_log -- --ignored --nocapture`.
 #[test]
 #[ignore = "timing: a long log"]

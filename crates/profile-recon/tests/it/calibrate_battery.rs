@@ -24,7 +24,7 @@
 //! code's own answers.
 //!
 //! The default test runs a short seeded subset (~30 s in the test profile on 2 cores); the
-//! battery is ignored: `cargo test -p profile-recon --test calibrate_battery -- --ignored
+//! battery is ignored: `cargo test -p profile-recon --test it -- calibrate_battery:: --ignored
 //! --nocapture` (the figures of docs/calib.md).
 
 use beam_model::{FluidLoad, Whisker};
@@ -554,7 +554,7 @@ fn battery_of_issue_37() {
 }
 
 /// Diagnostics of one case (`CALIB_CASE=FAMILY_INDEX,K`, `CALIB_LEVEL`): the fit from the
-/// default start and from the truth. `cargo test -p profile-recon --test calibrate_battery
+/// default start and from the truth. `cargo test -p profile-recon --test it -- calibrate_battery::
 /// diagnose -- --ignored --nocapture`.
 #[test]
 #[ignore = "diagnostics"]

@@ -555,7 +555,7 @@ fn noisy_logs_give_mu_within_its_standard_error() {
     }
 }
 
-/// The full battery: `cargo test -p profile-recon --release --test friction_recon --
+/// The full battery: `cargo test -p profile-recon --release --test it -- friction_recon::
 /// --ignored --nocapture`.
 #[test]
 #[ignore]

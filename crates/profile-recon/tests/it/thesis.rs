@@ -152,7 +152,7 @@ fn thesis_method_round_trips_at_the_fdm_level() {
     }
 }
 
-/// Timing of 200-point sweeps (`cargo test --release -p profile-recon --test thesis -- --ignored`).
+/// Timing of 200-point sweeps (`cargo test --release -p profile-recon --test it -- thesis:: --ignored`).
 #[test]
 #[ignore]
 fn thesis_method_timing_200_points() {

@@ -11,7 +11,7 @@
 //! gives the batch's points (<= 1e-10); noised (relative
 //! 1e-4, seeded) the peg within 3 standard errors.
 //!
-//! `cargo test -p profile-recon --test whisk_recon wrec -- --ignored --nocapture` runs the
+//! `cargo test -p profile-recon --test it -- wrec --ignored --nocapture` runs the
 //! full seeded battery and prints its figures; the default run takes a small subset.
 
 use beam_model::{FluidLoad, Whisker};
@@ -357,7 +357,7 @@ fn wrec_battery_subset() {
 
 /// The full seeded battery (module docs).
 #[test]
-#[ignore = "the full battery: cargo test -p profile-recon --test whisk_recon wrec -- --ignored --nocapture"]
+#[ignore = "the full battery: cargo test -p profile-recon --test it -- wrec --ignored --nocapture"]
 fn wrec_battery_full() {
     let fig = battery(300, 0x5EED_0038);
     assert_figures(&fig);

@@ -25,8 +25,8 @@
 //! `--stream` with `--out`.
 //!
 //! The seed is `VIBRISSA_HOSTILE_SEED` (default below); `VIBRISSA_HOSTILE_CASES` scales the
-//! random families. The counts per class are printed (`cargo test --test hostile --
-//! --nocapture`).
+//! random families. The counts per class are printed (`cargo test -p vibrissa-cli --test it
+//! -- hostile:: --nocapture`).
 
 use std::collections::BTreeMap;
 use std::fs;

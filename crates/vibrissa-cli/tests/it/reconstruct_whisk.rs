@@ -3,7 +3,7 @@
 //! gives the peg from every contact row, in the file, the JSON and the stream; `calibrate`
 //! refuses such a log by name. Truth: the peg the log was swept against.
 //!
-//! `cargo test -p vibrissa-cli --test reconstruct_whisk wrec`
+//! `cargo test -p vibrissa-cli --test it -- wrec`
 
 use crate::common;
 

@@ -1,6 +1,6 @@
 //! `vibrissa sweep --motion` (issue 38, items 1, 3, 4): the flags and the scene's keys, the
 //! log's pose columns, the JSON's motion and pose range, physical units of the base and of
-//! pegs, and the refusals. `cargo test -p vibrissa-cli --test whisking_io wio`
+//! pegs, and the refusals. `cargo test -p vibrissa-cli --test it -- wio`
 
 use crate::common;
 

@@ -8,7 +8,7 @@ mod support;
 
 mod auto;
 mod battery;
+mod colloc;
 mod folds;
 mod forward;
 mod scenarios;
-mod colloc;

@@ -9,7 +9,7 @@ mod random_scene;
 mod accuracy;
 mod battery;
 mod friction;
+mod path;
 mod precurved;
 mod sweep;
 mod whisk;
-mod path;

@@ -19,6 +19,6 @@ mod physical;
 mod points_files;
 mod reconstruct;
 mod reconstruct_friction;
-mod safety;
 mod reconstruct_whisk;
+mod safety;
 mod whisking_io;

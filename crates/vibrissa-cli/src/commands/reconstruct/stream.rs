@@ -8,8 +8,7 @@ use std::io::BufRead;
 use std::path::{Path, PathBuf};
 
 use profile_recon::{
-    FrictionalPoint, FrictionalStreamer, ObservableRow, ReconError, ReconPoint, RowPose,
-    Streamer,
+    FrictionalPoint, FrictionalStreamer, ObservableRow, ReconError, ReconPoint, RowPose, Streamer,
 };
 use vibrissa_io::recon_friction::MuRequest;
 

@@ -218,6 +218,15 @@ pub fn reconstruct_default_log(
         Err("mu is identified by the method accurate (not with --method thesis)".to_string())
     } else if opts.accuracy.is_some() {
         Err("mu is not identified with --tol".to_string())
+    } else if crate::recon::poses_of(table)
+        .iter()
+        .any(|p| p.y0 != 0.0 || p.gamma != 0.0)
+    {
+        Err(
+            "mu is not identified from a log of a turned or lifted base (y0, gamma): \
+             friction is swept along translations only"
+                .to_string(),
+        )
     } else {
         frictional_of(flags, opts, r, table, None).map_err(|e| e.to_string())
     };

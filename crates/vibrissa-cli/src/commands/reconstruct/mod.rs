@@ -95,6 +95,11 @@ pub fn run(args: &ReconstructArgs, style: FigureStyle) -> Result<(), CliError> {
         let max_error = errors.as_deref().map(max_of);
         let mut v = recon_json(rec, method, table.rows(), units, max_error, inputs.out_dir);
         default_friction_json(&mut v, &ans, &table);
+        if let Some(o) =
+            vibrissa_io::summary::ObstacleSummary::of(rec, inputs.truth.as_ref(), units)
+        {
+            v["obstacle"] = serde_json::to_value(o).unwrap_or_default();
+        }
         let mut stdout = Printer::stdout().published(Some(inputs.out_dir));
         return stdout.line(v);
     }
@@ -279,9 +284,6 @@ fn print_summary(
     ))
 }
 
-/// `reconstruct --mu`: the frictional reconstruction ([`vibrissa_io::recon_friction`]), the
-/// column `ft`, a warning on stderr when `--mu 0` meets a log that shows friction, and the
-/// JSON's `mu`.
 /// The obstacle from the points, one line: a peg's position or a disc's centre and radius with
 /// their standard errors.
 fn obstacle_line(o: &vibrissa_io::summary::ObstacleSummary, unit: &str) -> String {
@@ -311,6 +313,9 @@ fn obstacle_line(o: &vibrissa_io::summary::ObstacleSummary, unit: &str) -> Strin
     }
 }
 
+/// `reconstruct --mu`: the frictional reconstruction ([`vibrissa_io::recon_friction`]), the
+/// column `ft`, a warning on stderr when `--mu 0` meets a log that shows friction, and the
+/// JSON's `mu`.
 fn run_frictional(
     args: &ReconstructArgs,
     inputs: &Inputs<'_>,

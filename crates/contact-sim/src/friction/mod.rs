@@ -239,6 +239,7 @@ pub(crate) fn sweep(
     let mut points = pre_contact_rows(whisker, flow, phi1, fr.first_x0, settings)?;
     let pre = points.len();
     points.extend(fr.rows.iter().map(|r| r.0));
+    let events = events_on_rows(fr.events, &points[pre..]);
     let accuracy = settings
         .accuracy
         .map(|tol| {
@@ -256,8 +257,29 @@ pub(crate) fn sweep(
         first_touch: *touch,
         separation: fr.separation,
         accuracy,
-        friction_events: fr.events,
+        friction_events: events,
     })
+}
+
+/// Each stick/slip switch as its own row gives it: the event rows are solved again on their
+/// events at the sweep's tolerances after the trace located them at its looser ones, so the
+/// record takes the row's base position, contact point and forces: the row within 1e-6 in x0
+/// of the event (a slip-to-stick switch, where the sliding stops, is a tangency of the two
+/// legs and the trace locates it only to about 1e-7; the rows are 1e-3 and more apart); an
+/// event without such a row keeps the trace's values.
+fn events_on_rows(
+    mut events: Vec<crate::contact_law::FrictionEvent>,
+    rows: &[SweepPoint],
+) -> Vec<crate::contact_law::FrictionEvent> {
+    for e in &mut events {
+        let near = rows
+            .iter()
+            .min_by(|a, b| (a.x0 - e.x0).abs().total_cmp(&(b.x0 - e.x0).abs()));
+        if let Some(p) = near.filter(|p| (p.x0 - e.x0).abs() <= 1e-6) {
+            (e.x0, e.xc, e.f, e.ft) = (p.x0, p.xc, p.f, p.ft);
+        }
+    }
+    events
 }
 
 #[cfg(test)]

@@ -154,6 +154,7 @@ pub fn fit_logs(
                 rows: rows_of(&l.table)?,
                 profile: l.profile.1.clone(),
                 flow: known,
+                poses: Vec::new(),
             })
         })
         .collect::<Result<_, IoError>>()?;

@@ -145,6 +145,21 @@ pub(crate) struct RowCtx<'a> {
     pub flow: (f64, f64),
     pub profile: &'a Profile,
     pub integrator: &'a Dop853,
+    /// The row's pose (a turning or lifted base, issue 38; [`RowPose::TRANSLATE`] for the
+    /// thesis's sweep).
+    pub pose: RowPose,
+    /// The lab x of a point minus its x integrated from the row's `x0` (a log of a rotation
+    /// is calibrated with `x0` replaced by its motion coordinate, [`motion_coordinate`](crate::pose::motion_coordinate); 0 otherwise).
+    pub shift: f64,
+}
+
+impl RowCtx<'_> {
+    /// The lab point of a point `(x, y)` integrated from the row's base: `x + shift`,
+    /// `y + y0` ([`RowPose::lift`]); exactly `(x, y)` for the translating sweep.
+    fn lab(&self, x: f64, y: f64) -> (f64, f64) {
+        let x = if self.shift != 0.0 { x + self.shift } else { x };
+        (x, self.pose.lift(y))
+    }
 }
 
 /// Signed normal distance of `(x, y)` to the contour `y = g(x)` (first order:
@@ -190,20 +205,8 @@ fn touch(profile: &Profile, x: f64, y: f64) -> Touch {
     }
 }
 
-/// The residuals of `row` of kind `kind` (module docs); `None` where the trial whisker
-/// admits no such row (the integration stopped short, the phase-B root was lost, the point
-/// left the contour's domain). A row of the thesis's translating sweep
-/// ([`posed_row_residuals`] with [`RowPose::TRANSLATE`]).
-pub(crate) fn row_residuals(
-    ctx: &RowCtx<'_>,
-    row: &ObservableRow,
-    kind: RowKind,
-) -> Option<RowResult> {
-    posed_row_residuals(ctx, row, &RowPose::TRANSLATE, kind)
-}
-
-/// The residuals of `row` of kind `kind` whose base has the pose `pose` (a turning or lifted
-/// base, issue 38): in the lab frame, where the system integrated from the base is covariant
+/// The residuals of `row` of kind `kind` (module docs) whose base has the pose
+/// [`RowCtx::pose`] (a turning or lifted base, issue 38): in the lab frame, where the system integrated from the base is covariant
 /// (docs/whisking-recon.md), the pose enters only
 /// - the follicle law turned by `gamma`, `phi0 - gamma - pi/2 + MA c` [3.21, 3.22]
 ///   ([`RowPose::unturned`]),
@@ -212,14 +215,16 @@ pub(crate) fn row_residuals(
 /// and the flow stays the log's one lab-frame flow (`Ax + q cos alpha`, `Ay - q sin alpha`
 /// of a free row hold at any turn [6.1]). Against a peg the distance residual is the pair
 /// `x - px`, `y - py` and the force's direction is free (the normal-force residual is
-/// dropped); against a disc the distance is exact. `None` as [`row_residuals`]. With
-/// [`RowPose::TRANSLATE`] this is bit for bit the translating sweep's residual.
-pub(crate) fn posed_row_residuals(
+/// dropped); against a disc the distance is exact. `None` where the trial whisker admits
+/// no such row (the integration stopped short, the phase-B root was lost, the point left the
+/// contour's domain). With [`RowPose::TRANSLATE`] and no shift this is bit for bit the
+/// translating sweep's residual.
+pub(crate) fn row_residuals(
     ctx: &RowCtx<'_>,
     row: &ObservableRow,
-    pose: &RowPose,
     kind: RowKind,
 ) -> Option<RowResult> {
+    let pose = &ctx.pose;
     let m = ctx.model;
     let obs = ObservableRow {
         x0: row.x0,
@@ -252,7 +257,8 @@ pub(crate) fn posed_row_residuals(
                 return None;
             }
             let u = &sol.u_end;
-            let (phi1, m1, x1, y1) = (u[0], u[1], u[2], pose.lift(u[3]));
+            let (phi1, m1) = (u[0], u[1]);
+            let (x1, y1) = ctx.lab(u[2], u[3]);
             if !(phi1.is_finite() && m1.is_finite()) {
                 return None;
             }
@@ -295,7 +301,8 @@ pub(crate) fn posed_row_residuals(
             if !sol.eval_into(root, &mut u) {
                 return None;
             }
-            let (phi, x, y) = (u[0], u[2], pose.lift(u[3]));
+            let phi = u[0];
+            let (x, y) = ctx.lab(u[2], u[3]);
             let (fa, fb) = force_components(&obs, flow, root);
             let tangency = fb * phi.sin() - fa * phi.cos();
             let (r, distance, compression) = match touch(ctx.profile, x, y) {
@@ -403,15 +410,6 @@ pub(crate) fn all_roots(sol: &OdeSolution) -> Vec<f64> {
 /// hypothesis with the smallest whitened residual
 /// ([`judge`](super::whiten::judge)).
 pub(crate) fn hypotheses(ctx: &RowCtx<'_>, row: &ObservableRow) -> Vec<RowResult> {
-    posed_hypotheses(ctx, row, &RowPose::TRANSLATE)
-}
-
-/// [`hypotheses`] of a row whose base has the pose `pose` ([`posed_row_residuals`]).
-pub(crate) fn posed_hypotheses(
-    ctx: &RowCtx<'_>,
-    row: &ObservableRow,
-    pose: &RowPose,
-) -> Vec<RowResult> {
     let m = ctx.model;
     let obs = ObservableRow {
         ax: row.ax / m.lambda,
@@ -434,10 +432,10 @@ pub(crate) fn posed_hypotheses(
     };
     let mut out = Vec::new();
     if sol.s_end >= 1.0 {
-        out.extend(posed_row_residuals(ctx, row, pose, RowKind::A));
+        out.extend(row_residuals(ctx, row, RowKind::A));
     }
     for s in all_roots(&sol) {
-        out.extend(posed_row_residuals(ctx, row, pose, RowKind::B { s1: s }));
+        out.extend(row_residuals(ctx, row, RowKind::B { s1: s }));
     }
     // a contact pushes: a hypothesis whose force pulls the whisker towards the obstacle is
     // none (the normal-force residual alone admits both directions)
@@ -526,6 +524,8 @@ mod tests {
                 flow: (flow.q * flow.alpha.cos(), flow.q * flow.alpha.sin()),
                 profile: &profile,
                 integrator: &integrator,
+                pose: RowPose::TRANSLATE,
+                shift: 0.0,
             };
             let (mut worst, mut worst_point, mut contact, mut pre, mut turned) =
                 (0.0f64, 0.0f64, 0, 0, 0);
@@ -538,7 +538,8 @@ mod tests {
                 if kind != RowKind::Pre && p.f < 1e-6 {
                     continue; // a touch row: no force, no information (RowKind::Skipped)
                 }
-                let got = posed_row_residuals(&ctx, row, pose, kind).expect("a row at the truth");
+                let posed = RowCtx { pose: *pose, ..ctx };
+                let got = row_residuals(&posed, row, kind).expect("a row at the truth");
                 let w = got.r.iter().fold(0.0f64, |m, v| m.max(v.abs()));
                 worst = worst.max(w);
                 assert!(
@@ -557,7 +558,7 @@ mod tests {
                     worst_point = worst_point.max(e);
                     assert!(e < 1e-8, "point {:?} vs ({}, {})", got.point, p.xc, p.yc);
                     // the phase hypotheses hold the truth among them
-                    let hyps = posed_hypotheses(&ctx, row, pose);
+                    let hyps = hypotheses(&posed, row);
                     assert!(
                         hyps.iter().any(|h| h.r.iter().all(|v| v.abs() < 1e-8)),
                         "{}: no hypothesis at the truth among {}",

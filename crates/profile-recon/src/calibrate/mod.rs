@@ -495,9 +495,25 @@ pub fn calibrate_with_progress(
     settings: &CalibSettings,
     progress: ProgressFn<'_>,
 ) -> crate::error::Result<Calibration> {
+    let given = logs;
     let (logs, shifts) = framed(logs)?;
-    let (mut prob, mut fit, costs) = run::fit(start, &logs, shifts, settings, progress)?;
-    polish::polish(&mut prob, &mut fit, settings)?;
+    // an error names a row by its own x0, not by the motion coordinate that replaced it
+    let own_x0 = |e: crate::error::ReconError| match e {
+        crate::error::ReconError::CalibrationStart { log, row, x0 } => {
+            crate::error::ReconError::CalibrationStart {
+                log,
+                row,
+                x0: given
+                    .get(log)
+                    .and_then(|l| l.rows.get(row))
+                    .map_or(x0, |r| r.x0),
+            }
+        }
+        other => other,
+    };
+    let (mut prob, mut fit, costs) =
+        run::fit(start, &logs, shifts, settings, progress).map_err(own_x0)?;
+    polish::polish(&mut prob, &mut fit, settings).map_err(own_x0)?;
     run::check_contact(&prob, &fit)?;
     result::summarize(&mut prob, &fit, &costs, start)
 }

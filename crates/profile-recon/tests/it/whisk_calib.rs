@@ -49,7 +49,7 @@ fn scene(i: u64) -> Scene {
     let d = range(0.45, 0.75);
     let ang = gamma0 + range(0.3, 0.7);
     let (px, py) = (bx - d * ang.sin(), by + d * ang.cos());
-    let profile = if i % 2 == 0 {
+    let profile = if i.is_multiple_of(2) {
         Profile::Peg { x: px, y: py }
     } else {
         let r = range(0.08, 0.25);

@@ -6,12 +6,19 @@
 //! the exact log (relative to max(1, |value|), k as 1/k), within 3 standard errors at
 //! relative noise 1e-4 (seeded `add_noise`).
 //!
-//! `cargo test -p profile-recon --test it -- whisk_calib::wcal`
+//! `cargo test -p profile-recon --test it -- whisk_calib::wcal` (the battery: `--ignored
+//! --nocapture`; `WCAL_NO_FLOW=1` takes the flow off every fourth scene)
 
 use beam_model::{FluidLoad, Whisker};
 use contact_sim::{sweep, BaseMotion, Profile, SweepSettings};
 use profile_recon::calibrate::{calibrate, CalibLog, CalibParam, CalibSettings, Calibration};
 use profile_recon::{add_noise, from_sweep, poses_of_sweep, KnownFlow};
+
+/// Whether every fourth scene has no flow (`WCAL_NO_FLOW=1`; off by default: scene 7, a
+/// disc without flow, then misses with a warning, docs/whisking-recon.md "Still weak").
+fn no_flow() -> bool {
+    std::env::var("WCAL_NO_FLOW").is_ok_and(|v| v == "1")
+}
 
 /// A seeded scene: the truth, the flow, the obstacle, the motion.
 struct Scene {
@@ -34,15 +41,19 @@ fn scene(i: u64) -> Scene {
         (state >> 11) as f64 / (1u64 << 53) as f64
     };
     let mut range = |a: f64, b: f64| a + (b - a) * next();
-    let truth = Whisker::new(
+    let (theta, a, b, k) = (
         range(0.4, 0.9),
         range(-0.5, 0.5),
         range(-0.4, 0.4),
         range(10.0, 40.0),
     );
+    // every third scene rigid; every fourth without flow with `WCAL_NO_FLOW=1` ([`no_flow`])
+    let k = if i % 3 == 2 { f64::INFINITY } else { k };
+    let truth = Whisker::new(theta, a, b, k);
+    let (q, alpha) = (range(0.5, 2.0), range(-30.0, 30.0).to_radians());
     let flow = FluidLoad {
-        q: range(0.5, 2.0),
-        alpha: range(-30.0, 30.0).to_radians(),
+        q: if i % 4 == 3 && no_flow() { 0.0 } else { q },
+        alpha,
     };
     let (bx, by) = (range(-0.2, 0.2), range(-0.2, 0.2));
     let gamma0 = range(-0.4, 0.1);
@@ -146,8 +157,13 @@ fn check_scenes(ids: &[u64]) {
         }
         // the flow too
         let lf = &cal.logs[0];
+        // in Cartesian form (alpha means nothing at q = 0)
+        let (dc, ds) = (
+            lf.q * lf.alpha.cos() - s.flow.q * s.flow.alpha.cos(),
+            lf.q * lf.alpha.sin() - s.flow.q * s.flow.alpha.sin(),
+        );
         assert!(
-            (lf.q - s.flow.q).abs() < 1e-7 && (lf.alpha - s.flow.alpha).abs() < 1e-7,
+            dc.abs() < 1e-7 && ds.abs() < 1e-7,
             "scene {i}: flow {} {} vs {:?}",
             lf.q,
             lf.alpha,

@@ -113,6 +113,7 @@ fn run(path: &str) -> Result<(), Box<dyn Error>> {
         rows,
         profile: object,
         flow: KnownFlow::default(),
+        poses: Vec::new(),
     }];
     let settings = CalibSettings {
         fit: vec![

@@ -79,6 +79,27 @@ impl RowPose {
         Ok(())
     }
 
+    /// A height `y` of a whisker integrated with its base on `y = 0`, in the lab frame of a
+    /// base at height `y0`: `y + y0` (exactly `y` for `y0 = 0`).
+    pub fn lift(&self, y: f64) -> f64 {
+        if self.y0 != 0.0 {
+            y + self.y0
+        } else {
+            y
+        }
+    }
+
+    /// The base angle `phi0` of a row with this pose seen from the unturned follicle,
+    /// `phi0 - gamma` (exactly `phi0` for `gamma = 0`): the argument of the follicle law
+    /// `phi0 - gamma = pi/2 - MA/k` [3.21, 3.22].
+    pub fn unturned(&self, phi0: f64) -> f64 {
+        if self.gamma != 0.0 {
+            phi0 - self.gamma
+        } else {
+            phi0
+        }
+    }
+
     /// Residual of the turned follicle law `phi0 = pi/2 + gamma - MA/k` [3.21, 3.22] of `row`
     /// for a follicle of stiffness `k` (`INFINITY`: rigid).
     pub fn follicle_residual(&self, row: &ObservableRow, k: f64) -> f64 {
@@ -131,9 +152,7 @@ pub fn point_to_lab(p: &mut ReconPoint, c: f64, x0: f64, pose: &RowPose) {
     if c != x0 {
         p.x = p.x - c + x0;
     }
-    if pose.y0 != 0.0 {
-        p.y += pose.y0;
-    }
+    p.y = pose.lift(p.y);
     p.x0 = x0;
 }
 

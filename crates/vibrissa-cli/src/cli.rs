@@ -429,7 +429,8 @@ Examples:
   vibrissa reconstruct unknown.csv cal/scene.ron --out rec  the calibrated whisker on an unknown object
   vibrissa calibrate --advise circle:0,1.4,0.5 --advise g2 --theta 0.7 --k 20 --q 2   which object to sweep past
 
-Each LOG is an observables CSV (x0,Ax,Ay,MA,phi0 at least) or a sweep folder; its known
+Each LOG is an observables CSV (x0,Ax,Ay,MA,phi0 at least; y0, gamma where the base turned or
+rose: a whisking log, its follicle law turned by gamma) or a sweep folder; its known
 contour comes from LOG=PROFILE, else --profile, else the folder's scene.ron (else --scene's). Several logs of
 one whisker are fitted jointly, each with its own flow (q, alpha), fitted too. Start values:
 --scene (else the first folder's scene.ron) under the whisker flags; k from the follicle law

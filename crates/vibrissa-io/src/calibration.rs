@@ -24,7 +24,7 @@ use serde::Serialize;
 
 use crate::csvio::Table;
 use crate::error::IoError;
-use crate::recon::rows_of;
+use crate::recon::{poses_of, rows_of};
 use crate::resolve::{
     resolve_model, FluidFlags, LoadedScene, ModelFlags, Resolved, Value, WhiskerFlags,
 };
@@ -154,6 +154,16 @@ pub fn fit_logs(
                 rows: rows_of(&l.table)?,
                 profile: l.profile.1.clone(),
                 flow: known,
+                // a log of any base motion (issue 38): the rows' poses where a row has one
+                // (y0, gamma), none for the translating sweep's (bit for bit as before)
+                poses: {
+                    let poses = poses_of(&l.table);
+                    if poses.iter().all(|p| p.is_translate()) {
+                        Vec::new()
+                    } else {
+                        poses
+                    }
+                },
             })
         })
         .collect::<Result<_, IoError>>()?;

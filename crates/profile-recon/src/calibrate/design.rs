@@ -113,6 +113,7 @@ fn predict(
         } else {
             known
         },
+        poses: Vec::new(),
     }];
     let model = Model::of(whisker);
     let qf = (flow.q * flow.alpha.cos(), flow.q * flow.alpha.sin());
@@ -138,6 +139,7 @@ fn predict(
         fixed_flow: vec![(!settings.fit_flow).then_some(qf)],
         used: vec![(0..rows.len()).collect()],
         whiteners: Vec::new(),
+        shifts: Vec::new(),
         scales: vec![NoiseScales::of(&rows)],
         integrator: Dop853::new(1e-12, 1e-12),
         log_noise: settings.noise,

@@ -88,6 +88,18 @@
 //! the polish fits all rows. [`calibrate_with_progress`] reports each stage and iteration
 //! (the CLI draws a progress bar from it).
 //!
+//! **Logs of any base motion** (issue 38; docs/whisking-recon.md, "Calibration from whisking
+//! logs"). A log whose rows carry a pose ([`CalibLog::poses`]: `y0`, `gamma`) is calibrated
+//! in the lab frame, where the system integrated from the base is covariant: the follicle
+//! law turned by each row's `gamma` (`phi0 - gamma = pi/2 - MA/k`), each contact point lifted
+//! by its `y0` before its distance to the known contour (a peg: the offset from it, two
+//! residuals, the force's direction free; a disc: `r - |p - c|`), one lab-frame flow per
+//! log (a free row's base forces are the flow's at any turn [6.1], so the flow residuals
+//! are unchanged). The rows are ordered along the motion coordinate instead of `x0`; the
+//! pre-contact rows of a posed log are the largest group of rows with equal base forces
+//! `(Ax, Ay)` at an end of the motion (their `MA`, `phi0` differ row by row: each is the free
+//! whisker at its own turn, fitted by its own residuals).
+//!
 //! **E I.** In a dimensionless log the force unit IS E I_b / L^2: `ei` is then 1 by
 //! definition (the CLI refuses to fit it). The library fits `lambda = E I_b / E I_nominal`,
 //! the factor by which the log's forces and moments (in units of a nominal stiffness)
@@ -104,7 +116,7 @@
 //! let settings = SweepSettings { points: 30, ..Default::default() };
 //! let flow = FluidLoad { q: 2.0, alpha: 0.0 };
 //! let log = sweep(&truth, flow, &Profile::g2(), &settings).unwrap();
-//! let logs = [CalibLog { rows: from_sweep(&log), profile: Profile::g2(), flow: KnownFlow::default() }];
+//! let logs = [CalibLog { rows: from_sweep(&log), profile: Profile::g2(), flow: KnownFlow::default(), poses: Vec::new() }];
 //! let start = Whisker::new(0.8, 0.0, 0.2, 30.0);
 //! let fit = CalibSettings { fit: vec![CalibParam::Theta, CalibParam::B, CalibParam::K], ..Default::default() };
 //! let cal = calibrate(&start, &logs, &fit).unwrap();
@@ -131,6 +143,7 @@ use crate::common::KnownFlow;
 #[cfg(doc)]
 use crate::error::ReconError;
 use crate::observables::ObservableRow;
+use crate::pose::{motion_coordinate, RowPose};
 use beam_model::Whisker;
 use contact_sim::Profile;
 use serde::{Deserialize, Serialize};
@@ -189,6 +202,42 @@ pub struct CalibLog {
     /// The flow, if known: with both `q` and `alpha` given it is held fixed; otherwise the
     /// flow of the log is fitted (started from its pre-contact rows, or from a given `q`).
     pub flow: KnownFlow,
+    /// The pose `(y0, gamma)` of each row's base (a turning or lifted base, issue 38; module
+    /// docs, "Logs of any base motion"); empty: every row the translating sweep's.
+    pub poses: Vec<RowPose>,
+}
+
+impl CalibLog {
+    /// Whether some row has a pose other than the translating sweep's.
+    pub fn is_posed(&self) -> bool {
+        self.poses.iter().any(|p| !p.is_translate())
+    }
+}
+
+/// A log of any base motion in the calibration's frame: a log whose rows carry a pose has
+/// its `x0` replaced by the motion coordinate ([`motion_coordinate`]: a rotation's rows share
+/// one `x0`, and every step that orders rows along the motion reads `x0`), the difference
+/// kept per row as the shift of its points back to the lab (`x - c + x0`,
+/// [`point_to_lab`](crate::pose::point_to_lab)); a translate log as it is (no shift).
+fn framed(logs: &[CalibLog]) -> crate::error::Result<(Vec<CalibLog>, Vec<Vec<f64>>)> {
+    let mut out = Vec::with_capacity(logs.len());
+    let mut shifts = Vec::with_capacity(logs.len());
+    for log in logs {
+        if !log.is_posed() {
+            out.push(log.clone());
+            shifts.push(Vec::new());
+            continue;
+        }
+        crate::pose::check_poses(&log.rows, &log.poses)?;
+        let c = motion_coordinate(&log.rows, &log.poses);
+        let mut framed = log.clone();
+        for (r, &ci) in framed.rows.iter_mut().zip(&c) {
+            r.x0 = ci;
+        }
+        shifts.push(log.rows.iter().zip(&c).map(|(r, ci)| r.x0 - ci).collect());
+        out.push(framed);
+    }
+    Ok((out, shifts))
 }
 
 /// Settings of a calibration.
@@ -446,8 +495,25 @@ pub fn calibrate_with_progress(
     settings: &CalibSettings,
     progress: ProgressFn<'_>,
 ) -> crate::error::Result<Calibration> {
-    let (mut prob, mut fit, costs) = run::fit(start, logs, settings, progress)?;
-    polish::polish(&mut prob, &mut fit, settings)?;
+    let given = logs;
+    let (logs, shifts) = framed(logs)?;
+    // an error names a row by its own x0, not by the motion coordinate that replaced it
+    let own_x0 = |e: crate::error::ReconError| match e {
+        crate::error::ReconError::CalibrationStart { log, row, x0 } => {
+            crate::error::ReconError::CalibrationStart {
+                log,
+                row,
+                x0: given
+                    .get(log)
+                    .and_then(|l| l.rows.get(row))
+                    .map_or(x0, |r| r.x0),
+            }
+        }
+        other => other,
+    };
+    let (mut prob, mut fit, costs) =
+        run::fit(start, &logs, shifts, settings, progress).map_err(own_x0)?;
+    polish::polish(&mut prob, &mut fit, settings).map_err(own_x0)?;
     run::check_contact(&prob, &fit)?;
     result::summarize(&mut prob, &fit, &costs, start)
 }

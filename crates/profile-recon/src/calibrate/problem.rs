@@ -35,6 +35,9 @@ pub(crate) struct CalibProblem<'a> {
     pub used: Vec<Vec<usize>>,
     /// Per log and used row: the whitener (frozen during a fit round).
     pub whiteners: Vec<Vec<Whitener>>,
+    /// Per log: the shift of each row's points back to the lab (empty: none; the framed
+    /// logs of `calibrate`, `RowCtx::shift`).
+    pub shifts: Vec<Vec<f64>>,
     /// Per log: the noise scales of its columns.
     pub scales: Vec<NoiseScales>,
     pub integrator: Dop853,
@@ -186,6 +189,26 @@ impl<'a> CalibProblem<'a> {
             flow,
             profile: &self.logs[l].profile,
             integrator: &self.integrator,
+            pose: crate::pose::RowPose::TRANSLATE,
+            shift: 0.0,
+        }
+    }
+
+    /// `ctx` (of log `l`) placed at the pose of row `i` (`RowCtx::pose`, `RowCtx::shift`).
+    pub fn placed<'b>(&self, ctx: &RowCtx<'b>, l: usize, i: usize) -> RowCtx<'b> {
+        let log = &self.logs[l];
+        if log.poses.is_empty() {
+            return *ctx;
+        }
+        RowCtx {
+            pose: log.poses[i],
+            shift: self
+                .shifts
+                .get(l)
+                .and_then(|s| s.get(i))
+                .copied()
+                .unwrap_or(0.0),
+            ..*ctx
         }
     }
 
@@ -199,7 +222,9 @@ impl<'a> CalibProblem<'a> {
                 let ctx = self.ctx(l, &model, flows[l]);
                 used.iter()
                     .zip(&kinds[l])
-                    .map(|(&i, &kind)| row_residuals(&ctx, &self.logs[l].rows[i], kind))
+                    .map(|(&i, &kind)| {
+                        row_residuals(&self.placed(&ctx, l, i), &self.logs[l].rows[i], kind)
+                    })
                     .collect()
             })
             .collect()
@@ -214,9 +239,17 @@ impl<'a> CalibProblem<'a> {
         k: usize,
         res: &RowResult,
     ) -> [f64; super::residual::RESIDUALS_PER_ROW] {
-        let row = &self.logs[l].rows[self.used[l][k]];
+        let i = self.used[l][k];
+        let row = &self.logs[l].rows[i];
         let w = &self.whiteners[l][k];
-        projected(ctx, row, res, w, &self.scales[l], self.projection)
+        projected(
+            &self.placed(ctx, l, i),
+            row,
+            res,
+            w,
+            &self.scales[l],
+            self.projection,
+        )
     }
 
     /// Freezes the whiteners at `p` (per row, at its kind).
@@ -230,6 +263,7 @@ impl<'a> CalibProblem<'a> {
             let ctx = self.ctx(l, &model, flows[l]);
             let mut w = Vec::with_capacity(used.len());
             for (k, &i) in used.iter().enumerate() {
+                let ctx = self.placed(&ctx, l, i);
                 match whitener(&ctx, &self.logs[l].rows[i], &results[l][k], &self.scales[l]) {
                     Some(x) => w.push(x),
                     None => return false,
@@ -253,6 +287,7 @@ impl<'a> CalibProblem<'a> {
             let ctx = self.ctx(l, &model, flows[l]);
             for (k, &i) in used.iter().enumerate() {
                 let kind = judged[l][k];
+                let ctx = self.placed(&ctx, l, i);
                 if matches!(kind, RowKind::Skipped | RowKind::Pre) {
                     continue;
                 }
@@ -304,6 +339,7 @@ impl<'a> CalibProblem<'a> {
             let ctx = self.ctx(l, &model, flows[l]);
             for (k, &i) in used.iter().enumerate() {
                 let row = &self.logs[l].rows[i];
+                let ctx = self.placed(&ctx, l, i);
                 let ok = row_residuals(&ctx, row, kinds[l][k])
                     .and_then(|res| whitener(&ctx, row, &res, &self.scales[l]))
                     .is_some();
@@ -360,7 +396,7 @@ impl<'a> CalibProblem<'a> {
                         if tip_force(&model, flows[l], &rows[i]) < self.min_force(l, &model, fmax) {
                             return RowKind::Skipped;
                         }
-                        match judge(&ctx, &rows[i], &self.scales[l]) {
+                        match judge(&self.placed(&ctx, l, i), &rows[i], &self.scales[l]) {
                             Some(h) => h.kind,
                             None => {
                                 lost += 1;

@@ -29,6 +29,7 @@
 use crate::base_shot::base_ivp;
 use crate::common::force_components;
 use crate::observables::ObservableRow;
+use crate::pose::RowPose;
 use beam_model::{FluidLoad, Support, Whisker};
 use bvp_solvers::integrator::{Dop853, OdeSolution};
 use bvp_solvers::roots::{brent, RootOptions};
@@ -144,6 +145,21 @@ pub(crate) struct RowCtx<'a> {
     pub flow: (f64, f64),
     pub profile: &'a Profile,
     pub integrator: &'a Dop853,
+    /// The row's pose (a turning or lifted base, issue 38; [`RowPose::TRANSLATE`] for the
+    /// thesis's sweep).
+    pub pose: RowPose,
+    /// The lab x of a point minus its x integrated from the row's `x0` (a log of a rotation
+    /// is calibrated with `x0` replaced by its motion coordinate, [`motion_coordinate`](crate::pose::motion_coordinate); 0 otherwise).
+    pub shift: f64,
+}
+
+impl RowCtx<'_> {
+    /// The lab point of a point `(x, y)` integrated from the row's base: `x + shift`,
+    /// `y + y0` ([`RowPose::lift`]); exactly `(x, y)` for the translating sweep.
+    fn lab(&self, x: f64, y: f64) -> (f64, f64) {
+        let x = if self.shift != 0.0 { x + self.shift } else { x };
+        (x, self.pose.lift(y))
+    }
 }
 
 /// Signed normal distance of `(x, y)` to the contour `y = g(x)` (first order:
@@ -153,14 +169,62 @@ fn contour_distance(profile: &Profile, x: f64, y: f64) -> (f64, f64) {
     ((y - g) / (1.0 + d * d).sqrt(), d.atan())
 }
 
-/// The residuals of `row` of kind `kind` (module docs); `None` where the trial whisker
-/// admits no such row (the integration stopped short, the phase-B root was lost, the point
-/// left the contour's domain).
+/// Where a reconstructed point lies relative to the known contour.
+#[derive(Clone, Copy, Debug)]
+enum Touch {
+    /// A graph or a disc: the signed normal distance (positive inside the obstacle) and the
+    /// contour's tangent angle `psi_c` there (the normal out of the obstacle is
+    /// `(sin psi_c, -cos psi_c)`).
+    Line { dist: f64, psi_c: f64 },
+    /// A peg: the point's offset from it (a point has no normal: the force's direction is
+    /// free, frictionless or not).
+    Point { dx: f64, dy: f64 },
+}
+
+/// The point `(x, y)` (lab frame) against `profile`: a graph to first order
+/// ([`contour_distance`]); a disc exactly, `r - |p - c|` with the normal `(p - c) / |p - c|`
+/// (the distance of [`contour_error`](crate::contour_error), `Profile::clearance`, signed);
+/// a peg by the offset `p - peg`.
+fn touch(profile: &Profile, x: f64, y: f64) -> Touch {
+    match *profile {
+        Profile::Peg { x: px, y: py } => Touch::Point {
+            dx: x - px,
+            dy: y - py,
+        },
+        Profile::Disc { x: cx, y: cy, .. } => {
+            let (nx, ny) = (x - cx, y - cy);
+            Touch::Line {
+                dist: -profile.clearance(x, y),
+                psi_c: nx.atan2(-ny),
+            }
+        }
+        _ => {
+            let (dist, psi_c) = contour_distance(profile, x, y);
+            Touch::Line { dist, psi_c }
+        }
+    }
+}
+
+/// The residuals of `row` of kind `kind` (module docs) whose base has the pose
+/// [`RowCtx::pose`] (a turning or lifted base, issue 38): in the lab frame, where the system integrated from the base is covariant
+/// (docs/whisking-recon.md), the pose enters only
+/// - the follicle law turned by `gamma`, `phi0 - gamma - pi/2 + MA c` [3.21, 3.22]
+///   ([`RowPose::unturned`]),
+/// - the contact point lifted by `y0` ([`RowPose::lift`], as [`point_to_lab`](crate::pose::point_to_lab)),
+///
+/// and the flow stays the log's one lab-frame flow (`Ax + q cos alpha`, `Ay - q sin alpha`
+/// of a free row hold at any turn [6.1]). Against a peg the distance residual is the pair
+/// `x - px`, `y - py` and the force's direction is free (the normal-force residual is
+/// dropped); against a disc the distance is exact. `None` where the trial whisker admits
+/// no such row (the integration stopped short, the phase-B root was lost, the point left the
+/// contour's domain). With [`RowPose::TRANSLATE`] and no shift this is bit for bit the
+/// translating sweep's residual.
 pub(crate) fn row_residuals(
     ctx: &RowCtx<'_>,
     row: &ObservableRow,
     kind: RowKind,
 ) -> Option<RowResult> {
+    let pose = &ctx.pose;
     let m = ctx.model;
     let obs = ObservableRow {
         x0: row.x0,
@@ -169,8 +233,8 @@ pub(crate) fn row_residuals(
         ma: row.ma / m.lambda,
         phi0: row.phi0,
     };
-    // the follicle law [3.21, 3.22] with m(0) = -MA
-    let follicle = m.support().residual(obs.phi0, -obs.ma);
+    // the follicle law [3.21, 3.22] with m(0) = -MA, turned by gamma
+    let follicle = m.support().residual(pose.unturned(obs.phi0), -obs.ma);
     let whisker = Whisker {
         theta: m.theta,
         a: m.a,
@@ -193,7 +257,8 @@ pub(crate) fn row_residuals(
                 return None;
             }
             let u = &sol.u_end;
-            let (phi1, m1, x1, y1) = (u[0], u[1], u[2], u[3]);
+            let (phi1, m1) = (u[0], u[1]);
+            let (x1, y1) = ctx.lab(u[2], u[3]);
             if !(phi1.is_finite() && m1.is_finite()) {
                 return None;
             }
@@ -209,15 +274,20 @@ pub(crate) fn row_residuals(
                     compression: f64::NAN,
                 });
             }
-            let (dist, psi_c) = contour_distance(ctx.profile, x1, y1);
-            let normal = fa * psi_c.cos() - fb * psi_c.sin();
-            let r = [follicle, m1, dist, normal];
+            let (r, distance, compression) = match touch(ctx.profile, x1, y1) {
+                Touch::Line { dist, psi_c } => (
+                    [follicle, m1, dist, fa * psi_c.cos() - fb * psi_c.sin()],
+                    dist,
+                    fa * psi_c.sin() + fb * psi_c.cos(),
+                ),
+                Touch::Point { dx, dy } => ([follicle, m1, dx, dy], dx.hypot(dy), fa.hypot(fb)),
+            };
             r.iter().all(|v| v.is_finite()).then_some(RowResult {
                 r,
                 kind,
                 point: (x1, y1),
-                distance: dist,
-                compression: fa * psi_c.sin() + fb * psi_c.cos(),
+                distance,
+                compression,
             })
         }
         RowKind::B { s1 } => {
@@ -231,18 +301,32 @@ pub(crate) fn row_residuals(
             if !sol.eval_into(root, &mut u) {
                 return None;
             }
-            let (phi, x, y) = (u[0], u[2], u[3]);
+            let phi = u[0];
+            let (x, y) = ctx.lab(u[2], u[3]);
             let (fa, fb) = force_components(&obs, flow, root);
-            let (dist, psi_c) = contour_distance(ctx.profile, x, y);
-            let normal = fa * psi_c.cos() - fb * psi_c.sin();
             let tangency = fb * phi.sin() - fa * phi.cos();
-            let r = [follicle, dist, normal, tangency];
+            let (r, distance, compression) = match touch(ctx.profile, x, y) {
+                Touch::Line { dist, psi_c } => (
+                    [
+                        follicle,
+                        dist,
+                        fa * psi_c.cos() - fb * psi_c.sin(),
+                        tangency,
+                    ],
+                    dist,
+                    fa * psi_c.sin() + fb * psi_c.cos(),
+                ),
+                // the force normal to the whisker (tangency); its side is not checked
+                Touch::Point { dx, dy } => {
+                    ([follicle, dx, dy, tangency], dx.hypot(dy), fa.hypot(fb))
+                }
+            };
             r.iter().all(|v| v.is_finite()).then_some(RowResult {
                 r,
                 kind: RowKind::B { s1: root },
                 point: (x, y),
-                distance: dist,
-                compression: fa * psi_c.sin() + fb * psi_c.cos(),
+                distance,
+                compression,
             })
         }
     }
@@ -388,5 +472,120 @@ mod tests {
         let m = Model::of(&w);
         assert_eq!(m.whisker(), w);
         assert_eq!(Model::of(&Whisker::uniform()).whisker(), Whisker::uniform());
+    }
+
+    /// A rotation of a tapered, pre-curved whisker on a spring under a flow past `profile`
+    /// (issue 38): the truth, the sweep and its poses.
+    fn whisking(profile: Profile) -> (Whisker, FluidLoad, contact_sim::SweepResult) {
+        use contact_sim::{sweep, BaseMotion, SweepSettings};
+        let truth = Whisker::new(0.55, 0.3, -0.2, 20.0);
+        let flow = FluidLoad { q: 1.2, alpha: 0.3 };
+        let settings = SweepSettings {
+            points: 20,
+            pre_contact_rows: 3,
+            motion: BaseMotion::Rotate {
+                x0: 0.1,
+                y0: -0.05,
+                gamma0: -0.3,
+            },
+            ..SweepSettings::default()
+        };
+        let res = sweep(&truth, flow, &profile, &settings).expect("the whisking sweep");
+        (truth, flow, res)
+    }
+
+    /// Independent truth: the sweep's own contact points `(xc, yc)` and its phases. At the
+    /// true whisker and flow, every row of a rotation past a peg and past a disc has posed
+    /// residuals at the integrator's floor and its lab point at the sweep's; the unposed
+    /// residuals miss the follicle law by exactly the row's turn.
+    #[test]
+    fn wcal_posed_residuals_vanish_at_the_truth_of_a_rotation() {
+        use crate::observables::from_sweep;
+        use crate::pose::poses_of_sweep;
+        use contact_sim::Phase;
+        let (bx, by, d, ang) = (0.1f64, -0.05f64, 0.6f64, 0.2f64);
+        let (px, py) = (bx - d * ang.sin(), by + d * ang.cos());
+        let r = 0.15;
+        for profile in [
+            Profile::Peg { x: px, y: py },
+            Profile::Disc {
+                x: px - r * ang.sin(),
+                y: py + r * ang.cos(),
+                r,
+            },
+        ] {
+            let (truth, flow, res) = whisking(profile.clone());
+            let rows = from_sweep(&res);
+            let poses = poses_of_sweep(&res);
+            let model = Model::of(&truth);
+            let integrator = Dop853::new(1e-13, 1e-13);
+            let ctx = RowCtx {
+                model: &model,
+                flow: (flow.q * flow.alpha.cos(), flow.q * flow.alpha.sin()),
+                profile: &profile,
+                integrator: &integrator,
+                pose: RowPose::TRANSLATE,
+                shift: 0.0,
+            };
+            let (mut worst, mut worst_point, mut contact, mut pre, mut turned) =
+                (0.0f64, 0.0f64, 0, 0, 0);
+            for ((row, pose), p) in rows.iter().zip(&poses).zip(&res.points) {
+                let kind = match p.phase {
+                    Phase::None => RowKind::Pre,
+                    Phase::A => RowKind::A,
+                    Phase::B => RowKind::B { s1: p.s1 },
+                };
+                if kind != RowKind::Pre && p.f < 1e-6 {
+                    continue; // a touch row: no force, no information (RowKind::Skipped)
+                }
+                let posed = RowCtx { pose: *pose, ..ctx };
+                let got = row_residuals(&posed, row, kind).expect("a row at the truth");
+                let w = got.r.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                worst = worst.max(w);
+                assert!(
+                    w < 1e-8,
+                    "{}: {:?} at gamma {}: {:?}",
+                    profile.name(),
+                    kind,
+                    pose.gamma,
+                    got.r
+                );
+                if kind == RowKind::Pre {
+                    pre += 1;
+                } else {
+                    contact += 1;
+                    let e = (got.point.0 - p.xc).hypot(got.point.1 - p.yc);
+                    worst_point = worst_point.max(e);
+                    assert!(e < 1e-8, "point {:?} vs ({}, {})", got.point, p.xc, p.yc);
+                    // the phase hypotheses hold the truth among them
+                    let hyps = hypotheses(&posed, row);
+                    assert!(
+                        hyps.iter().any(|h| h.r.iter().all(|v| v.abs() < 1e-8)),
+                        "{}: no hypothesis at the truth among {}",
+                        profile.name(),
+                        hyps.len()
+                    );
+                }
+                // without its pose the row misses the follicle law by its turn (k = 20)
+                let plain = row_residuals(&ctx, row, kind).expect("a row at the truth");
+                if pose.gamma.abs() > 1e-3 {
+                    turned += 1;
+                    assert!(
+                        (plain.r[0] - pose.gamma).abs() < 1e-8,
+                        "{} vs gamma {}",
+                        plain.r[0],
+                        pose.gamma
+                    );
+                }
+            }
+            assert!(
+                contact >= 10 && pre >= 1 && turned >= 10,
+                "{contact} {pre} {turned}"
+            );
+            eprintln!(
+                "{}: {contact} contact rows, {pre} free rows, worst residual {worst:.1e}, worst point {worst_point:.1e}",
+                profile.name()
+            );
+        }
     }
 }

@@ -31,11 +31,15 @@ pub(crate) const NOISE_CHECK: f64 = 3.0;
 pub(crate) fn fit<'a>(
     start: &Whisker,
     logs: &'a [CalibLog],
+    shifts: Vec<Vec<f64>>,
     settings: &CalibSettings,
     progress: ProgressFn<'a>,
 ) -> Result<(CalibProblem<'a>, Rounds, Vec<f64>)> {
     check(start, logs, settings)?;
-    let pre: Vec<Vec<bool>> = logs.iter().map(|l| pre_contact(&l.rows)).collect();
+    let pre: Vec<Vec<bool>> = logs
+        .iter()
+        .map(|l| pre_contact(&l.rows, l.is_posed()))
+        .collect();
     let contact = pre.iter().flatten().filter(|p| !**p).count();
     if contact == 0 && needs_contact(settings) {
         return Err(no_contact(
@@ -62,6 +66,7 @@ pub(crate) fn fit<'a>(
         fixed_flow: logs.iter().map(fixed_flow).collect(),
         used: logs.iter().map(|l| (0..l.rows.len()).collect()).collect(),
         whiteners: Vec::new(),
+        shifts,
         scales: logs.iter().map(|l| NoiseScales::of(&l.rows)).collect(),
         integrator: Dop853 {
             h_init: Some(0.05),
@@ -290,9 +295,13 @@ fn start_flow(log: &CalibLog, pre: &[bool]) -> (f64, f64) {
 /// `phi0 - pi/2 = -MA c` [3.21, 3.22] (`None` without any moment).
 fn start_compliance(logs: &[CalibLog]) -> Option<f64> {
     let (mut num, mut den) = (0.0, 0.0);
-    for r in logs.iter().flat_map(|l| &l.rows) {
-        num -= r.ma * (r.phi0 - FRAC_PI_2);
-        den += r.ma * r.ma;
+    for log in logs {
+        for (i, r) in log.rows.iter().enumerate() {
+            // the follicle law turned by the row's gamma (issue 38)
+            let phi0 = log.poses.get(i).map_or(r.phi0, |p| p.unturned(r.phi0));
+            num -= r.ma * (phi0 - FRAC_PI_2);
+            den += r.ma * r.ma;
+        }
     }
     (den > 0.0).then(|| (num / den).clamp(0.0, 1.0 / beam_model::support::K_MIN))
 }
@@ -306,7 +315,13 @@ fn start_compliance(logs: &[CalibLog]) -> Option<f64> {
 /// at an end of the log's x0 range that is the free whisker by [`lone_free_row`]. A log
 /// too short for a noise level (fewer than four distinct base positions) is compared
 /// exactly only: two or three contact rows are never taken for the flow's.
-pub(crate) fn pre_contact(rows: &[ObservableRow]) -> Vec<bool> {
+///
+/// A posed log (`posed`, issue 38: the rows' `x0` is then the motion coordinate) compares
+/// only the base forces `(Ax, Ay)`, the flow's at any turn [6.1] (each free row's `MA`,
+/// `phi0` are the free whisker's at its own turn), and takes the largest group at an end of
+/// the motion (a contact from any side: [`can_be_free`]'s contour below the obstacle does
+/// not apply).
+pub(crate) fn pre_contact(rows: &[ObservableRow], posed: bool) -> Vec<bool> {
     let scales = NoiseScales::of(rows);
     let level = smoothness_noise(rows, &scales);
     for rel in [1e-9, 5.0 * level] {
@@ -316,7 +331,11 @@ pub(crate) fn pre_contact(rows: &[ObservableRow]) -> Vec<bool> {
         let tol: Vec<f64> = scales.0.iter().map(|s| rel * s).collect();
         let near = |a: &ObservableRow, b: &ObservableRow| {
             let d = [a.ax - b.ax, a.ay - b.ay, a.ma - b.ma, a.phi0 - b.phi0];
-            d.iter().zip(&tol).all(|(d, t)| d.abs() <= *t)
+            let compared = if posed { 2 } else { 4 };
+            d.iter()
+                .zip(&tol)
+                .take(compared)
+                .all(|(d, t)| d.abs() <= *t)
         };
         // rows sorted by Ax: the rows near one lie in a window of that order (a long log in
         // O(n log n), not O(n^2))
@@ -342,7 +361,7 @@ pub(crate) fn pre_contact(rows: &[ObservableRow]) -> Vec<bool> {
         let ends = x0_ends(rows);
         let pick = groups
             .iter()
-            .find(|g| can_be_free(rows, &rows[g.1], tol[1]))
+            .find(|g| !posed && can_be_free(rows, &rows[g.1], tol[1]))
             .or_else(|| {
                 groups
                     .iter()
@@ -353,7 +372,7 @@ pub(crate) fn pre_contact(rows: &[ObservableRow]) -> Vec<bool> {
         }
     }
     let mut out = vec![false; rows.len()];
-    if let Some(i) = lone_free_row(rows, &scales, level) {
+    if let Some(i) = lone_free_row(rows, &scales, level, posed) {
         out[i] = true;
     }
     out
@@ -377,7 +396,12 @@ fn x0_ends(rows: &[ObservableRow]) -> Vec<usize> {
 /// its three nearest neighbours exceeds [`KINK`] times that of the next four rows and
 /// [`KINK`] times the log's noise level in some column) and that can be the free whisker
 /// ([`can_be_free`]). Needs four further rows at distinct base positions; `None` without.
-fn lone_free_row(rows: &[ObservableRow], scales: &NoiseScales, level: f64) -> Option<usize> {
+fn lone_free_row(
+    rows: &[ObservableRow],
+    scales: &NoiseScales,
+    level: f64,
+    posed: bool,
+) -> Option<usize> {
     if !level.is_finite() || rows.len() < 5 {
         return None;
     }
@@ -418,7 +442,7 @@ fn lone_free_row(rows: &[ObservableRow], scales: &NoiseScales, level: f64) -> Op
                 e > KINK * n && e > KINK * level
             })
         });
-        (kink && can_be_free(rows, &rows[c], 5.0 * level * scales.0[1])).then_some(c)
+        (kink && (posed || can_be_free(rows, &rows[c], 5.0 * level * scales.0[1]))).then_some(c)
     })
 }
 
@@ -809,10 +833,13 @@ pub(crate) fn start_failure(prob: &CalibProblem<'_>, p: &[f64], kinds: &Kinds) -
             flow: flows[l],
             profile: &prob.logs[l].profile,
             integrator: &prob.integrator,
+            pose: crate::pose::RowPose::TRANSLATE,
+            shift: 0.0,
         };
         for (k, &i) in used.iter().enumerate() {
             let row = &prob.logs[l].rows[i];
-            if super::residual::row_residuals(&ctx, row, kinds[l][k]).is_none() {
+            if super::residual::row_residuals(&prob.placed(&ctx, l, i), row, kinds[l][k]).is_none()
+            {
                 return ReconError::CalibrationStart {
                     log: l,
                     row: i,

@@ -8,7 +8,7 @@ use super::*;
 #[test]
 fn the_free_rows_give_the_start_flow() {
     let e = exact(4, 12);
-    let pre = pre_contact(&e.log.rows);
+    let pre = pre_contact(&e.log.rows, false);
     // the rows before contact, and the contact rows without force (at the first contact
     // and the separation), which have the free whisker's observables
     let (sa, ca) = e.flow.alpha.sin_cos();

@@ -35,9 +35,12 @@ pub(crate) fn objective(prob: &CalibProblem<'_>, p: &[f64], rows: &[Vec<(usize, 
             flow: flows[l],
             profile: &prob.logs[l].profile,
             integrator: &prob.integrator,
+            pose: crate::pose::RowPose::TRANSLATE,
+            shift: 0.0,
         };
         for &(i, pre) in sub {
             let row = &prob.logs[l].rows[i];
+            let ctx = prob.placed(&ctx, l, i);
             let scaled = |kind: RowKind, r: &[f64; 4]| -> f64 {
                 let s = match kind {
                     RowKind::Pre => [sp, sf, sf, sm],

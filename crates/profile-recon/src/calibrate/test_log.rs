@@ -46,6 +46,7 @@ pub(crate) fn exact(pre: usize, points: usize) -> Exact {
             rows: from_sweep(&res),
             profile: Profile::g1(),
             flow: KnownFlow::default(),
+            poses: Vec::new(),
         },
         kinds,
     }
@@ -65,6 +66,7 @@ pub(crate) fn problem<'a>(
         fixed_flow: vec![None; logs.len()],
         used: logs.iter().map(|l| (0..l.rows.len()).collect()).collect(),
         whiteners: Vec::new(),
+        shifts: Vec::new(),
         scales: logs.iter().map(|l| NoiseScales::of(&l.rows)).collect(),
         integrator: Dop853 {
             h_init: Some(0.05),

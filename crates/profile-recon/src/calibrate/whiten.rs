@@ -299,6 +299,8 @@ mod tests {
             flow: (flow.q * flow.alpha.cos(), flow.q * flow.alpha.sin()),
             profile: &profile,
             integrator: &integrator,
+            pose: crate::pose::RowPose::TRANSLATE,
+            shift: 0.0,
         };
         for eps in [1e-2, 1e-3] {
             let d = [0.6 * eps, -0.3 * eps, 0.7 * eps, -0.2 * eps];

@@ -94,6 +94,7 @@ fn sweep_of(case: &Case, points: usize) -> Option<(SweepResult, CalibLog)> {
         rows: from_sweep(&res),
         profile: case.profile.1.clone(),
         flow: KnownFlow::default(),
+        poses: Vec::new(),
     })?;
     Some((res, log))
 }

@@ -319,6 +319,7 @@ fn logs_of(case: &Case, level: f64, seed: u64) -> Vec<CalibLog> {
                 },
                 profile: s.profile.clone(),
                 flow: KnownFlow::default(),
+                poses: Vec::new(),
             }
         })
         .collect()

@@ -13,4 +13,5 @@ mod noise;
 mod roundtrip;
 mod stream;
 mod thesis;
+mod whisk_calib;
 mod whisk_recon;

@@ -131,20 +131,16 @@ pub(crate) fn read_log(
             other => CliError::solver(other),
         })?;
     }
-    // the calibration's residuals hold the translating sweep's pose (base at (x0, 0),
-    // follicle law phi0 = pi/2 - MA/k): a log of another motion is refused by name
-    let poses = vibrissa_io::recon::poses_of(&table);
-    if let Some(i) = poses.iter().position(|p| !p.is_translate()) {
-        return Err(CliError::Io(vibrissa_io::IoError::Csv {
-            path: log_path.clone(),
-            line: table.line_of(i).unwrap_or(1),
-            column: Some(if poses[i].gamma != 0.0 { "gamma" } else { "y0" }.to_string()),
-            reason: format!(
-                "log `{arg}`: a base pose y0 = {}, gamma = {} (a rotation or a path): calibrate \
-                 fits logs of the translating sweep only (reconstruct reads logs of any motion)",
-                poses[i].y0, poses[i].gamma
-            ),
-        }));
+    // a log of any base motion (issue 38): every pose finite, named by line and column
+    for (i, pose) in vibrissa_io::recon::poses_of(&table).iter().enumerate() {
+        if let Err(ReconError::NonFinite { column, value, .. }) = pose.validate(i) {
+            return Err(CliError::Io(vibrissa_io::IoError::Csv {
+                path: log_path.clone(),
+                line: table.line_of(i).unwrap_or(1),
+                column: Some(column.to_string()),
+                reason: format!("value `{value}` is not finite"),
+            }));
+        }
     }
     Ok(LogInput {
         arg: arg.to_string(),

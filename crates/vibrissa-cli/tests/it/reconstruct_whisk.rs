@@ -1,7 +1,7 @@
 //! `vibrissa reconstruct` on logs of any base motion (issue 38, item 3): a whisking log
 //! against a peg (written from contact-sim's rotation with its pose columns `y0`, `gamma`)
 //! gives the peg from every contact row, in the file, the JSON and the stream; `calibrate`
-//! refuses such a log by name. Truth: the peg the log was swept against.
+//! fits the whisker and the flow from it (`wcal`). Truth: the peg the log was swept against.
 //!
 //! `cargo test -p vibrissa-cli --test it -- wrec`
 
@@ -120,18 +120,70 @@ fn wrec_a_whisking_log_gives_the_peg_in_the_file_the_json_and_the_stream() {
     }
 }
 
+/// `calibrate` on the whisking log (issue 38, item 3; docs/whisking-recon.md, "Calibration
+/// from whisking logs"): from the default start (theta 1, A = B = 0) with the flow unknown,
+/// the whisker of [`WHISKER`] and the flow (1, 10 degrees) to 1e-7, written to the
+/// calibrated scene.ron; a non-finite pose is refused by line and column.
 #[test]
-fn wrec_calibrate_refuses_a_whisking_log_by_name() {
+fn wcal_calibrate_fits_a_whisking_log() {
     let dir = tempfile::tempdir().unwrap();
     let cwd = dir.path();
     fs::write(cwd.join("whisk.csv"), whisking_log()).unwrap();
     let peg = format!("peg:{},{}", PEG.0, PEG.1);
-    let mut args = vec!["calibrate", "whisk.csv", "--profile", &peg, "--fit", "k"];
-    args.extend(WHISKER);
-    let o = run(&args, cwd);
+    let o = run(
+        &[
+            "calibrate",
+            "whisk.csv",
+            "--profile",
+            &peg,
+            "--theta",
+            "1",
+            "--json",
+            "--out",
+            "cal",
+        ],
+        cwd,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v = json(&o);
+    let p = &v["parameters"];
+    for (name, truth) in [("theta", 0.8), ("a", 0.2), ("b", 0.1), ("k", 30.0)] {
+        let est = p[name]["value"].as_f64().unwrap();
+        assert!(
+            (est - truth).abs() < 1e-7 * f64::max(truth, 1.0),
+            "{name}: {est}"
+        );
+    }
+    let log = &v["logs"][0];
+    assert!((log["q"].as_f64().unwrap() - 1.0).abs() < 1e-7, "{log}");
+    assert!(
+        (log["alpha_deg"].as_f64().unwrap() - 10.0).abs() < 1e-5,
+        "{log}"
+    );
+    // the calibrated scene holds the fitted values
+    let ron = fs::read_to_string(cwd.join("cal/scene.ron")).unwrap();
+    let value = |key: &str| -> f64 {
+        let at = ron
+            .find(&format!("{key}:"))
+            .unwrap_or_else(|| panic!("{key} in {ron}"));
+        let rest = ron[at + key.len() + 1..].trim_start();
+        let rest = rest.strip_prefix("Some(").unwrap_or(rest);
+        let end = rest.find([',', ')', '\n', ' ']).unwrap();
+        rest[..end]
+            .parse()
+            .unwrap_or_else(|_| panic!("{key}: {rest}"))
+    };
+    assert!((value("theta") - 0.8).abs() < 1e-7, "{ron}");
+    assert!((value("k") - 30.0).abs() < 1e-6, "{ron}");
+    // a pose that is not a number: its line and column
+    let mut lines: Vec<String> = whisking_log().lines().map(String::from).collect();
+    let mut cells: Vec<String> = lines[3].split(',').map(String::from).collect();
+    cells[6] = "inf".into();
+    lines[3] = cells.join(",");
+    fs::write(cwd.join("bad.csv"), lines.join("\n") + "\n").unwrap();
+    let o = run(&["calibrate", "bad.csv", "--profile", &peg], cwd);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     let e = stderr(&o);
-    assert!(e.contains("whisk.csv:2") && e.contains("gamma"), "{e}");
-    assert!(e.contains("translating sweep only"), "{e}");
+    assert!(e.contains("bad.csv:4") && e.contains("gamma"), "{e}");
     assert_eq!(e.trim().lines().count(), 1, "{e}");
 }

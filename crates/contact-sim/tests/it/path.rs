@@ -26,6 +26,9 @@ use contact_sim::{
 };
 use std::f64::consts::FRAC_PI_2;
 
+// the battery's scene, generator state and worst-case slot, shared with the whisking battery
+use crate::whisk::{worse, Rng, Scene};
+
 fn pose(x0: f64, y0: f64, gamma: f64) -> Pose {
     Pose { x0, y0, gamma }
 }
@@ -285,32 +288,6 @@ fn wpath_a_path_ending_in_contact_ends_the_sweep_there() {
     assert!(e.to_string().contains("motion path"), "{e}");
 }
 
-/// A scene of the battery.
-#[derive(Debug)]
-struct Scene {
-    name: String,
-    whisker: Whisker,
-    flow: FluidLoad,
-    profile: Profile,
-    settings: SweepSettings,
-}
-
-/// SplitMix64, seeded.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn range(&mut self, a: f64, b: f64) -> f64 {
-        a + (b - a) * self.next()
-    }
-}
-
 /// A random scene: a whisker (theta 0.3..1, pre-curvature of both signs, rigid or a spring),
 /// a flow (q 0..3 at -45..45 degrees), a random polyline of 2-6 poses from near the origin
 /// (each segment turning by -0.1..0.9 rad and moving by up to 0.3 in x (mostly towards -x)
@@ -414,12 +391,6 @@ struct Figures {
     off_path: (f64, String),
     /// The deepest point of the rest of the whisker inside the obstacle.
     penetration: (f64, String),
-}
-
-fn worse(slot: &mut (f64, String), v: f64, at: impl Fn() -> String) {
-    if v > slot.0 {
-        *slot = (v, at());
-    }
 }
 
 /// The path parameter of a row's pose (the nearest point of the polyline in `(x0, y0,

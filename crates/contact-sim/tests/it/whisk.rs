@@ -184,26 +184,26 @@ fn friction_with_whisking_or_pegs_is_refused_by_name() {
 
 /// A scene of the battery.
 #[derive(Debug)]
-struct Scene {
-    name: String,
-    whisker: Whisker,
-    flow: FluidLoad,
-    profile: Profile,
-    settings: SweepSettings,
+pub(crate) struct Scene {
+    pub(crate) name: String,
+    pub(crate) whisker: Whisker,
+    pub(crate) flow: FluidLoad,
+    pub(crate) profile: Profile,
+    pub(crate) settings: SweepSettings,
 }
 
 /// SplitMix64, seeded.
-struct Rng(u64);
+pub(crate) struct Rng(pub(crate) u64);
 
 impl Rng {
-    fn next(&mut self) -> f64 {
+    pub(crate) fn next(&mut self) -> f64 {
         self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
         let mut z = self.0;
         z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
         z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
         ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
     }
-    fn range(&mut self, a: f64, b: f64) -> f64 {
+    pub(crate) fn range(&mut self, a: f64, b: f64) -> f64 {
         a + (b - a) * self.next()
     }
 }
@@ -303,7 +303,7 @@ struct Figures {
     penetration: (f64, String),
 }
 
-fn worse(slot: &mut (f64, String), v: f64, at: impl Fn() -> String) {
+pub(crate) fn worse(slot: &mut (f64, String), v: f64, at: impl Fn() -> String) {
     if v > slot.0 {
         *slot = (v, at());
     }

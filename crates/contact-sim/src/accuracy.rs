@@ -10,7 +10,7 @@
 //! and 48.8 M with `--tol 1e-4` (the rows' estimates included). A contact row at base position `x0` is solved with the integrator at
 //! [`row_integration_tol`] and the corrector at [`row_solve_tol`]. Where a row's estimate
 //! exceeds the accuracy asked for, the rows are solved once more at the tolerances of an
-//! accuracy [`TIGHTER`](crate::sweep::TIGHTER) times smaller (their estimates' integration
+//! accuracy [`TIGHTER`] times smaller (their estimates' integration
 //! too), and only then is the sweep refused, naming that row.
 //!
 //! **The estimate of a row.** Its equations are evaluated again at an integration
@@ -23,10 +23,17 @@
 //! tolerance), so the estimate bounds the row's error about twenty times over. The rows
 //! before contact are the free whisker, the first contact row's shape (`f = 0`): they carry
 //! its estimate.
+//!
+//! The frictionless sweeps along every motion (`translate`/`rotate` in `crate::sweep`,
+//! `path` in [`crate::path`]) solve their rows through the one `rows_within_accuracy`
+//! (the rows, the tighter pass where needed, the phase check) and report them through
+//! `rows_accuracy`.
 
 use crate::branch::{Branch, Node};
-use crate::error::Result;
+use crate::error::{ContactError, Result};
 use crate::phase::ContactState;
+use crate::sweep::{check_accuracy, phase_violation, SweepPoint, TIGHTER};
+use beam_model::shot::Integration;
 use beam_model::AccuracyReport;
 use bvp_solvers::dense;
 
@@ -88,6 +95,120 @@ pub(crate) struct Estimator<'a> {
     /// The looser integration's tolerance: the smallest estimate (a row's error was
     /// measured at most ~15 times its own integration's tolerance, a hundredth of this).
     pub floor: f64,
+}
+
+/// Contact rows, each with its error estimate (NaN without an accuracy asked for).
+pub(crate) type Rows = Vec<(ContactState, f64)>;
+
+/// The integrations of the contact rows at the accuracy `tol` ([`row_integration_tol`])
+/// and of their estimates ([`ESTIMATE_FACTOR`] times looser).
+pub(crate) struct RowIntegration {
+    tol: f64,
+    rows: Integration,
+    loose: Integration,
+}
+
+impl RowIntegration {
+    fn new(tol: f64) -> Self {
+        RowIntegration {
+            tol,
+            rows: Integration::adaptive(row_integration_tol(tol)),
+            loose: Integration::adaptive(row_integration_tol(tol) * ESTIMATE_FACTOR),
+        }
+    }
+}
+
+/// The branch equations the rows are solved with and their estimator: `base` at the
+/// integration and corrector tolerances of the accuracy `at` ([`row_integration_tol`],
+/// [`row_solve_tol`]); `base` itself, without estimates, where no accuracy is asked for.
+pub(crate) fn row_branch<'a>(
+    base: &Branch<'a>,
+    at: Option<&'a RowIntegration>,
+) -> (Branch<'a>, Option<Estimator<'a>>) {
+    match at {
+        Some(at) => (
+            Branch {
+                integration: &at.rows,
+                tol: row_solve_tol(at.tol),
+                ..*base
+            },
+            Some(Estimator {
+                loose: Branch {
+                    integration: &at.loose,
+                    ..*base
+                },
+                floor: row_integration_tol(at.tol) * ESTIMATE_FACTOR,
+            }),
+        ),
+        None => (*base, None),
+    }
+}
+
+/// The contact rows with their estimates at the accuracy asked for, `accuracy` (module
+/// docs): `rows_at` solves them (its branch from [`row_branch`]) at `accuracy`, and once
+/// more at an accuracy [`TIGHTER`] times smaller where a row's estimate exceeds `accuracy`
+/// (or is NaN) and the tighter integration is tighter indeed; returned with the accuracy
+/// they were solved at.
+///
+/// # Errors
+/// `rows_at`'s; [`ContactError::BranchStalled`] (with the step `step`) where a row lies
+/// more than 1e-9 outside its phase: a phase switch between the traced nodes was missed.
+pub(crate) fn rows_within_accuracy(
+    accuracy: Option<f64>,
+    step: f64,
+    mut rows_at: impl FnMut(Option<&RowIntegration>) -> Result<Rows>,
+) -> Result<(Rows, Option<f64>)> {
+    let mut solve = |t: Option<f64>| rows_at(t.map(RowIntegration::new).as_ref());
+    let mut states = solve(accuracy)?;
+    let row_accuracy = accuracy.map(|tol| {
+        let tighter = tol / TIGHTER;
+        let missed = states.iter().any(|s| s.1 > tol || s.1.is_nan());
+        if missed && row_integration_tol(tighter) < row_integration_tol(tol) {
+            tighter
+        } else {
+            tol
+        }
+    });
+    if row_accuracy != accuracy {
+        states = solve(row_accuracy)?;
+    }
+    // never a row outside its phase (a switch missed between the traced nodes)
+    if let Some((s, _)) = states.iter().find(|(s, _)| phase_violation(s) > 1e-9) {
+        return Err(ContactError::BranchStalled {
+            phase: s.phase,
+            x0: s.x0,
+            xc: s.point.xc,
+            step,
+            reason: format!(
+                "a row violates its phase condition by {:.3e}: a phase switch between the traced nodes was missed",
+                phase_violation(s)
+            ),
+        });
+    }
+    Ok((states, row_accuracy))
+}
+
+/// The accuracy report of a sweep whose `points` end in the contact rows `rows` (with their
+/// estimates, solved at `row_accuracy`), where `accuracy` was asked for: the rows before
+/// contact carry the first contact row's estimate (module docs).
+///
+/// # Errors
+/// [`ContactError::AccuracyNotMet`] naming the worst row where an estimate exceeds `accuracy`.
+pub(crate) fn rows_accuracy(
+    points: &[SweepPoint],
+    rows: &[(ContactState, f64)],
+    accuracy: Option<f64>,
+    row_accuracy: Option<f64>,
+) -> Result<Option<SweepAccuracy>> {
+    accuracy
+        .zip(row_accuracy)
+        .map(|(tol, at)| {
+            let first_estimate = rows.first().map_or(f64::NAN, |s| s.1);
+            let mut estimates = vec![first_estimate; points.len() - rows.len()];
+            estimates.extend(rows.iter().map(|s| s.1));
+            check_accuracy(points, estimates, tol, row_integration_tol(at))
+        })
+        .transpose()
 }
 
 /// The error estimate of the row `node` (module docs) by `est`.

@@ -22,17 +22,17 @@
 //!
 //! Each segment's trace has the sweep's step budget.
 
-use crate::accuracy::{row_integration_tol, row_solve_tol, Estimator, ESTIMATE_FACTOR};
+use crate::accuracy::{row_branch, rows_accuracy, rows_within_accuracy, RowIntegration};
 use crate::branch::{Branch, Constraint, Node, Rescue};
-use crate::continuation::{trace_tightened, End, StepControl, Trace};
+use crate::continuation::{End, Trace};
 use crate::error::{ContactError, Result};
 use crate::first_contact::{first_node, free_tip_angle, FirstTouch};
 use crate::motion::{Frame, Poses};
 use crate::phase::{ContactState, Phase};
 use crate::profile::Profile;
 use crate::sweep::{
-    check_accuracy, crossed_unseen, hold_of, phase_violation, separation, SweepPoint,
-    SweepProgress, SweepResult, SweepSettings, TIGHTER,
+    hold_of, separation, trace_seeing_switches, SweepPoint, SweepProgress, SweepResult,
+    SweepSettings,
 };
 use crate::touch_scan::{scan_touch, with_compliance};
 use beam_model::equations::Sensitivities;
@@ -97,21 +97,8 @@ fn trace_path(
     let (mut i, mut start) = (i0, first);
     loop {
         let branch = segment_branch(base, path, i);
-        let mut ctl = StepControl::new(
-            settings.max_step,
-            settings.max_steps,
-            settings.event_tol,
-            settings.check_penetration,
-        );
-        let mut tr = trace_tightened(&branch, settings.integration_tol, start, &ctl)?;
-        for _ in 0..2 {
-            if !crossed_unseen(branch.profile, &tr.nodes) {
-                break;
-            }
-            ctl.initial /= 8.0;
-            ctl.max /= 8.0;
-            tr = trace_tightened(&branch, settings.integration_tol, start, &ctl)?;
-        }
+        // (a row outside its phase is reported with the sweep's largest step, not this one's)
+        let (tr, _) = trace_seeing_switches(&branch, start, settings)?;
         let corner = match tr.end {
             End::Corner(n) if i + 2 < path.poses.len() => Some(n),
             _ => None,
@@ -172,34 +159,14 @@ pub(crate) fn sweep_path(
     let grid: Vec<f64> = (1..points.saturating_sub(1))
         .map(|k| c_start - span * k as f64 / (points - 1) as f64)
         .collect();
-    let rows_at = |row_t: Option<f64>| -> Result<Vec<(ContactState, f64)>> {
+    // the contact rows and their estimates at the accuracy asked for (`crate::accuracy`),
+    // segment by segment
+    let rows_at = |at: Option<&RowIntegration>| -> Result<Vec<(ContactState, f64)>> {
         let mut out = Vec::with_capacity(points + traced.segments.len());
         let count = traced.segments.len();
         for (k, (i, tr)) in traced.segments.iter().enumerate() {
             let seg = segment_branch(&base, path, *i);
-            let ints = row_t.map(|t| {
-                (
-                    Integration::adaptive(row_integration_tol(t)),
-                    Integration::adaptive(row_integration_tol(t) * ESTIMATE_FACTOR),
-                )
-            });
-            let (row_branch, loose) = match (&ints, row_t) {
-                (Some((at, loose_at)), Some(t)) => (
-                    Branch {
-                        integration: at,
-                        tol: row_solve_tol(t),
-                        ..seg
-                    },
-                    Some(Estimator {
-                        loose: Branch {
-                            integration: loose_at,
-                            ..seg
-                        },
-                        floor: row_integration_tol(t) * ESTIMATE_FACTOR,
-                    }),
-                ),
-                _ => (seg, None),
-            };
+            let (row_branch, loose) = row_branch(&seg, at);
             let (from, to) = (tr.nodes[0].x0(), end_node(&tr.end).x0());
             let targets: Vec<f64> = grid
                 .iter()
@@ -221,52 +188,22 @@ pub(crate) fn sweep_path(
         }
         Ok(out)
     };
-    let mut states = rows_at(settings.accuracy)?;
-    progress(SweepProgress::Fine {
-        done: points,
-        total: points,
-    });
-    let row_accuracy = settings.accuracy.map(|tol| {
-        let tighter = tol / TIGHTER;
-        let missed = states.iter().any(|s| s.1 > tol || s.1.is_nan());
-        if missed && row_integration_tol(tighter) < row_integration_tol(tol) {
-            tighter
-        } else {
-            tol
-        }
-    });
-    if row_accuracy != settings.accuracy {
-        states = rows_at(row_accuracy)?;
-    }
-    if let Some((s, _)) = states.iter().find(|(s, _)| phase_violation(s) > 1e-9) {
-        return Err(ContactError::BranchStalled {
-            phase: s.phase,
-            x0: s.x0,
-            xc: s.point.xc,
-            step: settings.max_step,
-            reason: format!(
-                "a row violates its phase condition by {:.3e}: a phase switch between the traced nodes was missed",
-                phase_violation(s)
-            ),
-        });
-    }
+    let (states, row_accuracy) =
+        rows_within_accuracy(settings.accuracy, settings.max_step, |at| {
+            let states = rows_at(at)?;
+            progress(SweepProgress::Fine {
+                done: points,
+                total: points,
+            });
+            Ok(states)
+        })?;
     let mut points = pre_contact_rows(whisker, flow, (phi1, -touch.x0), path, settings)?;
-    let pre = points.len();
     points.extend(
         states
             .iter()
             .map(|(s, _)| path_row(SweepPoint::from_state(s, flow, Frame::Translate), path)),
     );
-    let accuracy = settings
-        .accuracy
-        .zip(row_accuracy)
-        .map(|(tol, at)| {
-            let first_estimate = states.first().map_or(f64::NAN, |s| s.1);
-            let mut estimates = vec![first_estimate; pre];
-            estimates.extend(states.iter().map(|s| s.1));
-            check_accuracy(&points, estimates, tol, row_integration_tol(at))
-        })
-        .transpose()?;
+    let accuracy = rows_accuracy(&points, &states, settings.accuracy, row_accuracy)?;
     let mut touch = touch;
     let pose = path.pose(-touch.x0);
     (touch.x0, touch.y0, touch.gamma) = (pose.x0, pose.y0, pose.gamma);

@@ -6,9 +6,9 @@
 //! then contact rows evenly spaced in x0 from the first contact to the separation, plus one
 //! row at each phase switch.
 
-use crate::accuracy::{row_integration_tol, row_solve_tol, SweepAccuracy, ESTIMATE_FACTOR};
+use crate::accuracy::{row_branch, rows_accuracy, rows_within_accuracy, SweepAccuracy};
 use crate::branch::{Branch, Node};
-use crate::continuation::{trace_tightened, End, StepControl};
+use crate::continuation::{trace_tightened, End, StepControl, Trace};
 use crate::error::{ContactError, Result};
 use crate::first_contact::first_node;
 pub use crate::first_contact::{FirstContact, FirstTouch};
@@ -330,24 +330,7 @@ pub(crate) fn frictionless(
     let first = first_node(&branch, &touch)?;
     // The branch from the first contact to the separation.
     progress(SweepProgress::Coarse { steps: 0 });
-    let mut ctl = StepControl::new(
-        settings.max_step,
-        settings.max_steps,
-        settings.event_tol,
-        settings.check_penetration,
-    );
-    let mut tr = trace_tightened(&branch, settings.integration_tol, first, &ctl)?;
-    // a phase condition that dips below zero and back between two traced nodes is a pair of
-    // switches the nodes did not see (met whisking a tip past a flat stretch): traced again
-    // with steps 8x shorter, at most twice
-    for _ in 0..2 {
-        if !crossed_unseen(profile, &tr.nodes) {
-            break;
-        }
-        ctl.initial /= 8.0;
-        ctl.max /= 8.0;
-        tr = trace_tightened(&branch, settings.integration_tol, first, &ctl)?;
-    }
+    let (tr, step) = trace_seeing_switches(&branch, first, settings)?;
     progress(SweepProgress::Coarse {
         steps: tr.nodes.len(),
     });
@@ -355,32 +338,9 @@ pub(crate) fn frictionless(
         profile.convex_at(n.u[2])?;
     }
     let (last, separation) = separation(tr.end);
-    // the contact rows and their estimates, with the integration at the tolerances of the
-    // accuracy `row_t` (the sweep's own without one)
-    let mut rows_at = |row_t: Option<f64>| {
-        let row_integration = row_t.map(|t| {
-            (
-                Integration::adaptive(row_integration_tol(t)),
-                Integration::adaptive(row_integration_tol(t) * ESTIMATE_FACTOR),
-            )
-        });
-        let (row_branch, loose) = match (&row_integration, row_t) {
-            (Some((rows_at, loose_at)), Some(t)) => (
-                Branch {
-                    integration: rows_at,
-                    tol: row_solve_tol(t),
-                    ..branch
-                },
-                Some(crate::accuracy::Estimator {
-                    loose: Branch {
-                        integration: loose_at,
-                        ..branch
-                    },
-                    floor: row_integration_tol(t) * ESTIMATE_FACTOR,
-                }),
-            ),
-            _ => (branch, None),
-        };
+    // the contact rows and their estimates at the accuracy asked for (`crate::accuracy`)
+    let (states, row_accuracy) = rows_within_accuracy(settings.accuracy, step, |at| {
+        let (row_branch, loose) = row_branch(&branch, at);
         crate::rows::rows(
             (&row_branch, loose.as_ref()),
             &tr.nodes,
@@ -389,57 +349,18 @@ pub(crate) fn frictionless(
             settings.points,
             &mut |done, total| progress(SweepProgress::Fine { done, total }),
         )
-    };
-    let mut states = rows_at(settings.accuracy)?;
-    // where a row's estimate exceeds the accuracy asked for: the rows once more with their
-    // integration (and their estimates') ten times tighter, where that is possible
-    let row_accuracy = settings.accuracy.map(|tol| {
-        let tighter = tol / TIGHTER;
-        let missed = states.iter().any(|s| s.1 > tol || s.1.is_nan());
-        if missed && row_integration_tol(tighter) < row_integration_tol(tol) {
-            tighter
-        } else {
-            tol
-        }
-    });
-    if row_accuracy != settings.accuracy {
-        states = rows_at(row_accuracy)?;
-    }
-    // never a row outside its phase (a switch missed between the traced nodes)
-    if let Some((s, _)) = states.iter().find(|(s, _)| phase_violation(s) > 1e-9) {
-        return Err(ContactError::BranchStalled {
-            phase: s.phase,
-            x0: s.x0,
-            xc: s.point.xc,
-            step: ctl.max,
-            reason: format!(
-                "a row violates its phase condition by {:.3e}: a phase switch between the traced nodes was missed",
-                phase_violation(s)
-            ),
-        });
-    }
+    })?;
     let mut points = pre_contact_rows(whisker, flow, phi1, first.x0(), settings)?;
     let mut touch = touch;
     if let Frame::Rotate { .. } = frame {
         touch.x0 = frame.pose(touch.x0).x0;
     }
-    let pre = points.len();
     points.extend(
         states
             .iter()
             .map(|(s, _)| SweepPoint::from_state(s, flow, frame)),
     );
-    let accuracy = settings
-        .accuracy
-        .zip(row_accuracy)
-        .map(|(tol, at)| {
-            // the rows before contact are the free whisker, the first contact row's shape
-            let first_estimate = states.first().map_or(f64::NAN, |s| s.1);
-            let mut estimates = vec![first_estimate; pre];
-            estimates.extend(states.iter().map(|s| s.1));
-            check_accuracy(&points, estimates, tol, row_integration_tol(at))
-        })
-        .transpose()?;
+    let accuracy = rows_accuracy(&points, &states, settings.accuracy, row_accuracy)?;
     Ok(SweepResult {
         q: flow.q,
         alpha: flow.alpha,
@@ -450,6 +371,36 @@ pub(crate) fn frictionless(
         accuracy,
         friction_events: Vec::new(),
     })
+}
+
+/// The branch traced from `start` with the sweep's steps ([`trace_tightened`]), traced again
+/// with steps 8x shorter, at most twice, where a phase condition dips below zero and back
+/// between two traced nodes ([`crossed_unseen`]): a pair of switches the nodes did not see
+/// (met whisking a tip past a flat stretch). With the largest step of the trace returned.
+///
+/// # Errors
+/// The trace's.
+pub(crate) fn trace_seeing_switches(
+    branch: &Branch,
+    start: Node,
+    settings: &SweepSettings,
+) -> Result<(Trace, f64)> {
+    let mut ctl = StepControl::new(
+        settings.max_step,
+        settings.max_steps,
+        settings.event_tol,
+        settings.check_penetration,
+    );
+    let mut tr = trace_tightened(branch, settings.integration_tol, start, &ctl)?;
+    for _ in 0..2 {
+        if !crossed_unseen(branch.profile, &tr.nodes) {
+            break;
+        }
+        ctl.initial /= 8.0;
+        ctl.max /= 8.0;
+        tr = trace_tightened(branch, settings.integration_tol, start, &ctl)?;
+    }
+    Ok((tr, ctl.max))
 }
 
 /// How far a contact state lies outside its phase: `psi - phi1` in tip contact (phase A

@@ -395,6 +395,7 @@ fn assemble(
 
 #[cfg(test)]
 mod tests {
+    use super::super::test_scenes::{against_accurate, moderate, slender_against_fdm_richardson};
     use crate::{solve, Loads, Method, Scene, TipForce, Whisker};
 
     fn colloc(tol: f64) -> Method {
@@ -408,27 +409,12 @@ mod tests {
     fn agrees_with_single_shooting_where_that_works() {
         let mut partial = Loads::tip(TipForce::dp(2.0, 0.3));
         partial.s1 = 0.7;
-        let scenes = [
-            Scene::new(Whisker::uniform(), Loads::tip(TipForce::dp(3.0, 0.0))),
-            Scene::new(
-                Whisker::new(0.2, 2.0, -1.0, 20.0),
-                Loads::combined(TipForce::dp(5.0, 0.5), 5.0, 0.0),
-            ),
-            Scene::new(
-                Whisker::new(0.5, 0.0, 0.0, 10.0),
-                Loads::tip(TipForce::ap(5.0, 0.0)),
-            ),
-            Scene::new(
-                Whisker::new(0.3, 0.0, 0.0, f64::INFINITY),
-                Loads::fluid(20.0, 0.0),
-            ),
-            Scene::new(Whisker::new(0.4, 1.0, 0.5, 30.0), partial),
-        ];
+        let mut scenes = moderate();
+        scenes.push(Scene::new(Whisker::new(0.4, 1.0, 0.5, 30.0), partial));
         for tol in [1e-6, 1e-9] {
             for (i, scene) in scenes.iter().enumerate() {
-                let c = solve(scene, &colloc(tol)).unwrap_or_else(|e| panic!("scene {i}: {e}"));
-                let acc = solve(scene, &Method::accurate()).unwrap();
-                let d = c.difference(&acc);
+                let (c, acc, d) = against_accurate(scene, &colloc(tol))
+                    .unwrap_or_else(|e| panic!("scene {i}: {e}"));
                 println!(
                     "tol {tol:e} scene {i}: error {d:.1e}, estimate {:.1e}, {} evaluations, {} steps",
                     c.stats.error_estimate, c.stats.evaluations, c.stats.continuation_steps
@@ -449,13 +435,7 @@ mod tests {
     /// Richardson levels on 3200..12800 intervals (an independent discretisation).
     #[test]
     fn slender_scene_under_a_tip_force_needs_no_start() {
-        let scene = Scene::new(
-            Whisker::new(0.01, 0.0, 0.0, f64::INFINITY),
-            Loads::tip(TipForce::dp(5.0, 0.0)),
-        );
-        let c = solve(&scene, &colloc(1e-8)).unwrap();
-        let r = solve(&scene, &Method::FdmRichardson { n: 3200 }).unwrap();
-        let d = c.difference(&r);
+        let (c, r, d) = slender_against_fdm_richardson(&colloc(1e-8));
         println!(
             "theta 0.01 f 5: estimate {:.1e}, difference from fdm-richardson {d:.1e} (its estimate {:.1e}), {} evaluations, {} steps",
             c.stats.error_estimate, r.stats.error_estimate, c.stats.evaluations, c.stats.continuation_steps

@@ -311,36 +311,18 @@ pub(super) fn assemble_dense(
 
 #[cfg(test)]
 mod tests {
-    use crate::{solve, Loads, Method, Scene, TipForce, Whisker};
+    use super::super::test_scenes::{against_accurate, moderate, slender_against_fdm_richardson};
+    use crate::Method;
 
     /// On moderate whiskers (theta 0.2..1, DP and AP forces, flows, spring and rigid bases,
     /// pre-curvature) the method agrees with `accurate` (single shooting, independent) to
     /// their tolerances, and its estimate is below its tolerance.
     #[test]
     fn agrees_with_single_shooting_where_that_works() {
-        let scenes = [
-            Scene::new(Whisker::uniform(), Loads::tip(TipForce::dp(3.0, 0.0))),
-            Scene::new(
-                Whisker::new(0.2, 2.0, -1.0, 20.0),
-                Loads::combined(TipForce::dp(5.0, 0.5), 5.0, 0.0),
-            ),
-            Scene::new(
-                Whisker::new(0.5, 0.0, 0.0, 10.0),
-                Loads::tip(TipForce::ap(5.0, 0.0)),
-            ),
-            Scene::new(
-                Whisker::new(0.3, 0.0, 0.0, f64::INFINITY),
-                Loads::fluid(20.0, 0.0),
-            ),
-        ];
-        for (i, scene) in scenes.iter().enumerate() {
-            let ms = solve(
-                scene,
-                &Method::from_name("multiple-shooting", None).unwrap(),
-            )
-            .unwrap_or_else(|e| panic!("scene {i}: {e}"));
-            let acc = solve(scene, &Method::accurate()).unwrap();
-            let d = ms.difference(&acc);
+        let ms_method = Method::from_name("multiple-shooting", None).unwrap();
+        for (i, scene) in moderate().iter().enumerate() {
+            let (ms, acc, d) =
+                against_accurate(scene, &ms_method).unwrap_or_else(|e| panic!("scene {i}: {e}"));
             assert!(
                 d <= ms.stats.tolerance + acc.stats.tolerance,
                 "scene {i}: differs by {d:e}"
@@ -360,17 +342,8 @@ mod tests {
     /// (an independent discretisation).
     #[test]
     fn a_slender_scene_under_a_tip_force_is_answered() {
-        let scene = Scene::new(
-            Whisker::new(0.01, 0.0, 0.0, f64::INFINITY),
-            Loads::tip(TipForce::dp(5.0, 0.0)),
-        );
-        let ms = solve(
-            &scene,
-            &Method::from_name("multiple-shooting", None).unwrap(),
-        )
-        .unwrap();
-        let r = solve(&scene, &Method::FdmRichardson { n: 3200 }).unwrap();
-        let d = ms.difference(&r);
+        let (ms, r, d) =
+            slender_against_fdm_richardson(&Method::from_name("multiple-shooting", None).unwrap());
         println!(
             "theta 0.01 f 5: estimate {:.1e}, difference from fdm-richardson {d:.1e} (its estimate {:.1e}), {} evaluations",
             ms.stats.error_estimate, r.stats.error_estimate, ms.stats.evaluations

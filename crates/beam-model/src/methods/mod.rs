@@ -19,6 +19,8 @@ pub(crate) mod linear_rung;
 pub(crate) mod load_path;
 pub(crate) mod picard;
 pub(crate) mod shooting;
+#[cfg(test)]
+mod test_scenes;
 
 use crate::error::{ModelError, Result};
 use crate::scene::Scene;

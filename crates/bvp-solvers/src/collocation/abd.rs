@@ -83,6 +83,27 @@ impl AbdMatrix {
         v.iter().map(|b| b.capacity()).sum::<usize>() * std::mem::size_of::<f64>()
     }
 
+    /// The smallest pivot the eliminations accept: `1e-14` of the matrix's largest entry;
+    /// [`BvpError::NonFinite`] where an entry is not finite.
+    pub(super) fn pivot_floor(&self) -> Result<f64, BvpError> {
+        let scale = self
+            .a
+            .iter()
+            .chain(&self.c)
+            .chain(&self.p)
+            .chain(&self.ba)
+            .chain(&self.bb)
+            .chain(&self.bp)
+            .fold(0.0f64, |s, v| s.max(v.abs()));
+        if !scale.is_finite() {
+            return Err(BvpError::NonFinite {
+                what: "collocation Jacobian",
+                s: f64::NAN,
+            });
+        }
+        Ok(1e-14 * scale)
+    }
+
     /// The product `J x` (for tests and residual checks); `x` ordered `[y_0, ..., y_{m-1}, p]`.
     pub fn mul(&self, x: &[f64]) -> Vec<f64> {
         let (n, k, m) = (self.n, self.k, self.m);
@@ -113,6 +134,37 @@ impl AbdMatrix {
         }
         out
     }
+}
+
+/// One step of partial pivoting on the rows `s..rows` of the row-major block `a` of width
+/// `w`: the row of the largest `|a[r][col]|` (the first of equals) swapped into row `s`, its
+/// index returned. [`BvpError::SingularJacobian`] (at the Jacobian's row `row`) where that
+/// pivot is NaN or at most `tiny`. Shared by the bordered elimination here and the
+/// separated one ([`super::separated`]).
+pub(super) fn pivot(
+    a: &mut [f64],
+    w: usize,
+    (s, col, rows): (usize, usize, usize),
+    tiny: f64,
+    row: usize,
+) -> Result<usize, BvpError> {
+    let mut best = s;
+    let mut bv = a[s * w + col].abs();
+    for r in s + 1..rows {
+        let v = a[r * w + col].abs();
+        if v > bv {
+            bv = v;
+            best = r;
+        }
+    }
+    if bv.is_nan() || bv <= tiny {
+        return Err(BvpError::SingularJacobian { row, pivot: bv });
+    }
+    if best != s {
+        let (top, bottom) = a.split_at_mut(best * w);
+        top[s * w..(s + 1) * w].swap_with_slice(&mut bottom[..w]);
+    }
+    Ok(best)
 }
 
 /// The factors of an [`AbdMatrix`]: per interval the row swaps, multipliers and pivot rows,
@@ -151,22 +203,7 @@ impl AbdLu {
     pub fn factor_into(&mut self, mat: &AbdMatrix) -> Result<(), BvpError> {
         let (n, k, m) = (mat.n, mat.k, mat.m);
         let w = 3 * n + k;
-        let scale = mat
-            .a
-            .iter()
-            .chain(&mat.c)
-            .chain(&mat.p)
-            .chain(&mat.ba)
-            .chain(&mat.bb)
-            .chain(&mat.bp)
-            .fold(0.0f64, |s, v| s.max(v.abs()));
-        if !scale.is_finite() {
-            return Err(BvpError::NonFinite {
-                what: "collocation Jacobian",
-                s: f64::NAN,
-            });
-        }
-        let tiny = 1e-14 * scale;
+        let tiny = mat.pivot_floor()?;
         let nint = m - 1;
         let nel = nint.saturating_sub(1);
         let nf = 2 * n + k;
@@ -178,8 +215,8 @@ impl AbdLu {
         lu.piv.resize(nel * n * w, 0.0);
         lu.fin.resize(nf * nf, 0.0);
         lu.fin_perm.resize(nf, 0);
-        let mut work = std::mem::take(&mut lu.work);
-        work.resize(2 * n * w, 0.0);
+        lu.work.resize(2 * n * w, 0.0);
+        let work = &mut lu.work;
         // carry: n rows of width w, columns y_0 | y_cur | (unused) | p
         for r in 0..n {
             let row = &mut work[r * w..(r + 1) * w];
@@ -200,28 +237,7 @@ impl AbdLu {
             }
             for s in 0..n {
                 let col = n + s;
-                let mut best = s;
-                let mut bv = work[s * w + col].abs();
-                for r in s + 1..2 * n {
-                    let v = work[r * w + col].abs();
-                    if v > bv {
-                        bv = v;
-                        best = r;
-                    }
-                }
-                if bv.is_nan() || bv <= tiny {
-                    lu.work = work;
-                    return Err(BvpError::SingularJacobian {
-                        row: j * n + s,
-                        pivot: bv,
-                    });
-                }
-                lu.swaps[e * n + s] = best;
-                if best != s {
-                    for c in 0..w {
-                        work.swap(s * w + c, best * w + c);
-                    }
-                }
+                lu.swaps[e * n + s] = pivot(work, w, (s, col, 2 * n), tiny, j * n + s)?;
                 let d = work[s * w + col];
                 let (top, bottom) = work.split_at_mut((s + 1) * w);
                 let prow = &top[s * w..];
@@ -273,28 +289,8 @@ impl AbdLu {
             *v = i;
         }
         for s in 0..nf {
-            let mut best = s;
-            let mut bv = fin[s * nf + s].abs();
-            for r in s + 1..nf {
-                let v = fin[r * nf + s].abs();
-                if v > bv {
-                    bv = v;
-                    best = r;
-                }
-            }
-            if bv.is_nan() || bv <= tiny {
-                lu.work = work;
-                return Err(BvpError::SingularJacobian {
-                    row: (m - 1) * n + s,
-                    pivot: bv,
-                });
-            }
-            if best != s {
-                for c in 0..nf {
-                    fin.swap(s * nf + c, best * nf + c);
-                }
-                perm.swap(s, best);
-            }
+            let best = pivot(fin, nf, (s, s, nf), tiny, (m - 1) * n + s)?;
+            perm.swap(s, best);
             let d = fin[s * nf + s];
             for r in s + 1..nf {
                 let l = fin[r * nf + s] / d;
@@ -306,7 +302,6 @@ impl AbdLu {
                 }
             }
         }
-        lu.work = work;
         Ok(())
     }
 

@@ -27,7 +27,7 @@
 // Index arithmetic on flat row-major blocks (`a[r * n + c]`) reads as the equations do.
 #![allow(clippy::needless_range_loop)]
 
-use super::abd::AbdMatrix;
+use super::abd::{pivot, AbdMatrix};
 use crate::BvpError;
 
 /// The factors of an [`AbdMatrix`] with separated boundary rows (module doc).
@@ -88,22 +88,7 @@ impl SeparatedLu {
         }
         let na = self.a_rows.len();
         let w = 2 * n + k;
-        let scale = mat
-            .a
-            .iter()
-            .chain(&mat.c)
-            .chain(&mat.p)
-            .chain(&mat.ba)
-            .chain(&mat.bb)
-            .chain(&mat.bp)
-            .fold(0.0f64, |s, v| s.max(v.abs()));
-        if !scale.is_finite() {
-            return Err(BvpError::NonFinite {
-                what: "collocation Jacobian",
-                s: f64::NAN,
-            });
-        }
-        let tiny = 1e-14 * scale;
+        let tiny = mat.pivot_floor()?;
         let nst = m - 1;
         let nr = na + n;
         let nf = n + k;
@@ -132,26 +117,7 @@ impl SeparatedLu {
                 row[2 * n..].copy_from_slice(&mat.p[(j * n + r) * k..(j * n + r + 1) * k]);
             }
             for s in 0..n {
-                let mut best = s;
-                let mut bv = work[s * w + s].abs();
-                for r in s + 1..nr {
-                    let v = work[r * w + s].abs();
-                    if v > bv {
-                        bv = v;
-                        best = r;
-                    }
-                }
-                if bv.is_nan() || bv <= tiny {
-                    return Err(BvpError::SingularJacobian {
-                        row: j * n + s,
-                        pivot: bv,
-                    });
-                }
-                self.swaps[j * n + s] = best;
-                if best != s {
-                    let (top, bottom) = work.split_at_mut(best * w);
-                    top[s * w..(s + 1) * w].swap_with_slice(&mut bottom[..w]);
-                }
+                self.swaps[j * n + s] = pivot(work, w, (s, s, nr), tiny, j * n + s)?;
                 let inv = 1.0 / work[s * w + s];
                 let (top, bottom) = work.split_at_mut((s + 1) * w);
                 let prow = &top[s * w + s..(s + 1) * w];
@@ -194,26 +160,8 @@ impl SeparatedLu {
             *v = i;
         }
         for s in 0..nf {
-            let mut best = s;
-            let mut bv = fin[s * nf + s].abs();
-            for r in s + 1..nf {
-                let v = fin[r * nf + s].abs();
-                if v > bv {
-                    bv = v;
-                    best = r;
-                }
-            }
-            if bv.is_nan() || bv <= tiny {
-                return Err(BvpError::SingularJacobian {
-                    row: (m - 1) * n + s,
-                    pivot: bv,
-                });
-            }
-            if best != s {
-                let (top, bottom) = fin.split_at_mut(best * nf);
-                top[s * nf..(s + 1) * nf].swap_with_slice(&mut bottom[..nf]);
-                perm.swap(s, best);
-            }
+            let best = pivot(fin, nf, (s, s, nf), tiny, (m - 1) * n + s)?;
+            perm.swap(s, best);
             let inv = 1.0 / fin[s * nf + s];
             let (top, bottom) = fin.split_at_mut((s + 1) * nf);
             let prow = &top[s * nf + s + 1..(s + 1) * nf];

@@ -20,9 +20,7 @@
 //! `cargo test -p contact-sim --release --test it -- battery:: --ignored --nocapture` runs the
 //! full battery and prints its figures; the default run takes a smaller seeded subset.
 
-use beam_model::equations::{Sensitivities, WhiskerOde};
 use beam_model::{solve, FluidLoad, Loads, Method, Scene, Whisker};
-use bvp_solvers::integrator::Rk4;
 use contact_sim::phase::contact_loads;
 use contact_sim::{sweep, FirstContact, Phase, Profile, Separation, SweepResult, SweepSettings};
 
@@ -146,36 +144,9 @@ struct Figures {
 /// `(phi0, m(0) = -MA, x0, 0)` by classical RK4 on 4000 steps (a different integrator, in the
 /// other direction than the sweep's shots): `(s, phi, m, x, y)` samples to `s = 1`.
 fn from_base(s: &SceneSpec, p: &contact_sim::SweepPoint) -> Vec<[f64; 5]> {
-    let loads = contact_loads(s.flow, p.psi, p.f, p.s1);
-    let ode = WhiskerOde::new(s.whisker, loads, p.phi1, Sensitivities::None);
     // finer for slender tips, whose boundary layer the check must resolve too
     let n = if s.whisker.theta < 0.1 { 20_000 } else { 4000 };
-    let k1 = ((n as f64) * p.s1).round().max(1.0) as usize;
-    let traj = Rk4 { steps: k1 }
-        .integrate(&ode, 0.0, p.s1, &[p.phi0, -p.ma, p.x0, 0.0])
-        .unwrap();
-    let mut out: Vec<[f64; 5]> = (0..traj.len())
-        .map(|i| {
-            let u = traj.state(i);
-            [traj.s[i], u[0], u[1], u[2], u[3]]
-        })
-        .collect();
-    // the unloaded rest (s1, 1]: kappa = kappa0, m = 0
-    let last = *out.last().unwrap();
-    let rest = n - k1;
-    let (mut phi, mut x, mut y) = (last[1], last[3], last[4]);
-    let h = (1.0 - p.s1) / rest.max(1) as f64;
-    let w = &s.whisker;
-    for j in 0..rest {
-        let s0 = p.s1 + j as f64 * h;
-        // exact rotation of the pre-curvature over the step, midpoint position
-        let dphi = w.a * (s0 + 0.5 * h) * h + w.b * h;
-        x += h * (phi + 0.5 * dphi).cos();
-        y += h * (phi + 0.5 * dphi).sin();
-        phi += dphi;
-        out.push([s0 + h, phi, 0.0, x, y]);
-    }
-    out
+    crate::whisking::from_base(&s.whisker, s.flow, p, 0.0, n)
 }
 
 /// Checks every contact row of `r` independently of the sweep's solver.

@@ -5,6 +5,8 @@
 
 #[path = "../common/random_scene.rs"]
 mod random_scene;
+#[path = "../common/whisking.rs"]
+mod whisking;
 
 mod accuracy;
 mod battery;

@@ -16,18 +16,16 @@
 //! `cargo test -p contact-sim --test it -- path:: --ignored --nocapture` runs the full seeded
 //! battery and prints its figures; the default run takes a small subset.
 
-use beam_model::equations::{Sensitivities, WhiskerOde};
 use beam_model::{FluidLoad, Whisker};
-use bvp_solvers::integrator::Rk4;
-use contact_sim::phase::contact_loads;
 use contact_sim::{
     sweep, BaseMotion, ContactError, ContactLaw, Phase, Pose, Poses, Profile, Separation,
     SweepPoint, SweepResult, SweepSettings,
 };
 use std::f64::consts::FRAC_PI_2;
 
-// the battery's scene, generator state and worst-case slot, shared with the whisking battery
-use crate::whisk::{worse, Rng, Scene};
+// the battery's scene, generator, first draws, obstacle, worst-case slot and RK4 checker,
+// shared with the whisking battery
+use crate::whisking::{from_base, obstacle, worse, Rng, Scene, Start};
 
 fn pose(x0: f64, y0: f64, gamma: f64) -> Pose {
     Pose { x0, y0, gamma }
@@ -295,26 +293,8 @@ fn wpath_a_path_ending_in_contact_ends_the_sweep_there() {
 /// stiffening and softening), and an obstacle (peg 40 %, disc 40 %, parabola 20 %) placed
 /// ahead of the start as in the whisking battery.
 fn random_scene(rng: &mut Rng, i: usize) -> Scene {
-    let theta = rng.range(0.3, 1.0);
-    let a = rng.range(-1.0, 1.0);
-    let b = rng.range(-0.6, 0.6);
-    let k = if rng.next() < 0.4 {
-        f64::INFINITY
-    } else {
-        rng.range(5.0, 60.0)
-    };
-    let whisker = Whisker::new(theta, a, b, k);
-    let q = if rng.next() < 0.3 {
-        0.0
-    } else {
-        rng.range(0.0, 3.0)
-    };
-    let flow = FluidLoad {
-        q,
-        alpha: rng.range(-45.0, 45.0).to_radians(),
-    };
-    let (bx, by) = (rng.range(-0.3, 0.3), rng.range(-0.3, 0.3));
-    let gamma0 = rng.range(-0.6, 0.3);
+    let st = Start::draw(rng);
+    let (bx, by, gamma0) = (st.bx, st.by, st.gamma0);
     let rows = 2 + (rng.next() * 5.0) as usize;
     let mut poses = vec![pose(bx, by, gamma0)];
     for _ in 1..rows {
@@ -338,24 +318,8 @@ fn random_scene(rng: &mut Rng, i: usize) -> Scene {
     });
     let d = rng.range(0.35, 0.85);
     let ang = gamma0 + rng.range(0.25, 0.9);
-    let (px, py) = (bx - d * ang.sin(), by + d * ang.cos());
     let kind = rng.next();
-    let profile = if kind < 0.4 {
-        Profile::Peg { x: px, y: py }
-    } else if kind < 0.8 {
-        let r = rng.range(0.03, 0.3);
-        Profile::Disc {
-            x: px - r * ang.sin(),
-            y: py + r * ang.cos(),
-            r,
-        }
-    } else {
-        Profile::Parabola {
-            a: rng.range(0.5, 3.0),
-            xv: px,
-            yv: by + d.max(0.6) + 0.15,
-        }
-    };
+    let profile = obstacle(rng, kind, (bx, by), d, ang);
     let settings = SweepSettings {
         points: 20,
         motion: BaseMotion::Path(Poses::new(poses, ks.clone()).unwrap()),
@@ -363,13 +327,13 @@ fn random_scene(rng: &mut Rng, i: usize) -> Scene {
     };
     Scene {
         name: format!(
-            "#{i} path of {rows} from ({bx:.3}, {by:.3}, {gamma0:.3}) k {} past {} theta={theta:.3} A={a:.3} B={b:.3} k={k:.3} q={q:.3} alpha={:.1}deg",
+            "#{i} path of {rows} from ({bx:.3}, {by:.3}, {gamma0:.3}) k {} past {} {}",
             if ks.is_some() { "along" } else { "fixed" },
             profile.name(),
-            flow.alpha.to_degrees()
+            st.describe()
         ),
-        whisker,
-        flow,
+        whisker: st.whisker,
+        flow: st.flow,
         profile,
         settings,
     }
@@ -415,39 +379,6 @@ fn param_of(path: &Poses, p: &SweepPoint) -> (f64, f64) {
         }
     }
     best
-}
-
-/// The whisker integrated from the base with the row's pose and observables as initial
-/// values `(phi0, m(0) = -MA, x0, y0)` by RK4 on 4000 steps to `s1`, then the unloaded rest:
-/// `(s, phi, m, x, y)` samples (the checker of tests/whisk.rs).
-fn from_base(s: &Scene, p: &SweepPoint) -> Vec<[f64; 5]> {
-    let loads = contact_loads(s.flow, p.psi, p.f, p.s1);
-    let ode = WhiskerOde::new(s.whisker, loads, p.phi1, Sensitivities::None);
-    let n = 4000;
-    let k1 = ((n as f64) * p.s1).round().max(1.0) as usize;
-    let traj = Rk4 { steps: k1 }
-        .integrate(&ode, 0.0, p.s1, &[p.phi0, -p.ma, p.x0, p.y0])
-        .unwrap();
-    let mut out: Vec<[f64; 5]> = (0..traj.len())
-        .map(|i| {
-            let u = traj.state(i);
-            [traj.s[i], u[0], u[1], u[2], u[3]]
-        })
-        .collect();
-    let last = *out.last().unwrap();
-    let rest = n - k1;
-    let (mut phi, mut x, mut y) = (last[1], last[3], last[4]);
-    let h = (1.0 - p.s1) / rest.max(1) as f64;
-    let w = &s.whisker;
-    for j in 0..rest {
-        let s0 = p.s1 + j as f64 * h;
-        let dphi = w.a * (s0 + 0.5 * h) * h + w.b * h;
-        x += h * (phi + 0.5 * dphi).cos();
-        y += h * (phi + 0.5 * dphi).sin();
-        phi += dphi;
-        out.push([s0 + h, phi, 0.0, x, y]);
-    }
-    out
 }
 
 /// Checks every row of `r` independently of the sweep's solver: on the path and advancing
@@ -497,7 +428,7 @@ fn check_rows(s: &Scene, r: &SweepResult, fig: &mut Figures) -> Result<(), Strin
         if (ax - p.ax).abs() > 1e-12 * (1.0 + p.f) || (ay - p.ay).abs() > 1e-12 * (1.0 + p.f) {
             return Err(format!("{}: Ax, Ay do not balance the loads", at()));
         }
-        let tr = from_base(s, p);
+        let tr = from_base(&s.whisker, s.flow, p, p.y0, 4000);
         let k1 = tr.iter().position(|v| v[0] >= p.s1 - 1e-15).unwrap();
         let e = tr[k1];
         let scale = 1f64.max(p.f).max(p.ma.abs());

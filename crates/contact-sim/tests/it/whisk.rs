@@ -17,15 +17,15 @@
 //! `cargo test -p contact-sim --release --test it -- whisk:: --ignored --nocapture` runs the full
 //! seeded battery and prints its figures; the default run takes a small subset.
 
-use beam_model::equations::{Sensitivities, WhiskerOde};
 use beam_model::{FluidLoad, Whisker};
-use bvp_solvers::integrator::Rk4;
-use contact_sim::phase::contact_loads;
 use contact_sim::{
-    sweep, BaseMotion, FirstContact, Phase, Profile, Separation, SweepPoint, SweepResult,
-    SweepSettings,
+    sweep, BaseMotion, FirstContact, Phase, Profile, Separation, SweepResult, SweepSettings,
 };
 use std::f64::consts::FRAC_PI_2;
+
+// the battery's scenes, generator and RK4 checker, shared with the path battery and
+// profile-recon's whisk_recon
+use crate::whisking::{from_base, random_whisking_scene, worse, Rng, Scene};
 
 fn rotate(x0: f64, y0: f64, gamma0: f64, points: usize) -> SweepSettings {
     SweepSettings {
@@ -182,111 +182,6 @@ fn friction_with_whisking_or_pegs_is_refused_by_name() {
     }
 }
 
-/// A scene of the battery.
-#[derive(Debug)]
-pub(crate) struct Scene {
-    pub(crate) name: String,
-    pub(crate) whisker: Whisker,
-    pub(crate) flow: FluidLoad,
-    pub(crate) profile: Profile,
-    pub(crate) settings: SweepSettings,
-}
-
-/// SplitMix64, seeded.
-pub(crate) struct Rng(pub(crate) u64);
-
-impl Rng {
-    pub(crate) fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-    pub(crate) fn range(&mut self, a: f64, b: f64) -> f64 {
-        a + (b - a) * self.next()
-    }
-}
-
-/// A random scene: a whisker (theta 0.3..1, pre-curvature of both signs, rigid or a spring),
-/// a flow (q 0..3 at -45..45 degrees), an obstacle (peg, disc, or a graph) placed where the
-/// turning whisker meets it, and a rotation from a start angle in -0.6..0.3 rad about a base
-/// anywhere near the origin; one in four scenes translates past a peg or a disc instead.
-fn random_scene(rng: &mut Rng, i: usize) -> Scene {
-    let theta = rng.range(0.3, 1.0);
-    let a = rng.range(-1.0, 1.0);
-    let b = rng.range(-0.6, 0.6);
-    let k = if rng.next() < 0.4 {
-        f64::INFINITY
-    } else {
-        rng.range(5.0, 60.0)
-    };
-    let whisker = Whisker::new(theta, a, b, k);
-    let q = if rng.next() < 0.3 {
-        0.0
-    } else {
-        rng.range(0.0, 3.0)
-    };
-    let flow = FluidLoad {
-        q,
-        alpha: rng.range(-45.0, 45.0).to_radians(),
-    };
-    let (bx, by) = (rng.range(-0.3, 0.3), rng.range(-0.3, 0.3));
-    let gamma0 = rng.range(-0.6, 0.3);
-    // the obstacle at distance d from the base, an angle ahead of the start
-    let d = rng.range(0.35, 0.85);
-    let ang = gamma0 + rng.range(0.25, 0.9);
-    let (px, py) = (bx - d * ang.sin(), by + d * ang.cos());
-    let kind = rng.next();
-    let translate = rng.next() < 0.25;
-    let profile = if kind < 0.4 {
-        Profile::Peg { x: px, y: py }
-    } else if kind < 0.8 {
-        let r = rng.range(0.03, 0.3);
-        // the disc's near side at the drawn point
-        Profile::Disc {
-            x: px - r * ang.sin(),
-            y: py + r * ang.cos(),
-            r,
-        }
-    } else {
-        // a parabola above the base, its vertex over the drawn point
-        Profile::Parabola {
-            a: rng.range(0.5, 3.0),
-            xv: px,
-            yv: by + d.max(0.6) + 0.15,
-        }
-    };
-    let (motion, label) = if translate && profile.is_closed() {
-        (BaseMotion::Translate, "translate")
-    } else {
-        (
-            BaseMotion::Rotate {
-                x0: bx,
-                y0: by,
-                gamma0,
-            },
-            "rotate",
-        )
-    };
-    let settings = SweepSettings {
-        points: 20,
-        motion,
-        ..SweepSettings::default()
-    };
-    Scene {
-        name: format!(
-            "#{i} {label} from ({bx:.3}, {by:.3}, {gamma0:.3}) past {} theta={theta:.3} A={a:.3} B={b:.3} k={k:.3} q={q:.3} alpha={:.1}deg",
-            profile.name(),
-            flow.alpha.to_degrees()
-        ),
-        whisker,
-        flow,
-        profile,
-        settings,
-    }
-}
-
 /// Worst deviations of a battery.
 #[derive(Debug, Default)]
 struct Figures {
@@ -301,45 +196,6 @@ struct Figures {
     base_law: (f64, String),
     /// The deepest point of the rest of the whisker inside the obstacle.
     penetration: (f64, String),
-}
-
-pub(crate) fn worse(slot: &mut (f64, String), v: f64, at: impl Fn() -> String) {
-    if v > slot.0 {
-        *slot = (v, at());
-    }
-}
-
-/// The whisker integrated from the base with the row's pose and observables as initial
-/// values `(phi0, m(0) = -MA, x0, y0)` by RK4 on 4000 steps to `s1`, then the unloaded rest:
-/// `(s, phi, m, x, y)` samples.
-fn from_base(s: &Scene, p: &SweepPoint) -> Vec<[f64; 5]> {
-    let loads = contact_loads(s.flow, p.psi, p.f, p.s1);
-    let ode = WhiskerOde::new(s.whisker, loads, p.phi1, Sensitivities::None);
-    let n = 4000;
-    let k1 = ((n as f64) * p.s1).round().max(1.0) as usize;
-    let traj = Rk4 { steps: k1 }
-        .integrate(&ode, 0.0, p.s1, &[p.phi0, -p.ma, p.x0, p.y0])
-        .unwrap();
-    let mut out: Vec<[f64; 5]> = (0..traj.len())
-        .map(|i| {
-            let u = traj.state(i);
-            [traj.s[i], u[0], u[1], u[2], u[3]]
-        })
-        .collect();
-    let last = *out.last().unwrap();
-    let rest = n - k1;
-    let (mut phi, mut x, mut y) = (last[1], last[3], last[4]);
-    let h = (1.0 - p.s1) / rest.max(1) as f64;
-    let w = &s.whisker;
-    for j in 0..rest {
-        let s0 = p.s1 + j as f64 * h;
-        let dphi = w.a * (s0 + 0.5 * h) * h + w.b * h;
-        x += h * (phi + 0.5 * dphi).cos();
-        y += h * (phi + 0.5 * dphi).sin();
-        phi += dphi;
-        out.push([s0 + h, phi, 0.0, x, y]);
-    }
-    out
 }
 
 /// Checks every row of `r` independently of the sweep's solver.
@@ -381,7 +237,7 @@ fn check_rows(s: &Scene, r: &SweepResult, fig: &mut Figures) -> Result<(), Strin
         if (ax - p.ax).abs() > 1e-12 * (1.0 + p.f) || (ay - p.ay).abs() > 1e-12 * (1.0 + p.f) {
             return Err(format!("{}: Ax, Ay do not balance the loads", at()));
         }
-        let tr = from_base(s, p);
+        let tr = from_base(&s.whisker, s.flow, p, p.y0, 4000);
         let k1 = tr.iter().position(|v| v[0] >= p.s1 - 1e-15).unwrap();
         let e = tr[k1];
         let scale = 1f64.max(p.f).max(p.ma.abs());
@@ -422,7 +278,7 @@ fn run_battery(count: usize, seed: u64, max_refused: usize) {
     let (mut swept, mut refused) = (0, Vec::new());
     let mut separations = std::collections::BTreeMap::new();
     for i in 0..count {
-        let s = random_scene(&mut rng, i);
+        let s = random_whisking_scene(&mut rng, i);
         // VIBRISSA_WHISK_SCENE=i: that scene alone, its rows printed
         let only = std::env::var("VIBRISSA_WHISK_SCENE").ok();
         if only.as_ref().is_some_and(|o| *o != i.to_string()) {

@@ -15,3 +15,5 @@ mod stream;
 mod thesis;
 mod whisk_calib;
 mod whisk_recon;
+#[path = "../../../contact-sim/tests/common/whisking.rs"]
+mod whisking;

@@ -1,12 +1,13 @@
-//! Helpers shared by the workflow tests (`points_files`, `folders`, `figures`,
-//! `physical`; `reconstruct` takes its CSV parser): running the binary, reading its CSV
-//! and JSON outputs, and the sweep -> `reconstruct DIR` round trip. Each test file uses a
-//! part of them.
+//! Helpers shared by the CLI's integration tests: running the binary (with its words
+//! written as one command line, with a stdin), the one-line failure every refusal must be,
+//! reading its CSV and JSON outputs, and the sweep -> `reconstruct DIR` round trip. Each
+//! test file uses a part of them.
 #![allow(dead_code)]
 
 use std::fs;
+use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::{Command, Output, Stdio};
 
 use vibrissa_cli::units::UnitSystem;
 
@@ -16,6 +17,60 @@ pub fn run(args: &[&str], cwd: &Path) -> Output {
         .current_dir(cwd)
         .output()
         .expect("the binary runs")
+}
+
+/// The arguments of a command line as a test writes it: `line` split on white space (no
+/// argument of such a line holds a space).
+pub fn words(line: &str) -> Vec<&str> {
+    line.split_whitespace().collect()
+}
+
+/// Runs the binary with `args` in `cwd`, `input` written to its stdin.
+pub fn run_stdin(args: &[&str], cwd: &Path, input: &str) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_vibrissa"))
+        .args(args)
+        .current_dir(cwd)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the binary runs");
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(input.as_bytes())
+        .unwrap();
+    child.wait_with_output().unwrap()
+}
+
+/// Asserts that the run succeeded, showing its stderr otherwise.
+pub fn assert_ok(o: &Output) {
+    assert!(o.status.success(), "stderr: {}", stderr(o));
+}
+
+/// The stderr of a refused run, asserted to be one line that mentions every needle, with no
+/// panic. (The callers check the exit code and what must not be left behind.)
+pub fn one_line_error(o: &Output, needles: &[&str]) -> String {
+    let err = stderr(o);
+    assert_eq!(err.trim_end().lines().count(), 1, "one-line error: {err:?}");
+    assert!(!err.contains("panicked"), "{err}");
+    for n in needles {
+        assert!(err.contains(n), "stderr {err:?} should mention {n:?}");
+    }
+    err
+}
+
+/// A log's text with its data rows in reverse order under the same header, each line ended
+/// by a newline: the stream's input whose points must be the batch's.
+pub fn rows_reversed(log: &str) -> String {
+    let mut lines: Vec<&str> = log.lines().collect();
+    let header = lines.remove(0);
+    lines.reverse();
+    std::iter::once(header)
+        .chain(lines)
+        .map(|l| format!("{l}\n"))
+        .collect()
 }
 
 pub fn stderr(o: &Output) -> String {

@@ -7,7 +7,7 @@ use crate::common;
 
 use std::path::Path;
 
-use common::{col, json, num, run, stderr, table};
+use common::{assert_ok, col, json, num, run, stderr, table, words};
 
 /// The numeric columns `names` of a CSV file, row by row.
 fn columns(path: &Path, names: &[&str]) -> Vec<Vec<f64>> {
@@ -127,21 +127,7 @@ fn an_accuracy_no_row_meets_fails_naming_the_row() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let o = run(
-        &[
-            "sweep",
-            "--profile",
-            "g1",
-            "--q",
-            "5",
-            "--points",
-            "20",
-            "--figures",
-            "none",
-            "--out",
-            "s",
-            "--tol",
-            "1e-12",
-        ],
+        &words("sweep --profile g1 --q 5 --points 20 --figures none --out s --tol 1e-12"),
         d,
     );
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
@@ -151,33 +137,12 @@ fn an_accuracy_no_row_meets_fails_naming_the_row() {
         stderr(&o)
     );
     let o = run(
-        &[
-            "sweep",
-            "--profile",
-            "g1",
-            "--q",
-            "5",
-            "--points",
-            "20",
-            "--figures",
-            "none",
-            "--out",
-            "s",
-        ],
+        &words("sweep --profile g1 --q 5 --points 20 --figures none --out s"),
         d,
     );
     assert!(o.status.success());
     let o = run(
-        &[
-            "reconstruct",
-            "s",
-            "--figures",
-            "none",
-            "--out",
-            "r",
-            "--tol",
-            "1e-12",
-        ],
+        &words("reconstruct s --figures none --out r --tol 1e-12"),
         d,
     );
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
@@ -193,19 +158,7 @@ fn bad_accuracies_are_refused_naming_the_flag() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let o = run(
-        &[
-            "sweep",
-            "--profile",
-            "g1",
-            "--q",
-            "5",
-            "--points",
-            "20",
-            "--figures",
-            "none",
-            "--out",
-            "s",
-        ],
+        &words("sweep --profile g1 --q 5 --points 20 --figures none --out s"),
         d,
     );
     assert!(o.status.success());
@@ -230,10 +183,7 @@ fn bad_accuracies_are_refused_naming_the_flag() {
         }
     }
     // a stream and the thesis method refuse it
-    let o = run(
-        &["reconstruct", "--stream", "s/scene.ron", "--tol", "1e-6"],
-        d,
-    );
+    let o = run(&words("reconstruct --stream s/scene.ron --tol 1e-6"), d);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(
         stderr(&o).contains("`--tol`") && stderr(&o).contains("--stream"),
@@ -241,16 +191,7 @@ fn bad_accuracies_are_refused_naming_the_flag() {
         stderr(&o)
     );
     let o = run(
-        &[
-            "reconstruct",
-            "s",
-            "--method",
-            "thesis",
-            "--out",
-            "x",
-            "--tol",
-            "1e-6",
-        ],
+        &words("reconstruct s --method thesis --out x --tol 1e-6"),
         d,
     );
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
@@ -262,7 +203,7 @@ fn bad_accuracies_are_refused_naming_the_flag() {
          Some(\"g1\"), sweep: Some((points: 20, tol: Some(2.0))))\n",
     )
     .unwrap();
-    let o = run(&["sweep", "bad.ron", "--out", "x"], d);
+    let o = run(&words("sweep bad.ron --out x"), d);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(stderr(&o).contains("sweep.tol"), "{}", stderr(&o));
 }
@@ -324,7 +265,7 @@ fn a_weak_flow_at_a_loose_accuracy_is_answered_by_linear_theory() {
         assert!((a - b).abs() <= est + 1e-8, "{part}.{key}: {a} vs {b}");
     }
     let o = run(&[&flow[..], &["--out", "h", "--tol", "1e-3"]].concat(), d);
-    assert!(o.status.success(), "{}", stderr(&o));
+    assert_ok(&o);
     let summary = String::from_utf8_lossy(&o.stdout);
     // `auto` chose the method: no fallback is reported
     assert!(

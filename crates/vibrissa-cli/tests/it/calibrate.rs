@@ -7,18 +7,13 @@ use std::path::Path;
 use std::process::Output;
 
 use crate::common;
-use common::{json, run, stderr};
+use common::{assert_ok, json, one_line_error, run, stderr, words};
 
 /// A failure: exit code `code`, one line on stderr mentioning every needle, no panic, no
 /// output folder `cal`.
 fn assert_fails(o: &Output, code: i32, needles: &[&str], cwd: &Path) {
-    let err = stderr(o);
-    assert_eq!(o.status.code(), Some(code), "stderr: {err}");
-    assert_eq!(err.trim_end().lines().count(), 1, "one-line error: {err:?}");
-    assert!(!err.contains("panicked"), "{err}");
-    for n in needles {
-        assert!(err.contains(n), "stderr {err:?} should mention {n:?}");
-    }
+    assert_eq!(o.status.code(), Some(code), "stderr: {}", stderr(o));
+    one_line_error(o, needles);
     assert!(!cwd.join("cal").exists(), "no output directory on failure");
 }
 
@@ -52,7 +47,7 @@ fn sweep_post(cwd: &Path) {
         ],
         cwd,
     );
-    assert!(o.status.success(), "sweep: {}", stderr(&o));
+    assert_ok(&o);
 }
 
 #[test]
@@ -62,21 +57,7 @@ fn sweep_then_calibrate_gives_the_truth_and_a_reusable_scene() {
     sweep_post(cwd);
     // a wrong start (the folder's scene.ron holds the truth: the flags override it)
     let o = run(
-        &[
-            "calibrate",
-            "post",
-            "--theta",
-            "0.8",
-            "--a",
-            "0.3",
-            "--b",
-            "0.2",
-            "--k",
-            "30",
-            "--json",
-            "--out",
-            "cal",
-        ],
+        &words("calibrate post --theta 0.8 --a 0.3 --b 0.2 --k 30 --json --out cal"),
         cwd,
     );
     let v = json(&o);
@@ -103,19 +84,7 @@ fn sweep_then_calibrate_gives_the_truth_and_a_reusable_scene() {
     }
     // the flow known and held fixed
     let o = run(
-        &[
-            "calibrate",
-            "post",
-            "--theta",
-            "0.8",
-            "--k",
-            "30",
-            "--q",
-            "2",
-            "--alpha-deg",
-            "10",
-            "--json",
-        ],
+        &words("calibrate post --theta 0.8 --k 30 --q 2 --alpha-deg 10 --json"),
         cwd,
     );
     let fixed = json(&o);
@@ -130,63 +99,21 @@ fn sweep_then_calibrate_gives_the_truth_and_a_reusable_scene() {
 /// The calibrated scene `cal/scene.ron` reconstructs an unknown object swept with the true
 /// whisker, and is a scene `sweep` runs.
 fn calibrated_scene_is_reusable(cwd: &Path) {
-    let o = run(
-        &[
-            "sweep",
-            "--profile",
-            "parabola:1.5,-0.2,0.55",
-            "--theta",
-            "0.6",
-            "--a",
-            "0.5",
-            "--b",
-            "0.3",
-            "--k",
-            "20",
-            "--q",
-            "2",
-            "--points",
-            "20",
-            "--figures",
-            "none",
-            "--out",
-            "unknown",
-        ],
+    let o = run(&words("sweep --profile parabola:1.5,-0.2,0.55 --theta 0.6 --a 0.5 --b 0.3 --k 20 --q 2 --points 20 --figures none --out unknown"),
         cwd,
     );
-    assert!(o.status.success(), "{}", stderr(&o));
-    let o = run(
-        &[
-            "reconstruct",
-            "unknown/observables.csv",
-            "cal/scene.ron",
-            "--profile",
-            "parabola:1.5,-0.2,0.55",
-            "--json",
-            "--figures",
-            "none",
-            "--out",
-            "rec",
-        ],
+    assert_ok(&o);
+    let o = run(&words("reconstruct unknown/observables.csv cal/scene.ron --profile parabola:1.5,-0.2,0.55 --json --figures none --out rec"),
         cwd,
     );
     let r = json(&o);
     assert!(r["max_error"].as_f64().unwrap() < 1e-7, "{r}");
     // and is a scene `sweep` runs
     let o = run(
-        &[
-            "sweep",
-            "cal/scene.ron",
-            "--points",
-            "10",
-            "--figures",
-            "none",
-            "--out",
-            "again",
-        ],
+        &words("sweep cal/scene.ron --points 10 --figures none --out again"),
         cwd,
     );
-    assert!(o.status.success(), "{}", stderr(&o));
+    assert_ok(&o);
 }
 
 #[test]
@@ -277,22 +204,10 @@ fn unclear_flags_are_named_in_the_users_units() {
     let cwd = dir.path();
     sweep_post(cwd);
     // issue 34: `--alpha-deg 90` exited 1 showing the angle in radians
-    let o = run(
-        &[
-            "calibrate",
-            "post",
-            "--q",
-            "2",
-            "--alpha-deg",
-            "90",
-            "--out",
-            "cal",
-        ],
-        cwd,
-    );
+    let o = run(&words("calibrate post --q 2 --alpha-deg 90 --out cal"), cwd);
     assert_fails(&o, 2, &["--alpha-deg", "`90`", "(-90, 90) degrees"], cwd);
     // `c1.csv=` said "invalid value `` for `--profile`"
-    let o = run(&["calibrate", "post/observables.csv=", "--out", "cal"], cwd);
+    let o = run(&words("calibrate post/observables.csv= --out cal"), cwd);
     assert_fails(
         &o,
         2,
@@ -308,11 +223,8 @@ fn physical_units_fit_the_bending_stiffness() {
     // the beta whisker with E = 1.4 GPa sweeps; the start says 2 GPa
     let truth = "(units: Physical(preset: \"beta\"), whisker: (theta: 0.6, a: 20.0, b: 5.0, k: Some(2e-5)), loads: (q: 0.002), profile: Some(\"circle:-13,86,33\"), sweep: Some((points: 40)))";
     fs::write(cwd.join("truth.ron"), truth).unwrap();
-    let o = run(
-        &["sweep", "truth.ron", "--figures", "none", "--out", "sw"],
-        cwd,
-    );
-    assert!(o.status.success(), "{}", stderr(&o));
+    let o = run(&words("sweep truth.ron --figures none --out sw"), cwd);
+    assert_ok(&o);
     let start = truth
         .replace(
             "preset: \"beta\"",
@@ -320,20 +232,7 @@ fn physical_units_fit_the_bending_stiffness() {
         )
         .replace("theta: 0.6", "theta: 0.7");
     fs::write(cwd.join("start.ron"), start).unwrap();
-    let o = run(
-        &[
-            "calibrate",
-            "sw/observables.csv",
-            "--scene",
-            "start.ron",
-            "--fit",
-            "theta,a,b,k,ei",
-            "--json",
-            "--figures",
-            "none",
-            "--out",
-            "cal",
-        ],
+    let o = run(&words("calibrate sw/observables.csv --scene start.ron --fit theta,a,b,k,ei --json --figures none --out cal"),
         cwd,
     );
     let v = json(&o);
@@ -366,14 +265,7 @@ fn physical_units_fit_the_bending_stiffness() {
     // ei in a dimensionless log is refused
     fs::remove_dir_all(cwd.join("cal")).unwrap();
     let o = run(
-        &[
-            "calibrate",
-            "sw/observables.csv",
-            "--profile",
-            "g1",
-            "--fit",
-            "ei",
-        ],
+        &words("calibrate sw/observables.csv --profile g1 --fit ei"),
         cwd,
     );
     assert_fails(&o, 2, &["--fit", "ei", "dimensionless"], cwd);
@@ -384,26 +276,13 @@ fn bad_input_names_the_culprit() {
     let dir = tempfile::tempdir().unwrap();
     let cwd = dir.path();
     sweep_post(cwd);
-    let o = run(
-        &[
-            "calibrate",
-            "nowhere.csv",
-            "--profile",
-            "g1",
-            "--out",
-            "cal",
-        ],
-        cwd,
-    );
+    let o = run(&words("calibrate nowhere.csv --profile g1 --out cal"), cwd);
     assert_fails(&o, 2, &["nowhere.csv"], cwd);
-    let o = run(
-        &["calibrate", "post", "--fit", "theta,zeta", "--out", "cal"],
-        cwd,
-    );
+    let o = run(&words("calibrate post --fit theta,zeta --out cal"), cwd);
     assert_fails(&o, 2, &["--fit", "zeta"], cwd);
-    let o = run(&["calibrate", "post/observables.csv", "--out", "cal"], cwd);
+    let o = run(&words("calibrate post/observables.csv --out cal"), cwd);
     assert_fails(&o, 2, &["no known contour", "--profile"], cwd);
-    let o = run(&["calibrate", "post=parabola:x", "--out", "cal"], cwd);
+    let o = run(&words("calibrate post=parabola:x --out cal"), cwd);
     assert_fails(&o, 2, &["parabola:x"], cwd);
     // a value that is not a number names the file, line and column
     let text = fs::read_to_string(cwd.join("post/observables.csv")).unwrap();
@@ -465,7 +344,7 @@ fn advice_ranks_candidate_objects_before_any_experiment() {
             .contains("never touches"),
         "{v}"
     );
-    let o = run(&["calibrate", "x.csv", "--advise", "g2"], cwd);
+    let o = run(&words("calibrate x.csv --advise g2"), cwd);
     assert_fails(&o, 2, &["--advise"], cwd);
 }
 
@@ -474,53 +353,12 @@ fn two_logs_of_one_whisker_past_two_objects() {
     let dir = tempfile::tempdir().unwrap();
     let cwd = dir.path();
     sweep_post(cwd);
-    let o = run(
-        &[
-            "sweep",
-            "--profile",
-            "g2",
-            "--theta",
-            "0.6",
-            "--a",
-            "0.5",
-            "--b",
-            "0.3",
-            "--k",
-            "20",
-            "--q",
-            "1",
-            "--alpha-deg",
-            "-20",
-            "--points",
-            "30",
-            "--figures",
-            "none",
-            "--out",
-            "bar",
-        ],
+    let o = run(&words("sweep --profile g2 --theta 0.6 --a 0.5 --b 0.3 --k 20 --q 1 --alpha-deg -20 --points 30 --figures none --out bar"),
         cwd,
     );
-    assert!(o.status.success(), "{}", stderr(&o));
+    assert_ok(&o);
     // a sweep folder and a bare CSV with its own contour, fitted jointly
-    let o = run(
-        &[
-            "calibrate",
-            "post",
-            "bar/observables.csv=g2",
-            "--theta",
-            "0.8",
-            "--a",
-            "0.3",
-            "--b",
-            "0.2",
-            "--k",
-            "30",
-            "--json",
-            "--figures",
-            "none",
-            "--out",
-            "cal",
-        ],
+    let o = run(&words("calibrate post bar/observables.csv=g2 --theta 0.8 --a 0.3 --b 0.2 --k 30 --json --figures none --out cal"),
         cwd,
     );
     let v = json(&o);

@@ -1,50 +1,27 @@
 //! End-to-end tests of the `vibrissa` binary.
 
 use std::fs;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::Path;
+use std::process::Output;
 
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_vibrissa"))
-}
-
-fn run(args: &[&str], cwd: &Path) -> Output {
-    bin()
-        .args(args)
-        .current_dir(cwd)
-        .output()
-        .expect("the binary runs")
-}
-
-fn scenes_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
+use crate::common;
+use common::{assert_ok, json, one_line_error, run, scenes_dir, stderr, words};
 
 /// A failure: non-zero exit, exactly one line on stderr mentioning every `needle`, no panic.
 fn assert_fails(o: &Output, needles: &[&str]) {
-    let err = stderr(o);
-    assert!(!o.status.success(), "expected failure, stderr: {err}");
-    assert_eq!(err.trim_end().lines().count(), 1, "one-line error: {err:?}");
-    assert!(!err.contains("panicked"), "{err}");
+    assert!(
+        !o.status.success(),
+        "expected failure, stderr: {}",
+        stderr(o)
+    );
+    let err = one_line_error(o, needles);
     assert!(!err.contains("RUST_BACKTRACE"), "{err}");
-    for n in needles {
-        assert!(err.contains(n), "stderr {err:?} should mention {n:?}");
-    }
-}
-
-fn json(o: &Output) -> serde_json::Value {
-    assert!(o.status.success(), "stderr: {}", stderr(o));
-    serde_json::from_slice(&o.stdout).expect("stdout is one JSON object")
 }
 
 #[test]
 fn solve_json_matches_mattiasson() {
     let dir = tempfile::tempdir().unwrap();
-    let v = json(&run(&["solve", "--f", "1", "--json"], dir.path()));
+    let v = json(&run(&words("solve --f 1 --json"), dir.path()));
     let x = v["tip"]["x"].as_f64().unwrap();
     let y = v["tip"]["y"].as_f64().unwrap();
     assert!((x - 0.30172).abs() < 1e-5, "x1 = {x}");
@@ -64,9 +41,7 @@ fn solve_json_matches_mattiasson() {
     ));
     assert_eq!(v["tip"], v2["tip"]);
     let v3 = json(&run(
-        &[
-            "solve", "--f", "1", "--method", "fdm", "--n", "400", "--json",
-        ],
+        &words("solve --f 1 --method fdm --n 400 --json"),
         dir.path(),
     ));
     assert_eq!(v3["method"], "fdm");
@@ -128,11 +103,8 @@ fn physical_scene_reports_dimensional_values() {
 #[test]
 fn solve_out_writes_elastica() {
     let dir = tempfile::tempdir().unwrap();
-    let o = run(
-        &["solve", "--q", "5", "--theta", "0.5", "--out", "out"],
-        dir.path(),
-    );
-    assert!(o.status.success(), "{}", stderr(&o));
+    let o = run(&words("solve --q 5 --theta 0.5 --out out"), dir.path());
+    assert_ok(&o);
     let csv = fs::read_to_string(dir.path().join("out/elastica.csv")).unwrap();
     let mut lines = csv.lines();
     assert_eq!(lines.next(), Some("s,x,y,phi,kappa,m"));
@@ -145,24 +117,10 @@ fn solve_out_writes_elastica() {
 fn sweep_writes_observables() {
     let dir = tempfile::tempdir().unwrap();
     let o = run(
-        &[
-            "sweep",
-            "--profile",
-            "g1",
-            "--q",
-            "5",
-            "--theta",
-            "0.75",
-            "--k",
-            "20",
-            "--points",
-            "12",
-            "--out",
-            "sw",
-        ],
+        &words("sweep --profile g1 --q 5 --theta 0.75 --k 20 --points 12 --out sw"),
         dir.path(),
     );
-    assert!(o.status.success(), "{}", stderr(&o));
+    assert_ok(&o);
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert!(stdout.contains("phases ABA"), "{stdout}");
     let csv = fs::read_to_string(dir.path().join("sw/observables.csv")).unwrap();
@@ -214,15 +172,15 @@ fn sweep_reads_profile_from_scene() {
         ],
         dir.path(),
     );
-    assert!(o.status.success(), "{}", stderr(&o));
+    assert_ok(&o);
     assert!(dir.path().join("c1/observables.csv").is_file());
 }
 
 #[test]
 fn demo_writes_its_folder() {
     let dir = tempfile::tempdir().unwrap();
-    let o = run(&["demo", "--points", "10"], dir.path());
-    assert!(o.status.success(), "{}", stderr(&o));
+    let o = run(&words("demo --points 10"), dir.path());
+    assert_ok(&o);
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert!(stdout.contains("vibrissa-demo"), "{stdout}");
     for f in [
@@ -314,39 +272,31 @@ fn crashes_and_hangs_end_at_once_naming_the_culprit() {
 fn bad_inputs_fail_with_one_line_naming_the_culprit() {
     let none = |_: &Path| {};
     fails_cleanly(
-        &["solve", "--theta", "-0.5", "--out", "out"],
+        &words("solve --theta -0.5 --out out"),
         &["--theta", "-0.5"],
         none,
     );
-    fails_cleanly(&["solve", "--k", "0", "--out", "out"], &["--k", "0"], none);
+    fails_cleanly(&words("solve --k 0 --out out"), &["--k", "0"], none);
+    fails_cleanly(&words("solve --f nan --out out"), &["--f", "nan"], none);
+    fails_cleanly(&words("solve --theta abc"), &["--theta", "abc"], none);
+    fails_cleanly(&words("solve --method euler"), &["--method", "euler"], none);
+    fails_cleanly(&words("solve --n 2 --method fdm"), &["--n"], none);
+    fails_cleanly(&words("solve --bogus"), &["--bogus"], none);
+    fails_cleanly(&words("sweep --profile g1"), &["--out"], none);
+    fails_cleanly(&words("solve --load xx"), &["--load", "xx"], none);
     fails_cleanly(
-        &["solve", "--f", "nan", "--out", "out"],
-        &["--f", "nan"],
-        none,
-    );
-    fails_cleanly(&["solve", "--theta", "abc"], &["--theta", "abc"], none);
-    fails_cleanly(
-        &["solve", "--method", "euler"],
-        &["--method", "euler"],
-        none,
-    );
-    fails_cleanly(&["solve", "--n", "2", "--method", "fdm"], &["--n"], none);
-    fails_cleanly(&["solve", "--bogus"], &["--bogus"], none);
-    fails_cleanly(&["sweep", "--profile", "g1"], &["--out"], none);
-    fails_cleanly(&["solve", "--load", "xx"], &["--load", "xx"], none);
-    fails_cleanly(
-        &["solve", "missing.ron", "--out", "out"],
+        &words("solve missing.ron --out out"),
         &["missing.ron"],
         none,
     );
     fails_cleanly(
-        &["sweep", "--profile", "nope", "--q", "5", "--out", "out"],
+        &words("sweep --profile nope --q 5 --out out"),
         &["--profile", "nope"],
         none,
     );
-    fails_cleanly(&["sweep", "--q", "5", "--out", "out"], &["--profile"], none);
+    fails_cleanly(&words("sweep --q 5 --out out"), &["--profile"], none);
     fails_cleanly(
-        &["sweep", "--profile", "g1", "--points", "1", "--out", "out"],
+        &words("sweep --profile g1 --points 1 --out out"),
         &["--points"],
         none,
     );
@@ -358,15 +308,7 @@ fn bad_inputs_fail_with_one_line_naming_the_culprit() {
 fn bad_files_fail_with_one_line_naming_the_file() {
     let none = |_: &Path| {};
     fails_cleanly(
-        &[
-            "sweep",
-            "--profile",
-            "points:concave.csv",
-            "--q",
-            "5",
-            "--out",
-            "out",
-        ],
+        &words("sweep --profile points:concave.csv --q 5 --out out"),
         &["--profile", "convex"],
         |d| {
             fs::write(
@@ -377,28 +319,24 @@ fn bad_files_fail_with_one_line_naming_the_file() {
         },
     );
     fails_cleanly(
-        &["sweep", "--profile", "points:missing.csv", "--out", "out"],
+        &words("sweep --profile points:missing.csv --out out"),
         &["missing.csv"],
         none,
     );
+    fails_cleanly(&words("solve bad.ron --out out"), &["bad.ron:3:"], |d| {
+        fs::write(
+            d.join("bad.ron"),
+            "(\n    whisker: (theta: 1.0),\n    loads: (f: 1.0, colour: 2.0),\n)\n",
+        )
+        .unwrap()
+    });
     fails_cleanly(
-        &["solve", "bad.ron", "--out", "out"],
-        &["bad.ron:3:"],
-        |d| {
-            fs::write(
-                d.join("bad.ron"),
-                "(\n    whisker: (theta: 1.0),\n    loads: (f: 1.0, colour: 2.0),\n)\n",
-            )
-            .unwrap()
-        },
-    );
-    fails_cleanly(
-        &["solve", "neg.ron", "--out", "out"],
+        &words("solve neg.ron --out out"),
         &["neg.ron:2:", "whisker.theta"],
         |d| fs::write(d.join("neg.ron"), "(\n    whisker: (theta: -0.5),\n)\n").unwrap(),
     );
     fails_cleanly(
-        &["solve", "negf.ron", "--out", "out"],
+        &words("solve negf.ron --out out"),
         &["negf.ron:3:", "loads.f"],
         |d| {
             fs::write(
@@ -413,15 +351,15 @@ fn bad_files_fail_with_one_line_naming_the_file() {
 #[test]
 fn usage_errors_exit_2_and_solver_errors_name_the_solver() {
     let dir = tempfile::tempdir().unwrap();
-    let o = run(&["solve", "--theta", "-0.5"], dir.path());
+    let o = run(&words("solve --theta -0.5"), dir.path());
     assert_eq!(o.status.code(), Some(2));
-    let o = run(&["reconstruct", "obs.csv", "--out", "r"], dir.path());
+    let o = run(&words("reconstruct obs.csv --out r"), dir.path());
     assert_fails(&o, &["obs.csv"]);
     assert!(!dir.path().join("r").exists());
     let o = run(&["--version"], dir.path());
     assert!(o.status.success());
     assert!(String::from_utf8_lossy(&o.stdout).contains("vibrissa"));
-    let o = run(&["solve", "--help"], dir.path());
+    let o = run(&words("solve --help"), dir.path());
     assert!(o.status.success());
     assert!(String::from_utf8_lossy(&o.stdout).contains("Examples"));
 }
@@ -436,7 +374,7 @@ fn huge_angles_are_reduced_exactly_in_degrees() {
         let mut a = vec!["solve", "--json"];
         a.extend_from_slice(args);
         let o = run(&a, dir.path());
-        assert!(o.status.success(), "{}", stderr(&o));
+        assert_ok(&o);
         serde_json::from_slice(&o.stdout).unwrap()
     };
     let big = solve(&["--q", "5", "--alpha-deg", "1e16"]);
@@ -460,11 +398,8 @@ fn huge_angles_are_reduced_exactly_in_degrees() {
 #[test]
 fn solve_reports_its_error_estimate_and_the_method_used() {
     let dir = tempfile::tempdir().unwrap();
-    let o = run(
-        &["solve", "--q", "5", "--theta", "0.01", "--json"],
-        dir.path(),
-    );
-    assert!(o.status.success(), "{}", stderr(&o));
+    let o = run(&words("solve --q 5 --theta 0.01 --json"), dir.path());
+    assert_ok(&o);
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     let st = &v["stats"];
     let est = st["error_estimate"].as_f64().unwrap();
@@ -483,15 +418,7 @@ fn no_contact_exits_3_with_one_line() {
     let dir = tempfile::tempdir().unwrap();
     let cwd = dir.path();
     let o = run(
-        &[
-            "sweep",
-            "--profile",
-            "parabola:1,0,5",
-            "--q",
-            "1",
-            "--out",
-            "out",
-        ],
+        &words("sweep --profile parabola:1,0,5 --q 1 --out out"),
         cwd,
     );
     assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));

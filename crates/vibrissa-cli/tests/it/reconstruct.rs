@@ -3,21 +3,22 @@
 
 use std::fs;
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
 
 use crate::common;
-use common::{json, parse, run, stderr};
+use common::{
+    assert_ok, json, one_line_error, parse, rows_reversed, run, run_stdin, stderr, words,
+};
 
 /// A failure: non-zero exit, one line on stderr mentioning every needle, no panic, and no
 /// output directory (nor a staging leftover) in `cwd`.
 fn assert_fails(o: &Output, needles: &[&str], cwd: &Path) {
-    let err = stderr(o);
-    assert!(!o.status.success(), "expected failure, stderr: {err}");
-    assert_eq!(err.trim_end().lines().count(), 1, "one-line error: {err:?}");
-    assert!(!err.contains("panicked"), "{err}");
-    for n in needles {
-        assert!(err.contains(n), "stderr {err:?} should mention {n:?}");
-    }
+    assert!(
+        !o.status.success(),
+        "expected failure, stderr: {}",
+        stderr(o)
+    );
+    one_line_error(o, needles);
     assert!(!cwd.join("rec").exists(), "no output directory on failure");
     for e in fs::read_dir(cwd).unwrap() {
         let name = e.unwrap().file_name().to_string_lossy().into_owned();
@@ -34,7 +35,7 @@ fn sweep(cwd: &Path) -> String {
     args.extend(WHISKER);
     args.extend(["--out", "sw"]);
     let o = run(&args, cwd);
-    assert!(o.status.success(), "sweep: {}", stderr(&o));
+    assert_ok(&o);
     fs::read_to_string(cwd.join("sw/observables.csv")).unwrap()
 }
 
@@ -123,7 +124,7 @@ fn sweep_reconstruct_round_trip() {
 
     // The human summary.
     let o = reconstruct(cwd, "sw/observables.csv", &["--out", "rec3"]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    assert_ok(&o);
     let out = String::from_utf8_lossy(&o.stdout);
     assert!(out.contains("q = 5"), "{out}");
 }
@@ -136,7 +137,7 @@ fn logs_of_other_programs() {
     let (h, rows) = parse(&obs);
     let reference = {
         let o = reconstruct(cwd, "sw/observables.csv", &["--out", "ref"]);
-        assert!(o.status.success(), "{}", stderr(&o));
+        assert_ok(&o);
         fs::read_to_string(cwd.join("ref/reconstruction.csv")).unwrap()
     };
     // Shuffled columns, an extra text column, CRLF line ends.
@@ -151,7 +152,7 @@ fn logs_of_other_programs() {
     }
     fs::write(cwd.join("foreign.csv"), text).unwrap();
     let o = reconstruct(cwd, "foreign.csv", &["--out", "foreign"]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    assert_ok(&o);
     let got = fs::read_to_string(cwd.join("foreign/reconstruction.csv")).unwrap();
     assert_eq!(got, reference);
 
@@ -245,7 +246,7 @@ fn bad_logs_fail_with_one_line_and_no_output() {
     assert_fails(&o, &["absent.csv"], cwd);
 
     // The wrong whisker: the first contact row is inconsistent, named by its line.
-    let o = run(&["reconstruct", "sw/observables.csv", "--out", "rec"], cwd);
+    let o = run(&words("reconstruct sw/observables.csv --out rec"), cwd);
     assert_fails(
         &o,
         &["sw/observables.csv:", "no consistent contact point"],
@@ -280,42 +281,20 @@ fn bad_logs_fail_with_one_line_and_no_output() {
 /// identified from the first free row.
 #[test]
 fn stream_gives_the_batch_points() {
-    use std::io::Write;
-    use std::process::Stdio;
     let dir = tempfile::tempdir().unwrap();
     let cwd = dir.path();
     let obs = sweep(cwd);
     let o = reconstruct(cwd, "sw/observables.csv", &["--out", "rec"]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    assert_ok(&o);
     let batch = fs::read_to_string(cwd.join("rec/reconstruction.csv")).unwrap();
     let (_, brows) = parse(&batch);
-    let mut lines: Vec<&str> = obs.lines().collect();
-    let header = lines.remove(0);
-    lines.reverse();
-    let input = std::iter::once(header)
-        .chain(lines)
-        .map(|l| format!("{l}\n"))
-        .collect::<String>();
+    let input = rows_reversed(&obs);
     for extra in [&["--q", "5", "--alpha-deg", "0"][..], &[][..]] {
         let mut args = vec!["reconstruct", "--stream"];
         args.extend(WHISKER);
         args.extend(extra);
-        let mut child = Command::new(env!("CARGO_BIN_EXE_vibrissa"))
-            .args(&args)
-            .current_dir(cwd)
-            .stdin(Stdio::piped())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped())
-            .spawn()
-            .unwrap();
-        child
-            .stdin
-            .take()
-            .unwrap()
-            .write_all(input.as_bytes())
-            .unwrap();
-        let o = child.wait_with_output().unwrap();
-        assert!(o.status.success(), "{}", stderr(&o));
+        let o = run_stdin(&args, cwd, &input);
+        assert_ok(&o);
         let text = String::from_utf8_lossy(&o.stdout).into_owned();
         assert!(
             text.starts_with("x0,x,y,s1,f,psi,phase,sigma,residual,hypotheses\n"),

@@ -8,11 +8,9 @@
 use crate::common;
 
 use std::fs;
-use std::io::Write;
-use std::process::{Command, Stdio};
 
 use beam_model::{FluidLoad, Whisker};
-use common::{col, json, parse, run, stderr};
+use common::{assert_ok, col, json, parse, rows_reversed, run, run_stdin, stderr};
 use contact_sim::{sweep, BaseMotion, Profile, SweepSettings};
 
 const PEG: (f64, f64) = (-0.25, 0.55);
@@ -86,31 +84,11 @@ fn wrec_a_whisking_log_gives_the_peg_in_the_file_the_json_and_the_stream() {
     let v = json(&run(&args, cwd));
     assert_eq!(v["obstacle"]["kind"], "peg", "{v}");
     // the stream, rows reversed: the same points
-    let mut lines: Vec<&str> = log.lines().collect();
-    let header = lines.remove(0);
-    lines.reverse();
-    let input: String = std::iter::once(header)
-        .chain(lines)
-        .map(|l| format!("{l}\n"))
-        .collect();
+    let input = rows_reversed(&log);
     let mut args = vec!["reconstruct", "--stream"];
     args.extend(WHISKER);
-    let mut child = Command::new(env!("CARGO_BIN_EXE_vibrissa"))
-        .args(&args)
-        .current_dir(cwd)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    child
-        .stdin
-        .take()
-        .unwrap()
-        .write_all(input.as_bytes())
-        .unwrap();
-    let o = child.wait_with_output().unwrap();
-    assert!(o.status.success(), "{}", stderr(&o));
+    let o = run_stdin(&args, cwd, &input);
+    assert_ok(&o);
     let (sh, srows) = parse(&String::from_utf8_lossy(&o.stdout));
     assert_eq!(srows.len(), rows.len());
     let (sx, sy) = (col(&sh, "x"), col(&sh, "y"));
@@ -144,7 +122,7 @@ fn wcal_calibrate_fits_a_whisking_log() {
         ],
         cwd,
     );
-    assert!(o.status.success(), "{}", stderr(&o));
+    assert_ok(&o);
     let v = json(&o);
     let p = &v["parameters"];
     for (name, truth) in [("theta", 0.8), ("a", 0.2), ("b", 0.1), ("k", 30.0)] {

@@ -3,52 +3,16 @@
 //! user's own input (each test failed on the code before it).
 
 use std::fs;
-use std::io::Write;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+use std::path::Path;
+use std::process::{Command, Output};
 
-fn run(args: &[&str], cwd: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_vibrissa"))
-        .args(args)
-        .current_dir(cwd)
-        .output()
-        .expect("the binary runs")
-}
-
-fn run_stdin(args: &[&str], cwd: &Path, input: &str) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_vibrissa"))
-        .args(args)
-        .current_dir(cwd)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("the binary runs");
-    child
-        .stdin
-        .take()
-        .unwrap()
-        .write_all(input.as_bytes())
-        .unwrap();
-    child.wait_with_output().unwrap()
-}
-
-fn scenes_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
+use crate::common;
+use common::{assert_ok, one_line_error, run, run_stdin, scenes_dir, stderr, words};
 
 /// Exit 2 with one line holding every needle.
 fn refused(o: &Output, needles: &[&str]) {
-    let e = stderr(o);
-    assert_eq!(o.status.code(), Some(2), "{e}");
-    assert_eq!(e.trim_end().lines().count(), 1, "{e}");
-    for n in needles {
-        assert!(e.contains(n), "{e:?} lacks {n:?}");
-    }
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(o));
+    one_line_error(o, needles);
 }
 
 fn sweep_folder(cwd: &Path, name: &str, extra: &[&str]) {
@@ -56,7 +20,7 @@ fn sweep_folder(cwd: &Path, name: &str, extra: &[&str]) {
     args.extend_from_slice(extra);
     args.extend_from_slice(&["--out", name]);
     let o = run(&args, cwd);
-    assert!(o.status.success(), "{}", stderr(&o));
+    assert_ok(&o);
 }
 
 #[test]
@@ -65,9 +29,9 @@ fn sweep_and_solve_refuse_an_out_folder_holding_their_scene() {
     let cwd = dir.path();
     sweep_folder(cwd, "d", &[]);
     let before = fs::read(cwd.join("d/scene.ron")).unwrap();
-    let o = run(&["sweep", "d/scene.ron", "--out", "d"], cwd);
+    let o = run(&words("sweep d/scene.ron --out d"), cwd);
     refused(&o, &["--out", "scene file being read", "d/scene.ron"]);
-    let o = run(&["solve", "d/scene.ron", "--out", "d"], cwd);
+    let o = run(&words("solve d/scene.ron --out d"), cwd);
     refused(&o, &["--out", "scene file being read"]);
     assert_eq!(fs::read(cwd.join("d/scene.ron")).unwrap(), before);
     // a contour table inside the output folder is an input too
@@ -80,15 +44,7 @@ fn sweep_and_solve_refuse_an_out_folder_holding_their_scene() {
     fs::write(cwd.join("t/post.csv"), table).unwrap();
     fs::write(cwd.join("t/.vibrissa-output"), "written by vibrissa\n").unwrap();
     let o = run(
-        &[
-            "sweep",
-            "--profile",
-            "points:t/post.csv",
-            "--q",
-            "5",
-            "--out",
-            "t",
-        ],
+        &words("sweep --profile points:t/post.csv --q 5 --out t"),
         cwd,
     );
     refused(&o, &["contour table being read"]);
@@ -149,8 +105,8 @@ fn scene_files_with_a_byte_order_mark_are_read() {
     let cwd = dir.path();
     let text = fs::read_to_string(scenes_dir().join("c1-uniform-rigid-g1.ron")).unwrap();
     fs::write(cwd.join("bom.ron"), format!("\u{feff}{text}")).unwrap();
-    let o = run(&["solve", "bom.ron", "--json"], cwd);
-    assert!(o.status.success(), "{}", stderr(&o));
+    let o = run(&words("solve bom.ron --json"), cwd);
+    assert_ok(&o);
 }
 
 #[test]
@@ -158,10 +114,10 @@ fn a_sweep_without_obstacle_says_what_to_add_not_an_empty_flag_value() {
     let dir = tempfile::tempdir().unwrap();
     let cwd = dir.path();
     fs::write(cwd.join("w.ron"), "(whisker: (theta: 0.5))").unwrap();
-    let o = run(&["sweep", "w.ron", "--out", "x"], cwd);
+    let o = run(&words("sweep w.ron --out x"), cwd);
     refused(&o, &["w.ron:1:", "no obstacle", "profile"]);
     assert!(!stderr(&o).contains("invalid value ``"));
-    let o = run(&["sweep", "--out", "x"], cwd);
+    let o = run(&words("sweep --out x"), cwd);
     refused(&o, &["a sweep needs an obstacle: give --profile"]);
     assert!(!stderr(&o).contains("invalid value ``"));
 }
@@ -182,23 +138,15 @@ fn the_stream_reads_a_folder_scene_physical_units_and_checks_rows_as_files() {
         ],
         cwd,
     );
-    assert!(o.status.success(), "{}", stderr(&o));
+    assert_ok(&o);
     let log = fs::read_to_string(cwd.join("pb/observables.csv")).unwrap();
     // `reconstruct DIR --stream`: the folder's scene, the log in mm and N read as such
     let o = run_stdin(
-        &[
-            "reconstruct",
-            "pb",
-            "--stream",
-            "--q",
-            "0.003",
-            "--alpha-deg",
-            "0",
-        ],
+        &words("reconstruct pb --stream --q 0.003 --alpha-deg 0"),
         cwd,
         &log,
     );
-    assert!(o.status.success(), "{}", stderr(&o));
+    assert_ok(&o);
     let out = String::from_utf8_lossy(&o.stdout).into_owned();
     let rows: Vec<Vec<f64>> = out
         .lines()
@@ -217,18 +165,18 @@ fn the_stream_reads_a_folder_scene_physical_units_and_checks_rows_as_files() {
     }
     // rows are checked as in a file
     let o = run_stdin(
-        &["reconstruct", "--stream"],
+        &words("reconstruct --stream"),
         cwd,
         "x0,Ax,Ay,MA,phi0\n1,2,3\n",
     );
     refused(&o, &["<stdin>:2:", "3 fields where the header has 5"]);
     let o = run_stdin(
-        &["reconstruct", "--stream"],
+        &words("reconstruct --stream"),
         cwd,
         "x0,Ax,Ay,MA,phi0\n1,2,3,4,5,6\n",
     );
     refused(&o, &["<stdin>:2:", "6 fields where the header has 5"]);
-    let o = run_stdin(&["reconstruct", "--stream"], cwd, "");
+    let o = run_stdin(&words("reconstruct --stream"), cwd, "");
     refused(&o, &["standard input is empty"]);
 }
 
@@ -262,10 +210,7 @@ fn figures_are_written_as_figures_says() {
         fs::read(cwd.join("none/observables.csv")).unwrap(),
         fs::read(cwd.join("all/observables.csv")).unwrap()
     );
-    let o = run(
-        &["sweep", "--profile", "g1", "--figures", "gif", "--out", "x"],
-        cwd,
-    );
+    let o = run(&words("sweep --profile g1 --figures gif --out x"), cwd);
     refused(&o, &["gif", "--figures"]);
 }
 
@@ -273,7 +218,7 @@ fn figures_are_written_as_figures_says() {
 #[test]
 fn sweep_help_lists_only_what_a_sweep_uses() {
     let dir = tempfile::tempdir().unwrap();
-    let o = run(&["sweep", "--help"], dir.path());
+    let o = run(&words("sweep --help"), dir.path());
     let help = String::from_utf8_lossy(&o.stdout).into_owned();
     for flag in [
         "--theta",
@@ -289,10 +234,7 @@ fn sweep_help_lists_only_what_a_sweep_uses() {
     for flag in ["--f ", "--beta-deg", "--load", "--method", "--n "] {
         assert!(!help.contains(flag), "sweep --help lists {flag}");
     }
-    let o = run(
-        &["sweep", "--profile", "g1", "--f", "1", "--out", "x"],
-        dir.path(),
-    );
+    let o = run(&words("sweep --profile g1 --f 1 --out x"), dir.path());
     refused(&o, &["--f"]);
 }
 
@@ -303,23 +245,10 @@ fn sweep_help_lists_only_what_a_sweep_uses() {
 fn reconstruct_accounts_for_every_row() {
     let dir = tempfile::tempdir().unwrap();
     let cwd = dir.path();
-    let o = run(
-        &[
-            "sweep",
-            "--profile",
-            "g1",
-            "--q",
-            "5",
-            "--points",
-            "20",
-            "--out",
-            "sw",
-        ],
-        cwd,
-    );
-    assert!(o.status.success(), "{}", stderr(&o));
-    let o = run(&["reconstruct", "sw", "--out", "rec"], cwd);
-    assert!(o.status.success(), "{}", stderr(&o));
+    let o = run(&words("sweep --profile g1 --q 5 --points 20 --out sw"), cwd);
+    assert_ok(&o);
+    let o = run(&words("reconstruct sw --out rec"), cwd);
+    assert_ok(&o);
     let text = String::from_utf8_lossy(&o.stdout).into_owned();
     // 32 rows: 10 before contact, the touch, 20 requested + 2 events - the release row
     assert!(
@@ -328,7 +257,7 @@ fn reconstruct_accounts_for_every_row() {
             && text.contains("20 contact points (rows 12-31;"),
         "{text}"
     );
-    let o = run(&["reconstruct", "sw", "--json", "--out", "rec2"], cwd);
+    let o = run(&words("reconstruct sw --json --out rec2"), cwd);
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(v["rows_without_force"], "1-11, 32");
     assert_eq!(v["points"], 20);
@@ -348,7 +277,7 @@ fn no_contact_in_a_physical_scene_names_its_units() {
          profile: Some(\"circle:0,200,40\"))",
     )
     .unwrap();
-    let o = run(&["sweep", "nc.ron", "--out", "x"], cwd);
+    let o = run(&words("sweep nc.ron --out x"), cwd);
     assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
     let e = stderr(&o);
     assert!(
@@ -362,7 +291,7 @@ fn no_contact_in_a_physical_scene_names_its_units() {
 #[test]
 fn an_unwritable_out_names_the_flag() {
     let dir = tempfile::tempdir().unwrap();
-    let o = run(&["solve", "--out", "/proc/vibrissa-x"], dir.path());
+    let o = run(&words("solve --out /proc/vibrissa-x"), dir.path());
     refused(
         &o,
         &[
@@ -381,25 +310,10 @@ fn shapes_csv_holds_every_rows_shape() {
     let dir = tempfile::tempdir().unwrap();
     let cwd = dir.path();
     let o = run(
-        &[
-            "sweep",
-            "--profile",
-            "g1",
-            "--q",
-            "5",
-            "--theta",
-            "0.75",
-            "--k",
-            "20",
-            "--points",
-            "10",
-            "--shapes",
-            "--out",
-            "s",
-        ],
+        &words("sweep --profile g1 --q 5 --theta 0.75 --k 20 --points 10 --shapes --out s"),
         cwd,
     );
-    assert!(o.status.success(), "{}", stderr(&o));
+    assert_ok(&o);
     let read = |name: &str| -> (Vec<String>, Vec<Vec<String>>) {
         let text = fs::read_to_string(cwd.join("s").join(name)).unwrap();
         let mut lines = text
@@ -452,28 +366,7 @@ fn shapes_csv_holds_every_rows_shape() {
 #[test]
 fn a_failed_accurate_solve_names_accurate_and_its_fallback() {
     let dir = tempfile::tempdir().unwrap();
-    let o = run(
-        &[
-            "solve",
-            "--theta",
-            "0.08812507096023038",
-            "--a",
-            "0.9399390342644347",
-            "--b",
-            "0.8892168273742458",
-            "--f",
-            "8.834783312984172",
-            "--beta-deg",
-            "72.94519898236268",
-            "--q",
-            "14.894809679784851",
-            "--alpha-deg",
-            "-69.4456837754382",
-            "--k",
-            "0.23624894898551355",
-            "--out",
-            "s",
-        ],
+    let o = run(&words("solve --theta 0.08812507096023038 --a 0.9399390342644347 --b 0.8892168273742458 --f 8.834783312984172 --beta-deg 72.94519898236268 --q 14.894809679784851 --alpha-deg -69.4456837754382 --k 0.23624894898551355 --out s"),
         dir.path(),
     );
     assert_eq!(o.status.code(), Some(1));
@@ -494,7 +387,7 @@ fn tol_picks_the_cheapest_method_that_meets_it() {
     let cwd = dir.path();
     let json = |args: &[&str]| -> serde_json::Value {
         let o = run(args, cwd);
-        assert!(o.status.success(), "{}", stderr(&o));
+        assert_ok(&o);
         serde_json::from_slice(&o.stdout).unwrap()
     };
     let flow = [
@@ -540,12 +433,9 @@ fn tol_picks_the_cheapest_method_that_meets_it() {
             "{scene}"
         );
     }
-    let o = run(
-        &["solve", "--q", "0.5", "--tol", "1e-4", "--method", "fdm"],
-        cwd,
-    );
+    let o = run(&words("solve --q 0.5 --tol 1e-4 --method fdm"), cwd);
     refused(&o, &["--tol", "auto", "fdm"]);
-    let o = run(&["solve", "--q", "0.5", "--tol", "1e-20"], cwd);
+    let o = run(&words("solve --q 0.5 --tol 1e-20"), cwd);
     refused(&o, &["--tol", "[1e-12, 1e-2]"]);
 }
 
@@ -555,22 +445,10 @@ fn tol_picks_the_cheapest_method_that_meets_it() {
 fn the_elastica_figure_draws_its_loads() {
     let dir = tempfile::tempdir().unwrap();
     let o = run(
-        &[
-            "solve",
-            "--f",
-            "2",
-            "--beta-deg",
-            "30",
-            "--q",
-            "3",
-            "--alpha-deg",
-            "20",
-            "--out",
-            "e",
-        ],
+        &words("solve --f 2 --beta-deg 30 --q 3 --alpha-deg 20 --out e"),
         dir.path(),
     );
-    assert!(o.status.success(), "{}", stderr(&o));
+    assert_ok(&o);
     let svg = fs::read_to_string(dir.path().join("e/elastica.svg")).unwrap();
     for needle in ["tip force f", "flow q", "width=\"85mm\""] {
         assert!(svg.contains(needle), "elastica.svg lacks {needle}");
@@ -593,14 +471,14 @@ fn no_thread_to_start_is_no_error() {
         .split(' ')
         .collect();
     let plain = run(&[&sweep[..], &["plain"]].concat(), dir);
-    assert!(plain.status.success(), "{}", stderr(&plain));
+    assert_ok(&plain);
     let lone = Command::new(env!("CARGO_BIN_EXE_vibrissa"))
         .args([&sweep[..], &["lone"]].concat())
         .current_dir(dir)
         .env("RUST_MIN_STACK", "1099511627776")
         .output()
         .expect("the binary runs");
-    assert!(lone.status.success(), "{}", stderr(&lone));
+    assert_ok(&lone);
     for name in ["observables.csv", "shapes.svg", "observables.svg"] {
         let (a, b) = (dir.join("plain").join(name), dir.join("lone").join(name));
         assert_eq!(fs::read(&a).unwrap(), fs::read(&b).unwrap(), "{name}");

@@ -30,15 +30,15 @@
 //! the answer's matching residual) is the answer's estimate.
 
 use super::accurate::SAFETY;
+use super::whisker_problem::WhiskerProblem;
 use super::BRANCH_AGREEMENT;
-use crate::equations::{state_rate, FreeSegment, MomentLaw};
+use crate::equations::FreeSegment;
 use crate::error::{ModelError, Result};
-use crate::loads::LoadKind;
 use crate::scene::Scene;
 use crate::solution::{BaseObservables, Elastica, EndState, MethodKind, Solution, SolveStats};
+use bvp_solvers::collocation::BvpProblem;
 use bvp_solvers::integrator::Dop853;
 use bvp_solvers::multiple_shooting::{MultipleShooting, MultipleShootingSolution};
-use std::f64::consts::FRAC_PI_2;
 
 const METHOD: &str = "multiple-shooting";
 
@@ -51,67 +51,7 @@ pub(crate) const MAX_GROWTH: f64 = 1e3;
 /// Initial shooting nodes on `[0, s1]` (more are inserted where needed).
 const NODES: usize = 9;
 
-/// The whisker as a first-order two-point problem (module docs).
-struct WhiskerBvp<'a> {
-    scene: &'a Scene,
-    law: MomentLaw,
-    ap: bool,
-}
-
-impl<'a> WhiskerBvp<'a> {
-    fn new(scene: &'a Scene) -> Self {
-        let l = &scene.loads;
-        WhiskerBvp {
-            scene,
-            law: MomentLaw::new(l, FRAC_PI_2),
-            ap: l.tip.kind == LoadKind::Ap && l.tip.f != 0.0,
-        }
-    }
-
-    /// The law at the tip angle `p[0]` (AP) or the fixed one (DP).
-    fn law(&self, p: &[f64]) -> MomentLaw {
-        match self.ap {
-            true => self.law.at_tip_angle(&self.scene.loads, p[0]),
-            false => self.law,
-        }
-    }
-
-    fn f(&self, s: f64, u: &[f64], p: &[f64], du: &mut [f64]) {
-        let w = &self.scene.whisker;
-        let e2 = w.diameter(s).powi(2);
-        let (sp, cp) = crate::trig::sin_cos(u[0]);
-        let dm = self.law(p).dm(s, sp, cp);
-        state_rate(w, s, u[1], 1.0 / (e2 * e2), (sp, cp), dm, du);
-    }
-
-    /// `df/du` (4 x 4) and `df/dphi1` (4 x 1, AP only), row-major.
-    fn jacobian(&self, s: f64, u: &[f64], p: &[f64], j: &mut [f64], jp: &mut [f64]) {
-        let w = &self.scene.whisker;
-        let e2 = w.diameter(s).powi(2);
-        let (sp, cp) = crate::trig::sin_cos(u[0]);
-        let rate = self.law(p).at(s, sp, cp);
-        j.fill(0.0);
-        j[1] = 1.0 / (e2 * e2);
-        j[4] = rate.dm_dphi;
-        j[8] = -sp;
-        j[12] = cp;
-        if self.ap {
-            jp.fill(0.0);
-            // d/dphi1 f sin(phi + beta - phi1 + pi/2) = -f cos(phi + c)
-            jp[1] = -self.scene.loads.tip.f * rate.force.1;
-        }
-    }
-
-    fn bc(&self, ua: &[f64], ub: &[f64], p: &[f64], r: &mut [f64]) {
-        r[0] = self.scene.whisker.support.residual(ua[0], ua[1]);
-        r[1] = ua[2];
-        r[2] = ua[3];
-        r[3] = ub[1];
-        if self.ap {
-            r[4] = p[0] - ub[0];
-        }
-    }
-
+impl WhiskerProblem<'_> {
     /// One multiple-shooting solve at the integrator tolerance `tol` from `nodes` / `states`.
     fn solve(
         &self,
@@ -128,9 +68,9 @@ impl<'a> WhiskerBvp<'a> {
             ..MultipleShooting::default()
         };
         ms.solve_with_jacobian(
-            |s: f64, u: &[f64], p: &[f64], du: &mut [f64]| self.f(s, u, p, du),
+            |s: f64, u: &[f64], p: &[f64], du: &mut [f64]| self.rhs(s, u, p, du),
             |s: f64, u: &[f64], p: &[f64], j: &mut [f64], jp: &mut [f64]| {
-                self.jacobian(s, u, p, j, jp)
+                self.rhs_jacobian(s, u, p, j, jp);
             },
             |ua: &[f64], ub: &[f64], p: &[f64], r: &mut [f64]| self.bc(ua, ub, p, r),
             nodes,
@@ -164,7 +104,7 @@ fn guess_state(guess: &Solution, s: f64) -> Vec<f64> {
 /// The solver's failure; [`ModelError::BranchJump`] (at load scale 1) where the answer is
 /// farther than [`BRANCH_AGREEMENT`] from the guess.
 pub(crate) fn solve(scene: &Scene, tol: f64, samples: usize, guess: &Solution) -> Result<Solution> {
-    let bvp = WhiskerBvp::new(scene);
+    let bvp = WhiskerProblem::new(scene, 1.0);
     let s1 = scene.loads.s1;
     if guess.elastica.len() < 2 {
         return Err(ModelError::InvalidParameter {

@@ -21,6 +21,7 @@ pub(crate) mod picard;
 pub(crate) mod shooting;
 #[cfg(test)]
 mod test_scenes;
+mod whisker_problem;
 
 use crate::error::{ModelError, Result};
 use crate::scene::Scene;

@@ -8,7 +8,7 @@ use beam_model::equations::{Sensitivities, WhiskerOde};
 use beam_model::{FluidLoad, Whisker};
 use bvp_solvers::integrator::Rk4;
 use contact_sim::phase::contact_loads;
-use contact_sim::{BaseMotion, Profile, SweepPoint, SweepSettings};
+use contact_sim::{BaseMotion, Phase, Profile, SweepPoint, SweepSettings};
 
 /// SplitMix64, seeded.
 pub struct Rng(pub u64);
@@ -211,4 +211,67 @@ pub fn from_base(
         out.push([s0 + h, phi, 0.0, x, y]);
     }
     out
+}
+
+/// The worst deviations of the contact rows' checks ([`check_contact_row`]), each with where
+/// it was met: the free-end moment and contact point of the RK4 integration from the base,
+/// the contact point's clearance from the obstacle, the phase condition (tangency in B, the
+/// tip steeper than the boundary in A), the deepest point of the rest of the whisker inside
+/// the obstacle.
+pub struct ContactSlots<'a> {
+    pub resolve: &'a mut (f64, String),
+    pub on_obstacle: &'a mut (f64, String),
+    pub phase: &'a mut (f64, String),
+    pub penetration: &'a mut (f64, String),
+}
+
+/// Checks the contact row `p` of a sweep of `s` independently of the sweep's solver: a
+/// non-negative force, the force balance [6.7-6.9] in the lab frame to 1e-12, and from its
+/// RK4 re-integration from the base ([`from_base`], 4000 steps): `m(s1) = 0` and the loaded
+/// end at the contact point (relative to max(1, f, |MA|)), the contact point on the
+/// obstacle, the phase condition, no other sampled point inside the obstacle (a peg:
+/// nothing enters a point). The deviations go to `slots`, named by `at`.
+pub fn check_contact_row(
+    s: &Scene,
+    p: &SweepPoint,
+    slots: ContactSlots,
+    at: impl Fn() -> String,
+) -> Result<(), String> {
+    if p.f < -1e-12 {
+        return Err(format!("{}: negative contact force {}", at(), p.f));
+    }
+    let (sa, ca) = s.flow.alpha.sin_cos();
+    let ax = -(p.f * p.psi.sin() + s.flow.q * p.s1 * ca);
+    let ay = p.f * p.psi.cos() + s.flow.q * p.s1 * sa;
+    if (ax - p.ax).abs() > 1e-12 * (1.0 + p.f) || (ay - p.ay).abs() > 1e-12 * (1.0 + p.f) {
+        return Err(format!("{}: Ax, Ay do not balance the loads", at()));
+    }
+    let tr = from_base(&s.whisker, s.flow, p, p.y0, 4000);
+    let k1 = tr.iter().position(|v| v[0] >= p.s1 - 1e-15).unwrap();
+    let e = tr[k1];
+    let scale = 1f64.max(p.f).max(p.ma.abs());
+    let d = [e[2], e[3] - p.xc, e[4] - p.yc]
+        .iter()
+        .fold(0.0f64, |m, v| m.max(v.abs()))
+        / scale;
+    worse(slots.resolve, d, &at);
+    worse(
+        slots.on_obstacle,
+        s.profile.clearance(p.xc, p.yc).abs(),
+        &at,
+    );
+    let ph = match p.phase {
+        Phase::B => (e[1] - p.psi).abs(),
+        _ => (p.psi - e[1]).max(0.0),
+    } / scale;
+    worse(slots.phase, ph, &at);
+    if !s.profile.is_peg() {
+        for v in &tr {
+            if (v[0] - p.s1).abs() < 2e-3 {
+                continue;
+            }
+            worse(slots.penetration, -s.profile.clearance(v[3], v[4]), &at);
+        }
+    }
+    Ok(())
 }

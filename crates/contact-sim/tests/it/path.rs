@@ -25,7 +25,7 @@ use std::f64::consts::FRAC_PI_2;
 
 // the battery's scene, generator, first draws, obstacle, worst-case slot and RK4 checker,
 // shared with the whisking battery
-use crate::whisking::{from_base, obstacle, worse, Rng, Scene, Start};
+use crate::whisking::{check_contact_row, obstacle, worse, ContactSlots, Rng, Scene, Start};
 
 fn pose(x0: f64, y0: f64, gamma: f64) -> Pose {
     Pose { x0, y0, gamma }
@@ -390,7 +390,6 @@ fn check_rows(s: &Scene, r: &SweepResult, fig: &mut Figures) -> Result<(), Strin
         return Err("not a path".into());
     };
     let mut before = f64::NEG_INFINITY;
-    let (sa, ca) = s.flow.alpha.sin_cos();
     for (i, p) in r.points.iter().enumerate() {
         let at = || {
             format!(
@@ -420,41 +419,13 @@ fn check_rows(s: &Scene, r: &SweepResult, fig: &mut Figures) -> Result<(), Strin
             continue;
         }
         fig.rows += 1;
-        if p.f < -1e-12 {
-            return Err(format!("{}: negative contact force {}", at(), p.f));
-        }
-        let ax = -(p.f * p.psi.sin() + s.flow.q * p.s1 * ca);
-        let ay = p.f * p.psi.cos() + s.flow.q * p.s1 * sa;
-        if (ax - p.ax).abs() > 1e-12 * (1.0 + p.f) || (ay - p.ay).abs() > 1e-12 * (1.0 + p.f) {
-            return Err(format!("{}: Ax, Ay do not balance the loads", at()));
-        }
-        let tr = from_base(&s.whisker, s.flow, p, p.y0, 4000);
-        let k1 = tr.iter().position(|v| v[0] >= p.s1 - 1e-15).unwrap();
-        let e = tr[k1];
-        let scale = 1f64.max(p.f).max(p.ma.abs());
-        let d = [e[2], e[3] - p.xc, e[4] - p.yc]
-            .iter()
-            .fold(0.0f64, |m, v| m.max(v.abs()))
-            / scale;
-        worse(&mut fig.resolve, d, at);
-        worse(
-            &mut fig.on_obstacle,
-            s.profile.clearance(p.xc, p.yc).abs(),
-            at,
-        );
-        let ph = match p.phase {
-            Phase::B => (e[1] - p.psi).abs(),
-            _ => (p.psi - e[1]).max(0.0),
-        } / scale;
-        worse(&mut fig.phase, ph, at);
-        if !s.profile.is_peg() {
-            for v in &tr {
-                if (v[0] - p.s1).abs() < 2e-3 {
-                    continue;
-                }
-                worse(&mut fig.penetration, -s.profile.clearance(v[3], v[4]), at);
-            }
-        }
+        let slots = ContactSlots {
+            resolve: &mut fig.resolve,
+            on_obstacle: &mut fig.on_obstacle,
+            phase: &mut fig.phase,
+            penetration: &mut fig.penetration,
+        };
+        check_contact_row(s, p, slots, at)?;
     }
     Ok(())
 }

@@ -25,7 +25,7 @@ use std::f64::consts::FRAC_PI_2;
 
 // the battery's scenes, generator and RK4 checker, shared with the path battery and
 // profile-recon's whisk_recon
-use crate::whisking::{from_base, random_whisking_scene, worse, Rng, Scene};
+use crate::whisking::{check_contact_row, random_whisking_scene, worse, ContactSlots, Rng, Scene};
 
 fn rotate(x0: f64, y0: f64, gamma0: f64, points: usize) -> SweepSettings {
     SweepSettings {
@@ -212,7 +212,6 @@ fn check_rows(s: &Scene, r: &SweepResult, fig: &mut Figures) -> Result<(), Strin
             ));
         }
     }
-    let (sa, ca) = s.flow.alpha.sin_cos();
     let compliance = s.whisker.support.compliance();
     for (i, p) in r.points.iter().enumerate() {
         let at = || {
@@ -228,44 +227,13 @@ fn check_rows(s: &Scene, r: &SweepResult, fig: &mut Figures) -> Result<(), Strin
             continue;
         }
         fig.rows += 1;
-        if p.f < -1e-12 {
-            return Err(format!("{}: negative contact force {}", at(), p.f));
-        }
-        // the force balance [6.7-6.9] in the lab frame
-        let ax = -(p.f * p.psi.sin() + s.flow.q * p.s1 * ca);
-        let ay = p.f * p.psi.cos() + s.flow.q * p.s1 * sa;
-        if (ax - p.ax).abs() > 1e-12 * (1.0 + p.f) || (ay - p.ay).abs() > 1e-12 * (1.0 + p.f) {
-            return Err(format!("{}: Ax, Ay do not balance the loads", at()));
-        }
-        let tr = from_base(&s.whisker, s.flow, p, p.y0, 4000);
-        let k1 = tr.iter().position(|v| v[0] >= p.s1 - 1e-15).unwrap();
-        let e = tr[k1];
-        let scale = 1f64.max(p.f).max(p.ma.abs());
-        let d = [e[2], e[3] - p.xc, e[4] - p.yc]
-            .iter()
-            .fold(0.0f64, |m, v| m.max(v.abs()))
-            / scale;
-        worse(&mut fig.resolve, d, at);
-        worse(
-            &mut fig.on_obstacle,
-            s.profile.clearance(p.xc, p.yc).abs(),
-            at,
-        );
-        let ph = match p.phase {
-            Phase::B => (e[1] - p.psi).abs(),
-            _ => (p.psi - e[1]).max(0.0),
-        } / scale;
-        worse(&mut fig.phase, ph, at);
-        // no other point inside (a peg: nothing enters a point)
-        if !s.profile.is_peg() {
-            for v in &tr {
-                if (v[0] - p.s1).abs() < 2e-3 {
-                    continue;
-                }
-                let depth = -s.profile.clearance(v[3], v[4]);
-                worse(&mut fig.penetration, depth, at);
-            }
-        }
+        let slots = ContactSlots {
+            resolve: &mut fig.resolve,
+            on_obstacle: &mut fig.on_obstacle,
+            phase: &mut fig.phase,
+            penetration: &mut fig.penetration,
+        };
+        check_contact_row(s, p, slots, at)?;
     }
     Ok(())
 }

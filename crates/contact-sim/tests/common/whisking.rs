@@ -213,6 +213,27 @@ pub fn from_base(
     out
 }
 
+/// The misfits at the loaded end `s1` of the row `p`'s re-integration `tr` ([`from_base`]),
+/// relative to the load scale max(1, f, |MA|) (the recorded base values carry the shots'
+/// relative tolerance, so a contact pinned near the base, f ~ 1e4, is checked relative to
+/// f): the largest of the free-end moment `m(s1)` and the loaded end's distance from the
+/// contact point `(xc, yc)` in x and y; and the phase condition, tangency `phi(s1) = psi`
+/// in B, the tip at least as steep as the boundary `phi(s1) >= psi` in A.
+pub fn loaded_end_misfit(tr: &[[f64; 5]], p: &SweepPoint) -> (f64, f64) {
+    let k1 = tr.iter().position(|v| v[0] >= p.s1 - 1e-15).unwrap();
+    let e = tr[k1];
+    let scale = 1f64.max(p.f).max(p.ma.abs());
+    let d = [e[2], e[3] - p.xc, e[4] - p.yc]
+        .iter()
+        .fold(0.0f64, |m, v| m.max(v.abs()))
+        / scale;
+    let ph = match p.phase {
+        Phase::B => (e[1] - p.psi).abs(),
+        _ => (p.psi - e[1]).max(0.0),
+    } / scale;
+    (d, ph)
+}
+
 /// The worst deviations of the contact rows' checks ([`check_contact_row`]), each with where
 /// it was met: the free-end moment and contact point of the RK4 integration from the base,
 /// the contact point's clearance from the obstacle, the phase condition (tangency in B, the
@@ -247,23 +268,13 @@ pub fn check_contact_row(
         return Err(format!("{}: Ax, Ay do not balance the loads", at()));
     }
     let tr = from_base(&s.whisker, s.flow, p, p.y0, 4000);
-    let k1 = tr.iter().position(|v| v[0] >= p.s1 - 1e-15).unwrap();
-    let e = tr[k1];
-    let scale = 1f64.max(p.f).max(p.ma.abs());
-    let d = [e[2], e[3] - p.xc, e[4] - p.yc]
-        .iter()
-        .fold(0.0f64, |m, v| m.max(v.abs()))
-        / scale;
+    let (d, ph) = loaded_end_misfit(&tr, p);
     worse(slots.resolve, d, &at);
     worse(
         slots.on_obstacle,
         s.profile.clearance(p.xc, p.yc).abs(),
         &at,
     );
-    let ph = match p.phase {
-        Phase::B => (e[1] - p.psi).abs(),
-        _ => (p.psi - e[1]).max(0.0),
-    } / scale;
     worse(slots.phase, ph, &at);
     if !s.profile.is_peg() {
         for v in &tr {

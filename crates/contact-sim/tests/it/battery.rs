@@ -173,20 +173,11 @@ fn check_rows(s: &SceneSpec, r: &SweepResult) -> Result<Figures, String> {
         // (1) the initial-value check from the base: free-end moment zero at s1, the loaded
         // end on the contact point, the phase condition there
         let tr = from_base(s, p);
+        // relative to the load scale max(1, f, |MA|) (`loaded_end_misfit`)
+        let (d, ph) = crate::whisking::loaded_end_misfit(&tr, p);
         let k1 = tr.iter().position(|v| v[0] >= p.s1 - 1e-15).unwrap();
-        let e = tr[k1];
-        // relative to the load scale: the recorded base values carry the shots' relative
-        // tolerance, so a contact pinned near the base (f ~ 1e4) is checked relative to f
         let scale = 1f64.max(p.f).max(p.ma.abs());
-        let d = [e[2], e[3] - p.xc, e[4] - p.yc]
-            .iter()
-            .fold(0.0f64, |m, v| m.max(v.abs()))
-            / scale;
         fig.resolve = fig.resolve.max(d);
-        let ph = match p.phase {
-            Phase::B => (e[1] - p.psi).abs(),
-            _ => (p.psi - e[1]).max(0.0),
-        } / scale;
         fig.phase = fig.phase.max(ph);
         // (2) a second method from scratch: fdm-richardson at the row's loads; it may land on
         // another equilibrium of the same loads (counted, see the note of issue 12)

@@ -258,7 +258,10 @@ pub(crate) fn sweep(
     let scene = (whisker, flow, profile);
     let (tight, sw) = sweepers(whisker, flow, profile, &set);
     let first = first_node(scene, (&tight, &sw), touch, &set)?;
-    if let (FirstContact::Tip, Mode::Slip { s }) = (touch.kind, first.mode) {
+    // a path of poses is the frictionless `path` module's, a peg has no contour parameter
+    // of its own: the frictional legs there
+    let framed = settings.motion.frame().is_some() && !profile.is_peg();
+    if let (FirstContact::Tip, Mode::Slip { s }, true) = (touch.kind, first.mode, framed) {
         // sliding from the tip touch: the frictionless machinery under the tilted force,
         // where the contact slides throughout (`slide`)
         let at = (phi1, touch);

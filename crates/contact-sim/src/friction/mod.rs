@@ -8,6 +8,14 @@
 //! `mu > 0` runs the frictional sweep of this module. The base motion (translation towards -x) stays the
 //! sweep's, so a later change of the base pose does not touch the law.
 //!
+//! **A contact that slides throughout** (its first touch a tip touch whose mode is slip, and
+//! the sliding never stopping along the traced path) runs on the frictionless machinery
+//! under the tilted force `F = fn (n + s mu t)` ([`Tilt`](crate::contact_law::Tilt),
+//! `slide`): the same trace, rows, depth checks and estimates, 1.07x the frictionless
+//! sweep's instructions on the bench scene (the frictional legs below: 2.55x). Every other
+//! contact (stick at the touch, a slip -> stick switch or a reversal on the path, a
+//! tangential first touch) runs on the frictional legs below, from the start.
+//!
 //! **The model.** Boundary tangent `t = (cos psi, sin psi)`, outward normal
 //! `n = (sin psi, -cos psi)`; the force on the whisker `F = fn n + ft t`, `fn >= 0`. It is
 //! applied as a direction-preserving tip force of size `|F|` at angle `beta` with

@@ -19,9 +19,10 @@
 //! the exact sensitivities of the shot in `(phi1, f, s1, beta)` as the fast path, and where
 //! the caller asks for it ([`Rescue`]), the trust region from the same start as the fallback.
 
+use crate::contact_law::Tilt;
 use crate::error::{ContactError, Result};
 use crate::motion::Frame;
-use crate::phase::{contact_loads, ContactState, ContourPoint, Phase};
+use crate::phase::{ContactState, ContourPoint, Phase};
 use crate::profile::Profile;
 use beam_model::equations::Sensitivities;
 use beam_model::shot::{shoot, BaseValues, Integration};
@@ -120,6 +121,11 @@ pub(crate) struct Branch<'a> {
     /// motion's falling coordinate (`x0` of a translation, `-gamma` of a rotation; the
     /// node's `state.x0`, [`crate::motion`]).
     pub frame: Frame,
+    /// The force's tilt: [`Tilt::NONE`] for the frictionless force `f n` [5.4-5.10]; a
+    /// sliding frictional contact's `F = f (n + s mu t)` (spec/model.md, "Friction at the
+    /// contact"), whose branch is this one with the tip force turned by `atan(s mu)` and
+    /// stretched by `sqrt(1 + mu^2)`; `f` stays the normal force.
+    pub tilt: Tilt,
 }
 
 /// Diameter ratio below which every shot carries sensitivities (see [`Branch::eval`]).
@@ -183,7 +189,7 @@ impl Branch<'_> {
                 residual: f64::NAN,
             });
         }
-        let loads = contact_loads(self.flow, g.psi, f, s1);
+        let loads = self.tilt.loads(self.flow, g.psi, f, s1);
         // Slender tips (theta < SLENDER) form a boundary layer where the plain 4-component
         // shot's adaptive steps lose accuracy (measured: 1e-6 against the shot with
         // sensitivities, whose error control sees the variational components, at theta 0.05;
@@ -200,6 +206,19 @@ impl Branch<'_> {
             BaseValues::default()
         } else {
             shot.d_beta
+        };
+        // d(shot)/d(f): the tip force is f sqrt(1 + mu^2) under a tilt
+        let d_f = if self.tilt.is_none() {
+            shot.d_f
+        } else {
+            let c = self.tilt.scale();
+            let d = shot.d_f;
+            BaseValues {
+                phi0: c * d.phi0,
+                m0: c * d.m0,
+                dx: c * d.dx,
+                dy: c * d.dy,
+            }
         };
         let support = &self.whisker.support;
         // a column of the Jacobian: the rates of R0 (the follicle law), R1 and x0
@@ -222,8 +241,8 @@ impl Branch<'_> {
             dy: turn(b.dy, p.dy),
         };
         let (c0, c1) = match phase {
-            Phase::B => (col(shot.d_s1), col(shot.d_f)),
-            _ => (col(shot.d_phi1), col(shot.d_f)),
+            Phase::B => (col(shot.d_s1), col(d_f)),
+            _ => (col(shot.d_phi1), col(d_f)),
         };
         let mut c2 = col(dt);
         c2[1] -= g.dy;
@@ -251,8 +270,8 @@ impl Branch<'_> {
         if let Frame::Path(seg) = self.frame {
             // Q(u) = w D(u) on the segment, w read from the pivot (crate::motion's notes)
             let raw = match phase {
-                Phase::B => [shot.d_s1, shot.d_f, dt],
-                _ => [shot.d_phi1, shot.d_f, dt],
+                Phase::B => [shot.d_s1, d_f, dt],
+                _ => [shot.d_phi1, d_f, dt],
             };
             let q = [
                 x0 - seg.from.x0,
@@ -295,6 +314,7 @@ impl Branch<'_> {
             m0: shot.m0,
             iterations: 0,
             residual: r[0].hypot(r[1]),
+            tilt: self.tilt,
         };
         Ok((
             r,
@@ -627,6 +647,7 @@ pub(crate) mod tests {
                 integration: &self.integration,
                 tol: 1e-11,
                 frame: Frame::Translate,
+                tilt: Tilt::NONE,
             }
         }
     }

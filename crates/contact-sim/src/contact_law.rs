@@ -147,3 +147,52 @@ pub fn frictional_observables(
     let r = Reactions::balancing((fx, -fy), flow, s1);
     (r.ax, r.ay, -m0)
 }
+
+/// The tilt of a sliding contact's force (spec/model.md, "Friction at the contact"): in
+/// slip `ft = s mu fn`, so `F = fn (n + s mu t)`, the frictionless force turned by
+/// `atan(s mu)` and stretched by `sqrt(1 + mu^2)`: a tip force of size `fn sqrt(1 + mu^2)`
+/// at `beta = pi/2 - psi - atan(s mu)`. A sliding stretch of a frictional sweep is the
+/// frictionless contact branch ([`crate::branch`]) under this force; [`Tilt::NONE`]
+/// (`s_mu = 0`) is the frictionless force, taking exactly the frictionless arithmetic.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Tilt {
+    /// `s mu`: the friction coefficient with the sign `s = -sign(u)` of the tangential force
+    /// (`u` the sliding velocity of the touching material point along `t`).
+    pub s_mu: f64,
+}
+
+impl Tilt {
+    /// The frictionless force, normal to the obstacle.
+    pub const NONE: Tilt = Tilt { s_mu: 0.0 };
+
+    /// Whether the force is the frictionless one (`s mu = 0`).
+    pub fn is_none(&self) -> bool {
+        self.s_mu == 0.0
+    }
+
+    /// `|F| / fn = sqrt(1 + mu^2)`.
+    pub fn scale(&self) -> f64 {
+        self.s_mu.hypot(1.0)
+    }
+
+    /// The tangential force `ft = s mu fn` of a normal force `f`.
+    pub fn ft(&self, f: f64) -> f64 {
+        if self.is_none() {
+            0.0
+        } else {
+            self.s_mu * f
+        }
+    }
+
+    /// The loads of normal force `f` at `s1` on the contour angle `psi`: the tip force
+    /// `f sqrt(1 + mu^2)` at `beta = pi/2 - psi - atan(s mu)` and the flow on `[0, s1]`;
+    /// [`contact_loads`](crate::phase::contact_loads) exactly for [`Tilt::NONE`].
+    pub fn loads(&self, flow: FluidLoad, psi: f64, f: f64, s1: f64) -> Loads {
+        let mut l = crate::phase::contact_loads(flow, psi, f, s1);
+        if !self.is_none() {
+            l.tip.f = f * self.scale();
+            l.tip.beta -= self.s_mu.atan();
+        }
+        l
+    }
+}

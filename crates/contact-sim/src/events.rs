@@ -528,6 +528,7 @@ mod tests {
             m0: 0.0,
             iterations: 0,
             residual: 0.0,
+            tilt: crate::contact_law::Tilt::NONE,
         };
         let s = TestScene::straight(Profile::Circle {
             xc: 0.05,
@@ -635,6 +636,7 @@ mod tests {
                         m0: 0.0,
                         iterations: 0,
                         residual: 0.0,
+                        tilt: crate::contact_law::Tilt::NONE,
                     };
                     let got = penetration(&w, flow, &profile, &state).unwrap();
                     assert!(

@@ -56,7 +56,7 @@ pub mod sweep;
 pub mod touch_scan;
 
 pub use accuracy::SweepAccuracy;
-pub use contact_law::{ContactLaw, FrictionEvent, FrictionEventKind, SlipState};
+pub use contact_law::{ContactLaw, FrictionEvent, FrictionEventKind, SlipState, Tilt};
 pub use driver::{sweep, sweep_with_progress};
 pub use error::{ContactError, Result};
 pub use motion::{BaseMotion, Pose, Poses};

@@ -139,6 +139,7 @@ pub(crate) fn sweep_path(
         integration: &integration,
         tol: settings.solve_tol,
         frame: Frame::Translate,
+        tilt: crate::contact_law::Tilt::NONE,
     };
     let first = first_node(&segment_branch(&base, path, i0), &touch)?;
     progress(SweepProgress::Coarse { steps: 0 });

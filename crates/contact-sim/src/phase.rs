@@ -11,6 +11,7 @@
 //! flow acts on `[0, s1]` at any angle alpha (spec/model.md). The base position follows as
 //! `x0 = xc - (x(s1) - x(0))`.
 
+use crate::contact_law::Tilt;
 use beam_model::{FluidLoad, LoadKind, Loads, Reactions, TipForce};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::FRAC_PI_2;
@@ -87,17 +88,35 @@ pub struct ContactState {
     pub iterations: u64,
     /// Final residual norm.
     pub residual: f64,
+    /// The force's tilt (a sliding frictional contact, `ft = s mu f`; [`Tilt::NONE`]
+    /// without friction): `f` is the normal part of the force.
+    #[serde(default)]
+    pub tilt: Tilt,
 }
 
 impl ContactState {
     /// The loads on the whisker in this state.
     pub fn loads(&self, flow: FluidLoad) -> Loads {
-        contact_loads(flow, self.point.psi, self.f, self.s1)
+        self.tilt.loads(flow, self.point.psi, self.f, self.s1)
     }
 
     /// Base observables `(Ax, Ay, MA, phi0)` [6.7-6.9] under the flow `flow` on `[0, s1]`:
-    /// `Ax = -(f sin psi + q s1 cos alpha)`, `Ay = f cos psi + q s1 sin alpha`, `MA = -m(0)`.
+    /// `Ax = -(f sin psi + q s1 cos alpha)`, `Ay = f cos psi + q s1 sin alpha`, `MA = -m(0)`;
+    /// with a tilt those of the force `f n + ft t`, `ft = s mu f`
+    /// ([`crate::contact_law::frictional_observables`]).
     pub fn observables(&self, flow: FluidLoad) -> (f64, f64, f64, f64) {
+        if !self.tilt.is_none() {
+            let (psi, f, s1) = (self.point.psi, self.f, self.s1);
+            let (ax, ay, ma) = crate::contact_law::frictional_observables(
+                flow,
+                psi,
+                f,
+                self.tilt.ft(f),
+                s1,
+                self.m0,
+            );
+            return (ax, ay, ma, self.phi0);
+        }
         let (s, c) = self.point.psi.sin_cos();
         let r = Reactions::balancing((self.f * s, self.f * c), flow, self.s1);
         (r.ax, r.ay, -self.m0, self.phi0)
@@ -144,6 +163,7 @@ mod tests {
             m0,
             iterations: 0,
             residual: 0.0,
+            tilt: Tilt::NONE,
         };
         let (ax, ay, ma, p0) = st.observables(flow);
         let ax_true = -(f * psi.sin() + flow.q * s1 * flow.alpha.cos());

@@ -351,6 +351,7 @@ mod tests {
             m0: 0.0,
             iterations: 0,
             residual: 0.0,
+            tilt: crate::contact_law::Tilt::NONE,
         };
         Node {
             phase: Phase::A,

@@ -8,6 +8,7 @@
 
 use crate::accuracy::{row_branch, rows_accuracy, rows_within_accuracy, SweepAccuracy};
 use crate::branch::{Branch, Node};
+use crate::contact_law::Tilt;
 use crate::continuation::{trace_tightened, End, StepControl, Trace};
 use crate::error::{ContactError, Result};
 use crate::first_contact::first_node;
@@ -233,7 +234,8 @@ impl SweepResult {
 
 impl SweepPoint {
     /// The row of the contact state `st` (its `x0` the motion's falling coordinate in
-    /// `frame`).
+    /// `frame`); under a tilt (a sliding frictional contact) with `ft = s mu f` and
+    /// `slip = slip` (the slip distance is the frictional sweep's).
     pub(crate) fn from_state(st: &ContactState, flow: FluidLoad, frame: Frame) -> Self {
         let (ax, ay, ma, phi0) = st.observables(flow);
         let pose = frame.pose(st.x0);
@@ -250,8 +252,12 @@ impl SweepPoint {
             xc: st.point.xc,
             yc: st.point.yc,
             psi: st.point.psi,
-            ft: 0.0,
-            slip: crate::contact_law::SlipState::None,
+            ft: st.tilt.ft(st.f),
+            slip: if st.tilt.is_none() {
+                crate::contact_law::SlipState::None
+            } else {
+                crate::contact_law::SlipState::Slip
+            },
             slip_distance: 0.0,
             y0: pose.y0,
             gamma: pose.gamma,
@@ -317,6 +323,28 @@ pub(crate) fn frictionless(
     (phi1, touch): (f64, FirstTouch),
     progress: &mut dyn FnMut(SweepProgress),
 ) -> Result<SweepResult> {
+    let scene = (whisker, flow, profile);
+    let untilted = (Tilt::NONE, &(|_: &[Node]| Ok(())) as &SlideCheck<'_>);
+    contact_sweep(scene, settings, (phi1, touch), untilted, progress)
+}
+
+/// A check of the traced nodes before the rows are solved ([`contact_sweep`]).
+pub(crate) type SlideCheck<'c> = dyn Fn(&[Node]) -> Result<()> + 'c;
+
+/// The contact branch under the force tilted by `tilt` ([`Tilt`]; [`Tilt::NONE`]: the
+/// frictionless sweep, [`frictionless`]) from the exact first touch: traced to the
+/// separation, its nodes handed to `check` (a sliding frictional sweep's test that the
+/// sliding never stops, [`crate::friction`]; its error ends the sweep before any row is
+/// solved), then the rows at evenly spaced base positions with their estimates. The rows
+/// carry `ft = s mu f` and the slip state `slip` under a tilt (their slip distance is the
+/// caller's).
+pub(crate) fn contact_sweep(
+    (whisker, flow, profile): (&Whisker, FluidLoad, &Profile),
+    settings: &SweepSettings,
+    (phi1, touch): (f64, FirstTouch),
+    (tilt, check): (Tilt, &SlideCheck<'_>),
+    progress: &mut dyn FnMut(SweepProgress),
+) -> Result<SweepResult> {
     let integration = Integration::adaptive(settings.integration_tol);
     let frame = settings.motion.frame().unwrap_or_default();
     let branch = Branch {
@@ -326,11 +354,13 @@ pub(crate) fn frictionless(
         integration: &integration,
         tol: settings.solve_tol,
         frame,
+        tilt,
     };
     let first = first_node(&branch, &touch)?;
     // The branch from the first contact to the separation.
     progress(SweepProgress::Coarse { steps: 0 });
     let (tr, step) = trace_seeing_switches(&branch, first, settings)?;
+    check(&tr.nodes)?;
     progress(SweepProgress::Coarse {
         steps: tr.nodes.len(),
     });

@@ -533,6 +533,7 @@ pub(super) fn state_of(n: &Node) -> ContactState {
         m0: n.m0,
         iterations: 0,
         residual: 0.0,
+        tilt: crate::contact_law::Tilt::NONE,
     }
 }
 

@@ -8,6 +8,14 @@
 //! `mu > 0` runs the frictional sweep of this module. The base motion (translation towards -x) stays the
 //! sweep's, so a later change of the base pose does not touch the law.
 //!
+//! **A contact that slides throughout** (its first touch a tip touch whose mode is slip, and
+//! the sliding never stopping along the traced path) runs on the frictionless machinery
+//! under the tilted force `F = fn (n + s mu t)` ([`Tilt`](crate::contact_law::Tilt),
+//! `slide`): the same trace, rows, depth checks and estimates, 1.07x the frictionless
+//! sweep's instructions on the bench scene (the frictional legs below: 2.55x). Every other
+//! contact (stick at the touch, a slip -> stick switch or a reversal on the path, a
+//! tangential first touch) runs on the frictional legs below, from the start.
+//!
 //! **The model.** Boundary tangent `t = (cos psi, sin psi)`, outward normal
 //! `n = (sin psi, -cos psi)`; the force on the whisker `F = fn n + ft t`, `fn >= 0`. It is
 //! applied as a direction-preserving tip force of size `|F|` at angle `beta` with
@@ -74,6 +82,7 @@ mod events;
 mod kinds;
 mod rows;
 mod settings;
+mod slide;
 mod start;
 mod trace;
 
@@ -116,15 +125,14 @@ pub(crate) struct FrictionalRows {
     pub first_x0: f64,
 }
 
-/// The frictional sweep's contact rows from the first touch `touch`.
-pub(crate) fn frictional_rows(
-    whisker: &Whisker,
+/// The frictional sweep's equations: at the sweep's tolerances (`tight`, the rows') and the
+/// trace's [`Sweeper`] (looser).
+fn sweepers<'a>(
+    whisker: &'a Whisker,
     flow: FluidLoad,
-    profile: &Profile,
-    touch: &FirstTouch,
+    profile: &'a Profile,
     set: &FrictionSettings,
-    progress: &mut dyn FnMut(SweepProgress),
-) -> Result<FrictionalRows> {
+) -> (FrictionBranch<'a>, Sweeper<'a>) {
     // the trace at looser tolerances (its nodes only guide the rows and bracket the
     // events, as the frictionless sweep's `continuation::trace_tightened`); the rows, the
     // first node and the event rows on their events at the sweep's own (`rows`)
@@ -148,6 +156,16 @@ pub(crate) fn frictional_rows(
         max_steps: set.max_steps,
         check_penetration: set.check_penetration,
     };
+    (tight, sw)
+}
+
+/// The first node of the frictional path at the first touch `touch`, in its mode.
+fn first_node(
+    (whisker, flow, profile): (&Whisker, FluidLoad, &Profile),
+    (tight, sw): (&FrictionBranch, &Sweeper),
+    touch: &FirstTouch,
+    set: &FrictionSettings,
+) -> Result<branch::Node> {
     // the first node: at a tip touch the free whisker itself (F = 0); at a tangential touch
     // the frictionless sweep's phase-B state at the touch's base position (the flow acts on
     // [0, s1] only, so the state jumps from the free whisker's, `first_contact::first_node`),
@@ -162,6 +180,7 @@ pub(crate) fn frictional_rows(
                 integration: &integration,
                 tol: set.solve_tol,
                 frame: crate::motion::Frame::Translate,
+                tilt: crate::contact_law::Tilt::NONE,
             };
             let n = crate::first_contact::first_node(&branch, touch)?;
             (Phase::B, [n.u[0], n.u[1], 0.0, n.u[2]])
@@ -175,7 +194,16 @@ pub(crate) fn frictional_rows(
     let (_, n0) = sw.b.eval(phase, stick, w0, true)?;
     let first = sw.first_mode(&n0)?;
     // the first node exact at the sweep's tolerances (its state is the touch's, no solve)
-    let first = tight.eval(first.phase, first.mode, first.w, true)?.1;
+    Ok(tight.eval(first.phase, first.mode, first.w, true)?.1)
+}
+
+/// The frictional sweep's contact rows from its first node `first` ([`first_node`]).
+fn frictional_rows(
+    (tight, sw): (&FrictionBranch, &Sweeper),
+    first: branch::Node,
+    set: &FrictionSettings,
+    progress: &mut dyn FnMut(SweepProgress),
+) -> Result<FrictionalRows> {
     progress(SweepProgress::Coarse { steps: 0 });
     let tr = match sw.trace(first) {
         Ok(tr) => tr,
@@ -184,7 +212,7 @@ pub(crate) fn frictional_rows(
         Err(_) => Sweeper {
             b: tight.clone_shallow(),
             tight: tight.clone_shallow(),
-            ..sw
+            ..*sw
         }
         .trace(first)?,
     };
@@ -192,7 +220,7 @@ pub(crate) fn frictional_rows(
     progress(SweepProgress::Coarse {
         steps: tr.nodes.len(),
     });
-    let rows = rows(&sw, &tight, &tr, set, &mut |done, total| {
+    let rows = rows(sw, tight, &tr, set, &mut |done, total| {
         progress(SweepProgress::Fine { done, total })
     })?;
     Ok(FrictionalRows {
@@ -235,7 +263,21 @@ pub(crate) fn sweep(
             )
         }),
     };
-    let fr = frictional_rows(whisker, flow, profile, touch, &set, progress)?;
+    let scene = (whisker, flow, profile);
+    let (tight, sw) = sweepers(whisker, flow, profile, &set);
+    let first = first_node(scene, (&tight, &sw), touch, &set)?;
+    // a path of poses is the frictionless `path` module's, a peg has no contour parameter
+    // of its own: the frictional legs there
+    let framed = settings.motion.frame().is_some() && !profile.is_peg();
+    if let (FirstContact::Tip, Mode::Slip { s }, true) = (touch.kind, first.mode, framed) {
+        // sliding from the tip touch: the frictionless machinery under the tilted force,
+        // where the contact slides throughout (`slide`)
+        let at = (phi1, touch);
+        if let Some(r) = slide::sliding_sweep(scene, settings, at, (s, mu), progress) {
+            return Ok(r);
+        }
+    }
+    let fr = frictional_rows((&tight, &sw), first, &set, progress)?;
     let mut points = pre_contact_rows(whisker, flow, phi1, fr.first_x0, settings)?;
     let pre = points.len();
     points.extend(fr.rows.iter().map(|r| r.0));

@@ -1,7 +1,8 @@
 //! The sweep's entry (thesis Fig. 5.6): the inputs checked, the free whisker under the flow
 //! and its exact first touch, then the contact branch handed to the law of the contact
 //! ([`crate::contact_law::ContactLaw`]): frictionless ([`mod@crate::sweep`]) or Coulomb friction
-//! ([`crate::friction`]).
+//! ([`crate::friction`], any obstacle, translating or rotating; friction along a path of
+//! poses is refused by name).
 
 use crate::error::{ContactError, Result};
 use crate::first_contact::{first_touch, free_tip};
@@ -38,19 +39,15 @@ pub fn sweep_with_progress(
     let frame = settings.motion.frame().unwrap_or_default();
     let graph_translated =
         settings.motion.frame() == Some(Frame::Translate) && !profile.is_closed();
-    if let (Some(mu), false) = (settings.contact_law.friction(), graph_translated) {
-        let what = if profile.is_closed() {
-            format!(
-                "friction (mu = {mu}) against obstacle {} is",
-                profile.name()
-            )
-        } else {
-            format!(
+    if let (Some(mu), None) = (settings.contact_law.friction(), settings.motion.frame()) {
+        // friction along a path of poses: its corners change the frame mid-branch, which
+        // the frictional trace does not follow yet (docs/friction-whisk.md)
+        return Err(ContactError::NotImplemented {
+            what: format!(
                 "friction (mu = {mu}) with motion {} is",
                 settings.motion.label()
-            )
-        };
-        return Err(ContactError::NotImplemented { what });
+            ),
+        });
     }
     let integration = Integration::adaptive(settings.integration_tol);
     // The free whisker under the flow, then its exact first touch: on the graph's right

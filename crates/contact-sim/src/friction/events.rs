@@ -29,7 +29,7 @@ impl Sweeper<'_> {
             Ev::PhaseEnd if tangential => 1.0 - n.w[0],
             Ev::PhaseEnd => phi1 - n.geom.psi,
             Ev::Touch if tangential => {
-                self.b.profile.curvature(n.geom.x) - self.b.whisker.kappa0(n.w[0])
+                self.b.profile.curvature_at(t) - self.b.whisker.kappa0(n.w[0])
             }
             Ev::Touch => (0.5 * (phi1 - n.geom.psi)).cos(),
             Ev::AtBase if tangential => n.w[0] - BASE_CONTACT,

@@ -5,8 +5,18 @@
 //! (`SweepSettings::contact_law`): [`ContactLaw::Frictionless`] (the default) and
 //! [`ContactLaw::Coulomb`] with `mu = 0` run the frictionless sweep unchanged (same code path,
 //! the same rows bit for bit; callgrind on the bench scene +0.65 %, docs/friction.md);
-//! `mu > 0` runs the frictional sweep of this module. The base motion (translation towards -x) stays the
-//! sweep's, so a later change of the base pose does not touch the law.
+//! `mu > 0` runs the frictional sweep of this module. The base motion stays the sweep's:
+//! the branch's two base conditions and its falling coordinate come from the motion's
+//! `Frame` as in the frictionless branch (`branch::reframe`: a translation holds
+//! `R0 = 0` and reads `x0`, a rotation about `(x0, y0)` holds the base position and reads
+//! `-gamma`), so the stick/slip legs, the events and the rows are one code for every motion
+//! and obstacle: graphs, pegs (`peg:x,y`, tangential contact only; the tip sliding past
+//! releases it, and a stuck peg holds `s1`: the contour is a point, `sigma` constant) and
+//! discs (`disc:x,y,r`, contour parameter the polar angle, `sigma = r t`). The law is frame
+//! free: the material point's sliding velocity is the contact point's motion along the fixed
+//! contour less `ds1`, in the lab frame whatever the base does (docs/friction-whisk.md).
+//! A path of poses with friction is refused by name (its corners change the frame on the
+//! way; `crate::driver`).
 //!
 //! **The model.** Boundary tangent `t = (cos psi, sin psi)`, outward normal
 //! `n = (sin psi, -cos psi)`; the force on the whisker `F = fn n + ft t`, `fn >= 0`. It is
@@ -81,6 +91,7 @@ use crate::accuracy::{row_integration_tol, row_solve_tol, ESTIMATE_FACTOR};
 pub use crate::contact_law::{ContactLaw, FrictionEvent, FrictionEventKind, SlipState, MAX_MU};
 use crate::error::Result;
 use crate::first_contact::{FirstContact, FirstTouch};
+use crate::motion::Frame;
 use crate::phase::Phase;
 use crate::profile::Profile;
 use crate::sweep::{
@@ -135,6 +146,7 @@ pub(crate) fn frictional_rows(
         integration: Integration::adaptive(set.integration_tol),
         tol: set.solve_tol,
         mu: set.mu,
+        frame: set.frame,
     };
     let sw = Sweeper {
         b: FrictionBranch {
@@ -161,7 +173,7 @@ pub(crate) fn frictional_rows(
                 profile,
                 integration: &integration,
                 tol: set.solve_tol,
-                frame: crate::motion::Frame::Translate,
+                frame: set.frame,
             };
             let n = crate::first_contact::first_node(&branch, touch)?;
             (Phase::B, [n.u[0], n.u[1], 0.0, n.u[2]])
@@ -218,8 +230,10 @@ pub(crate) fn sweep(
     mu: f64,
     progress: &mut dyn FnMut(SweepProgress),
 ) -> Result<SweepResult> {
+    let frame = settings.motion.frame().unwrap_or_default();
     let set = FrictionSettings {
         mu,
+        frame,
         points: settings.points,
         integration_tol: settings.integration_tol,
         solve_tol: settings.solve_tol,
@@ -239,7 +253,20 @@ pub(crate) fn sweep(
     let mut points = pre_contact_rows(whisker, flow, phi1, fr.first_x0, settings)?;
     let pre = points.len();
     points.extend(fr.rows.iter().map(|r| r.0));
-    let events = events_on_rows(fr.events, &points[pre..]);
+    let mut events = events_on_rows(fr.events, &points[pre..]);
+    let mut touch = *touch;
+    if frame != Frame::Translate {
+        // the rows, the events and the first touch carry the pose of their coordinate (as
+        // the frictionless sweep's, `SweepPoint::from_state`)
+        for p in &mut points[pre..] {
+            let pose = frame.pose(p.x0);
+            (p.x0, p.y0, p.gamma) = (pose.x0, pose.y0, pose.gamma);
+        }
+        for e in &mut events {
+            e.x0 = frame.pose(e.x0).x0;
+        }
+        touch.x0 = frame.pose(touch.x0).x0;
+    }
     let accuracy = settings
         .accuracy
         .map(|tol| {
@@ -254,7 +281,7 @@ pub(crate) fn sweep(
         alpha: flow.alpha,
         points,
         first_contact: touch.kind,
-        first_touch: *touch,
+        first_touch: touch,
         separation: fr.separation,
         accuracy,
         friction_events: events,

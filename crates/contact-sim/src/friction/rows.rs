@@ -182,9 +182,13 @@ pub(super) fn predict(sw: &Sweeper, a: &Node, b: &Node, x: f64) -> [f64; 4] {
 }
 
 /// How the row at the end of the path is held when it is solved again: the release at
-/// `fn = 0`, any other end at its contour point (in stick, whose contour point the mode
+/// `fn = 0`, the tip passing a peg at `s1 = 1`, any other end at its contour point (in stick, whose contour point the mode
 /// holds, at its normal force).
 pub(super) fn end_hold(n: &Node, end: &Separation) -> Con {
+    if matches!(end, Separation::TipPassed) {
+        // the tip passing a peg: on `s1 = 1`
+        return Con::PhaseEnd;
+    }
     let release = matches!(end, Separation::Release);
     let axis = match n.mode {
         Mode::Slip { .. } if !release => [0.0, 0.0, 0.0, 1.0],

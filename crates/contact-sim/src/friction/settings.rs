@@ -3,6 +3,8 @@
 /// Settings of the frictional sweep handed down from [`crate::sweep::SweepSettings`].
 pub(crate) struct FrictionSettings {
     pub mu: f64,
+    /// The base motion's frame (a path's: its segment's).
+    pub frame: crate::motion::Frame,
     pub points: usize,
     pub integration_tol: f64,
     pub solve_tol: f64,

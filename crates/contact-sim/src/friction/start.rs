@@ -4,6 +4,7 @@ use super::branch::{dot4, Con, Mode, Node};
 use super::contour::arc_length;
 use super::trace::Sweeper;
 use crate::error::Result;
+use crate::motion::Frame;
 use crate::phase::Phase;
 
 /// How far in x0 the candidate modes of the first touch are followed to decide between
@@ -26,11 +27,38 @@ impl Sweeper<'_> {
             Mode::Slip { s: -1.0 },
         ] {
             let (_, n) = self.b.eval(n0.phase, mode, w0, true)?;
-            if self.probe(&n, PROBE) {
+            if self.probe(&n, PROBE)
+                || (matches!(mode, Mode::Stick { .. }) && self.sticks_briefly(&n))
+            {
                 return Ok(n);
             }
         }
         Err(self.indeterminate(n0, "neither stick nor slip starts the contact"))
+    }
+
+    /// Whether a stuck first node `n` strictly inside the cone (a tangential touch, whose
+    /// state jumps to `fn > 0` with `ft = 0`) keeps the law a shorter way than [`PROBE`]:
+    /// stick is then the one consistent mode (`u = 0` with the force inside the cone; a slip
+    /// would need `ft` to jump to the cone's edge), however soon the force leaves the cone
+    /// (the trace's stick -> slip event follows). Met whisking against a peg: the material
+    /// point pinned at a fixed distance from the base (the chord of `[0, s1]` fixed) turns
+    /// the force along the whisker by `dft/dgamma ~ 1e3`. Probed down to `1e-7` in the
+    /// coordinate; only where the motion turns or the obstacle is closed (the translating
+    /// graph sweep keeps its first mode, and its rows, as before).
+    fn sticks_briefly(&self, n: &Node) -> bool {
+        let inside = n.w[1] > 0.0 && n.w[2].abs() < self.b.mu * n.w[1];
+        let new_kind = self.b.frame != Frame::Translate || self.b.profile.is_closed();
+        if !(inside && new_kind) {
+            return false;
+        }
+        let mut dx = 0.1 * PROBE;
+        while dx >= 1e-7 {
+            if self.probe(n, dx) {
+                return true;
+            }
+            dx *= 0.1;
+        }
+        false
     }
 
     /// Whether the law holds along the mode's curve from `n` a step `dx` on in x0 (one

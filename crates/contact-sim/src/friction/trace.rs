@@ -143,6 +143,10 @@ impl Sweeper<'_> {
             }
             if shrink {
                 h = 0.5 * h.min(norm4(&chord));
+                if h < 1e-9 {
+                    // the corrector lands far from the prediction however short the step
+                    return Err(self.stalled(&cur, h, "an event's step cannot be shortened"));
+                }
                 continue;
             }
             let Some((_, ev, at)) = first_ev else {
@@ -179,6 +183,19 @@ impl Sweeper<'_> {
                 Ev::Snap => return end(Separation::Snap),
                 Ev::Touch | Ev::Depth => return end(Separation::MultiContact { xc: at.geom.x }),
                 Ev::AtBase => return end(Separation::ContactAtBase),
+                Ev::PhaseEnd if self.b.profile.is_peg() => {
+                    // a peg has no tip contact: the tip slides past it (as the frictionless
+                    // sweep's `End::TipPassed`), on `s1 = 1` itself
+                    let on = self.b.correct(at.phase, at.mode, at.w, Con::PhaseEnd)?;
+                    let mut nodes = nodes.clone();
+                    nodes.pop();
+                    nodes.push(on);
+                    return Ok(Trace {
+                        nodes,
+                        events,
+                        end: Separation::TipPassed,
+                    });
+                }
                 Ev::PhaseEnd => {
                     let Some((start, tn)) = self.switch_phase(&at)? else {
                         // the other phase's curve leaves towards larger x0: no quasi-static

@@ -9,6 +9,7 @@ mod random_scene;
 mod accuracy;
 mod battery;
 mod friction;
+mod friction_whisk;
 mod path;
 mod precurved;
 mod sweep;

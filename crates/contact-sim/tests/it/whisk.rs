@@ -154,24 +154,27 @@ fn a_turned_start_against_a_turned_disc_gives_the_same_rows() {
 }
 
 /// Friction with a turning base or against a peg is refused by name, not answered wrongly.
+/// Friction along a path of poses is refused by name (friction with `rotate`, pegs and discs
+/// is `friction_whisk`'s); bad obstacles name their culprit.
 #[test]
-fn friction_with_whisking_or_pegs_is_refused_by_name() {
+fn friction_along_a_path_is_refused_by_name() {
     let whisker = Whisker::uniform();
     let flow = FluidLoad { q: 1.0, alpha: 0.0 };
     let law = contact_sim::ContactLaw::Coulomb { mu: 0.3 };
-    let s = SweepSettings {
-        contact_law: law,
-        ..rotate(0.0, 0.0, 0.0, 10)
+    let turn = contact_sim::Pose {
+        x0: 0.0,
+        y0: 0.0,
+        gamma: 1.0,
     };
-    let e = sweep(&whisker, flow, &Profile::g1(), &s).unwrap_err();
-    assert!(e.to_string().contains("motion rotate"), "{e}");
+    let path = contact_sim::Poses::new(vec![contact_sim::Pose::default(), turn], None).unwrap();
     let s = SweepSettings {
         contact_law: law,
+        motion: BaseMotion::Path(path),
         ..SweepSettings::default()
     };
     let peg = Profile::parse("peg:-0.2,0.6").unwrap();
     let e = sweep(&whisker, flow, &peg, &s).unwrap_err();
-    assert!(e.to_string().contains("peg:-0.2,0.6"), "{e}");
+    assert!(e.to_string().contains("motion path"), "{e}");
     for (spec, culprit) in [
         ("disc:0,1,0", "r > 0"),
         ("peg:1", "2 numbers"),
@@ -212,7 +215,7 @@ impl Rng {
 /// a flow (q 0..3 at -45..45 degrees), an obstacle (peg, disc, or a graph) placed where the
 /// turning whisker meets it, and a rotation from a start angle in -0.6..0.3 rad about a base
 /// anywhere near the origin; one in four scenes translates past a peg or a disc instead.
-fn random_scene(rng: &mut Rng, i: usize) -> Scene {
+pub(crate) fn random_scene(rng: &mut Rng, i: usize) -> Scene {
     let theta = rng.range(0.3, 1.0);
     let a = rng.range(-1.0, 1.0);
     let b = rng.range(-0.6, 0.6);

@@ -1,10 +1,9 @@
 //! The sweep's entry (thesis Fig. 5.6): the inputs checked, the free whisker under the flow
 //! and its exact first touch, then the contact branch handed to the law of the contact
 //! ([`crate::contact_law::ContactLaw`]): frictionless ([`mod@crate::sweep`]) or Coulomb friction
-//! ([`crate::friction`], any obstacle, translating or rotating; friction along a path of
-//! poses is refused by name).
+//! ([`crate::friction`], any obstacle and motion).
 
-use crate::error::{ContactError, Result};
+use crate::error::Result;
 use crate::first_contact::{first_touch, free_tip};
 use crate::motion::Frame;
 use crate::profile::Profile;
@@ -39,22 +38,15 @@ pub fn sweep_with_progress(
     let frame = settings.motion.frame().unwrap_or_default();
     let graph_translated =
         settings.motion.frame() == Some(Frame::Translate) && !profile.is_closed();
-    if let (Some(mu), None) = (settings.contact_law.friction(), settings.motion.frame()) {
-        // friction along a path of poses: its corners change the frame mid-branch, which
-        // the frictional trace does not follow yet (docs/friction-whisk.md)
-        return Err(ContactError::NotImplemented {
-            what: format!(
-                "friction (mu = {mu}) with motion {} is",
-                settings.motion.label()
-            ),
-        });
-    }
     let integration = Integration::adaptive(settings.integration_tol);
     // The free whisker under the flow, then its exact first touch: on the graph's right
     // flank for a translation, along the motion otherwise ([`crate::touch_scan`]).
     let phi1 = free_tip(whisker, flow, settings.integration_tol, &integration)?;
     if let crate::motion::BaseMotion::Path(path) = &settings.motion {
         let scene = (whisker, flow, profile);
+        if let Some(mu) = settings.contact_law.friction() {
+            return crate::friction::sweep_path(scene, settings, path, (phi1, mu), progress);
+        }
         return crate::path::sweep_path(scene, settings, path, phi1, progress);
     }
     let touch = if graph_translated {

@@ -15,8 +15,8 @@
 //! discs (`disc:x,y,r`, contour parameter the polar angle, `sigma = r t`). The law is frame
 //! free: the material point's sliding velocity is the contact point's motion along the fixed
 //! contour less `ds1`, in the lab frame whatever the base does (docs/friction-whisk.md).
-//! A path of poses with friction is refused by name (its corners change the frame on the
-//! way; `crate::driver`).
+//! Along a path of poses each segment's trace runs in the segment's frame and ends on its
+//! next row, where the next segment's goes on from the same state and mode (`path`).
 //!
 //! **The model.** Boundary tangent `t = (cos psi, sin psi)`, outward normal
 //! `n = (sin psi, -cos psi)`; the force on the whisker `F = fn n + ft t`, `fn >= 0`. It is
@@ -82,28 +82,27 @@ mod branch;
 mod contour;
 mod events;
 mod kinds;
+mod path;
 mod rows;
 mod settings;
 mod start;
 mod trace;
 
-use crate::accuracy::{row_integration_tol, row_solve_tol, ESTIMATE_FACTOR};
+use crate::accuracy::row_integration_tol;
 pub use crate::contact_law::{ContactLaw, FrictionEvent, FrictionEventKind, SlipState, MAX_MU};
 use crate::error::Result;
-use crate::first_contact::{FirstContact, FirstTouch};
+use crate::first_contact::FirstTouch;
 use crate::motion::Frame;
-use crate::phase::Phase;
 use crate::profile::Profile;
 use crate::sweep::{
     check_accuracy, pre_contact_rows, Separation, SweepPoint, SweepProgress, SweepResult,
     SweepSettings,
 };
-use beam_model::shot::Integration;
 use beam_model::{FluidLoad, Whisker};
-use branch::{FrictionBranch, Mode};
+pub(crate) use path::sweep_path;
 use rows::rows;
 pub(crate) use settings::FrictionSettings;
-use trace::Sweeper;
+use start::{first_node, sweeper};
 
 /// The trace's integrator tolerance (at most as tight as the sweep's), as the frictionless
 /// trace's (`continuation::TRACE_INTEGRATION_TOL`): the nodes only guide the rows and bracket
@@ -136,75 +135,15 @@ pub(crate) fn frictional_rows(
     set: &FrictionSettings,
     progress: &mut dyn FnMut(SweepProgress),
 ) -> Result<FrictionalRows> {
-    // the trace at looser tolerances (its nodes only guide the rows and bracket the
-    // events, as the frictionless sweep's `continuation::trace_tightened`); the rows, the
-    // first node and the event rows on their events at the sweep's own (`rows`)
-    let tight = FrictionBranch {
-        whisker,
-        flow,
-        profile,
-        integration: Integration::adaptive(set.integration_tol),
-        tol: set.solve_tol,
-        mu: set.mu,
-        frame: set.frame,
-    };
-    let sw = Sweeper {
-        b: FrictionBranch {
-            integration: Integration::adaptive(set.integration_tol.max(TRACE_INTEGRATION_TOL)),
-            tol: set.solve_tol.max(TRACE_SOLVE_TOL),
-            ..tight.clone_shallow()
-        },
-        tight: tight.clone_shallow(),
-        event_tol: set.event_tol,
-        max_step: set.max_step.min(MAX_STEP),
-        max_steps: set.max_steps,
-        check_penetration: set.check_penetration,
-    };
-    // the first node: at a tip touch the free whisker itself (F = 0); at a tangential touch
-    // the frictionless sweep's phase-B state at the touch's base position (the flow acts on
-    // [0, s1] only, so the state jumps from the free whisker's, `first_contact::first_node`),
-    // its force normal (`ft = 0`, inside the cone); its mode from a probe of each
-    let (phase, w0) = match touch.kind {
-        FirstContact::Tangential => {
-            let integration = Integration::adaptive(set.integration_tol);
-            let branch = crate::branch::Branch {
-                whisker,
-                flow,
-                profile,
-                integration: &integration,
-                tol: set.solve_tol,
-                frame: set.frame,
-            };
-            let n = crate::first_contact::first_node(&branch, touch)?;
-            (Phase::B, [n.u[0], n.u[1], 0.0, n.u[2]])
-        }
-        _ => (Phase::A, [touch.phi1, 0.0, 0.0, touch.t]),
-    };
-    let stick = Mode::Stick {
-        anchor: w0[3],
-        s1: if phase == Phase::B { w0[0] } else { 1.0 },
-    };
-    let (_, n0) = sw.b.eval(phase, stick, w0, true)?;
-    let first = sw.first_mode(&n0)?;
-    // the first node exact at the sweep's tolerances (its state is the touch's, no solve)
-    let first = tight.eval(first.phase, first.mode, first.w, true)?.1;
+    let sw = sweeper((whisker, flow, profile), set);
+    let first = first_node(&sw, touch, set)?;
     progress(SweepProgress::Coarse { steps: 0 });
-    let tr = match sw.trace(first) {
-        Ok(tr) => tr,
-        // where the looser trace stalls (met at a fold in tangential contact, battery scene
-        // 160), the path traced again at the sweep's own tolerances, as before
-        Err(_) => Sweeper {
-            b: tight.clone_shallow(),
-            tight: tight.clone_shallow(),
-            ..sw
-        }
-        .trace(first)?,
-    };
+    let tr = sw.trace_or_retrace(first)?;
     let separation = tr.end;
     progress(SweepProgress::Coarse {
         steps: tr.nodes.len(),
     });
-    let rows = rows(&sw, &tight, &tr, set, &mut |done, total| {
+    let rows = rows(&sw, &sw.tight, &tr, set, &mut |done, total| {
         progress(SweepProgress::Fine { done, total })
     })?;
     Ok(FrictionalRows {
@@ -231,24 +170,7 @@ pub(crate) fn sweep(
     progress: &mut dyn FnMut(SweepProgress),
 ) -> Result<SweepResult> {
     let frame = settings.motion.frame().unwrap_or_default();
-    let set = FrictionSettings {
-        mu,
-        frame,
-        points: settings.points,
-        integration_tol: settings.integration_tol,
-        solve_tol: settings.solve_tol,
-        event_tol: settings.event_tol,
-        check_penetration: settings.check_penetration,
-        max_steps: settings.max_steps,
-        max_step: settings.max_step,
-        rows_at: settings.accuracy.map(|t| {
-            (
-                row_integration_tol(t),
-                row_solve_tol(t),
-                row_integration_tol(t) * ESTIMATE_FACTOR,
-            )
-        }),
-    };
+    let set = FrictionSettings::of(settings, mu, frame);
     let fr = frictional_rows(whisker, flow, profile, touch, &set, progress)?;
     let mut points = pre_contact_rows(whisker, flow, phi1, fr.first_x0, settings)?;
     let pre = points.len();

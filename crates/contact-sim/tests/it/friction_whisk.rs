@@ -5,13 +5,16 @@
 //!   whisking sweep against a peg and a translation past a disc, row for row;
 //! - a peg in stick: the contact point is the peg and the touching material point does not
 //!   move, `s1` constant from row to row;
+//! - a turn written as a path (one segment, and three with two corners in the contact) is
+//!   `rotate` with friction;
 //! - a seeded battery over the whisking battery's scenes (rotations about a base anywhere
-//!   near the origin past pegs, discs and parabolas, translations past pegs and discs) with
+//!   near the origin past pegs, discs and parabolas, translations past pegs and discs) and,
+//!   one in four, the path battery's (random polylines of poses, k along half of them) with
 //!   `mu` in `[0, 1.5]`: every row re-integrated from its own pose and base observables by
 //!   the friction battery's RK4 elastica (not beam-model's): equilibrium (free-end moment, the
 //!   loaded end on the contact point), the contact point on the obstacle, tangency in
 //!   tangential contact and the tip steeper than the boundary in tip contact, the turned
-//!   follicle law `phi0 = pi/2 + gamma - MA/k`, the observables as the balance of
+//!   follicle law `phi0 = pi/2 + gamma - MA/k` (k the path's where it sets it), the observables as the balance of
 //!   `F = fn n + ft t`, the force in the cone (on its edge in slip), the slip law between
 //!   consecutive rows (the material point's displacement `d sigma - d s1` zero from a stuck
 //!   row, against `ft` from a sliding one; `sigma` the contour's arc length, `r dpsi` on a
@@ -24,8 +27,8 @@ use crate::friction::{contour_arc, elastica_to, Scene as Bare};
 use crate::whisk::{random_scene, Rng, Scene};
 use beam_model::{FluidLoad, Whisker};
 use contact_sim::{
-    sweep, BaseMotion, ContactError, ContactLaw, Phase, Profile, SlipState, SweepPoint,
-    SweepResult, SweepSettings,
+    sweep, BaseMotion, ContactError, ContactLaw, Phase, Pose, Poses, Profile, SlipState,
+    SweepPoint, SweepResult, SweepSettings,
 };
 use std::f64::consts::{FRAC_PI_2, PI};
 
@@ -85,9 +88,11 @@ fn worse(slot: &mut (f64, String), v: f64, at: impl Fn() -> String) {
 /// sweep's solver.
 fn check(s: &Scene, mu: f64, r: &SweepResult, fig: &mut Figures) -> Result<(), String> {
     for w in r.points.windows(2) {
+        // (a path may turn back: its parameter is not in the rows; the path battery's own)
         let advancing = match s.settings.motion {
             BaseMotion::Translate => w[1].x0 < w[0].x0,
-            _ => w[1].gamma > w[0].gamma,
+            BaseMotion::Rotate { .. } => w[1].gamma > w[0].gamma,
+            BaseMotion::Path(_) => true,
         };
         if !advancing {
             return Err(format!(
@@ -113,8 +118,9 @@ fn check(s: &Scene, mu: f64, r: &SweepResult, fig: &mut Figures) -> Result<(), S
                 s.name, p.x0, p.gamma, p.phase, p.slip
             )
         };
-        // the follicle law turned by gamma, every row
-        let law = (p.phi0 - (FRAC_PI_2 + p.gamma - p.ma * compliance)).abs();
+        // the follicle law turned by gamma (and tensed where a path sets k), every row
+        let c = p.k.map_or(compliance, |k| 1.0 / k);
+        let law = (p.phi0 - (FRAC_PI_2 + p.gamma - p.ma * c)).abs();
         worse(&mut fig.follicle, law, at);
         if p.phase == Phase::None {
             if p.slip != SlipState::None {
@@ -239,7 +245,12 @@ fn battery(count: usize, seed: u64, points: usize) -> (Figures, Tally) {
     let mut fig = Figures::default();
     let mut tally = Tally::default();
     for i in 0..count {
-        let mut sc = random_scene(&mut rng, i);
+        // one scene in four along a random path of poses (the path battery's scenes)
+        let mut sc = if i % 4 == 3 {
+            crate::path::random_scene(&mut rng, i)
+        } else {
+            random_scene(&mut rng, i)
+        };
         let mu = rng.range(0.0, 1.5);
         sc.settings.points = points;
         let plain = sc.settings.clone();
@@ -471,4 +482,123 @@ fn a_stuck_peg_keeps_its_material_point() {
         assert_figures(&fig);
     }
     assert!(stuck_rows >= 2);
+}
+
+fn turn_path(poses: &[(f64, f64, f64)], points: usize, mu: f64) -> SweepSettings {
+    let poses = poses
+        .iter()
+        .map(|&(x0, y0, gamma)| Pose { x0, y0, gamma })
+        .collect();
+    SweepSettings {
+        points,
+        motion: BaseMotion::Path(Poses::new(poses, None).unwrap()),
+        contact_law: ContactLaw::Coulomb { mu },
+        ..SweepSettings::default()
+    }
+}
+
+/// The largest difference of two contact rows' observables, slip displacement and force.
+fn row_diff(p: &SweepPoint, q: &SweepPoint) -> f64 {
+    [
+        (p.x0, q.x0),
+        (p.y0, q.y0),
+        (p.gamma, q.gamma),
+        (p.ma, q.ma),
+        (p.ax, q.ax),
+        (p.ay, q.ay),
+        (p.phi0, q.phi0),
+        (p.f, q.f),
+        (p.ft, q.ft),
+        (p.s1, q.s1),
+        (p.xc, q.xc),
+        (p.slip_distance, q.slip_distance),
+    ]
+    .iter()
+    .fold(0.0f64, |m, (u, v)| m.max((u - v).abs()))
+}
+
+/// A turn written as a path is `rotate` with friction: a single segment from the same start
+/// gives the same rows (the same grid in gamma, the same switches, slip states and slip
+/// displacement); the turn cut in three segments (two corners inside the contact, a row on
+/// each) gives rows that pass the battery's checks and the same stick/slip switch rows.
+#[test]
+fn a_turn_written_as_a_path_is_rotate_with_friction() {
+    let w = Whisker::new(0.7, -0.5, 0.3, 15.0);
+    let flow = FluidLoad {
+        q: 1.5,
+        alpha: -0.2,
+    };
+    for (spec, mu) in [("disc:-0.5,0.8,0.15", 0.5), ("peg:-0.2,0.6", 0.9)] {
+        let profile = Profile::parse(spec).unwrap();
+        let rot = rotate(0.05, -0.1, -0.2, 25, mu);
+        let r = sweep(&w, flow, &profile, &rot).unwrap();
+        let one = turn_path(&[(0.05, -0.1, -0.2), (0.05, -0.1, 3.0)], 25, mu);
+        let p = sweep(&w, flow, &profile, &one).unwrap();
+        assert_eq!(p.separation, r.separation, "{spec}");
+        assert_eq!(p.phase_pattern(), r.phase_pattern(), "{spec}");
+        let (ra, rb): (Vec<_>, Vec<_>) =
+            (r.contact_points().collect(), p.contact_points().collect());
+        assert_eq!(ra.len(), rb.len(), "{spec}");
+        let mut worst = 0.0f64;
+        for (a, b) in ra.iter().zip(&rb) {
+            assert_eq!((a.phase, a.slip), (b.phase, b.slip), "{spec}");
+            worst = worst.max(row_diff(a, b));
+        }
+        assert_eq!(r.friction_events.len(), p.friction_events.len(), "{spec}");
+        eprintln!(
+            "{spec} mu {mu}: {} rows, {} switches; one-segment path against rotate {worst:.2e}",
+            ra.len(),
+            r.friction_events.len()
+        );
+        assert!(worst < 1e-8, "{spec}: {worst:e}");
+        // three segments, the corners inside the contact
+        let (g0, g1) = (ra[0].gamma, ra[ra.len() - 1].gamma);
+        let (c1, c2) = (g0 + 0.3 * (g1 - g0), g0 + 0.7 * (g1 - g0));
+        let three = turn_path(
+            &[
+                (0.05, -0.1, -0.2),
+                (0.05, -0.1, c1),
+                (0.05, -0.1, c2),
+                (0.05, -0.1, 3.0),
+            ],
+            25,
+            mu,
+        );
+        let t = sweep(&w, flow, &profile, &three).unwrap();
+        assert_eq!(t.separation, r.separation, "{spec}");
+        let rt: Vec<_> = t.contact_points().collect();
+        for c in [c1, c2] {
+            assert!(
+                rt.iter().any(|q| (q.gamma - c).abs() < 1e-12),
+                "{spec}: no row on the corner {c}"
+            );
+        }
+        let switches = |rows: &[&SweepPoint]| -> Vec<SweepPoint> {
+            rows.windows(2)
+                .filter(|w| w[0].slip != w[1].slip)
+                .map(|w| *w[1])
+                .collect()
+        };
+        let (sa, st) = (switches(&ra), switches(&rt));
+        assert_eq!(sa.len(), st.len(), "{spec}");
+        let mut at_switch = 0.0f64;
+        for (a, b) in sa.iter().zip(&st) {
+            at_switch = at_switch.max(row_diff(a, b));
+        }
+        eprintln!(
+            "{spec}: three segments, {} rows, switch rows against rotate {at_switch:.2e}",
+            rt.len()
+        );
+        assert!(at_switch < 1e-7, "{spec}: {at_switch:e}");
+        let sc = Scene {
+            name: format!("{spec} three segments"),
+            whisker: w,
+            flow,
+            profile,
+            settings: three,
+        };
+        let mut fig = Figures::default();
+        check(&sc, mu, &t, &mut fig).unwrap();
+        assert_figures(&fig);
+    }
 }

@@ -154,27 +154,9 @@ fn a_turned_start_against_a_turned_disc_gives_the_same_rows() {
 }
 
 /// Friction with a turning base or against a peg is refused by name, not answered wrongly.
-/// Friction along a path of poses is refused by name (friction with `rotate`, pegs and discs
-/// is `friction_whisk`'s); bad obstacles name their culprit.
+/// Bad obstacles name their culprit.
 #[test]
-fn friction_along_a_path_is_refused_by_name() {
-    let whisker = Whisker::uniform();
-    let flow = FluidLoad { q: 1.0, alpha: 0.0 };
-    let law = contact_sim::ContactLaw::Coulomb { mu: 0.3 };
-    let turn = contact_sim::Pose {
-        x0: 0.0,
-        y0: 0.0,
-        gamma: 1.0,
-    };
-    let path = contact_sim::Poses::new(vec![contact_sim::Pose::default(), turn], None).unwrap();
-    let s = SweepSettings {
-        contact_law: law,
-        motion: BaseMotion::Path(path),
-        ..SweepSettings::default()
-    };
-    let peg = Profile::parse("peg:-0.2,0.6").unwrap();
-    let e = sweep(&whisker, flow, &peg, &s).unwrap_err();
-    assert!(e.to_string().contains("motion path"), "{e}");
+fn bad_obstacles_are_refused_by_name() {
     for (spec, culprit) in [
         ("disc:0,1,0", "r > 0"),
         ("peg:1", "2 numbers"),

@@ -14,12 +14,15 @@
 //!   inside the contact a row of its own, the stick/slip switches too; the slip displacement
 //!   runs on over the corners.
 
-use super::branch::Con;
+use super::branch::{Con, Mode, Node};
 use super::settings::FrictionSettings;
 use super::start::{first_node, sweeper};
 use super::trace::Trace;
+use super::trace::{Sweeper, SWITCH_PROBE};
 use super::{events_on_rows, rows};
 use crate::accuracy::row_integration_tol;
+use crate::contact_law::{FrictionEvent, FrictionEventKind};
+use crate::error::ContactError;
 use crate::error::Result;
 use crate::motion::{Frame, Poses};
 use crate::path::{first_touch_on_path, path_row, pre_contact_rows};
@@ -52,6 +55,8 @@ pub(crate) fn sweep_path(
     progress(SweepProgress::Coarse { steps: 0 });
     // the trace, segment by segment
     let mut traces: Vec<(usize, Trace)> = Vec::new();
+    // the segments (by index in `traces`) that start with a switch at their corner
+    let mut switched: Vec<(usize, Vec<FrictionEventKind>)> = Vec::new();
     let (mut i, mut start) = (i0, first);
     loop {
         set.frame = frame_of(i);
@@ -64,12 +69,18 @@ pub(crate) fn sweep_path(
         }
         i += 1;
         set.frame = frame_of(i);
-        start = sweeper(scene, &set).tight.correct(
-            end.phase,
-            end.mode,
-            end.w,
-            Con::Base(-(i as f64)),
-        )?;
+        let sw = sweeper(scene, &set);
+        start = sw
+            .tight
+            .correct(end.phase, end.mode, end.w, Con::Base(-(i as f64)))?;
+        // the motion's direction may change at the corner: the mode that keeps the law
+        // from here on (the same, else stick at the corner's state, else the other slip),
+        // the switch recorded with the corner's row
+        if !sw.probe(&start, SWITCH_PROBE) {
+            let (at, kinds) = mode_at_corner(&sw, &start)?;
+            switched.push((traces.len(), kinds));
+            start = at;
+        }
     }
     let steps = traces.iter().map(|(_, t)| t.nodes.len()).sum();
     progress(SweepProgress::Coarse { steps });
@@ -99,17 +110,33 @@ pub(crate) fn sweep_path(
             tr.events.clone(),
             &seg_rows.iter().map(|r| r.0).collect::<Vec<_>>(),
         );
-        events.extend(seg_events);
         if k > 0 && !seg_rows.is_empty() {
             // the first row is the corner's, the previous segment's last; the slip
-            // displacement runs on from there
+            // displacement runs on from there. Where the mode switched at the corner the
+            // corner's row is the new leg's (as a switch's row), with the switch's events
             let offset = rows_out.last().map_or(0.0, |r| r.0.slip_distance);
-            seg_rows.remove(0);
+            match switched.iter().find(|(j, _)| *j == k) {
+                Some((_, kinds)) => {
+                    rows_out.pop();
+                    let r = seg_rows[0].0;
+                    events.extend(kinds.iter().map(|&kind| FrictionEvent {
+                        kind,
+                        x0: r.x0,
+                        xc: r.xc,
+                        f: r.f,
+                        ft: r.ft,
+                    }));
+                }
+                None => {
+                    seg_rows.remove(0);
+                }
+            }
             for r in &mut seg_rows {
                 r.0.slip_distance += offset;
             }
         }
         rows_out.extend(seg_rows);
+        events.extend(seg_events);
     }
     let separation = traces.last().expect("one segment at least").1.end;
     let mut points = pre_contact_rows(whisker, flow, (phi1, -touch.x0), path, settings)?;
@@ -139,5 +166,45 @@ pub(crate) fn sweep_path(
         separation,
         accuracy,
         friction_events: events,
+    })
+}
+
+/// The mode at a corner `at` (solved in the new segment's frame) where its own does not keep
+/// the law, taken on from the same state (no jump of the force at a fixed pose): a sliding
+/// that the new direction of the motion would reverse sticks at the corner (probed down to
+/// 1e-7 in the coordinate: the force may cross the cone fast, as against a peg), a stick
+/// whose force the new direction pushes out of the cone slides with `ft`'s sign; the node
+/// and the switch's event. Neither: no quasi-static continuation (`FrictionIndeterminate`).
+fn mode_at_corner(sw: &Sweeper, at: &Node) -> Result<(Node, Vec<FrictionEventKind>)> {
+    let (mode, kind) = match at.mode {
+        Mode::Stick { .. } => (
+            Mode::Slip {
+                s: at.w[2].signum(),
+            },
+            FrictionEventKind::StickToSlip,
+        ),
+        Mode::Slip { .. } => (
+            Mode::Stick {
+                anchor: at.w[3],
+                s1: at.s1(),
+            },
+            FrictionEventKind::SlipToStick,
+        ),
+    };
+    if let Ok(n) = sw.tight.correct(at.phase, mode, at.w, Con::Base(at.x0)) {
+        let mut dx = SWITCH_PROBE;
+        while dx >= 1e-7 {
+            if sw.probe(&n, dx) {
+                return Ok((n, vec![kind]));
+            }
+            dx *= 0.1;
+        }
+    }
+    Err(ContactError::FrictionIndeterminate {
+        x0: at.x0,
+        xc: at.geom.x,
+        mu: sw.b.mu,
+        reason: "at a corner of the path neither the contact's mode nor the other keeps the law"
+            .into(),
     })
 }

@@ -252,6 +252,16 @@ fn battery(count: usize, seed: u64, points: usize) -> (Figures, Tally) {
             random_scene(&mut rng, i)
         };
         let mu = rng.range(0.0, 1.5);
+        // `FW_SCENE=N` runs scene N alone (its rows printed)
+        let only = std::env::var("FW_SCENE")
+            .ok()
+            .and_then(|v| v.parse::<usize>().ok());
+        if only.is_some_and(|n| n != i) {
+            continue;
+        }
+        if only.is_some() {
+            eprintln!("{} mu={mu}: {:?}", sc.name, sc.settings.motion);
+        }
         sc.settings.points = points;
         let plain = sc.settings.clone();
         sc.settings.contact_law = ContactLaw::Coulomb { mu };
@@ -266,6 +276,11 @@ fn battery(count: usize, seed: u64, points: usize) -> (Figures, Tally) {
                     r.separation,
                     r.friction_events.len()
                 );
+                if only.is_some() {
+                    for (k, q) in r.points.iter().enumerate() {
+                        eprintln!("{k} x0 {:.6} y0 {:.6} g {:.6} {} {:?} s1 {:.9} f {:.4e} ft {:.4e} sd {:.9e}", q.x0, q.y0, q.gamma, q.phase, q.slip, q.s1, q.f, q.ft, q.slip_distance);
+                    }
+                }
                 if let Err(e) = check(&sc, mu, &r, &mut fig) {
                     panic!("{e}");
                 }

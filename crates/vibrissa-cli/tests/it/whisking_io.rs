@@ -226,8 +226,8 @@ fn wio_physical_and_dimensionless_whisking_agree() {
 }
 
 /// Bad motions exit 2 naming the flag or the scene key (with its line) or the path table
-/// (file, line, column); a path with friction exits 1 with the library's message (friction
-/// with a turning base, pegs and discs is `friction_whisk::`'s); no folder is left behind.
+/// (file, line, column); no folder is left behind (friction with a turning base, pegs and
+/// discs is `friction_whisk::`'s).
 #[test]
 fn wio_bad_motions_are_refused_by_name() {
     let dir = tempfile::tempdir().unwrap();
@@ -284,11 +284,6 @@ fn wio_bad_motions_are_refused_by_name() {
     fs::write(d.join("p.csv"), "x0_mm,y0,gamma_deg\n0,0,0\n0,0,60\n").unwrap();
     refused(&["--motion", "path:p.csv"], 2, &["p.csv", "physical"]);
     fs::write(d.join("p.csv"), "x0,y0,gamma_deg\n0,0,0\n0,0,60\n").unwrap();
-    refused(
-        &["--motion", "path:p.csv", "--mu", "0.3"],
-        1,
-        &["friction", "path", "not implemented"],
-    );
     let o = run(
         &[&base[..], &["--motion", "path:p.csv", "--out", "path"]].concat(),
         d,

@@ -1,9 +1,9 @@
 //! The sweep's entry (thesis Fig. 5.6): the inputs checked, the free whisker under the flow
 //! and its exact first touch, then the contact branch handed to the law of the contact
 //! ([`crate::contact_law::ContactLaw`]): frictionless ([`mod@crate::sweep`]) or Coulomb friction
-//! ([`crate::friction`]).
+//! ([`crate::friction`], any obstacle and motion).
 
-use crate::error::{ContactError, Result};
+use crate::error::Result;
 use crate::first_contact::{first_touch, free_tip};
 use crate::motion::Frame;
 use crate::profile::Profile;
@@ -38,26 +38,15 @@ pub fn sweep_with_progress(
     let frame = settings.motion.frame().unwrap_or_default();
     let graph_translated =
         settings.motion.frame() == Some(Frame::Translate) && !profile.is_closed();
-    if let (Some(mu), false) = (settings.contact_law.friction(), graph_translated) {
-        let what = if profile.is_closed() {
-            format!(
-                "friction (mu = {mu}) against obstacle {} is",
-                profile.name()
-            )
-        } else {
-            format!(
-                "friction (mu = {mu}) with motion {} is",
-                settings.motion.label()
-            )
-        };
-        return Err(ContactError::NotImplemented { what });
-    }
     let integration = Integration::adaptive(settings.integration_tol);
     // The free whisker under the flow, then its exact first touch: on the graph's right
     // flank for a translation, along the motion otherwise ([`crate::touch_scan`]).
     let phi1 = free_tip(whisker, flow, settings.integration_tol, &integration)?;
     if let crate::motion::BaseMotion::Path(path) = &settings.motion {
         let scene = (whisker, flow, profile);
+        if let Some(mu) = settings.contact_law.friction() {
+            return crate::friction::sweep_path(scene, settings, path, (phi1, mu), progress);
+        }
         return crate::path::sweep_path(scene, settings, path, phi1, progress);
     }
     let touch = if graph_translated {

@@ -176,6 +176,11 @@ const BUDGET: usize = 20_000;
 /// `(side.len(), 1.0)` if it covers the side.
 fn basin_end(depth: &Depth, side: &[ShapePiece], contact: f64) -> (usize, f64) {
     let mut from_contact = 0.0;
+    // sub-steps at most before the basin is cut where the search stands (conservative: the
+    // rest goes to `region_max`); met where the bound stays within NOISE of the contact's
+    // depth along a whole piece (a frictional whisk past a disc, docs/friction-whisk.md):
+    // the depth-first bisection would otherwise visit up to 2^MAX_LEVEL sub-steps
+    let mut budget = 10 * BUDGET;
     for (k, p) in side.iter().enumerate() {
         let h = p.poly.h().abs();
         // nearest sub-interval first: a stack popped from its end
@@ -190,7 +195,8 @@ fn basin_end(depth: &Depth, side: &[ShapePiece], contact: f64) -> (usize, f64) {
             {
                 continue;
             }
-            if level >= MAX_LEVEL {
+            budget = budget.saturating_sub(1);
+            if level >= MAX_LEVEL || budget == 0 {
                 return (k, a);
             }
             let m = 0.5 * (a + b);

@@ -56,7 +56,7 @@ fn segment_of(path: &Poses, c: f64) -> usize {
 
 /// The first touch along the path: each segment scanned from its first row (the free
 /// whisker at the segment's pose and follicle), the first one that reaches the obstacle.
-fn first_touch_on_path(
+pub(crate) fn first_touch_on_path(
     whisker: &Whisker,
     flow: FluidLoad,
     (phi1, tol): (f64, f64),
@@ -235,7 +235,7 @@ fn end_node(end: &End) -> Node {
 }
 
 /// The row `row` (its `x0` the coordinate `-p`) with the path's pose and k at its `p`.
-fn path_row(mut row: SweepPoint, path: &Poses) -> SweepPoint {
+pub(crate) fn path_row(mut row: SweepPoint, path: &Poses) -> SweepPoint {
     let p = -row.x0;
     let pose = path.pose(p);
     (row.x0, row.y0, row.gamma) = (pose.x0, pose.y0, pose.gamma);
@@ -246,7 +246,7 @@ fn path_row(mut row: SweepPoint, path: &Poses) -> SweepPoint {
 /// The rows before contact: the free whisker under the flow at `p` spaced
 /// `pre_contact_spacing` before the touch at `p_touch` (rows before the path's start
 /// dropped), each at its pose and follicle (the tip angle from `phi1` turned by gamma).
-fn pre_contact_rows(
+pub(crate) fn pre_contact_rows(
     whisker: &Whisker,
     flow: FluidLoad,
     (phi1, p_touch): (f64, f64),

@@ -152,8 +152,8 @@ pub struct FrictionSwitch {
 }
 
 /// The stick/slip switches of a sweep in the order of the motion, each with its row: the
-/// contact row at the event's base position and contact point (the nearest contact row in
-/// `x0` should none match exactly). Empty without friction.
+/// contact row at the event's base position, contact point and forces (the nearest contact
+/// row in `x0` should none match exactly). Empty without friction.
 pub fn friction_switches(res: &SweepResult) -> Vec<FrictionSwitch> {
     let contact: Vec<usize> = (0..res.points.len())
         .filter(|&i| res.points[i].phase != Phase::None)
@@ -161,10 +161,12 @@ pub fn friction_switches(res: &SweepResult) -> Vec<FrictionSwitch> {
     res.friction_events
         .iter()
         .filter_map(|e| {
-            let exact = contact
-                .iter()
-                .copied()
-                .find(|&i| res.points[i].x0 == e.x0 && res.points[i].xc == e.xc);
+            let exact = contact.iter().copied().find(|&i| {
+                // x0 and xc alone do not tell rows apart where the base turns (x0 fixed)
+                // past a peg (xc fixed): the row's forces, which the event takes, do
+                let p = &res.points[i];
+                p.x0 == e.x0 && p.xc == e.xc && p.f == e.f && p.ft == e.ft
+            });
             let index = exact.or_else(|| {
                 contact.iter().copied().min_by(|&a, &b| {
                     let d = |i: usize| (res.points[i].x0 - e.x0).abs();

@@ -119,8 +119,25 @@ def test_bad_motions_are_refused_by_name():
     with pytest.raises(vibrissa.InvalidInput, match="k"):
         vibrissa.sweep(profile="g1", motion="path",
                        path={"x0": [0, 0], "y0": [0, 0], "gamma_deg": [0, 9], "k": [1, -1]})
-    with pytest.raises(vibrissa.SolverError, match="not implemented"):
-        vibrissa.sweep(profile="peg:-0.2,0.6", motion="rotate", mu=0.3)
+
+
+def test_friction_with_whisking_against_a_peg():
+    """mu > 0 with rotate against a peg (docs/friction-whisk.md): gamma rises, every contact
+    row touches the peg with its force in the cone, the sliding rows on its edge, and the
+    first stretch sticks (the tangential touch inside the cone) with s1 fixed."""
+    mu = 0.3
+    sw = vibrissa.sweep(profile="peg:-0.2,0.6", motion="rotate", mu=mu, points=20)
+    assert (np.diff(sw.gamma) > 0).all()
+    c = sw.contact
+    assert set(sw.slip[c]) == {"stick", "slip"} and set(sw.slip[~c]) == {"none"}
+    assert np.allclose(sw.xc[c], -0.2) and np.allclose(sw.yc[c], 0.6)
+    f, ft = sw.f[c], sw.ft[c]
+    assert (np.abs(ft) <= mu * f * (1 + 1e-9) + 1e-12).all()
+    sliding = sw.slip[c] == "slip"
+    assert np.allclose(np.abs(ft[sliding]), mu * f[sliding], rtol=1e-8, atol=1e-12)
+    stuck = sw.s1[c][sw.slip[c] == "stick"]
+    assert np.ptp(stuck) < 1e-9
+    assert sw.mu == mu and len(sw.friction_events) >= 1
 
 
 def test_a_scene_files_motion_is_read(tmp_path):

@@ -19,6 +19,7 @@ use super::contour::arc_length;
 use crate::contact_law::force;
 use crate::contact_law::SlipState;
 use crate::error::{ContactError, Result};
+use crate::motion::Frame;
 use crate::phase::{ContactState, ContourPoint, Phase};
 use crate::profile::{ContourGeom, Profile};
 use beam_model::equations::Sensitivities;
@@ -69,6 +70,10 @@ pub(super) struct FrictionBranch<'a> {
     pub(super) integration: Integration,
     pub(super) tol: f64,
     pub(super) mu: f64,
+    /// How the base moves ([`Frame`]): which two equations are `(R0, R1)` and which
+    /// function of the state is the falling coordinate (the node's `x0`), as in the
+    /// frictionless branch ([`crate::branch::Branch::frame`]; [`reframe`]).
+    pub(super) frame: Frame,
 }
 
 /// Largest residual accepted from a corrector that stalls (the shots' noise floor).
@@ -151,6 +156,9 @@ impl FrictionBranch<'_> {
         let shot = self.shot(&loads, phi1, jac)?;
         let support = &self.whisker.support;
         let mut jm = [[0.0; 4]; 3];
+        // the shot's raw rates per column (phi0, m0, dx, dy), which a path's follicle law
+        // reads ([`reframe`])
+        let mut raw = [BaseValues::default(); 4];
         if jac {
             // d(shot)/dFx and d(shot)/dFy
             let big = loads.tip.f;
@@ -189,15 +197,25 @@ impl FrictionBranch<'_> {
             for i in 0..3 {
                 jm[i] = [c_v[i], c_f[i], c_ft[i], c_t[i]];
             }
+            let d_v = match phase {
+                Phase::B => shot.d_s1,
+                _ => shot.d_phi1,
+            };
+            raw = [d_v, lin(sp, &cx, -cp, &cy), lin(cp, &cx, sp, &cy), dt];
         }
-        let r = [support.residual(shot.phi0, shot.m0), shot.dy - g.y];
+        let mut r = [support.residual(shot.phi0, shot.m0), shot.dy - g.y];
+        let mut x0 = g.x - shot.dx;
+        if self.frame != Frame::Translate {
+            let base = (shot.phi0, shot.m0, g.y - shot.dy);
+            (r, x0) = reframe(self.frame, (r, x0), base, &raw, &mut jm);
+        }
         Ok((
             r,
             Node {
                 phase,
                 mode,
                 w,
-                x0: g.x - shot.dx,
+                x0,
                 phi0: shot.phi0,
                 m0: shot.m0,
                 geom: g,
@@ -433,6 +451,63 @@ impl FrictionBranch<'_> {
     }
 }
 
+/// The branch's two equations and falling coordinate in the motion's frame (spec/model.md,
+/// "Base motions"; the frictionless branch's reading, [`crate::branch::Branch`], on `N`
+/// columns): from the translation's `R = (R0, R1)` [3.21, 3.22; 5.4-5.10] and `x0 = xc - dx`
+/// at the base `(phi0, m0, yb = yc - dy)`, their rows `jm` (`dR0, dR1, dx0`) and the shot's
+/// raw rates `raw` per column:
+/// - a rotation about `(bx, by)` holds `xb = bx`, `yb = by`, its coordinate `-gamma = -R0`
+///   (the follicle law turned by gamma, `phi0 = pi/2 + gamma + m0/k`);
+/// - a path segment holds `Q_a = w D_a` for the two rows but its pivot `j`, its coordinate
+///   `-p = -(i + Q_j / D_j)` with `Q = (xb - X_i, yb - Y_i, phi0 - pi/2 - m0 c_i - G_i)`,
+///   `D = (DX, DY, DG + m0 dc)` ([`crate::motion`]'s notes).
+///
+/// The friction law does not enter: the sliding velocity of the touching material point is
+/// the contact point's motion along the fixed contour less `ds1` (lab frame, any motion).
+pub(super) fn reframe<const N: usize>(
+    frame: Frame,
+    (r, x0): ([f64; 2], f64),
+    (phi0, m0, yb): (f64, f64, f64),
+    raw: &[BaseValues; N],
+    jm: &mut [[f64; N]; 3],
+) -> ([f64; 2], f64) {
+    match frame {
+        Frame::Translate => (r, x0),
+        Frame::Rotate { x0: bx, y0: by } => {
+            let row0 = jm[0];
+            jm[0] = jm[2];
+            jm[2] = row0.map(|v| -v);
+            ([x0 - bx, r[1] + by], -r[0])
+        }
+        Frame::Path(seg) => {
+            let q = [
+                x0 - seg.from.x0,
+                yb - seg.from.y0,
+                phi0 - std::f64::consts::FRAC_PI_2 - m0 * seg.c0 - seg.from.gamma,
+            ];
+            let d = [seg.rate.x0, seg.rate.y0, seg.rate.gamma + m0 * seg.dc];
+            let dq: [[f64; N]; 3] = [
+                jm[2],
+                jm[1].map(|v| -v),
+                std::array::from_fn(|k| raw[k].phi0 - seg.c0 * raw[k].m0),
+            ];
+            let dd3: [f64; N] = std::array::from_fn(|k| seg.dc * raw[k].m0);
+            let dd = |i: usize, k: usize| if i == 2 { dd3[k] } else { 0.0 };
+            let j = seg.pivot;
+            let w = q[j] / d[j];
+            let dw: [f64; N] = std::array::from_fn(|k| (dq[j][k] - w * dd(j, k)) / d[j]);
+            let (a, b) = match j {
+                0 => (1, 2),
+                1 => (0, 2),
+                _ => (0, 1),
+            };
+            let row = |i: usize| std::array::from_fn(|k| dq[i][k] - dw[k] * d[i] - w * dd(i, k));
+            *jm = [row(a), row(b), dw.map(|v| -v)];
+            ([q[a] - w * d[a], q[b] - w * d[b]], -(seg.index as f64 + w))
+        }
+    }
+}
+
 /// The fourth equation of a corrector.
 #[derive(Clone, Copy, Debug)]
 pub(super) enum Con {
@@ -558,6 +633,7 @@ mod tests {
             integration: Integration::adaptive(1e-13),
             tol: 1e-11,
             mu: 0.5,
+            frame: Frame::Translate,
         };
         let mode = Mode::Slip { s: 1.0 };
         for (phase, w) in [

@@ -29,12 +29,13 @@ impl Sweeper<'_> {
             Ev::PhaseEnd if tangential => 1.0 - n.w[0],
             Ev::PhaseEnd => phi1 - n.geom.psi,
             Ev::Touch if tangential => {
-                self.b.profile.curvature(n.geom.x) - self.b.whisker.kappa0(n.w[0])
+                self.b.profile.curvature_at(t) - self.b.whisker.kappa0(n.w[0])
             }
             Ev::Touch => (0.5 * (phi1 - n.geom.psi)).cos(),
             Ev::AtBase if tangential => n.w[0] - BASE_CONTACT,
             Ev::AtBase => 1.0,
             Ev::Snap => -dot4(&n.jac[2], &self.b.tangent(n, dir)),
+            Ev::Corner => self.b.frame.floor().map_or(1.0, |c| n.x0 - c),
             Ev::Depth => {
                 if self.check_penetration {
                     PENETRATION_MARGIN - self.depth(n)?
@@ -61,6 +62,7 @@ impl Sweeper<'_> {
                 Ev::Snap,
                 Ev::Depth,
                 Ev::AtBase,
+                Ev::Corner,
             ],
             Mode::Slip { .. } => &[
                 Ev::Sliding,
@@ -70,6 +72,7 @@ impl Sweeper<'_> {
                 Ev::Snap,
                 Ev::Depth,
                 Ev::AtBase,
+                Ev::Corner,
             ],
         }
     }

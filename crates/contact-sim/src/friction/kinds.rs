@@ -27,4 +27,7 @@ pub(super) enum Ev {
     Snap,
     /// `margin - depth`.
     Depth,
+    /// `c - floor`: the coordinate reaching the end of a path segment's frame (its next row;
+    /// [`crate::motion::Frame::floor`]); never for a translation or a rotation.
+    Corner,
 }

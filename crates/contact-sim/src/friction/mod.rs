@@ -5,8 +5,18 @@
 //! (`SweepSettings::contact_law`): [`ContactLaw::Frictionless`] (the default) and
 //! [`ContactLaw::Coulomb`] with `mu = 0` run the frictionless sweep unchanged (same code path,
 //! the same rows bit for bit; callgrind on the bench scene +0.65 %, docs/friction.md);
-//! `mu > 0` runs the frictional sweep of this module. The base motion (translation towards -x) stays the
-//! sweep's, so a later change of the base pose does not touch the law.
+//! `mu > 0` runs the frictional sweep of this module. The base motion stays the sweep's:
+//! the branch's two base conditions and its falling coordinate come from the motion's
+//! `Frame` as in the frictionless branch (`branch::reframe`: a translation holds
+//! `R0 = 0` and reads `x0`, a rotation about `(x0, y0)` holds the base position and reads
+//! `-gamma`), so the stick/slip legs, the events and the rows are one code for every motion
+//! and obstacle: graphs, pegs (`peg:x,y`, tangential contact only; the tip sliding past
+//! releases it, and a stuck peg holds `s1`: the contour is a point, `sigma` constant) and
+//! discs (`disc:x,y,r`, contour parameter the polar angle, `sigma = r t`). The law is frame
+//! free: the material point's sliding velocity is the contact point's motion along the fixed
+//! contour less `ds1`, in the lab frame whatever the base does (docs/friction-whisk.md).
+//! Along a path of poses each segment's trace runs in the segment's frame and ends on its
+//! next row, where the next segment's goes on from the same state and mode (`path`).
 //!
 //! **A contact that slides throughout** (its first touch a tip touch whose mode is slip, and
 //! the sliding never stopping along the traced path) runs on the frictionless machinery
@@ -80,27 +90,29 @@ mod branch;
 mod contour;
 mod events;
 mod kinds;
+mod path;
 mod rows;
 mod settings;
 mod slide;
 mod start;
 mod trace;
 
-use crate::accuracy::{row_integration_tol, row_solve_tol, ESTIMATE_FACTOR};
+use crate::accuracy::row_integration_tol;
 pub use crate::contact_law::{ContactLaw, FrictionEvent, FrictionEventKind, SlipState, MAX_MU};
 use crate::error::Result;
 use crate::first_contact::{FirstContact, FirstTouch};
-use crate::phase::Phase;
+use crate::motion::Frame;
 use crate::profile::Profile;
 use crate::sweep::{
     check_accuracy, pre_contact_rows, Separation, SweepPoint, SweepProgress, SweepResult,
     SweepSettings,
 };
-use beam_model::shot::Integration;
 use beam_model::{FluidLoad, Whisker};
-use branch::{FrictionBranch, Mode};
+use branch::{Mode, Node};
+pub(crate) use path::sweep_path;
 use rows::rows;
 pub(crate) use settings::FrictionSettings;
+use start::{first_node, sweeper};
 use trace::Sweeper;
 
 /// The trace's integrator tolerance (at most as tight as the sweep's), as the frictionless
@@ -125,102 +137,21 @@ pub(crate) struct FrictionalRows {
     pub first_x0: f64,
 }
 
-/// The frictional sweep's equations: at the sweep's tolerances (`tight`, the rows') and the
-/// trace's [`Sweeper`] (looser).
-fn sweepers<'a>(
-    whisker: &'a Whisker,
-    flow: FluidLoad,
-    profile: &'a Profile,
-    set: &FrictionSettings,
-) -> (FrictionBranch<'a>, Sweeper<'a>) {
-    // the trace at looser tolerances (its nodes only guide the rows and bracket the
-    // events, as the frictionless sweep's `continuation::trace_tightened`); the rows, the
-    // first node and the event rows on their events at the sweep's own (`rows`)
-    let tight = FrictionBranch {
-        whisker,
-        flow,
-        profile,
-        integration: Integration::adaptive(set.integration_tol),
-        tol: set.solve_tol,
-        mu: set.mu,
-    };
-    let sw = Sweeper {
-        b: FrictionBranch {
-            integration: Integration::adaptive(set.integration_tol.max(TRACE_INTEGRATION_TOL)),
-            tol: set.solve_tol.max(TRACE_SOLVE_TOL),
-            ..tight.clone_shallow()
-        },
-        tight: tight.clone_shallow(),
-        event_tol: set.event_tol,
-        max_step: set.max_step.min(MAX_STEP),
-        max_steps: set.max_steps,
-        check_penetration: set.check_penetration,
-    };
-    (tight, sw)
-}
-
-/// The first node of the frictional path at the first touch `touch`, in its mode.
-fn first_node(
-    (whisker, flow, profile): (&Whisker, FluidLoad, &Profile),
-    (tight, sw): (&FrictionBranch, &Sweeper),
-    touch: &FirstTouch,
-    set: &FrictionSettings,
-) -> Result<branch::Node> {
-    // the first node: at a tip touch the free whisker itself (F = 0); at a tangential touch
-    // the frictionless sweep's phase-B state at the touch's base position (the flow acts on
-    // [0, s1] only, so the state jumps from the free whisker's, `first_contact::first_node`),
-    // its force normal (`ft = 0`, inside the cone); its mode from a probe of each
-    let (phase, w0) = match touch.kind {
-        FirstContact::Tangential => {
-            let integration = Integration::adaptive(set.integration_tol);
-            let branch = crate::branch::Branch {
-                whisker,
-                flow,
-                profile,
-                integration: &integration,
-                tol: set.solve_tol,
-                frame: crate::motion::Frame::Translate,
-                tilt: crate::contact_law::Tilt::NONE,
-            };
-            let n = crate::first_contact::first_node(&branch, touch)?;
-            (Phase::B, [n.u[0], n.u[1], 0.0, n.u[2]])
-        }
-        _ => (Phase::A, [touch.phi1, 0.0, 0.0, touch.t]),
-    };
-    let stick = Mode::Stick {
-        anchor: w0[3],
-        s1: if phase == Phase::B { w0[0] } else { 1.0 },
-    };
-    let (_, n0) = sw.b.eval(phase, stick, w0, true)?;
-    let first = sw.first_mode(&n0)?;
-    // the first node exact at the sweep's tolerances (its state is the touch's, no solve)
-    Ok(tight.eval(first.phase, first.mode, first.w, true)?.1)
-}
-
-/// The frictional sweep's contact rows from its first node `first` ([`first_node`]).
+/// The frictional sweep's contact rows from its first node `first` (`start::first_node`),
+/// on the legs of `sw` (`start::sweeper`).
 fn frictional_rows(
-    (tight, sw): (&FrictionBranch, &Sweeper),
-    first: branch::Node,
+    sw: &Sweeper,
+    first: Node,
     set: &FrictionSettings,
     progress: &mut dyn FnMut(SweepProgress),
 ) -> Result<FrictionalRows> {
     progress(SweepProgress::Coarse { steps: 0 });
-    let tr = match sw.trace(first) {
-        Ok(tr) => tr,
-        // where the looser trace stalls (met at a fold in tangential contact, battery scene
-        // 160), the path traced again at the sweep's own tolerances, as before
-        Err(_) => Sweeper {
-            b: tight.clone_shallow(),
-            tight: tight.clone_shallow(),
-            ..*sw
-        }
-        .trace(first)?,
-    };
+    let tr = sw.trace_or_retrace(first)?;
     let separation = tr.end;
     progress(SweepProgress::Coarse {
         steps: tr.nodes.len(),
     });
-    let rows = rows(sw, tight, &tr, set, &mut |done, total| {
+    let rows = rows(sw, &sw.tight, &tr, set, &mut |done, total| {
         progress(SweepProgress::Fine { done, total })
     })?;
     Ok(FrictionalRows {
@@ -246,30 +177,15 @@ pub(crate) fn sweep(
     mu: f64,
     progress: &mut dyn FnMut(SweepProgress),
 ) -> Result<SweepResult> {
-    let set = FrictionSettings {
-        mu,
-        points: settings.points,
-        integration_tol: settings.integration_tol,
-        solve_tol: settings.solve_tol,
-        event_tol: settings.event_tol,
-        check_penetration: settings.check_penetration,
-        max_steps: settings.max_steps,
-        max_step: settings.max_step,
-        rows_at: settings.accuracy.map(|t| {
-            (
-                row_integration_tol(t),
-                row_solve_tol(t),
-                row_integration_tol(t) * ESTIMATE_FACTOR,
-            )
-        }),
-    };
+    let frame = settings.motion.frame().unwrap_or_default();
+    let set = FrictionSettings::of(settings, mu, frame);
     let scene = (whisker, flow, profile);
-    let (tight, sw) = sweepers(whisker, flow, profile, &set);
-    let first = first_node(scene, (&tight, &sw), touch, &set)?;
-    // a path of poses is the frictionless `path` module's, a peg has no contour parameter
-    // of its own: the frictional legs there
-    let framed = settings.motion.frame().is_some() && !profile.is_peg();
-    if let (FirstContact::Tip, Mode::Slip { s }, true) = (touch.kind, first.mode, framed) {
+    let sw = sweeper(scene, &set);
+    let first = first_node(&sw, touch, &set)?;
+    // a peg has no contour parameter of its own (its tip passing ends on s1 = 1): the
+    // frictional legs there
+    if let (FirstContact::Tip, Mode::Slip { s }, false) = (touch.kind, first.mode, profile.is_peg())
+    {
         // sliding from the tip touch: the frictionless machinery under the tilted force,
         // where the contact slides throughout (`slide`)
         let at = (phi1, touch);
@@ -277,11 +193,24 @@ pub(crate) fn sweep(
             return Ok(r);
         }
     }
-    let fr = frictional_rows((&tight, &sw), first, &set, progress)?;
+    let fr = frictional_rows(&sw, first, &set, progress)?;
     let mut points = pre_contact_rows(whisker, flow, phi1, fr.first_x0, settings)?;
     let pre = points.len();
     points.extend(fr.rows.iter().map(|r| r.0));
-    let events = events_on_rows(fr.events, &points[pre..]);
+    let mut events = events_on_rows(fr.events, &points[pre..]);
+    let mut touch = *touch;
+    if frame != Frame::Translate {
+        // the rows, the events and the first touch carry the pose of their coordinate (as
+        // the frictionless sweep's, `SweepPoint::from_state`)
+        for p in &mut points[pre..] {
+            let pose = frame.pose(p.x0);
+            (p.x0, p.y0, p.gamma) = (pose.x0, pose.y0, pose.gamma);
+        }
+        for e in &mut events {
+            e.x0 = frame.pose(e.x0).x0;
+        }
+        touch.x0 = frame.pose(touch.x0).x0;
+    }
     let accuracy = settings
         .accuracy
         .map(|tol| {
@@ -296,7 +225,7 @@ pub(crate) fn sweep(
         alpha: flow.alpha,
         points,
         first_contact: touch.kind,
-        first_touch: *touch,
+        first_touch: touch,
         separation: fr.separation,
         accuracy,
         friction_events: events,

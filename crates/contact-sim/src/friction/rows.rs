@@ -48,7 +48,10 @@ pub(super) fn rows(
     let mut targets: Vec<(f64, Option<(usize, Con)>)> = (0..n)
         .map(|k| match k {
             0 => (xa, Some((0, Con::Base(xa)))),
-            _ if k + 1 == n => (xb, Some((last, end_hold(&nodes[last], &tr.end)))),
+            _ if k + 1 == n => (
+                xb,
+                Some((last, end_hold(&nodes[last], &tr.end, sw.exact_ends()))),
+            ),
             _ => (xa + (xb - xa) * k as f64 / (n - 1) as f64, None),
         })
         .collect();
@@ -182,9 +185,22 @@ pub(super) fn predict(sw: &Sweeper, a: &Node, b: &Node, x: f64) -> [f64; 4] {
 }
 
 /// How the row at the end of the path is held when it is solved again: the release at
-/// `fn = 0`, any other end at its contour point (in stick, whose contour point the mode
+/// `fn = 0`, an end on its phase's end (the tip passing a peg, a snap at a phase switch)
+/// there where `exact` ([`Sweeper::exact_ends`]), any other end at its contour point (in stick, whose contour point the mode
 /// holds, at its normal force).
-pub(super) fn end_hold(n: &Node, end: &Separation) -> Con {
+pub(super) fn end_hold(n: &Node, end: &Separation, exact: bool) -> Con {
+    let on_end = match n.phase {
+        Phase::B => (n.w[0] - 1.0).abs(),
+        _ => (n.w[0] - n.geom.psi).abs(),
+    };
+    if matches!(end, Separation::PathEnd) {
+        // a path segment's end: on its row of the path
+        return Con::Base(n.x0);
+    }
+    if exact && on_end < 1e-8 {
+        // the tip passing a peg, a snap at a phase switch: on the phase's end itself
+        return Con::PhaseEnd;
+    }
     let release = matches!(end, Separation::Release);
     let axis = match n.mode {
         Mode::Slip { .. } if !release => [0.0, 0.0, 0.0, 1.0],

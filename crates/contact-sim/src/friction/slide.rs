@@ -120,7 +120,8 @@ mod tests {
     use crate::branch::tests::TestScene;
     use crate::branch::Branch;
     use crate::friction::branch::{FrictionBranch, Mode};
-    use crate::friction::{first_node, frictional_rows, sweepers, FrictionSettings};
+    use crate::friction::start::{first_node, sweeper};
+    use crate::friction::{frictional_rows, FrictionSettings};
     use beam_model::shot::Integration;
     use std::cell::RefCell;
 
@@ -144,6 +145,7 @@ mod tests {
                 integration: Integration::adaptive(1e-13),
                 tol: 1e-11,
                 mu: s_mu.abs(),
+                frame: crate::motion::Frame::Translate,
             };
             let mode = Mode::Slip { s: s_mu.signum() };
             for (phase, u) in [(Phase::A, [1.2, 0.8, 0.3]), (Phase::B, [0.7, 0.8, 0.3])] {
@@ -252,28 +254,21 @@ mod tests {
             ..SweepSettings::default()
         };
         let set = FrictionSettings {
-            mu,
-            points: settings.points,
-            integration_tol: settings.integration_tol,
-            solve_tol: settings.solve_tol,
-            event_tol: settings.event_tol,
             check_penetration: true,
-            max_steps: settings.max_steps,
-            max_step: settings.max_step,
-            rows_at: None,
+            ..FrictionSettings::of(&settings, mu, crate::motion::Frame::Translate)
         };
         let integration = Integration::adaptive(settings.integration_tol);
         let tol = settings.integration_tol;
         let phi1 = crate::first_contact::free_tip(&whisker, flow, tol, &integration).unwrap();
         let touch = crate::first_contact::first_touch(&whisker, flow, phi1, &profile, tol).unwrap();
         let scene = (&whisker, flow, &profile);
-        let (tight, sw) = sweepers(&whisker, flow, &profile, &set);
-        let first = first_node(scene, (&tight, &sw), &touch, &set).unwrap();
+        let sw = sweeper(scene, &set);
+        let first = first_node(&sw, &touch, &set).unwrap();
         let Mode::Slip { s } = first.mode else {
             panic!("{:?}", first.mode)
         };
         let fast = sliding_sweep(scene, &settings, (phi1, &touch), (s, mu), &mut |_| {}).unwrap();
-        let legs = frictional_rows((&tight, &sw), first, &set, &mut |_| {}).unwrap();
+        let legs = frictional_rows(&sw, first, &set, &mut |_| {}).unwrap();
         let rows: Vec<_> = fast.contact_points().collect();
         assert_eq!(rows.len(), legs.rows.len());
         assert!(rows.len() >= 30);

@@ -1,16 +1,102 @@
 //! The mode of the contact at the first touch and at a switch: the probe of a mode's law.
 
-use super::branch::{dot4, Con, Mode, Node};
+use super::branch::{dot4, Con, FrictionBranch, Mode, Node};
 use super::contour::arc_length;
-use super::trace::Sweeper;
+use super::settings::FrictionSettings;
+use super::trace::{Sweeper, Trace};
+use super::{MAX_STEP, TRACE_INTEGRATION_TOL, TRACE_SOLVE_TOL};
 use crate::error::Result;
+use crate::first_contact::{FirstContact, FirstTouch};
+use crate::motion::Frame;
 use crate::phase::Phase;
+use crate::profile::Profile;
+use beam_model::shot::Integration;
+use beam_model::{FluidLoad, Whisker};
 
 /// How far in x0 the candidate modes of the first touch are followed to decide between
 /// them ([`Sweeper::first_mode`]).
 pub(super) const PROBE: f64 = 1e-3;
 
+/// The frictional trace of one scene in the frame of `set`: its equations at the trace's
+/// looser tolerances (its nodes only guide the rows and bracket the events, as the
+/// frictionless sweep's `continuation::trace_tightened`) and at the sweep's own (`tight`:
+/// the rows, the first node and the event rows on their events).
+pub(super) fn sweeper<'a>(
+    (whisker, flow, profile): (&'a Whisker, FluidLoad, &'a Profile),
+    set: &FrictionSettings,
+) -> Sweeper<'a> {
+    let tight = FrictionBranch {
+        whisker,
+        flow,
+        profile,
+        integration: Integration::adaptive(set.integration_tol),
+        tol: set.solve_tol,
+        mu: set.mu,
+        frame: set.frame,
+    };
+    Sweeper {
+        b: FrictionBranch {
+            integration: Integration::adaptive(set.integration_tol.max(TRACE_INTEGRATION_TOL)),
+            tol: set.solve_tol.max(TRACE_SOLVE_TOL),
+            ..tight.clone_shallow()
+        },
+        tight,
+        event_tol: set.event_tol,
+        max_step: set.max_step.min(MAX_STEP),
+        max_steps: set.max_steps,
+        check_penetration: set.check_penetration,
+    }
+}
+
+/// The first node of the contact at the touch `touch`, its mode decided
+/// ([`Sweeper::first_mode`]), exact at the sweep's tolerances: at a tip touch the free
+/// whisker itself (F = 0); at a tangential touch the frictionless sweep's phase-B state at
+/// the touch's base position (the flow acts on [0, s1] only, so the state jumps from the
+/// free whisker's, `first_contact::first_node`), its force normal (`ft = 0`, inside the cone).
+pub(super) fn first_node(sw: &Sweeper, touch: &FirstTouch, set: &FrictionSettings) -> Result<Node> {
+    let (phase, w0) = match touch.kind {
+        FirstContact::Tangential => {
+            let integration = Integration::adaptive(set.integration_tol);
+            let branch = crate::branch::Branch {
+                whisker: sw.b.whisker,
+                flow: sw.b.flow,
+                profile: sw.b.profile,
+                integration: &integration,
+                tol: set.solve_tol,
+                frame: set.frame,
+                tilt: crate::contact_law::Tilt::NONE,
+            };
+            let n = crate::first_contact::first_node(&branch, touch)?;
+            (Phase::B, [n.u[0], n.u[1], 0.0, n.u[2]])
+        }
+        _ => (Phase::A, [touch.phi1, 0.0, 0.0, touch.t]),
+    };
+    let stick = Mode::Stick {
+        anchor: w0[3],
+        s1: if phase == Phase::B { w0[0] } else { 1.0 },
+    };
+    let (_, n0) = sw.b.eval(phase, stick, w0, true)?;
+    let first = sw.first_mode(&n0)?;
+    // the first node exact at the sweep's tolerances (its state is the touch's, no solve)
+    Ok(sw.tight.eval(first.phase, first.mode, first.w, true)?.1)
+}
+
 impl Sweeper<'_> {
+    /// The trace from `first` ([`Sweeper::trace`]); where the looser trace stalls (met at a
+    /// fold in tangential contact, battery scene 160), the path traced again at the sweep's
+    /// own tolerances.
+    pub(super) fn trace_or_retrace(&self, first: Node) -> Result<Trace> {
+        match self.trace(first) {
+            Ok(tr) => Ok(tr),
+            Err(_) => Sweeper {
+                b: self.tight.clone_shallow(),
+                tight: self.tight.clone_shallow(),
+                ..*self
+            }
+            .trace(first),
+        }
+    }
+
     /// The mode the contact starts in at the first touch `n0` (`F = 0`, in tip or
     /// tangential contact): the first of
     /// stick, slip with `s = +1`, slip with `s = -1` that keeps the law a short way along
@@ -26,11 +112,38 @@ impl Sweeper<'_> {
             Mode::Slip { s: -1.0 },
         ] {
             let (_, n) = self.b.eval(n0.phase, mode, w0, true)?;
-            if self.probe(&n, PROBE) {
+            if self.probe(&n, PROBE)
+                || (matches!(mode, Mode::Stick { .. }) && self.sticks_briefly(&n))
+            {
                 return Ok(n);
             }
         }
         Err(self.indeterminate(n0, "neither stick nor slip starts the contact"))
+    }
+
+    /// Whether a stuck first node `n` strictly inside the cone (a tangential touch, whose
+    /// state jumps to `fn > 0` with `ft = 0`) keeps the law a shorter way than [`PROBE`]:
+    /// stick is then the one consistent mode (`u = 0` with the force inside the cone; a slip
+    /// would need `ft` to jump to the cone's edge), however soon the force leaves the cone
+    /// (the trace's stick -> slip event follows). Met whisking against a peg: the material
+    /// point pinned at a fixed distance from the base (the chord of `[0, s1]` fixed) turns
+    /// the force along the whisker by `dft/dgamma ~ 1e3`. Probed down to `1e-7` in the
+    /// coordinate; only where the motion turns or the obstacle is closed (the translating
+    /// graph sweep keeps its first mode, and its rows, as before).
+    fn sticks_briefly(&self, n: &Node) -> bool {
+        let inside = n.w[1] > 0.0 && n.w[2].abs() < self.b.mu * n.w[1];
+        let new_kind = self.b.frame != Frame::Translate || self.b.profile.is_closed();
+        if !(inside && new_kind) {
+            return false;
+        }
+        let mut dx = 0.1 * PROBE;
+        while dx >= 1e-7 {
+            if self.probe(n, dx) {
+                return true;
+            }
+            dx *= 0.1;
+        }
+        false
     }
 
     /// Whether the law holds along the mode's curve from `n` a step `dx` on in x0 (one

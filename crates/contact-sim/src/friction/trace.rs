@@ -143,6 +143,10 @@ impl Sweeper<'_> {
             }
             if shrink {
                 h = 0.5 * h.min(norm4(&chord));
+                if h < 1e-9 {
+                    // the corrector lands far from the prediction however short the step
+                    return Err(self.stalled(&cur, h, "an event's step cannot be shortened"));
+                }
                 continue;
             }
             let Some((_, ev, at)) = first_ev else {
@@ -176,13 +180,52 @@ impl Sweeper<'_> {
                         end: Separation::Release,
                     });
                 }
+                Ev::Corner => {
+                    // a path's segment ends on its next row exactly, in contact (the next
+                    // segment's trace goes on from here, `super::path`)
+                    let floor = self.b.frame.floor().unwrap_or(at.x0);
+                    let on = self.b.correct(at.phase, at.mode, at.w, Con::Base(floor))?;
+                    let mut nodes = nodes.clone();
+                    nodes.pop();
+                    nodes.push(on);
+                    return Ok(Trace {
+                        nodes,
+                        events,
+                        end: Separation::PathEnd,
+                    });
+                }
                 Ev::Snap => return end(Separation::Snap),
                 Ev::Touch | Ev::Depth => return end(Separation::MultiContact { xc: at.geom.x }),
                 Ev::AtBase => return end(Separation::ContactAtBase),
+                Ev::PhaseEnd if self.b.profile.is_peg() => {
+                    // a peg has no tip contact: the tip slides past it (as the frictionless
+                    // sweep's `End::TipPassed`), on `s1 = 1` itself
+                    let on = self.b.correct(at.phase, at.mode, at.w, Con::PhaseEnd)?;
+                    let mut nodes = nodes.clone();
+                    nodes.pop();
+                    nodes.push(on);
+                    return Ok(Trace {
+                        nodes,
+                        events,
+                        end: Separation::TipPassed,
+                    });
+                }
                 Ev::PhaseEnd => {
                     let Some((start, tn)) = self.switch_phase(&at)? else {
                         // the other phase's curve leaves towards larger x0: no quasi-static
-                        // continuation, the whisker snaps off at the switch
+                        // continuation, the whisker snaps off at the switch (on the switch
+                        // itself where the motion turns or the obstacle is closed)
+                        if self.exact_ends() {
+                            let on = self.b.correct(at.phase, at.mode, at.w, Con::PhaseEnd)?;
+                            let mut nodes = nodes.clone();
+                            nodes.pop();
+                            nodes.push(on);
+                            return Ok(Trace {
+                                nodes,
+                                events,
+                                end: Separation::Snap,
+                            });
+                        }
                         return end(Separation::Snap);
                     };
                     if self.check_penetration
@@ -275,6 +318,13 @@ impl Sweeper<'_> {
             return Ok(None);
         }
         Ok(Some((start, tn)))
+    }
+
+    /// Whether an end on a phase's end is solved on it exactly (and its row held there,
+    /// `rows::end_hold`): for every motion but the translation and for closed obstacles;
+    /// the translating graph sweep keeps its rows as before.
+    pub(super) fn exact_ends(&self) -> bool {
+        self.b.frame != crate::motion::Frame::Translate || self.b.profile.is_closed()
     }
 
     pub(super) fn indeterminate(&self, n: &Node, reason: &str) -> ContactError {

@@ -22,10 +22,10 @@ use contact_sim::{
 };
 use std::f64::consts::FRAC_PI_2;
 
-struct Scene {
-    whisker: Whisker,
-    flow: FluidLoad,
-    profile: Profile,
+pub(crate) struct Scene {
+    pub(crate) whisker: Whisker,
+    pub(crate) flow: FluidLoad,
+    pub(crate) profile: Profile,
 }
 
 fn settings(mu: f64, points: usize) -> SweepSettings {
@@ -52,7 +52,7 @@ fn elastica(sc: &Scene, (fx, fy): (f64, f64), base: [f64; 4], n: usize) -> Vec<[
 
 /// [`elastica`] with the force at `s1 <= 1` (the flow on `[0, s1]`), then the unloaded segment
 /// beyond it (`m' = 0`) on `n - n s1` more steps: the sample at `s1` is the `n`-th.
-fn elastica_to(
+pub(crate) fn elastica_to(
     sc: &Scene,
     (fx, fy): (f64, f64),
     base: [f64; 4],
@@ -151,7 +151,7 @@ fn worst(slot: &mut (f64, usize, usize), v: f64, scene: usize, row: usize) {
 
 /// The signed arc length of the contour from `xa` to `xb` (towards +x), as the length of a
 /// polyline of 4000 chords on the graph `y(x)` (error ~ kappa^2 h^2 / 24 of the length).
-fn contour_arc(profile: &Profile, xa: f64, xb: f64) -> f64 {
+pub(crate) fn contour_arc(profile: &Profile, xa: f64, xb: f64) -> f64 {
     let n = 4000;
     let h = (xb - xa) / n as f64;
     let mut len = 0.0;

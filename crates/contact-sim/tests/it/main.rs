@@ -11,6 +11,7 @@ mod whisking;
 mod accuracy;
 mod battery;
 mod friction;
+mod friction_whisk;
 mod path;
 mod precurved;
 mod sweep;

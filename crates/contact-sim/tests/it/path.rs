@@ -18,8 +18,8 @@
 
 use beam_model::{FluidLoad, Whisker};
 use contact_sim::{
-    sweep, BaseMotion, ContactError, ContactLaw, Phase, Pose, Poses, Profile, Separation,
-    SweepPoint, SweepResult, SweepSettings,
+    sweep, BaseMotion, ContactLaw, Phase, Pose, Poses, Profile, Separation, SweepPoint,
+    SweepResult, SweepSettings,
 };
 use std::f64::consts::FRAC_PI_2;
 
@@ -254,7 +254,7 @@ fn wpath_rows_land_on_the_corners() {
 }
 
 /// A path that ends while the whisker still touches ends the sweep at its last row, with
-/// the reason said; friction along a path is refused by name.
+/// the reason said; with friction too.
 #[test]
 fn wpath_a_path_ending_in_contact_ends_the_sweep_there() {
     let whisker = Whisker::new(0.6, 0.3, 0.2, 20.0);
@@ -281,9 +281,11 @@ fn wpath_a_path_ending_in_contact_ends_the_sweep_there() {
         contact_law: ContactLaw::Coulomb { mu: 0.3 },
         ..settings
     };
-    let e = sweep(&whisker, flow, &Profile::g1(), &s).unwrap_err();
-    assert!(matches!(e, ContactError::NotImplemented { .. }), "{e}");
-    assert!(e.to_string().contains("motion path"), "{e}");
+    let f = sweep(&whisker, flow, &disc, &s).unwrap();
+    assert_eq!(f.separation, Separation::PathEnd);
+    let last = f.points.last().unwrap();
+    assert!((last.gamma - 0.5).abs() < 1e-12 && last.f > 0.0, "{last:?}");
+    assert!(last.ft.abs() <= 0.3 * last.f + 1e-12, "{last:?}");
 }
 
 /// A random scene: a whisker (theta 0.3..1, pre-curvature of both signs, rigid or a spring),
@@ -292,7 +294,7 @@ fn wpath_a_path_ending_in_contact_ends_the_sweep_there() {
 /// and 0.15 in y), half of them with k along the path (5..60, a tenth of the rows rigid:
 /// stiffening and softening), and an obstacle (peg 40 %, disc 40 %, parabola 20 %) placed
 /// ahead of the start as in the whisking battery.
-fn random_scene(rng: &mut Rng, i: usize) -> Scene {
+pub(crate) fn random_scene(rng: &mut Rng, i: usize) -> Scene {
     let st = Start::draw(rng);
     let (bx, by, gamma0) = (st.bx, st.by, st.gamma0);
     let rows = 2 + (rng.next() * 5.0) as usize;

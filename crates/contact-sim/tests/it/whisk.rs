@@ -154,24 +154,9 @@ fn a_turned_start_against_a_turned_disc_gives_the_same_rows() {
 }
 
 /// Friction with a turning base or against a peg is refused by name, not answered wrongly.
+/// Bad obstacles name their culprit.
 #[test]
-fn friction_with_whisking_or_pegs_is_refused_by_name() {
-    let whisker = Whisker::uniform();
-    let flow = FluidLoad { q: 1.0, alpha: 0.0 };
-    let law = contact_sim::ContactLaw::Coulomb { mu: 0.3 };
-    let s = SweepSettings {
-        contact_law: law,
-        ..rotate(0.0, 0.0, 0.0, 10)
-    };
-    let e = sweep(&whisker, flow, &Profile::g1(), &s).unwrap_err();
-    assert!(e.to_string().contains("motion rotate"), "{e}");
-    let s = SweepSettings {
-        contact_law: law,
-        ..SweepSettings::default()
-    };
-    let peg = Profile::parse("peg:-0.2,0.6").unwrap();
-    let e = sweep(&whisker, flow, &peg, &s).unwrap_err();
-    assert!(e.to_string().contains("peg:-0.2,0.6"), "{e}");
+fn bad_obstacles_are_refused_by_name() {
     for (spec, culprit) in [
         ("disc:0,1,0", "r > 0"),
         ("peg:1", "2 numbers"),

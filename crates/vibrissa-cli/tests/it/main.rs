@@ -12,6 +12,7 @@ mod cli;
 mod figures;
 mod folders;
 mod friction;
+mod friction_whisk;
 mod hostile;
 mod io;
 mod parsers;

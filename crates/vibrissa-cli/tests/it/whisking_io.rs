@@ -226,8 +226,8 @@ fn wio_physical_and_dimensionless_whisking_agree() {
 }
 
 /// Bad motions exit 2 naming the flag or the scene key (with its line) or the path table
-/// (file, line, column); friction with a turning base or a peg, and (until contact-sim
-/// follows paths) a path, exit 1 with the library's message; no folder is left behind.
+/// (file, line, column); no folder is left behind (friction with a turning base, pegs and
+/// discs is `friction_whisk::`'s).
 #[test]
 fn wio_bad_motions_are_refused_by_name() {
     let dir = tempfile::tempdir().unwrap();
@@ -276,22 +276,6 @@ fn wio_bad_motions_are_refused_by_name() {
     );
     refused(&["--motion", "path"], 2, &["`--motion`", "path"]);
     refused(&["--motion", "path:none.csv"], 2, &["none.csv"]);
-    refused(
-        &["--motion", "rotate", "--mu", "0.3", "--profile", "g1"],
-        1,
-        &["friction", "rotate", "not implemented"],
-    );
-    refused(
-        &["--motion", "rotate", "--mu", "0.3"],
-        1,
-        &["friction", "peg", "not implemented"],
-    );
-    refused(&["--mu", "0.3"], 1, &["friction", "peg", "not implemented"]);
-    refused(
-        &["--mu", "0.3", "--profile", "disc:0,1,0.2"],
-        1,
-        &["friction", "disc", "not implemented"],
-    );
     fs::write(d.join("bad.csv"), "x0,y0,gamma_deg\n0,0,0\n0,zero,5\n").unwrap();
     refused(&["--motion", "path:bad.csv"], 2, &["bad.csv", ":3", "y0"]);
     fs::write(d.join("k.csv"), "x0;y0;gamma_deg;k\n0;0;0;5\n0;0;5;0\n").unwrap();

@@ -152,7 +152,7 @@ pub fn frictional_observables(
 /// slip `ft = s mu fn`, so `F = fn (n + s mu t)`, the frictionless force turned by
 /// `atan(s mu)` and stretched by `sqrt(1 + mu^2)`: a tip force of size `fn sqrt(1 + mu^2)`
 /// at `beta = pi/2 - psi - atan(s mu)`. A sliding stretch of a frictional sweep is the
-/// frictionless contact branch ([`crate::branch`]) under this force; [`Tilt::NONE`]
+/// frictionless contact branch (`branch::Branch`) under this force; [`Tilt::NONE`]
 /// (`s_mu = 0`) is the frictionless force, taking exactly the frictionless arithmetic.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Tilt {

@@ -161,19 +161,24 @@ pub enum CalibParam {
     K,
     /// Base stiffness E I_b relative to the log's force unit (`lambda`, module docs).
     Ei,
+    /// Coulomb friction coefficient at the contact (spec/model.md, "Friction at the
+    /// contact"; issue 39): fitted through the slip rows' contact law
+    /// ([`residual::ContactLaw`]), not identifiable from a log without sliding rows.
+    Mu,
 }
 
 impl CalibParam {
     /// Every parameter, in the order of the CLI.
-    pub const ALL: [CalibParam; 5] = [
+    pub const ALL: [CalibParam; 6] = [
         CalibParam::Theta,
         CalibParam::A,
         CalibParam::B,
         CalibParam::K,
         CalibParam::Ei,
+        CalibParam::Mu,
     ];
 
-    /// The CLI name (`theta`, `a`, `b`, `k`, `ei`).
+    /// The CLI name (`theta`, `a`, `b`, `k`, `ei`, `mu`).
     pub fn name(&self) -> &'static str {
         match self {
             CalibParam::Theta => "theta",
@@ -181,6 +186,7 @@ impl CalibParam {
             CalibParam::B => "b",
             CalibParam::K => "k",
             CalibParam::Ei => "ei",
+            CalibParam::Mu => "mu",
         }
     }
 

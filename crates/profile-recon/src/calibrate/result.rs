@@ -87,6 +87,7 @@ pub(crate) fn summarize(
                 CalibParam::B => out_model.b = start_model.b,
                 CalibParam::K => out_model.c = start_model.c,
                 CalibParam::Ei => out_model.lambda = 1.0,
+                CalibParam::Mu => out_model.mu = f64::NAN,
             }
         }
     }
@@ -141,6 +142,7 @@ fn estimates(
                     (k, sd * k * k, 1.0 / start.c)
                 }
                 CalibParam::Ei => (p[i].exp(), sd * p[i].exp(), 1.0),
+                CalibParam::Mu => (p[i], sd, start.mu),
                 CalibParam::Theta => (p[i], sd, start.theta),
                 CalibParam::A => (p[i], sd, start.a),
                 CalibParam::B => (p[i], sd, start.b),

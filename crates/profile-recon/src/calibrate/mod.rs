@@ -126,6 +126,7 @@
 
 pub mod design;
 mod fit;
+mod friction_check;
 pub mod ident;
 mod polish;
 mod problem;
@@ -425,8 +426,28 @@ pub struct Calibration {
     pub evaluations: usize,
     /// The final cost of every local fit made (module docs), in order.
     pub fits: Vec<f64>,
-    /// What the checks found (another minimum, a residual above the noise, rows left out).
+    /// What the checks found (another minimum, a residual above the noise, rows left out,
+    /// friction in a log calibrated without `mu`).
     pub warnings: Vec<String>,
+    /// The contact law of the fit when `mu` was fitted (issue 39), None otherwise.
+    pub friction: Option<FrictionFit>,
+}
+
+/// What the contact rows of a calibration with `mu` say about friction (issue 39;
+/// [`residual::ContactLaw`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrictionFit {
+    /// Contact rows in the fit that slide: the rows whose law `|ft| = mu fn` determines mu.
+    pub sliding_rows: usize,
+    /// Contact rows in the fit that stick (or where sliding starts, stops or turns): their
+    /// force is only bounded by the cone.
+    pub stick_rows: usize,
+    /// The largest `|ft| / fn` of the stick rows at the fit (NaN without one): a lower bound
+    /// of mu (`|ft| <= mu fn`), the one thing a log without sliding rows says about it.
+    pub stick_ratio: f64,
+    /// Stick rows outside the fitted cone: `|ft| - mu fn` beyond 6 standard deviations of
+    /// `ft`'s noise (0 when mu is not identifiable).
+    pub cone_violations: usize,
 }
 
 impl Calibration {

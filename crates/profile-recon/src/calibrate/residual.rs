@@ -387,6 +387,12 @@ pub(crate) fn row_residuals(
                         fa * psi_c.cos() - fb * psi_c.sin(),
                         fa * psi_c.sin() + fb * psi_c.cos(),
                     );
+                    // with friction the force is not normal to the whisker: the tangency
+                    // is the whisker's angle against the contour's (model.md: phi(s1) = psi)
+                    let tangency = match ctx.law {
+                        ContactLaw::Normal => tangency,
+                        _ => (phi - psi_c).sin(),
+                    };
                     (
                         [follicle, dist, ctx.law.residual(ft, fnn, m.mu), tangency],
                         dist,

@@ -2,6 +2,7 @@
 //! the estimates in the parameters' own form, the flows, every row, and the checks' findings.
 
 use super::fit::jacobian_central;
+use super::friction_check::friction_warning;
 use super::ident::analyse;
 use super::problem::{CalibProblem, Kinds};
 use super::residual::{flow_of, Model, RowKind};
@@ -117,8 +118,25 @@ pub(crate) fn summarize(
         evaluations: fit.evaluations,
         fits: costs.to_vec(),
         warnings: Vec::new(),
+        friction: None,
     };
     cal.warnings = warnings(&cal, fit, costs);
+    if prob.free.contains(&CalibParam::Mu) {
+        let mu_ok = prob
+            .free
+            .iter()
+            .position(|p| *p == CalibParam::Mu)
+            .is_some_and(|i| info.identifiable[i]);
+        let fr = super::friction_check::friction_fit(prob, &fit.p, &fit.kinds, mu_ok);
+        cal.warnings
+            .extend(super::friction_check::fit_warnings(&fr, mu_ok));
+        cal.friction = Some(fr);
+    } else {
+        let found: Vec<String> = (0..prob.logs.len())
+            .filter_map(|l| friction_warning(&cal, prob.logs, l))
+            .collect();
+        cal.warnings.extend(found);
+    }
     Ok(cal)
 }
 

@@ -358,6 +358,7 @@ mod tests {
             integrator: &integrator,
             pose: crate::pose::RowPose::TRANSLATE,
             shift: 0.0,
+            law: ContactLaw::Normal,
         };
         for eps in [1e-2, 1e-3] {
             let d = [0.6 * eps, -0.3 * eps, 0.7 * eps, -0.2 * eps];

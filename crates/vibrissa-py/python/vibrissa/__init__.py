@@ -341,7 +341,8 @@ def calibrate(
     arrays with ``x0, Ax, Ay, MA, phi0`` in the scene's units), or a list of ``(log,
     profile)`` pairs; ``profile``: the known contour of every log without its own (a profile
     string or ``(x, y)`` arrays; a :class:`Sweep` brings its own). ``fit``: the parameters, a
-    list or comma-separated string of ``theta, a, b, k, ei`` (``ei`` in physical units only;
+    list or comma-separated string of ``theta, a, b, k, ei, mu`` (``ei`` in physical units
+    only; ``mu`` the friction coefficient at the contact, from the sliding rows: ``.mu``;
     default ``theta, a, b, k``). ``theta, a, b, k, units``: the start whisker (those left at
     None from the first Sweep's scene). ``q`` with ``alpha_deg``: a known flow held fixed
     (else each log's flow is fitted). ``starts``: local fits at most (default 4).

@@ -185,7 +185,7 @@ class Calibration:
     """The whisker's own parameters fitted to logs of sweeps past known contours
     (``vibrissa calibrate``).
 
-    ``parameters``: per fitted name (``theta, a, b, k, ei``) a dict ``value, stderr,
+    ``parameters``: per fitted name (``theta, a, b, k, ei, mu``) a dict ``value, stderr,
     identifiable, unit`` (``value`` and ``stderr`` None where the logs cannot determine the
     parameter; ``k`` also ``rigid`` and its ``compliance``); ``whisker``: the calibrated
     whisker as keywords (``theta, a, b, k``, scene units; unidentifiable parameters at their
@@ -193,7 +193,10 @@ class Calibration:
     (``q, q_stderr, alpha_deg, alpha_deg_stderr``) and row counts; ``rms_residual``: the RMS
     distance of the reconstructed contact points to their contours (scene length unit);
     ``correlation``, ``determined`` (combinations of unidentifiable parameters the logs do
-    determine), ``noise_level``, ``warnings``; ``raw`` the whole object."""
+    determine), ``noise_level``, ``warnings``; ``mu``: with ``mu`` fitted, a dict ``value,
+    stderr`` (None when no row slides: not identifiable), ``identifiable, sliding_rows,
+    stick_rows, lower_bound`` (the sticking rows' largest ``|ft|/fn``), ``cone_violations``;
+    None when ``mu`` was not fitted; ``raw`` the whole object."""
 
     def __init__(self, raw: Dict[str, Any]) -> None:
         self.raw: Dict[str, Any] = raw
@@ -210,6 +213,7 @@ class Calibration:
         self.noise_level: float = optional(raw["noise_level"])
         self.warnings: List[str] = raw["warnings"]
         self.units: str = raw["units"]
+        self.mu: Optional[Dict[str, Any]] = raw.get("mu")
 
     def value(self, name: str) -> Optional[float]:
         """The estimate of parameter ``name`` (None if not identifiable)."""

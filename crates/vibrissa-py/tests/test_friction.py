@@ -85,3 +85,80 @@ def test_a_study_sweeps_over_mu():
     for mu, max_f in zip(mus, df["max_f"]):
         assert max_f == float(np.max(vibrissa.sweep(**SCENE, mu=mu).f))
     assert df["friction_events"].notna().all()
+
+
+# ---- reconstruct(mu=...) and calibrate(fit=[..., "mu"]) against the CLI (issue 39) ----
+
+
+def _frictional_folder(cli, tmp_path, mu):
+    out = tmp_path / "sweep"
+    cli.run("sweep", *cli_flags(SCENE), "--mu", repr(mu), "--figures", "none", "--out", str(out))
+    return out, vibrissa.sweep(**SCENE, mu=mu)
+
+
+@pytest.mark.parametrize("mu", ["identify", 0.5])
+def test_reconstruct_mu_gives_the_numbers_of_the_cli(cli, tmp_path, mu):
+    folder, sw = _frictional_folder(cli, tmp_path, 0.5)
+    rec_dir = tmp_path / "rec"
+    ref = json.loads(cli.run("reconstruct", str(folder), "--mu", str(mu), "--json",
+                             "--figures", "none", "--out", str(rec_dir)).stdout)
+    rec = vibrissa.reconstruct(sw, mu=mu)
+    csv = read_csv(rec_dir / "reconstruction.csv")
+    m = rec.contact
+    assert m.sum() == len(csv)
+    for col in ("x0", "x", "y", "s1", "f", "psi", "sigma", "ft"):
+        assert_same(rec[col][m], csv[col].to_numpy(), col)
+    assert rec.mu == ref["mu"]
+    assert rec.friction == ref["friction"]
+    assert set(rec.slip[m]) <= {"slip", "stick"} and set(rec.slip[~m]) == {"none"}
+    if mu == "identify":
+        # the truth the log was swept with, within the estimate's reach on an exact log
+        assert abs(rec.mu["value"] - 0.5) < 1e-8 and not rec.mu["given"]
+        assert f"mu={rec.mu['value']:.6g}" in repr(rec)
+        # ft against the sweep's own (the tangent traced from the contact points)
+        assert np.allclose(rec.ft[m], sw.ft[m], atol=1e-4)
+    else:
+        assert rec.mu["given"] and rec.mu["value"] == 0.5
+
+
+def test_reconstruct_default_identifies_mu_and_warns_as_the_cli(cli, tmp_path):
+    folder, sw = _frictional_folder(cli, tmp_path, 0.5)
+    p = cli.run("reconstruct", str(folder), "--json", "--figures", "none",
+                "--out", str(tmp_path / "rec"))
+    ref = json.loads(p.stdout)
+    with pytest.warns(UserWarning, match="the log shows friction") as w:
+        rec = vibrissa.reconstruct(sw)
+    # the CLI's stderr line, word for word
+    assert str(w[0].message) in p.stderr
+    assert rec.mu == ref["mu"] and rec.friction["proves_friction"]
+    csv = read_csv(tmp_path / "rec" / "reconstruction.csv")
+    for col in ("x", "y", "f", "sigma"):
+        assert_same(rec[col][rec.contact], csv[col].to_numpy(), col)
+    # a frictionless log: no warning, mu near 0
+    plain = vibrissa.sweep(**SCENE)
+    import warnings as _w
+
+    with _w.catch_warnings():
+        _w.simplefilter("error")
+        r0 = vibrissa.reconstruct(plain)
+    assert not r0.friction["proves_friction"] and r0.warnings == []
+
+
+@pytest.mark.parametrize("bad", [-1.0, 11.0, "abc"])
+def test_reconstruct_bad_mu_is_refused_as_the_cli(cli, tmp_path, bad):
+    folder, sw = _frictional_folder(cli, tmp_path, 0.5)
+    msg = cli.error("reconstruct", str(folder), "--mu", str(bad), "--out", str(tmp_path / "r"))
+    with pytest.raises(vibrissa.InvalidInput) as e:
+        vibrissa.reconstruct(sw, mu=bad)
+    assert str(e.value) == msg
+
+
+def test_calibrate_fits_mu_as_the_cli(cli, tmp_path):
+    folder, sw = _frictional_folder(cli, tmp_path, 0.5)
+    ref = cli.json("calibrate", f"{folder / 'observables.csv'}={SCENE['profile']}",
+                   "--fit", "theta,k,mu", "--theta", "0.6", "--k", "15")
+    cal = vibrissa.calibrate(sw, fit=["theta", "k", "mu"], theta=0.6, k=15.0)
+    assert cal.mu == ref["mu"]
+    assert abs(cal.mu["value"] - 0.5) < 1e-8 and cal.mu["sliding_rows"] > 5
+    assert cal.parameters["mu"] == ref["parameters"]["mu"]
+    assert "mu=0.5" in repr(cal)

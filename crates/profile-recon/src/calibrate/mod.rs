@@ -13,6 +13,7 @@
 //! | `result` | the result: covariance, estimates, flows, rows, warnings |
 //! | `run` | the calibration itself: start values, rounds of fit and phase decision, multi-start, result |
 //! | `polish` | the final fit: polish tolerance, projection, passes without the rows it cannot use |
+//! | `friction_check` | what the contact law of a fit with `mu` found; friction in a log calibrated without it |
 //!
 //! **The fit.** Least squares over all rows of all logs of the whitened residuals of
 //! [`residual`] (to first order the maximum-likelihood fit of the measured observables), in
@@ -99,6 +100,17 @@
 //! pre-contact rows of a posed log are the largest group of rows with equal base forces
 //! `(Ax, Ay)` at an end of the motion (their `MA`, `phi0` differ row by row: each is the free
 //! whisker at its own turn, fitted by its own residuals).
+//!
+//! **Friction: `mu`** (issue 39; docs/friction-calib.md). With [`CalibParam::Mu`] fitted,
+//! each contact row's force obeys a contact law ([`residual::ContactLaw`]) in place of the
+//! frictionless `ft = 0`: rows whose touching material point slides along the known contour
+//! (decided from the reconstructed points' motion after every phase decision,
+//! `CalibProblem::decide_laws`) give `ft + sign(u) mu fn = 0`; sticking rows leave the force
+//! anywhere in the cone (no residual on its direction; the contact point on the known contour,
+//! the moment and the tangency need no mu). Without a sliding row mu's Jacobian column is zero:
+//! not identifiable, with the sticking rows' lower bound in the warnings
+//! ([`Calibration::friction`]). Without `mu`, a log whose rows prove friction at the
+//! calibrated whisker is warned about (`friction_check`).
 //!
 //! **E I.** In a dimensionless log the force unit IS E I_b / L^2: `ei` is then 1 by
 //! definition (the CLI refuses to fit it). The library fits `lambda = E I_b / E I_nominal`,

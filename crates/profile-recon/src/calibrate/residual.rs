@@ -17,6 +17,10 @@
 //!   parameters): the normal distance of `r(s1)`, `f sin(psi_f - psi_c)` and the tangency
 //!   `f sin(phi(s1) - psi_f)`.
 //!
+//! With friction (issue 39, `mu` fitted) the force-direction residual `f sin(psi_f - psi_c)`
+//! becomes the row's contact law ([`ContactLaw`]: `ft + sign mu fn` on a sliding row, none on
+//! a sticking one), and phase B's tangency the angle `sin(phi(s1) - psi_c)`.
+//!
 //! Four residuals of four observables: the row's map from observables to residuals is locally
 //! invertible, so the residuals whitened by their covariance under the sensor noise
 //! ([`Whitener`](super::whiten::Whitener), the noise of [`add_noise`](crate::add_noise):

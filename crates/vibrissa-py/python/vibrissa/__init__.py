@@ -328,7 +328,8 @@ def reconstruct(
         tolerance=tolerance,
         tol=number("tol", tol),
         profile=profile_spec(profile),
-        mu=mu if mu is None or isinstance(mu, str) else number("mu", mu),
+        # a number as the CLI would get it (Python's repr, so messages quote it alike)
+        mu=mu if mu is None or isinstance(mu, str) else repr(float(number("mu", mu))),
     )
     raw = _core.reconstruct(log_columns(log), spec)
     for w in raw.get("warnings", ()):

@@ -81,6 +81,25 @@ fn frictional_log(log: &CalibLog) -> bool {
     log.poses.is_empty() && !matches!(log.profile, contact_sim::Profile::Peg { .. })
 }
 
+/// A contact row as [`CalibProblem::decide_laws`] follows it along the motion.
+#[derive(Clone, Copy, Debug)]
+struct Touching {
+    /// The row (index into its log's rows).
+    row: usize,
+    /// Its base position.
+    x0: f64,
+    /// The contact point (lab frame).
+    p: (f64, f64),
+    /// The contact's arc length (1 in phase A).
+    s1: f64,
+    /// The whisker's angle at the contact.
+    tau: f64,
+    /// The contour's tangent angle at the point.
+    psi_c: f64,
+    /// Phase B.
+    b: bool,
+}
+
 /// The base moves between two rows by less than this fraction of the step in `x0` along the
 /// contour for a material point counted as staying put ([`CalibProblem::decide_laws`]).
 pub const SLIDE_REL: f64 = 0.1;
@@ -486,8 +505,7 @@ impl<'a> CalibProblem<'a> {
                 continue;
             }
             let ctx = self.ctx(l, &model, flows[l]);
-            // (row, x0, point, s1, tau angle, contour angle, phase B)
-            let mut pts: Vec<(usize, f64, (f64, f64), f64, f64, f64, bool)> = Vec::new();
+            let mut pts: Vec<Touching> = Vec::new();
             for (k, &i) in used.iter().enumerate() {
                 let kind = kinds[l][k];
                 let (s1, b) = match kind {
@@ -506,26 +524,34 @@ impl<'a> CalibProblem<'a> {
                         _ => s1,
                     };
                     if psi_c.is_finite() {
-                        pts.push((i, log.rows[i].x0, res.point, s1, res.phi, psi_c, b));
+                        pts.push(Touching {
+                            row: i,
+                            x0: log.rows[i].x0,
+                            p: res.point,
+                            s1,
+                            tau: res.phi,
+                            psi_c,
+                            b,
+                        });
                     }
                 }
             }
-            pts.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
+            pts.sort_by(|a, b| b.x0.total_cmp(&a.x0).then(a.row.cmp(&b.row)));
             let tol_noise = SLIDE_NOISE * self.log_noise;
             // the signed slide of each consecutive pair (0: stays put, NaN: a change of phase)
             let steps: Vec<f64> = pts
                 .windows(2)
                 .map(|w| {
                     let (a, b) = (&w[0], &w[1]);
-                    if a.6 != b.6 {
+                    if a.b != b.b {
                         return f64::NAN;
                     }
-                    let ds = b.3 - a.3;
-                    let dx = b.2 .0 - a.2 .0 - ds * b.4.cos();
-                    let dy = b.2 .1 - a.2 .1 - ds * b.4.sin();
-                    let psi = 0.5 * (a.5 + b.5);
+                    let ds = b.s1 - a.s1;
+                    let dx = b.p.0 - a.p.0 - ds * b.tau.cos();
+                    let dy = b.p.1 - a.p.1 - ds * b.tau.sin();
+                    let psi = 0.5 * (a.psi_c + b.psi_c);
                     let u = dx * psi.cos() + dy * psi.sin();
-                    if u.abs() > SLIDE_REL * (b.1 - a.1).abs() + tol_noise {
+                    if u.abs() > SLIDE_REL * (b.x0 - a.x0).abs() + tol_noise {
                         u.signum()
                     } else {
                         0.0
@@ -539,7 +565,7 @@ impl<'a> CalibProblem<'a> {
             for (w, pt) in pts.iter().enumerate() {
                 let prev = w.checked_sub(1).map(|v| steps[v]);
                 let next = steps.get(w).copied();
-                row_laws[pt.0] = match (prev, next) {
+                row_laws[pt.row] = match (prev, next) {
                     (Some(a), Some(b)) if a == b && a != 0.0 => ContactLaw::Slip { sign: a },
                     _ => ContactLaw::Stick,
                 };

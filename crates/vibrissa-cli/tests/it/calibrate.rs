@@ -604,7 +604,17 @@ fn calibrate_fits_mu_from_a_frictional_sweep() {
     assert!(scene.contains("mu: 0.39999999"), "{scene}");
     // without mu: the frictionless fit, warned about
     let o = run(
-        &["calibrate", "fr", "--fit", "theta,k", "--theta", "0.6", "--k", "15", "--json"],
+        &[
+            "calibrate",
+            "fr",
+            "--fit",
+            "theta,k",
+            "--theta",
+            "0.6",
+            "--k",
+            "15",
+            "--json",
+        ],
         cwd,
     );
     let v = json(&o);

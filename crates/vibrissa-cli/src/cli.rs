@@ -458,7 +458,8 @@ pub struct CalibrateArgs {
     #[arg(long, value_name = "P")]
     pub profile: Option<String>,
     /// The parameters to fit, a comma-separated list of theta, a, b, k, ei (ei, the bending
-    /// stiffness E·Ib, in physical units only) [default: theta,a,b,k]
+    /// stiffness E·Ib, in physical units only), mu (the friction coefficient at the contact,
+    /// from the sliding rows) [default: theta,a,b,k]
     #[arg(long, value_name = "LIST")]
     pub fit: Option<String>,
     /// Local fits at most, from the best of 96 seeded candidate starts (the guard against

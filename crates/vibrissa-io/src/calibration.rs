@@ -70,7 +70,8 @@ pub fn calib_model(flags: &CalibFlags, file: Option<LoadedScene>) -> Result<Reso
     resolve_model(&model, file)
 }
 
-/// Parses `--fit` (default `theta,a,b,k`; `ei` only in physical units).
+/// Parses `--fit` (default `theta,a,b,k`; `ei` only in physical units; `mu`, the friction
+/// coefficient at the contact, issue 39).
 pub fn parse_fit(raw: Option<&str>, units: &UnitSystem) -> Result<Vec<CalibParam>, IoError> {
     let Some(raw) = raw else {
         return Ok(CalibSettings::default().fit);
@@ -81,7 +82,7 @@ pub fn parse_fit(raw: Option<&str>, units: &UnitSystem) -> Result<Vec<CalibParam
             IoError::invalid_argument(
                 "--fit",
                 raw,
-                format!("unknown parameter `{name}`: expected a list of theta, a, b, k, ei"),
+                format!("unknown parameter `{name}`: expected a list of theta, a, b, k, ei, mu"),
             )
         })?;
         if p == CalibParam::Ei && !units.is_physical() {
@@ -222,6 +223,8 @@ pub fn in_units(
         CalibParam::B => 1.0 / l,
         CalibParam::K => lambda * ph.moment_scale(),
         CalibParam::Ei => ph.bending_stiffness(),
+        // dimensionless in every unit system
+        CalibParam::Mu => 1.0,
     };
     (p.value.map(|v| v * f), p.stderr.map(|v| v * f))
 }
@@ -229,7 +232,7 @@ pub fn in_units(
 /// The unit of a parameter in the scene's units.
 pub fn unit_of(p: CalibParam, physical: bool) -> &'static str {
     match (p, physical) {
-        (_, false) | (CalibParam::Theta, _) => "1",
+        (_, false) | (CalibParam::Theta | CalibParam::Mu, _) => "1",
         (CalibParam::A, true) => "1/m²",
         (CalibParam::B, true) => "1/m",
         (CalibParam::K, true) => "N m/rad",
@@ -385,6 +388,50 @@ pub struct CalibrationReport {
     pub warnings: Vec<String>,
     /// The output folder, if any.
     pub out: Option<String>,
+    /// The friction coefficient when `mu` was fitted (issue 39; absent otherwise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mu: Option<MuCalibReport>,
+}
+
+/// The friction coefficient of a calibration with `mu` (`calibrate --json`'s `mu`): its value
+/// and standard error (null when the logs leave it unidentifiable: no sliding row), the rows
+/// by contact law and the lower bound the sticking rows give.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MuCalibReport {
+    /// The fitted mu (None: not identifiable).
+    #[serde(serialize_with = "finite_opt")]
+    pub value: Option<f64>,
+    /// Its standard error.
+    #[serde(serialize_with = "finite_opt")]
+    pub stderr: Option<f64>,
+    /// Whether the logs determine it (some contact row slides).
+    pub identifiable: bool,
+    /// Contact rows in the fit that slide (`|ft| = mu fn`).
+    pub sliding_rows: usize,
+    /// Contact rows in the fit that stick (force inside the cone).
+    pub stick_rows: usize,
+    /// The largest `|ft| / fn` of the sticking rows: mu is at least this (null without one).
+    #[serde(serialize_with = "finite_opt")]
+    pub lower_bound: Option<f64>,
+    /// Sticking rows outside the fitted cone.
+    pub cone_violations: usize,
+}
+
+impl MuCalibReport {
+    /// The report of `cal`'s mu (None when `mu` was not fitted).
+    pub fn of(cal: &Calibration) -> Option<Self> {
+        let p = cal.parameter(CalibParam::Mu)?;
+        let fr = cal.friction?;
+        Some(MuCalibReport {
+            value: p.value,
+            stderr: p.stderr,
+            identifiable: p.identifiable,
+            sliding_rows: fr.sliding_rows,
+            stick_rows: fr.stick_rows,
+            lower_bound: fr.stick_ratio.is_finite().then_some(fr.stick_ratio),
+            cone_violations: fr.cone_violations,
+        })
+    }
 }
 
 impl CalibrationReport {
@@ -456,6 +503,7 @@ impl CalibrationReport {
             iterations: cal.iterations,
             warnings: cal.warnings.clone(),
             out: out.map(|p| p.display().to_string()),
+            mu: MuCalibReport::of(cal),
         }
     }
 }

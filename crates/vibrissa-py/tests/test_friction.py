@@ -4,6 +4,7 @@ rows as ``vibrissa sweep --mu`` bit for bit, the new columns (``ft``, ``slip``, 
 over mu."""
 
 import json
+import math
 
 import numpy as np
 import pytest
@@ -85,3 +86,115 @@ def test_a_study_sweeps_over_mu():
     for mu, max_f in zip(mus, df["max_f"]):
         assert max_f == float(np.max(vibrissa.sweep(**SCENE, mu=mu).f))
     assert df["friction_events"].notna().all()
+
+
+# ---- reconstruct(mu=...) and calibrate(fit=[..., "mu"]) against the CLI (issue 39) ----
+
+
+def _same_mu(got, cli_json) -> None:
+    """The CLI JSON's ``mu`` (its null a NaN here: ``chi2_dof`` of a given mu)."""
+    if cli_json is None:
+        assert got is None
+        return
+    assert set(got) == set(cli_json)
+    for key, want in cli_json.items():
+        have = got[key]
+        if want is None and isinstance(have, float):
+            assert math.isnan(have), key
+        else:
+            assert have == want, key
+
+
+def _same_friction(got: dict, cli_json: dict) -> None:
+    """The CLI JSON's ``friction``, its line numbered as Python numbers a log's rows (``log
+    row:N``, 1-based: the CLI's file line minus its header)."""
+    want, got = dict(cli_json), dict(got)
+    if want.get("friction_line") is not None:
+        want["friction_line"] -= 1
+    _same_mu(got.pop("mu", None), want.pop("mu", None))
+    assert got == want
+
+
+def _frictional_folder(cli, tmp_path, mu):
+    out = tmp_path / "sweep"
+    cli.run("sweep", *cli_flags(SCENE), "--mu", repr(mu), "--figures", "none", "--out", str(out))
+    return out, vibrissa.sweep(**SCENE, mu=mu)
+
+
+@pytest.mark.parametrize("mu", ["identify", 0.5])
+def test_reconstruct_mu_gives_the_numbers_of_the_cli(cli, tmp_path, mu):
+    folder, sw = _frictional_folder(cli, tmp_path, 0.5)
+    rec_dir = tmp_path / "rec"
+    ref = json.loads(cli.run("reconstruct", str(folder), "--mu", str(mu), "--json",
+                             "--figures", "none", "--out", str(rec_dir)).stdout)
+    rec = vibrissa.reconstruct(sw, mu=mu)
+    csv = read_csv(rec_dir / "reconstruction.csv")
+    m = rec.contact
+    assert m.sum() == len(csv)
+    for col in ("x0", "x", "y", "s1", "f", "psi", "sigma", "ft"):
+        assert_same(rec[col][m], csv[col].to_numpy(), col)
+    _same_mu(rec.mu, ref["mu"])
+    _same_friction(rec.friction, ref["friction"])
+    assert set(rec.slip[m]) <= {"slip", "stick"} and set(rec.slip[~m]) == {"none"}
+    if mu == "identify":
+        # the truth the log was swept with (16 rows: the tangent traced from the tip
+        # contacts limits it to about 5e-6 here)
+        assert abs(rec.mu["value"] - 0.5) < 1e-4 and not rec.mu["given"]
+        assert f"mu={rec.mu['value']:.6g}" in repr(rec)
+        # ft against the sweep's own (the tangent traced from the contact points: worst at
+        # the traced contour's end, 9e-4 on this 16-row log)
+        assert np.allclose(rec.ft[m], sw.ft[m], atol=2e-3)
+    else:
+        assert rec.mu["given"] and rec.mu["value"] == 0.5
+
+
+def test_reconstruct_default_identifies_mu_and_warns_as_the_cli(cli, tmp_path):
+    folder, sw = _frictional_folder(cli, tmp_path, 0.5)
+    p = cli.run("reconstruct", str(folder), "--json", "--figures", "none",
+                "--out", str(tmp_path / "rec"))
+    ref = json.loads(p.stdout)
+    with pytest.warns(UserWarning, match="the log shows friction") as w:
+        rec = vibrissa.reconstruct(sw)
+    # the CLI's stderr line, word for word (the row numbered as Python numbers it)
+    line = ref["friction"]["friction_line"]
+    assert str(w[0].message).replace(f"(line {line - 1},", f"(line {line},") in p.stderr
+    _same_mu(rec.mu, ref["mu"])
+    assert rec.friction["proves_friction"]
+    _same_friction(rec.friction, ref["friction"])
+    csv = read_csv(tmp_path / "rec" / "reconstruction.csv")
+    for col in ("x", "y", "f", "sigma"):
+        assert_same(rec[col][rec.contact], csv[col].to_numpy(), col)
+    # the frictionless sweep of the scene: mu near 0, warned about exactly when the CLI warns
+    # (on this 16-row circle the traced tangent gives |ft| ~ 2e-6 beyond its deviation)
+    folder0 = tmp_path / "plain"
+    cli.run("sweep", *cli_flags(SCENE), "--figures", "none", "--out", str(folder0))
+    p0 = cli.run("reconstruct", str(folder0), "--json", "--figures", "none",
+                 "--out", str(tmp_path / "rec0"))
+    import warnings as _w
+
+    with _w.catch_warnings(record=True) as caught:
+        _w.simplefilter("always")
+        r0 = vibrissa.reconstruct(vibrissa.sweep(**SCENE))
+    assert bool(caught) == ("the log shows friction" in p0.stderr)
+    _same_mu(r0.mu, json.loads(p0.stdout)["mu"])
+    assert abs(r0.mu["value"]) < 1e-4
+
+
+@pytest.mark.parametrize("bad", [-1.0, 11.0, "abc"])
+def test_reconstruct_bad_mu_is_refused_as_the_cli(cli, tmp_path, bad):
+    folder, sw = _frictional_folder(cli, tmp_path, 0.5)
+    msg = cli.error("reconstruct", str(folder), "--mu", str(bad), "--out", str(tmp_path / "r"))
+    with pytest.raises(vibrissa.InvalidInput) as e:
+        vibrissa.reconstruct(sw, mu=bad)
+    assert str(e.value) == msg
+
+
+def test_calibrate_fits_mu_as_the_cli(cli, tmp_path):
+    folder, sw = _frictional_folder(cli, tmp_path, 0.5)
+    ref = cli.json("calibrate", f"{folder / 'observables.csv'}={SCENE['profile']}",
+                   "--fit", "theta,k,mu", "--theta", "0.6", "--k", "15")
+    cal = vibrissa.calibrate(sw, fit=["theta", "k", "mu"], theta=0.6, k=15.0)
+    assert cal.mu == ref["mu"]
+    assert abs(cal.mu["value"] - 0.5) < 1e-8 and cal.mu["sliding_rows"] > 5
+    assert cal.parameters["mu"] == ref["parameters"]["mu"]
+    assert "mu=0.5" in repr(cal)

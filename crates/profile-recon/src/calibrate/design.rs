@@ -145,6 +145,7 @@ fn predict(
         log_noise: settings.noise,
         projection: 0,
         progress: super::problem::Reporter::new(None),
+        laws: super::problem::start_laws(&logs, &settings.fit),
     };
     let p = prob.pack(&model, &[qf]);
     let mut kinds = vec![kinds];
@@ -172,6 +173,7 @@ fn predict(
                     (k, sd * k * k)
                 }
                 CalibParam::Ei => (1.0, sd),
+                CalibParam::Mu => (p[i], sd),
                 CalibParam::Theta => (p[i], sd),
                 CalibParam::A => (p[i], sd),
                 CalibParam::B => (p[i], sd),

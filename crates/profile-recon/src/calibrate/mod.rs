@@ -13,6 +13,7 @@
 //! | `result` | the result: covariance, estimates, flows, rows, warnings |
 //! | `run` | the calibration itself: start values, rounds of fit and phase decision, multi-start, result |
 //! | `polish` | the final fit: polish tolerance, projection, passes without the rows it cannot use |
+//! | `friction_check` | what the contact law of a fit with `mu` found; friction in a log calibrated without it |
 //!
 //! **The fit.** Least squares over all rows of all logs of the whitened residuals of
 //! [`residual`] (to first order the maximum-likelihood fit of the measured observables), in
@@ -100,6 +101,17 @@
 //! `(Ax, Ay)` at an end of the motion (their `MA`, `phi0` differ row by row: each is the free
 //! whisker at its own turn, fitted by its own residuals).
 //!
+//! **Friction: `mu`** (issue 39; docs/friction-calib.md). With [`CalibParam::Mu`] fitted,
+//! each contact row's force obeys a contact law ([`residual::ContactLaw`]) in place of the
+//! frictionless `ft = 0`: rows whose touching material point slides along the known contour
+//! (decided from the reconstructed points' motion after every phase decision,
+//! `CalibProblem::decide_laws`) give `ft + sign(u) mu fn = 0`; sticking rows leave the force
+//! anywhere in the cone (no residual on its direction; the contact point on the known contour,
+//! the moment and the tangency need no mu). Without a sliding row mu's Jacobian column is zero:
+//! not identifiable, with the sticking rows' lower bound in the warnings
+//! ([`Calibration::friction`]). Without `mu`, a log whose rows prove friction at the
+//! calibrated whisker is warned about (`friction_check`).
+//!
 //! **E I.** In a dimensionless log the force unit IS E I_b / L^2: `ei` is then 1 by
 //! definition (the CLI refuses to fit it). The library fits `lambda = E I_b / E I_nominal`,
 //! the factor by which the log's forces and moments (in units of a nominal stiffness)
@@ -126,6 +138,7 @@
 
 pub mod design;
 mod fit;
+mod friction_check;
 pub mod ident;
 mod polish;
 mod problem;
@@ -161,19 +174,24 @@ pub enum CalibParam {
     K,
     /// Base stiffness E I_b relative to the log's force unit (`lambda`, module docs).
     Ei,
+    /// Coulomb friction coefficient at the contact (spec/model.md, "Friction at the
+    /// contact"; issue 39): fitted through the slip rows' contact law
+    /// ([`residual::ContactLaw`]), not identifiable from a log without sliding rows.
+    Mu,
 }
 
 impl CalibParam {
     /// Every parameter, in the order of the CLI.
-    pub const ALL: [CalibParam; 5] = [
+    pub const ALL: [CalibParam; 6] = [
         CalibParam::Theta,
         CalibParam::A,
         CalibParam::B,
         CalibParam::K,
         CalibParam::Ei,
+        CalibParam::Mu,
     ];
 
-    /// The CLI name (`theta`, `a`, `b`, `k`, `ei`).
+    /// The CLI name (`theta`, `a`, `b`, `k`, `ei`, `mu`).
     pub fn name(&self) -> &'static str {
         match self {
             CalibParam::Theta => "theta",
@@ -181,6 +199,7 @@ impl CalibParam {
             CalibParam::B => "b",
             CalibParam::K => "k",
             CalibParam::Ei => "ei",
+            CalibParam::Mu => "mu",
         }
     }
 
@@ -419,8 +438,28 @@ pub struct Calibration {
     pub evaluations: usize,
     /// The final cost of every local fit made (module docs), in order.
     pub fits: Vec<f64>,
-    /// What the checks found (another minimum, a residual above the noise, rows left out).
+    /// What the checks found (another minimum, a residual above the noise, rows left out,
+    /// friction in a log calibrated without `mu`).
     pub warnings: Vec<String>,
+    /// The contact law of the fit when `mu` was fitted (issue 39), None otherwise.
+    pub friction: Option<FrictionFit>,
+}
+
+/// What the contact rows of a calibration with `mu` say about friction (issue 39;
+/// [`residual::ContactLaw`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrictionFit {
+    /// Contact rows in the fit that slide: the rows whose law `|ft| = mu fn` determines mu.
+    pub sliding_rows: usize,
+    /// Contact rows in the fit that stick (or where sliding starts, stops or turns): their
+    /// force is only bounded by the cone.
+    pub stick_rows: usize,
+    /// The largest `|ft| / fn` of the stick rows at the fit (NaN without one): a lower bound
+    /// of mu (`|ft| <= mu fn`), the one thing a log without sliding rows says about it.
+    pub stick_ratio: f64,
+    /// Stick rows outside the fitted cone: `|ft| - mu fn` beyond 6 standard deviations of
+    /// `ft`'s noise (0 when mu is not identifiable).
+    pub cone_violations: usize,
 }
 
 impl Calibration {

@@ -4,7 +4,8 @@
 
 use super::fit::{Bounds, Problem};
 use super::residual::{
-    row_residuals, tip_force, Model, RowCtx, RowKind, RowResult, DEGENERATE, F_MIN_REL,
+    contour_angle, row_residuals, tip_force, ContactLaw, Model, RowCtx, RowKind, RowResult,
+    DEGENERATE, F_MIN_REL,
 };
 use super::whiten::{judge, projected, whitener, Whitener};
 use super::{CalibLog, CalibParam, Progress, ProgressFn, Stage};
@@ -12,7 +13,7 @@ use crate::common::NoiseScales;
 use beam_model::support::K_MIN;
 use beam_model::whisker::{PRECURVATURE_MAX, THETA_MIN};
 use bvp_solvers::integrator::Dop853;
-use std::cell::Cell;
+use std::cell::{Cell, RefCell};
 
 /// Contact forces below this many standard deviations of their noise are left out
 /// ([`CalibProblem::min_force`]).
@@ -48,7 +49,63 @@ pub(crate) struct CalibProblem<'a> {
     pub projection: usize,
     /// Where progress is reported.
     pub progress: Reporter<'a>,
+    /// Per log and row (all its rows): the law of its contact force (issue 39), decided with
+    /// the phases when `mu` is fitted ([`CalibProblem::decide_laws`]); every row
+    /// [`ContactLaw::Normal`] otherwise (the frictionless calibration, unchanged).
+    pub laws: RefCell<Vec<Vec<ContactLaw>>>,
 }
+
+/// The laws of a problem's start: [`ContactLaw::Stick`] (no assumption on the force's
+/// direction) for every row of an unposed log when `mu` is fitted, else
+/// [`ContactLaw::Normal`].
+pub(crate) fn start_laws(logs: &[CalibLog], free: &[CalibParam]) -> RefCell<Vec<Vec<ContactLaw>>> {
+    let fits_mu = free.contains(&CalibParam::Mu);
+    RefCell::new(
+        logs.iter()
+            .map(|log| {
+                let law = if fits_mu && frictional_log(log) {
+                    ContactLaw::Stick
+                } else {
+                    ContactLaw::Normal
+                };
+                vec![law; log.rows.len()]
+            })
+            .collect(),
+    )
+}
+
+/// Whether a log's contact force may be frictional in the fit: a translating sweep past a
+/// contour with a tangent (not a peg). Logs of other motions keep the frictionless law
+/// (their order of motion is the pose's, not yet followed here).
+fn frictional_log(log: &CalibLog) -> bool {
+    log.poses.is_empty() && !matches!(log.profile, contact_sim::Profile::Peg { .. })
+}
+
+/// A contact row as [`CalibProblem::decide_laws`] follows it along the motion.
+#[derive(Clone, Copy, Debug)]
+struct Touching {
+    /// The row (index into its log's rows).
+    row: usize,
+    /// Its base position.
+    x0: f64,
+    /// The contact point (lab frame).
+    p: (f64, f64),
+    /// The contact's arc length (1 in phase A).
+    s1: f64,
+    /// The whisker's angle at the contact.
+    tau: f64,
+    /// The contour's tangent angle at the point.
+    psi_c: f64,
+    /// Phase B.
+    b: bool,
+}
+
+/// The base moves between two rows by less than this fraction of the step in `x0` along the
+/// contour for a material point counted as staying put ([`CalibProblem::decide_laws`]).
+pub const SLIDE_REL: f64 = 0.1;
+
+/// ... or by less than this many times the logs' model-free noise level.
+pub const SLIDE_NOISE: f64 = 10.0;
 
 /// The receiver of a calibration's [`Progress`] and the stage it is at.
 #[derive(Clone)]
@@ -119,6 +176,7 @@ impl<'a> CalibProblem<'a> {
                 CalibParam::B => m.b = *v,
                 CalibParam::K => m.c = *v,
                 CalibParam::Ei => m.lambda = v.exp(),
+                CalibParam::Mu => m.mu = *v,
             }
         }
         let mut k = self.free.len();
@@ -146,6 +204,7 @@ impl<'a> CalibProblem<'a> {
                 CalibParam::B => m.b,
                 CalibParam::K => m.c,
                 CalibParam::Ei => m.lambda.ln(),
+                CalibParam::Mu => m.mu,
             })
             .collect();
         for (f, fixed) in flows.iter().zip(&self.fixed_flow) {
@@ -169,6 +228,7 @@ impl<'a> CalibProblem<'a> {
                 CalibParam::A | CalibParam::B => (-PRECURVATURE_MAX, PRECURVATURE_MAX, 1.0),
                 CalibParam::K => (0.0, 1.0 / K_MIN, 0.01),
                 CalibParam::Ei => (LAMBDA_RANGE.0.ln(), LAMBDA_RANGE.1.ln(), 1.0),
+                CalibParam::Mu => (0.0, crate::friction::MU_MAX, 0.1),
             };
             b.lo.push(lo);
             b.hi.push(hi);
@@ -191,14 +251,24 @@ impl<'a> CalibProblem<'a> {
             integrator: &self.integrator,
             pose: crate::pose::RowPose::TRANSLATE,
             shift: 0.0,
+            law: ContactLaw::Normal,
         }
     }
 
-    /// `ctx` (of log `l`) placed at the pose of row `i` (`RowCtx::pose`, `RowCtx::shift`).
+    /// `ctx` (of log `l`) placed at the pose of row `i` (`RowCtx::pose`, `RowCtx::shift`),
+    /// with the row's contact law ([`CalibProblem::laws`]).
     pub fn placed<'b>(&self, ctx: &RowCtx<'b>, l: usize, i: usize) -> RowCtx<'b> {
         let log = &self.logs[l];
+        let law = self
+            .laws
+            .borrow()
+            .get(l)
+            .and_then(|v| v.get(i))
+            .copied()
+            .unwrap_or_default();
+        let ctx = RowCtx { law, ..*ctx };
         if log.poses.is_empty() {
-            return *ctx;
+            return ctx;
         }
         RowCtx {
             pose: log.poses[i],
@@ -208,7 +278,7 @@ impl<'a> CalibProblem<'a> {
                 .and_then(|s| s.get(i))
                 .copied()
                 .unwrap_or(0.0),
-            ..*ctx
+            ..ctx
         }
     }
 
@@ -407,7 +477,101 @@ impl<'a> CalibProblem<'a> {
                     .collect()
             })
             .collect();
+        self.decide_laws(p, &kinds);
         (kinds, lost)
+    }
+
+    /// Decides the contact law of every contact row at `p` and `kinds` when `mu` is fitted
+    /// (issue 39; spec/model.md "Friction at the contact"), from the motion of the touching
+    /// material point alone (no force, so no circularity with `mu`): in the order of the
+    /// motion (falling `x0`) each contact row's point `p` on the whisker, and between two
+    /// rows of the same phase the displacement of the material point that touched first,
+    /// `d = p_b - p_a - (s1_b - s1_a) tau_b` (`tau` the whisker's tangent at the contact:
+    /// the contact moves along the whisker by `delta s1`; 0 in phase A, where the tip
+    /// touches), along the contour's tangent `t`: `u = d . t`. A pair moves when
+    /// `|u| > SLIDE_REL |delta x0| + SLIDE_NOISE * log_noise`; a row whose pairs with both
+    /// neighbours move in the same direction slides ([`ContactLaw::Slip`] with that sign);
+    /// the others, where sliding starts, stops or turns, and rows with one neighbour, are
+    /// [`ContactLaw::Stick`]. Does nothing when `mu` is not fitted.
+    pub fn decide_laws(&self, p: &[f64], kinds: &Kinds) {
+        if !self.free.contains(&CalibParam::Mu) {
+            return;
+        }
+        let (model, flows) = self.unpack(p);
+        let mut laws = self.laws.borrow().clone();
+        for (l, used) in self.used.iter().enumerate() {
+            let log = &self.logs[l];
+            if !frictional_log(log) {
+                continue;
+            }
+            let ctx = self.ctx(l, &model, flows[l]);
+            let mut pts: Vec<Touching> = Vec::new();
+            for (k, &i) in used.iter().enumerate() {
+                let kind = kinds[l][k];
+                let (s1, b) = match kind {
+                    RowKind::A => (1.0, false),
+                    RowKind::B { s1 } => (s1, true),
+                    _ => continue,
+                };
+                let placed = RowCtx {
+                    law: ContactLaw::Normal,
+                    ..self.placed(&ctx, l, i)
+                };
+                if let Some(res) = row_residuals(&placed, &log.rows[i], kind) {
+                    let psi_c = contour_angle(&log.profile, res.point.0, res.point.1);
+                    let s1 = match res.kind {
+                        RowKind::B { s1 } => s1,
+                        _ => s1,
+                    };
+                    if psi_c.is_finite() {
+                        pts.push(Touching {
+                            row: i,
+                            x0: log.rows[i].x0,
+                            p: res.point,
+                            s1,
+                            tau: res.phi,
+                            psi_c,
+                            b,
+                        });
+                    }
+                }
+            }
+            pts.sort_by(|a, b| b.x0.total_cmp(&a.x0).then(a.row.cmp(&b.row)));
+            let tol_noise = SLIDE_NOISE * self.log_noise;
+            // the signed slide of each consecutive pair (0: stays put, NaN: a change of phase)
+            let steps: Vec<f64> = pts
+                .windows(2)
+                .map(|w| {
+                    let (a, b) = (&w[0], &w[1]);
+                    if a.b != b.b {
+                        return f64::NAN;
+                    }
+                    let ds = b.s1 - a.s1;
+                    let dx = b.p.0 - a.p.0 - ds * b.tau.cos();
+                    let dy = b.p.1 - a.p.1 - ds * b.tau.sin();
+                    let psi = 0.5 * (a.psi_c + b.psi_c);
+                    let u = dx * psi.cos() + dy * psi.sin();
+                    if u.abs() > SLIDE_REL * (b.x0 - a.x0).abs() + tol_noise {
+                        u.signum()
+                    } else {
+                        0.0
+                    }
+                })
+                .collect();
+            let row_laws = &mut laws[l];
+            for law in row_laws.iter_mut() {
+                *law = ContactLaw::Stick;
+            }
+            for (w, pt) in pts.iter().enumerate() {
+                let prev = w.checked_sub(1).map(|v| steps[v]);
+                let next = steps.get(w).copied();
+                row_laws[pt.row] = match (prev, next) {
+                    (Some(a), Some(b)) if a == b && a != 0.0 => ContactLaw::Slip { sign: a },
+                    _ => ContactLaw::Stick,
+                };
+            }
+        }
+        *self.laws.borrow_mut() = laws;
     }
 
     /// Per log and used row: whether it is a contact row (not in `pre`) whose force at `p`

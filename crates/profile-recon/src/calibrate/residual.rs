@@ -17,6 +17,10 @@
 //!   parameters): the normal distance of `r(s1)`, `f sin(psi_f - psi_c)` and the tangency
 //!   `f sin(phi(s1) - psi_f)`.
 //!
+//! With friction (issue 39, `mu` fitted) the force-direction residual `f sin(psi_f - psi_c)`
+//! becomes the row's contact law ([`ContactLaw`]: `ft + sign mu fn` on a sliding row, none on
+//! a sticking one), and phase B's tangency the angle `sin(phi(s1) - psi_c)`.
+//!
 //! Four residuals of four observables: the row's map from observables to residuals is locally
 //! invertible, so the residuals whitened by their covariance under the sensor noise
 //! ([`Whitener`](super::whiten::Whitener), the noise of [`add_noise`](crate::add_noise):
@@ -52,6 +56,9 @@ pub struct Model {
     /// Stiffness ratio `lambda = EI_b / EI_nominal` (1 in a dimensionless log): the log's
     /// forces and moments, in units of the nominal stiffness, are `lambda` times the model's.
     pub lambda: f64,
+    /// Coulomb friction coefficient at the contact (spec/model.md, "Friction at the
+    /// contact"); used only by the rows whose [`ContactLaw`] is [`ContactLaw::Slip`].
+    pub mu: f64,
 }
 
 impl Model {
@@ -63,6 +70,7 @@ impl Model {
             b: w.b,
             c: w.support.compliance(),
             lambda: 1.0,
+            mu: 0.0,
         }
     }
 
@@ -107,6 +115,54 @@ pub enum RowKind {
     Skipped,
 }
 
+/// The law the contact force of a contact row obeys (issue 39; spec/model.md, "Friction at
+/// the contact": `F = fn n + ft t` with `t = (cos psi_c, sin psi_c)` the known contour's
+/// tangent, `n = (sin psi_c, -cos psi_c)`): the residual that replaces the frictionless
+/// `ft = 0` of [6.8, 6.9] ([`ContactLaw::residual`]). The contact point on the known
+/// contour, the moment `m(1)` and the tangency need no law, so only this one residual of a
+/// row changes. Decided per row from the motion of its material point
+/// (`CalibProblem::decide_laws`); a peg has no tangent (its rows stay [`ContactLaw::Normal`],
+/// which there constrains nothing).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum ContactLaw {
+    /// Frictionless: `ft = 0` (every row of a calibration that does not fit `mu`).
+    #[default]
+    Normal,
+    /// Stick, or a row where sliding starts, stops or turns: the force anywhere in the cone
+    /// `|ft| <= mu fn`, an inequality: no residual on its direction (the row's other three
+    /// residuals stay; the whitener gives the fourth a unit direction orthogonal to them,
+    /// `whiten::whitener`).
+    Stick,
+    /// Slip, the material point moving relative to the obstacle along `sign t`
+    /// (`sign = +-1`): `ft = -mu fn sign`, residual `ft + sign mu fn`.
+    Slip {
+        /// `+1` or `-1`: the direction of the sliding along `t`.
+        sign: f64,
+    },
+}
+
+impl ContactLaw {
+    /// The law's residual of a contact force with normal part `fnn` and tangential part `ft`
+    /// at friction coefficient `mu`: `ft` (normal), 0 (stick), `ft + sign mu fn` (slip).
+    pub fn residual(&self, ft: f64, fnn: f64, mu: f64) -> f64 {
+        match *self {
+            ContactLaw::Normal => ft,
+            ContactLaw::Stick => 0.0,
+            ContactLaw::Slip { sign } => ft + sign * mu * fnn,
+        }
+    }
+
+    /// The index of the law's residual among a row's four (phase A: the fourth, phase B:
+    /// the third; module docs), None for other kinds.
+    pub fn index(kind: RowKind) -> Option<usize> {
+        match kind {
+            RowKind::A => Some(3),
+            RowKind::B { .. } => Some(2),
+            _ => None,
+        }
+    }
+}
+
 /// Contact rows with a force below this fraction of the log's largest contact force are
 /// left out of the fit ([`RowKind::Skipped`]).
 pub const F_MIN_REL: f64 = 1e-3;
@@ -135,6 +191,9 @@ pub struct RowResult {
     /// `f cos(psi_f - psi_c)` (NaN for pre-contact rows): positive for the push of a
     /// frictionless contact, negative for a pull, which no contact exerts.
     pub compression: f64,
+    /// The whisker's angle at the contact (`phi(1)` in phase A, `phi(s1)` in phase B; NaN
+    /// for pre-contact rows): the direction in which the contact moves along the whisker.
+    pub phi: f64,
 }
 
 /// Everything a row's evaluation needs besides the row and its kind.
@@ -151,6 +210,8 @@ pub(crate) struct RowCtx<'a> {
     /// The lab x of a point minus its x integrated from the row's `x0` (a log of a rotation
     /// is calibrated with `x0` replaced by its motion coordinate, [`motion_coordinate`](crate::pose::motion_coordinate); 0 otherwise).
     pub shift: f64,
+    /// The law of the row's contact force ([`ContactLaw::Normal`] without friction).
+    pub law: ContactLaw,
 }
 
 impl RowCtx<'_> {
@@ -205,6 +266,15 @@ fn touch(profile: &Profile, x: f64, y: f64) -> Touch {
     }
 }
 
+/// The contour's tangent angle `psi_c` at the point `(x, y)` (lab frame) of `profile`
+/// (`t = (cos psi_c, sin psi_c)`, as the residuals use it); NaN for a peg.
+pub(crate) fn contour_angle(profile: &Profile, x: f64, y: f64) -> f64 {
+    match touch(profile, x, y) {
+        Touch::Line { psi_c, .. } => psi_c,
+        Touch::Point { .. } => f64::NAN,
+    }
+}
+
 /// The residuals of `row` of kind `kind` (module docs) whose base has the pose
 /// [`RowCtx::pose`] (a turning or lifted base, issue 38): in the lab frame, where the system integrated from the base is covariant
 /// (docs/whisking-recon.md), the pose enters only
@@ -250,6 +320,7 @@ pub(crate) fn row_residuals(
             point: nan,
             distance: f64::NAN,
             compression: f64::NAN,
+            phi: f64::NAN,
         }),
         RowKind::Pre | RowKind::A => {
             let sol = base_ivp(&whisker, flow, &obs, ctx.integrator).ok()?;
@@ -272,14 +343,22 @@ pub(crate) fn row_residuals(
                     point: nan,
                     distance: f64::NAN,
                     compression: f64::NAN,
+                    phi: f64::NAN,
                 });
             }
             let (r, distance, compression) = match touch(ctx.profile, x1, y1) {
-                Touch::Line { dist, psi_c } => (
-                    [follicle, m1, dist, fa * psi_c.cos() - fb * psi_c.sin()],
-                    dist,
-                    fa * psi_c.sin() + fb * psi_c.cos(),
-                ),
+                Touch::Line { dist, psi_c } => {
+                    // F = (fa, -fb): ft = F.t, fn = F.n [6.8, 6.9]
+                    let (ft, fnn) = (
+                        fa * psi_c.cos() - fb * psi_c.sin(),
+                        fa * psi_c.sin() + fb * psi_c.cos(),
+                    );
+                    (
+                        [follicle, m1, dist, ctx.law.residual(ft, fnn, m.mu)],
+                        dist,
+                        fnn,
+                    )
+                }
                 Touch::Point { dx, dy } => ([follicle, m1, dx, dy], dx.hypot(dy), fa.hypot(fb)),
             };
             r.iter().all(|v| v.is_finite()).then_some(RowResult {
@@ -288,6 +367,7 @@ pub(crate) fn row_residuals(
                 point: (x1, y1),
                 distance,
                 compression,
+                phi: phi1,
             })
         }
         RowKind::B { s1 } => {
@@ -306,16 +386,23 @@ pub(crate) fn row_residuals(
             let (fa, fb) = force_components(&obs, flow, root);
             let tangency = fb * phi.sin() - fa * phi.cos();
             let (r, distance, compression) = match touch(ctx.profile, x, y) {
-                Touch::Line { dist, psi_c } => (
-                    [
-                        follicle,
-                        dist,
+                Touch::Line { dist, psi_c } => {
+                    let (ft, fnn) = (
                         fa * psi_c.cos() - fb * psi_c.sin(),
-                        tangency,
-                    ],
-                    dist,
-                    fa * psi_c.sin() + fb * psi_c.cos(),
-                ),
+                        fa * psi_c.sin() + fb * psi_c.cos(),
+                    );
+                    // with friction the force is not normal to the whisker: the tangency
+                    // is the whisker's angle against the contour's (model.md: phi(s1) = psi)
+                    let tangency = match ctx.law {
+                        ContactLaw::Normal => tangency,
+                        _ => (phi - psi_c).sin(),
+                    };
+                    (
+                        [follicle, dist, ctx.law.residual(ft, fnn, m.mu), tangency],
+                        dist,
+                        fnn,
+                    )
+                }
                 // the force normal to the whisker (tangency); its side is not checked
                 Touch::Point { dx, dy } => {
                     ([follicle, dx, dy, tangency], dx.hypot(dy), fa.hypot(fb))
@@ -327,6 +414,7 @@ pub(crate) fn row_residuals(
                 point: (x, y),
                 distance,
                 compression,
+                phi,
             })
         }
     }
@@ -526,6 +614,7 @@ mod tests {
                 integrator: &integrator,
                 pose: RowPose::TRANSLATE,
                 shift: 0.0,
+                law: ContactLaw::Normal,
             };
             let (mut worst, mut worst_point, mut contact, mut pre, mut turned) =
                 (0.0f64, 0.0f64, 0, 0, 0);

@@ -2,6 +2,7 @@
 //! the estimates in the parameters' own form, the flows, every row, and the checks' findings.
 
 use super::fit::jacobian_central;
+use super::friction_check::friction_warning;
 use super::ident::analyse;
 use super::problem::{CalibProblem, Kinds};
 use super::residual::{flow_of, Model, RowKind};
@@ -87,6 +88,7 @@ pub(crate) fn summarize(
                 CalibParam::B => out_model.b = start_model.b,
                 CalibParam::K => out_model.c = start_model.c,
                 CalibParam::Ei => out_model.lambda = 1.0,
+                CalibParam::Mu => out_model.mu = f64::NAN,
             }
         }
     }
@@ -116,8 +118,25 @@ pub(crate) fn summarize(
         evaluations: fit.evaluations,
         fits: costs.to_vec(),
         warnings: Vec::new(),
+        friction: None,
     };
     cal.warnings = warnings(&cal, fit, costs);
+    if prob.free.contains(&CalibParam::Mu) {
+        let mu_ok = prob
+            .free
+            .iter()
+            .position(|p| *p == CalibParam::Mu)
+            .is_some_and(|i| info.identifiable[i]);
+        let fr = super::friction_check::friction_fit(prob, &fit.p, &fit.kinds, mu_ok);
+        cal.warnings
+            .extend(super::friction_check::fit_warnings(&fr, mu_ok));
+        cal.friction = Some(fr);
+    } else {
+        let found: Vec<String> = (0..prob.logs.len())
+            .filter_map(|l| friction_warning(&cal, prob.logs, l))
+            .collect();
+        cal.warnings.extend(found);
+    }
     Ok(cal)
 }
 
@@ -141,6 +160,7 @@ fn estimates(
                     (k, sd * k * k, 1.0 / start.c)
                 }
                 CalibParam::Ei => (p[i].exp(), sd * p[i].exp(), 1.0),
+                CalibParam::Mu => (p[i], sd, start.mu),
                 CalibParam::Theta => (p[i], sd, start.theta),
                 CalibParam::A => (p[i], sd, start.a),
                 CalibParam::B => (p[i], sd, start.b),

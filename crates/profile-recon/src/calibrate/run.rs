@@ -28,6 +28,10 @@ pub(crate) const NOISE_CHECK: f64 = 3.0;
 
 /// The fit of [`calibrate`](super::calibrate()): the problem, the winning rounds and the cost
 /// of every fit made (for the result, [`summarize`](super::result::summarize)).
+/// The start value of a fitted `mu` (the slip rows' residuals are linear in it, so any
+/// start in the box converges; this one is off the bound 0).
+pub const MU_START: f64 = 0.3;
+
 pub(crate) fn fit<'a>(
     start: &Whisker,
     logs: &'a [CalibLog],
@@ -49,6 +53,10 @@ pub(crate) fn fit<'a>(
         ));
     }
     let mut base = Model::of(start);
+    if settings.fit.contains(&CalibParam::Mu) {
+        // off the bound 0: the slip rows' residuals are linear in mu
+        base.mu = MU_START;
+    }
     if settings.fit.contains(&CalibParam::K) {
         if let Some(c) = start_compliance(logs) {
             base.c = c;
@@ -75,6 +83,7 @@ pub(crate) fn fit<'a>(
         log_noise: 0.0,
         projection: 0,
         progress: Reporter::new(Some(progress)),
+        laws: super::problem::start_laws(logs, &settings.fit),
     };
     prob.log_noise = logs_noise(&prob);
     let p0 = prob.pack(&base, &flows);
@@ -835,6 +844,7 @@ pub(crate) fn start_failure(prob: &CalibProblem<'_>, p: &[f64], kinds: &Kinds) -
             integrator: &prob.integrator,
             pose: crate::pose::RowPose::TRANSLATE,
             shift: 0.0,
+            law: super::residual::ContactLaw::Normal,
         };
         for (k, &i) in used.iter().enumerate() {
             let row = &prob.logs[l].rows[i];

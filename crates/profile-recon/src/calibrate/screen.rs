@@ -37,6 +37,7 @@ pub(crate) fn objective(prob: &CalibProblem<'_>, p: &[f64], rows: &[Vec<(usize, 
             integrator: &prob.integrator,
             pose: crate::pose::RowPose::TRANSLATE,
             shift: 0.0,
+            law: super::residual::ContactLaw::Normal,
         };
         for &(i, pre) in sub {
             let row = &prob.logs[l].rows[i];
@@ -113,6 +114,8 @@ pub(crate) fn candidates(
                 // the follicle law gives 1/k directly (linear least squares)
                 CalibParam::K => *v,
                 CalibParam::Ei => start.lambda.ln() + 2f64.ln() * rng.gen_range(-1.0..1.0),
+                // the slip rows' residuals are linear in mu: the start's
+                CalibParam::Mu => *v,
             };
         }
         out.push((objective(prob, &p, &rows), p));

@@ -60,6 +60,7 @@ pub(crate) fn problem<'a>(
     start: &Whisker,
 ) -> CalibProblem<'a> {
     CalibProblem {
+        laws: super::problem::start_laws(logs, &free),
         logs,
         free,
         base: Model::of(start),

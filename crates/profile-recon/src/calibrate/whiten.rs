@@ -4,7 +4,9 @@
 //! row onto the model (`projected`) and the phase of a contact row by its smallest whitened
 //! residual (`judge`).
 
-use super::residual::{hypotheses, row_residuals, RowCtx, RowKind, RowResult, RESIDUALS_PER_ROW};
+use super::residual::{
+    hypotheses, row_residuals, ContactLaw, RowCtx, RowKind, RowResult, RESIDUALS_PER_ROW,
+};
 use crate::common::NoiseScales;
 use crate::observables::ObservableRow;
 use bvp_solvers::dense;
@@ -94,6 +96,11 @@ pub(crate) fn whitener(
             jac[i][j] = (e.r[i] - base.r[i]) / h * sc;
         }
     }
+    if ctx.law == ContactLaw::Stick && !matches!(ctx.profile, contact_sim::Profile::Peg { .. }) {
+        if let Some(ix) = ContactLaw::index(base.kind) {
+            orthogonal_row(&mut jac, ix);
+        }
+    }
     let mut c = [[0.0; RESIDUALS_PER_ROW]; RESIDUALS_PER_ROW];
     for i in 0..n {
         for k in 0..n {
@@ -115,6 +122,56 @@ pub(crate) fn whitener(
         RowMap { r_inv, q }
     });
     Some(w)
+}
+
+/// Replaces row `ix` of a row's residual Jacobian (a stick row's law residual, identically
+/// 0: [`ContactLaw::Stick`]) by a direction orthogonal to the other three rows, of their mean
+/// norm: the whitened law residual is then 0 and independent of the others, so the row
+/// counts by its three real conditions (its whitened norm the distance to their manifold)
+/// and its covariance stays regular.
+// index loops over a 4 x 4 matrix read as Gram-Schmidt
+#[allow(clippy::needless_range_loop)]
+pub(crate) fn orthogonal_row(jac: &mut [[f64; 4]; RESIDUALS_PER_ROW], ix: usize) {
+    let mut basis: Vec<[f64; 4]> = Vec::new();
+    let mut norm_sum = 0.0;
+    for (i, row) in jac.iter().enumerate() {
+        if i == ix {
+            continue;
+        }
+        let n0 = row.iter().map(|v| v * v).sum::<f64>().sqrt();
+        norm_sum += n0;
+        let mut v = *row;
+        for b in &basis {
+            let d: f64 = (0..4).map(|k| v[k] * b[k]).sum();
+            for k in 0..4 {
+                v[k] -= d * b[k];
+            }
+        }
+        let nv = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if nv > 1e-12 * n0.max(f64::MIN_POSITIVE) {
+            basis.push(v.map(|x| x / nv));
+        }
+    }
+    // the unit vector with the largest part outside the span
+    let mut best = [0.0; 4];
+    let mut best_n = -1.0;
+    for j in 0..4 {
+        let mut v = [0.0; 4];
+        v[j] = 1.0;
+        for b in &basis {
+            let d = b[j];
+            for k in 0..4 {
+                v[k] -= d * b[k];
+            }
+        }
+        let nv = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if nv > best_n {
+            best_n = nv;
+            best = v.map(|x| x / nv);
+        }
+    }
+    let scale = (norm_sum / 3.0).max(f64::MIN_POSITIVE);
+    jac[ix] = best.map(|x| x * scale);
 }
 
 /// The chord-Newton iteration of `projected` stops when a step is below this fraction of
@@ -301,6 +358,7 @@ mod tests {
             integrator: &integrator,
             pose: crate::pose::RowPose::TRANSLATE,
             shift: 0.0,
+            law: ContactLaw::Normal,
         };
         for eps in [1e-2, 1e-3] {
             let d = [0.6 * eps, -0.3 * eps, 0.7 * eps, -0.2 * eps];

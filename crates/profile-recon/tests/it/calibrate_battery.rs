@@ -344,6 +344,8 @@ fn errors(cal: &Calibration, truth: &Whisker) -> Vec<(CalibParam, f64, f64)> {
                     if v.is_finite() { sd / (v * v) } else { sd },
                 ),
                 CalibParam::Ei => (p.param, v - 1.0, sd),
+                // frictionless logs: mu = 0
+                CalibParam::Mu => (p.param, v, sd),
             }
         })
         .collect()
@@ -355,7 +357,7 @@ fn scale(p: CalibParam, truth: &Whisker) -> f64 {
         CalibParam::A => truth.a,
         CalibParam::B => truth.b,
         CalibParam::K => truth.support.compliance(),
-        CalibParam::Ei => 1.0,
+        CalibParam::Ei | CalibParam::Mu => 1.0,
     }
     .abs()
     .max(1.0)

@@ -7,6 +7,7 @@ mod accuracy;
 mod battery;
 mod calibrate;
 mod calibrate_battery;
+mod friction_calib;
 mod friction_recon;
 mod friction_stream;
 mod noise;

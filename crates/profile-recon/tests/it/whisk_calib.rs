@@ -121,6 +121,8 @@ fn errors(cal: &Calibration, truth: &Whisker) -> Vec<(CalibParam, f64, f64)> {
                     if v.is_finite() { sd / (v * v) } else { sd },
                 ),
                 CalibParam::Ei => (p.param, v - 1.0, sd),
+                // frictionless logs: mu = 0
+                CalibParam::Mu => (p.param, v, sd),
             }
         })
         .collect()
@@ -132,7 +134,7 @@ fn truth_of(p: CalibParam, t: &Whisker) -> f64 {
         CalibParam::A => t.a,
         CalibParam::B => t.b,
         CalibParam::K => t.support.compliance(),
-        CalibParam::Ei => 1.0,
+        CalibParam::Ei | CalibParam::Mu => 1.0,
     }
 }
 

@@ -84,7 +84,11 @@ pub fn write_calibrated_scene(
             ..LoadSpec::default()
         },
         profile: Some(inputs[0].profile.0.clone()),
-        mu: 0.0,
+        // a fitted, identifiable friction coefficient (issue 39); 0 otherwise
+        mu: cal
+            .parameter(profile_recon::calibrate::CalibParam::Mu)
+            .and_then(|p| p.value)
+            .unwrap_or(0.0),
         motion: None,
         x0: None,
         y0: None,

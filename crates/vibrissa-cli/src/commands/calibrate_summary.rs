@@ -72,6 +72,17 @@ pub(crate) fn print_summary(
             _ => println!("  {:<5} = not identifiable from these logs", p.param.name()),
         }
     }
+    if let Some(fr) = &cal.friction {
+        let bound = if fr.stick_ratio.is_finite() {
+            format!(" (their |ft|/fn up to {:.4})", fr.stick_ratio)
+        } else {
+            String::new()
+        };
+        println!(
+            "  mu from {} sliding row(s); {} sticking row(s){bound}",
+            fr.sliding_rows, fr.stick_rows
+        );
+    }
     for c in &cal.determined {
         println!("  determined: {}", c.describe());
     }

@@ -378,3 +378,99 @@ fn two_logs_of_one_whisker_past_two_objects() {
         "rows of the second log"
     );
 }
+
+/// `calibrate --fit ...,mu` (issue 39): a frictional sweep (the tip slides on a circle,
+/// mu = 0.4) calibrated from a wrong start gives mu to 1e-8 with its standard error in the
+/// JSON's `mu`, the calibrated scene.ron carries it; without mu in `--fit` the same log is
+/// fitted as frictionless and warned about.
+#[test]
+fn calibrate_fits_mu_from_a_frictional_sweep() {
+    let dir = tempfile::tempdir().unwrap();
+    let cwd = dir.path();
+    let o = run(
+        &[
+            "sweep",
+            "--profile",
+            "circle:0.3,1.5,0.6",
+            "--theta",
+            "0.5",
+            "--k",
+            "10",
+            "--q",
+            "1",
+            "--alpha-deg",
+            "10",
+            "--mu",
+            "0.4",
+            "--points",
+            "30",
+            "--figures",
+            "none",
+            "--out",
+            "fr",
+        ],
+        cwd,
+    );
+    assert!(o.status.success(), "sweep: {}", stderr(&o));
+    let o = run(
+        &[
+            "calibrate",
+            "fr",
+            "--fit",
+            "theta,k,mu",
+            "--theta",
+            "0.6",
+            "--k",
+            "15",
+            "--json",
+            "--out",
+            "cal",
+        ],
+        cwd,
+    );
+    let v = json(&o);
+    let mu = &v["mu"];
+    assert!((mu["value"].as_f64().unwrap() - 0.4).abs() < 1e-8, "{mu}");
+    assert!(mu["stderr"].as_f64().unwrap() < 1e-6, "{mu}");
+    assert_eq!(mu["identifiable"], true);
+    assert!(mu["sliding_rows"].as_u64().unwrap() >= 10, "{mu}");
+    assert_eq!(mu["cone_violations"], 0);
+    assert_eq!(v["parameters"]["mu"]["value"], mu["value"]);
+    assert_eq!(v["parameters"]["mu"]["unit"], "1");
+    assert!((v["parameters"]["theta"]["value"].as_f64().unwrap() - 0.5).abs() < 1e-7);
+    let scene = fs::read_to_string(cwd.join("cal/scene.ron")).unwrap();
+    assert!(scene.contains("mu: 0.39999999"), "{scene}");
+    // without mu: the frictionless fit, warned about
+    let o = run(
+        &[
+            "calibrate",
+            "fr",
+            "--fit",
+            "theta,k",
+            "--theta",
+            "0.6",
+            "--k",
+            "15",
+            "--json",
+        ],
+        cwd,
+    );
+    let v = json(&o);
+    assert!(v.get("mu").is_none());
+    let warned = v["warnings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .any(|w| w.as_str().unwrap().contains("prove friction"));
+    assert!(warned, "{}", v["warnings"]);
+    // an unknown name lists mu among the parameters
+    // (the folder `cal` of the fit above exists: the one-line error checked here)
+    let o = run(&["calibrate", "fr", "--fit", "theta,nu"], cwd);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(
+        err.contains("--fit") && err.contains("theta, a, b, k, ei, mu"),
+        "{err}"
+    );
+}

@@ -31,6 +31,7 @@ True
 from __future__ import annotations
 
 import math
+import warnings
 from typing import Any, Dict, Optional
 
 import numpy as np
@@ -277,6 +278,7 @@ def reconstruct(
     tolerance: Any = None,
     tol: Optional[float] = None,
     units: Any = None,
+    mu: Any = None,
     **ignored: Any,
 ) -> Reconstruction:
     """Identifies the flow and reconstructs the obstacle's contour from a log of base
@@ -300,10 +302,20 @@ def reconstruct(
     points``) are ignored, so that ``reconstruct(log, **load_scene(path))`` works (the
     scene's ``q`` is then taken as given: pass ``q=None`` to identify it).
 
+    ``mu`` (Coulomb friction at the contact, issue 39; ``reconstruct --mu``): None (the
+    default) gives the frictionless points and beside them mu identified from the sliding rows
+    with its standard error (``Reconstruction.mu``; a log that proves friction warns, its
+    ``sigma`` widened to cover the frictional points); ``"identify"`` gives the frictional
+    points (``f`` the normal part of the contact force, ``ft`` the tangential part, ``slip``)
+    with mu identified; a number in [0, 10] gives the frictional points with mu fixed (``0``:
+    the frictionless points, checked for friction). Method ``accurate`` only for ``mu`` given;
+    a scene's ``mu`` (``**load_scene(path)``) is taken as given. Warnings of the CLI's stderr
+    are issued as :class:`UserWarning`.
+
     Returns a :class:`Reconstruction`. Raises :class:`InvalidInput` for a bad parameter or
     log (naming the row: ``log row:N``), :class:`SolverError` when no row fits.
     """
-    unknown = sorted(set(ignored) - {"f", "beta_deg", "load", "n", "points", "mu"})
+    unknown = sorted(set(ignored) - {"f", "beta_deg", "load", "n", "points"})
     if unknown:
         raise TypeError(f"reconstruct() got an unexpected keyword argument {unknown[0]!r}")
     theta, a, b, k, units = _whisker_of(log, theta, a, b, k, units)
@@ -316,8 +328,13 @@ def reconstruct(
         tolerance=tolerance,
         tol=number("tol", tol),
         profile=profile_spec(profile),
+        # a number as the CLI would get it (Python's repr, so messages quote it alike)
+        mu=mu if mu is None or isinstance(mu, str) else repr(float(number("mu", mu))),
     )
-    return Reconstruction(_core.reconstruct(log_columns(log), spec))
+    raw = _core.reconstruct(log_columns(log), spec)
+    for w in raw.get("warnings", ()):
+        warnings.warn(w, UserWarning, stacklevel=2)
+    return Reconstruction(raw)
 
 
 def calibrate(
@@ -341,7 +358,8 @@ def calibrate(
     arrays with ``x0, Ax, Ay, MA, phi0`` in the scene's units), or a list of ``(log,
     profile)`` pairs; ``profile``: the known contour of every log without its own (a profile
     string or ``(x, y)`` arrays; a :class:`Sweep` brings its own). ``fit``: the parameters, a
-    list or comma-separated string of ``theta, a, b, k, ei`` (``ei`` in physical units only;
+    list or comma-separated string of ``theta, a, b, k, ei, mu`` (``ei`` in physical units
+    only; ``mu`` the friction coefficient at the contact, from the sliding rows: ``.mu``;
     default ``theta, a, b, k``). ``theta, a, b, k, units``: the start whisker (those left at
     None from the first Sweep's scene). ``q`` with ``alpha_deg``: a known flow held fixed
     (else each log's flow is fitted). ``starts``: local fits at most (default 4).

@@ -18,8 +18,10 @@ def sweep(spec: Dict[str, Any]) -> Dict[str, Any]:
 
 def calibrate(logs: List[Tuple[Dict[str, npt.NDArray[np.float64]], Any]], spec: Dict[str, Any]) -> Dict[str, Any]: ...
 def reconstruct(log: Dict[str, npt.NDArray[np.float64]], spec: Dict[str, Any]) -> Dict[str, Any]:
-    """{"columns": {x0, x, y, s1, f, psi, sigma, residual, hypotheses[, error]},
-    "phase": list[str], "slip": list[str], "summary": dict}"""
+    """{"columns": {x0, x, y, s1, f, psi, sigma, residual, hypotheses, ft[, error]},
+    "phase": list[str], "slip": list[str], "summary": dict, "mu": dict | None,
+    "friction": dict, "warnings": list[str]} (``spec["mu"]``: None, "identify" or a number,
+    as ``reconstruct --mu``)"""
 
 def load_scene(path: str) -> Dict[str, Any]:
     """The scene file as JSON-like values."""

@@ -140,13 +140,27 @@ class Reconstruction(_Columns):
     other columns hold NaN), ``sigma`` (the point's error estimate, a length), ``residual``,
     ``hypotheses`` (how many phase hypotheses fitted), and ``error`` (the distance to the
     true contour [6.11]) when a ``profile`` was given. ``q``, ``alpha_deg``: the flow
-    (identified unless given); ``noise``: the relative noise level used."""
+    (identified unless given); ``noise``: the relative noise level used.
 
-    _base_names = ("x0", "x", "y", "s1", "f", "psi", "phase", "sigma", "residual", "hypotheses")
+    Friction (issue 39; ``reconstruct(mu=...)``): ``ft`` the tangential part of each contact
+    force along the contour's tangent (a force; the frictional reconstruction's, NaN where
+    the tangent is unknown or no mu was identified) and ``slip`` (``"slip"``, ``"stick"``,
+    ``"none"``) per row; ``mu`` a dict ``value, stderr, given, rows, chi2_dof`` (identified
+    from ``rows`` sliding rows, or given; None when no row slides with a force, or with
+    method ``thesis``/``tol``); ``friction`` the evidence (``sliding_rows, mu_violations,
+    friction_z, friction_line, proves_friction``, or ``identified: False, reason``);
+    ``warnings`` what the CLI prints on stderr (a log that proves friction)."""
+
+    _base_names = (
+        "x0", "x", "y", "s1", "f", "psi", "phase", "sigma", "residual", "hypotheses", "ft", "slip",
+    )
 
     def __init__(self, raw: Dict[str, Any]) -> None:
         cols = dict(raw["columns"])
         cols["phase"] = np.array(raw["phase"], dtype=str)
+        cols["slip"] = np.array(raw.get("slip", ["none"] * len(raw["phase"])), dtype=str)
+        if "ft" not in cols:
+            cols["ft"] = np.full(len(raw["phase"]), np.nan)
         self._names = self._base_names + (("error",) if "error" in cols else ())
         super().__init__(cols)
         s = raw["summary"]
@@ -162,11 +176,25 @@ class Reconstruction(_Columns):
         #: every point the same point), ``{"kind": "disc", "x", "y", "r", "stderr": [3],
         #: "rms", "rows"}`` for a ``disc:`` profile (the least-squares circle); else None.
         self.obstacle: Optional[Dict[str, Any]] = raw.get("obstacle")
+        #: Coulomb's mu (issue 39): ``{"value", "stderr", "given", "rows", "chi2_dof"}``, or None.
+        self.mu: Optional[Dict[str, Any]] = raw.get("mu")
+        #: The friction evidence of the log (see the class docs).
+        self.friction: Dict[str, Any] = raw.get("friction") or {}
+        #: The warnings issued (the CLI's stderr lines).
+        self.warnings: List[str] = list(raw.get("warnings", ()))
 
     @property
     def contact(self) -> np.ndarray:
         """Boolean mask of the rows with a contact point."""
         return self.phase != "none"
+
+    def _mu_repr(self) -> str:
+        m = self.mu
+        if not m:
+            return ""
+        if m.get("given"):
+            return f", mu={m['value']:.6g} given"
+        return f", mu={m['value']:.6g}±{m['stderr']:.1e} ({m['rows']} sliding rows)"
 
     def __repr__(self) -> str:
         err = ""
@@ -177,7 +205,7 @@ class Reconstruction(_Columns):
             f"q={self.q:.6g}{' given' if self.q_given else ''}, "
             f"alpha_deg={self.alpha_deg:.4g}{' given' if self.alpha_given else ''}, "
             f"max_sigma={np.nanmax(self.sigma) if self.contact.any() else float('nan'):.1e}"
-            f"{err}, units={self.units!r})"
+            f"{err}{self._mu_repr()}, units={self.units!r})"
         )
 
 
@@ -185,7 +213,7 @@ class Calibration:
     """The whisker's own parameters fitted to logs of sweeps past known contours
     (``vibrissa calibrate``).
 
-    ``parameters``: per fitted name (``theta, a, b, k, ei``) a dict ``value, stderr,
+    ``parameters``: per fitted name (``theta, a, b, k, ei, mu``) a dict ``value, stderr,
     identifiable, unit`` (``value`` and ``stderr`` None where the logs cannot determine the
     parameter; ``k`` also ``rigid`` and its ``compliance``); ``whisker``: the calibrated
     whisker as keywords (``theta, a, b, k``, scene units; unidentifiable parameters at their
@@ -193,7 +221,10 @@ class Calibration:
     (``q, q_stderr, alpha_deg, alpha_deg_stderr``) and row counts; ``rms_residual``: the RMS
     distance of the reconstructed contact points to their contours (scene length unit);
     ``correlation``, ``determined`` (combinations of unidentifiable parameters the logs do
-    determine), ``noise_level``, ``warnings``; ``raw`` the whole object."""
+    determine), ``noise_level``, ``warnings``; ``mu``: with ``mu`` fitted, a dict ``value,
+    stderr`` (None when no row slides: not identifiable), ``identifiable, sliding_rows,
+    stick_rows, lower_bound`` (the sticking rows' largest ``|ft|/fn``), ``cone_violations``;
+    None when ``mu`` was not fitted; ``raw`` the whole object."""
 
     def __init__(self, raw: Dict[str, Any]) -> None:
         self.raw: Dict[str, Any] = raw
@@ -210,6 +241,7 @@ class Calibration:
         self.noise_level: float = optional(raw["noise_level"])
         self.warnings: List[str] = raw["warnings"]
         self.units: str = raw["units"]
+        self.mu: Optional[Dict[str, Any]] = raw.get("mu")
 
     def value(self, name: str) -> Optional[float]:
         """The estimate of parameter ``name`` (None if not identifiable)."""

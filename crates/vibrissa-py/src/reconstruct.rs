@@ -82,7 +82,7 @@ pub fn log_table(py: Python<'_>, log: &Bound<'_, PyDict>) -> PyResult<Table> {
         numeric.insert(name.to_string(), v);
     }
     // the base pose of a log of any motion (issue 38), where the log has it
-    for name in ["y0", "gamma"] {
+    for name in ["y0", "gamma", "k"] {
         let Some(col) = log.get_item(name)? else {
             continue;
         };
@@ -132,6 +132,8 @@ pub fn reconstruct<'py>(
     let file = units_scene(spec)?;
     let truth_spec = ProfileSpec::from_spec(spec, "profile")?;
     let mut table = log_table(py, log)?;
+    // the pose columns as given (issue 38), appended to the result's columns
+    let pose = vibrissa_io::recon_io::PoseColumns::of(&table);
     let (rec, units, x0_given, errors, method, obstacle) = compute(py, move || {
         let opts = ReconOptions::parse(&flags)?;
         let r = recon_model(&flags, file)?;
@@ -176,7 +178,9 @@ pub fn reconstruct<'py>(
         "hypotheses",
         "error",
     ];
-    let out = with_columns(py, names.iter().copied().zip(cols).collect())?;
+    let mut columns: Vec<(&str, Vec<f64>)> = names.iter().copied().zip(cols).collect();
+    columns.extend(pose.columns().iter().map(|(n, c)| (*n, c.clone())));
+    let out = with_columns(py, columns)?;
     out.set_item("phase", phase)?;
     let summary = ReconSummary::of(&rec, method, n, &units);
     out.set_item("summary", record(py, &summary)?)?;

@@ -225,6 +225,14 @@ fn check(start: &Whisker, logs: &[CalibLog], settings: &CalibSettings) -> Result
             });
         }
     }
+    // a path that sets k on every row makes it a known column, not a parameter (issue 38)
+    let known_k = |l: &CalibLog| !l.poses.is_empty() && l.poses.iter().all(|p| p.k.is_some());
+    if settings.fit.contains(&CalibParam::K) && logs.iter().all(known_k) {
+        return Err(ReconError::CalibrationRequest {
+            reason: super::K_IS_KNOWN,
+            requested: settings.fit.len(),
+        });
+    }
     for log in logs {
         if log.rows.is_empty() {
             return Err(ReconError::TooFewRows {
@@ -297,6 +305,10 @@ fn start_compliance(logs: &[CalibLog]) -> Option<f64> {
     let (mut num, mut den) = (0.0, 0.0);
     for log in logs {
         for (i, r) in log.rows.iter().enumerate() {
+            // a row whose k the path sets says nothing of the whisker's own (issue 38)
+            if log.poses.get(i).is_some_and(|p| p.k.is_some()) {
+                continue;
+            }
             // the follicle law turned by the row's gamma (issue 38)
             let phi0 = log.poses.get(i).map_or(r.phi0, |p| p.unturned(r.phi0));
             num -= r.ma * (phi0 - FRAC_PI_2);

@@ -10,6 +10,7 @@ mod calibrate_battery;
 mod friction_recon;
 mod friction_stream;
 mod noise;
+mod path_calib;
 mod roundtrip;
 mod stream;
 mod thesis;

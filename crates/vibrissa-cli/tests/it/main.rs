@@ -15,6 +15,7 @@ mod friction;
 mod hostile;
 mod io;
 mod parsers;
+mod path_calib;
 mod physical;
 mod points_files;
 mod reconstruct;

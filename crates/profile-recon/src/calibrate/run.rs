@@ -384,10 +384,33 @@ pub(crate) fn pre_contact(rows: &[ObservableRow], posed: bool) -> Vec<bool> {
         }
     }
     let mut out = vec![false; rows.len()];
-    if let Some(i) = lone_free_row(rows, &scales, level, posed) {
+    if let Some(i) =
+        unloaded_row(rows, &scales, level).or_else(|| lone_free_row(rows, &scales, level, posed))
+    {
         out[i] = true;
     }
     out
+}
+
+/// A lone row at an end of the log's base positions whose reactions `Ax`, `Ay` and moment
+/// `MA` all vanish (within 1e-9 of each column's scale, else five noise deviations): the
+/// free whisker without flow ([6.1] with `q = 0`: nothing loads it), which a contact row
+/// (force `f > 0`) never is. Without flow the contact branch starts from these zeros
+/// linearly, so [`lone_free_row`]'s kink of the slope is not there to find it, and a kink at
+/// the other end (a contact row before the whisker slips off a disc) was taken for the free
+/// whisker instead (docs/whisking-recon.md, "The no-flow disc scene").
+fn unloaded_row(rows: &[ObservableRow], scales: &NoiseScales, level: f64) -> Option<usize> {
+    let zero = |r: &ObservableRow, rel: f64| {
+        [r.ax, r.ay, r.ma]
+            .iter()
+            .zip(&scales.0)
+            .all(|(v, s)| v.abs() <= rel * s)
+    };
+    let ends = x0_ends(rows);
+    [1e-9, 5.0 * level]
+        .into_iter()
+        .filter(|rel| rel.is_finite())
+        .find_map(|rel| ends.iter().copied().find(|&e| zero(&rows[e], rel)))
 }
 
 /// The rows at the largest and the smallest base position.

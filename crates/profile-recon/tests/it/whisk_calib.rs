@@ -7,17 +7,19 @@
 //! relative noise 1e-4 (seeded `add_noise`).
 //!
 //! `cargo test -p profile-recon --test it -- whisk_calib::wcal` (the battery: `--ignored
-//! --nocapture`; `WCAL_NO_FLOW=1` takes the flow off every fourth scene)
+//! --nocapture`; every fourth scene without flow, `WCAL_NO_FLOW=0` puts it back)
 
 use beam_model::{FluidLoad, Whisker};
 use contact_sim::{sweep, BaseMotion, Profile, SweepSettings};
 use profile_recon::calibrate::{calibrate, CalibLog, CalibParam, CalibSettings, Calibration};
 use profile_recon::{add_noise, from_sweep, poses_of_sweep, KnownFlow};
 
-/// Whether every fourth scene has no flow (`WCAL_NO_FLOW=1`; off by default: scene 7, a
-/// disc without flow, then misses with a warning, docs/whisking-recon.md "Still weak").
+/// Whether every fourth scene has no flow (on; `WCAL_NO_FLOW=0` puts the flow back: the
+/// scenes of before branch `wleft`, where scene 7, a disc without flow, missed until the
+/// lone free row of a log without flow was recognised, docs/whisking-recon.md "The no-flow
+/// disc scene").
 fn no_flow() -> bool {
-    std::env::var("WCAL_NO_FLOW").is_ok_and(|v| v == "1")
+    std::env::var("WCAL_NO_FLOW").map_or(true, |v| v != "0")
 }
 
 /// A seeded scene: the truth, the flow, the obstacle, the motion.
@@ -47,7 +49,7 @@ pub(crate) fn scene(i: u64) -> Scene {
         range(-0.4, 0.4),
         range(10.0, 40.0),
     );
-    // every third scene rigid; every fourth without flow with `WCAL_NO_FLOW=1` ([`no_flow`])
+    // every third scene rigid; every fourth without flow ([`no_flow`])
     let k = if i % 3 == 2 { f64::INFINITY } else { k };
     let truth = Whisker::new(theta, a, b, k);
     let (q, alpha) = (range(0.5, 2.0), range(-30.0, 30.0).to_radians());
@@ -197,6 +199,15 @@ fn check_scenes(ids: &[u64]) {
 #[test]
 fn wcal_calibration_from_whisking_logs_gives_the_truth() {
     check_scenes(&[0, 1]);
+}
+
+/// Scene 7 without flow (a disc, one free row of zero reactions, the contact branch linear
+/// from it): the truth back (docs/whisking-recon.md, "The no-flow disc scene").
+#[test]
+fn wleft_a_no_flow_disc_log_calibrates() {
+    if no_flow() {
+        check_scenes(&[7]);
+    }
 }
 
 /// More seeded scenes: `cargo test -p profile-recon --test it -- whisk_calib::wcal --ignored

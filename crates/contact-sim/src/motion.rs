@@ -208,6 +208,14 @@ impl Segment {
     }
 }
 
+/// Why a path segment that changes only `k` (the pose fixed) is refused: its parameter would
+/// be read from the follicle law `phi0 = pi/2 + gamma + m0 c(p)` [3.21, 3.22], singular where
+/// the base moment `m0` vanishes (docs/whisking-recon.md, "Paths in the calibration").
+pub const K_ONLY_SEGMENT: &str =
+    "the path changes only k between this row (from 0) and the next, the pose fixed: \
+     its parameter would be read from the follicle law, singular where MA = 0; \
+     move the pose a little along the segment, or split the tensing over moving rows";
+
 /// How the base moves during a sweep (spec/cli.md `--motion`).
 #[derive(Clone, Debug, PartialEq, Default, Serialize, Deserialize)]
 pub enum BaseMotion {
@@ -265,6 +273,16 @@ impl BaseMotion {
                             name: "path",
                             value: i as f64,
                             reason: "the path does not move between this row (from 0) and the next: equal poses and k",
+                        });
+                    }
+                    // a segment that only tenses the follicle reads its parameter from the
+                    // follicle law, w = (phi0 - pi/2 - m0 c_i - G_i) / (m0 dc): singular
+                    // where the base moment m0 = 0 (the free whisker without flow, a touch)
+                    if w[0] == w[1] {
+                        return Err(ContactError::InvalidParameter {
+                            name: "path",
+                            value: i as f64,
+                            reason: K_ONLY_SEGMENT,
                         });
                     }
                 }
@@ -360,6 +378,10 @@ impl Frame {
 mod tests {
     use super::*;
 
+    fn pose(x0: f64, y0: f64, gamma: f64) -> Pose {
+        Pose { x0, y0, gamma }
+    }
+
     /// A path's pose and rate are the linear interpolation written out; k blends in the
     /// compliance (a rigid row's neighbour halves the compliance halfway).
     #[test]
@@ -396,6 +418,38 @@ mod tests {
     }
 
     /// The frames' coordinates: x0 for a translation, -gamma for a rotation, and back.
+    /// A segment that only tenses the follicle is refused by name (its parameter would be
+    /// read from the follicle law, singular where MA = 0); equal poses with equal k too.
+    #[test]
+    fn a_k_only_segment_is_refused_naming_its_row() {
+        let poses = vec![
+            pose(0.0, 0.0, 0.0),
+            pose(0.0, 0.0, 0.3),
+            pose(0.0, 0.0, 0.3),
+        ];
+        let tensing = Poses::new(poses.clone(), Some(vec![10.0, 10.0, 30.0])).unwrap();
+        match BaseMotion::Path(tensing).validate() {
+            Err(ContactError::InvalidParameter {
+                name,
+                value,
+                reason,
+            }) => {
+                assert_eq!((name, value, reason), ("path", 1.0, K_ONLY_SEGMENT));
+            }
+            other => panic!("{other:?}"),
+        }
+        let moving = vec![
+            pose(0.0, 0.0, 0.0),
+            pose(0.0, 0.0, 0.3),
+            pose(0.0, 0.0, 0.5),
+        ];
+        let ok = Poses::new(moving, Some(vec![10.0, 10.0, 30.0])).unwrap();
+        assert!(BaseMotion::Path(ok).validate().is_ok());
+        let still = Poses::new(poses, Some(vec![10.0, 10.0, 10.0])).unwrap();
+        let e = BaseMotion::Path(still).validate().unwrap_err().to_string();
+        assert!(e.contains("does not move"), "{e}");
+    }
+
     #[test]
     fn frames_map_coordinates_to_poses() {
         let rot = Frame::Rotate { x0: 0.1, y0: -0.2 };

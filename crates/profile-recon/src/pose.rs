@@ -45,7 +45,7 @@ use crate::error::{ReconError, Result};
 use crate::observables::ObservableRow;
 use crate::result::{ReconPoint, Reconstruction};
 use crate::ReconSettings;
-use beam_model::Whisker;
+use beam_model::{Support, Whisker};
 use serde::{Deserialize, Serialize};
 
 /// The pose of a row's base besides `x0` (spec/model.md, "Base motions"): `(y0, gamma)`.
@@ -55,6 +55,12 @@ pub struct RowPose {
     pub y0: f64,
     /// The turn of the follicle (rad; the unloaded base direction is `pi/2 + gamma`).
     pub gamma: f64,
+    /// The follicle stiffness of the row where the motion sets it (a path's `k` column,
+    /// dimensionless [3.19], `inf` rigid): a known value of the row, used by the
+    /// calibration's follicle law instead of the fitted whisker's `k`
+    /// ([`RowPose::support_or`]); `None` where the log has no `k`.
+    #[serde(default)]
+    pub k: Option<f64>,
 }
 
 impl RowPose {
@@ -62,21 +68,53 @@ impl RowPose {
     pub const TRANSLATE: RowPose = RowPose {
         y0: 0.0,
         gamma: 0.0,
+        k: None,
     };
 
-    /// Whether this is the translating sweep's pose (`y0 = 0`, `gamma = 0` exactly).
-    pub fn is_translate(&self) -> bool {
-        self.y0 == 0.0 && self.gamma == 0.0
+    /// The pose `(y0, gamma)` without a known `k`.
+    pub const fn new(y0: f64, gamma: f64) -> Self {
+        RowPose { y0, gamma, k: None }
     }
 
-    /// Checks that both values are finite, naming the row (0-based) and the column.
+    /// Whether this is the translating sweep's pose (`y0 = 0`, `gamma = 0` exactly, no
+    /// known `k`).
+    pub fn is_translate(&self) -> bool {
+        self.y0 == 0.0 && self.gamma == 0.0 && self.k.is_none()
+    }
+
+    /// Checks that `y0` and `gamma` are finite and a known `k` positive (`inf`: rigid),
+    /// naming the row (0-based) and the column.
     pub fn validate(&self, row: usize) -> Result<()> {
         for (column, value) in [("y0", self.y0), ("gamma", self.gamma)] {
             if !value.is_finite() {
                 return Err(ReconError::NonFinite { row, column, value });
             }
         }
-        Ok(())
+        match self.k {
+            Some(value) if value.is_nan() => Err(ReconError::NonFinite {
+                row,
+                column: "k",
+                value,
+            }),
+            Some(value) if value <= 0.0 => Err(ReconError::InvalidParameter {
+                name: "k",
+                value,
+                reason: "a row's follicle stiffness must be > 0 (inf: rigid)",
+            }),
+            _ => Ok(()),
+        }
+    }
+
+    /// The follicle of this row: a spring of the row's known `k` (rigid for `inf`) where the
+    /// motion sets it, else `fitted` (the whisker's own) [3.21, 3.22]. A path whose `k`
+    /// changes along it makes `k` a known column of the log, not a parameter of the whisker
+    /// (docs/whisking-recon.md, "Paths in the calibration").
+    pub fn support_or(&self, fitted: Support) -> Support {
+        match self.k {
+            Some(k) if k.is_infinite() => Support::Rigid,
+            Some(k) => Support::Spring { k },
+            None => fitted,
+        }
     }
 
     /// A height `y` of a whisker integrated with its base on `y = 0`, in the lab frame of a
@@ -101,9 +139,9 @@ impl RowPose {
     }
 
     /// Residual of the turned follicle law `phi0 = pi/2 + gamma - MA/k` [3.21, 3.22] of `row`
-    /// for a follicle of stiffness `k` (`INFINITY`: rigid).
+    /// for a follicle of stiffness `k` (`INFINITY`: rigid), the row's own `k` where known.
     pub fn follicle_residual(&self, row: &ObservableRow, k: f64) -> f64 {
-        row.phi0 - std::f64::consts::FRAC_PI_2 - self.gamma + row.ma / k
+        row.phi0 - std::f64::consts::FRAC_PI_2 - self.gamma + row.ma / self.k.unwrap_or(k)
     }
 }
 
@@ -115,6 +153,7 @@ pub fn poses_of_sweep(sweep: &contact_sim::SweepResult) -> Vec<RowPose> {
         .map(|p| RowPose {
             y0: p.y0,
             gamma: p.gamma,
+            k: p.k,
         })
         .collect()
 }
@@ -287,7 +326,7 @@ mod tests {
     #[test]
     fn the_motion_coordinate_is_the_pose_component_that_varies_most() {
         let rows = [row(0.3), row(0.3), row(0.3)];
-        let poses = [0.1, 0.2, 0.4].map(|g| RowPose { y0: 0.05, gamma: g });
+        let poses = [0.1, 0.2, 0.4].map(|g| RowPose::new(0.05, g));
         assert_eq!(motion_coordinate(&rows, &poses), vec![-0.1, -0.2, -0.4]);
         let rows = [row(0.3), row(0.1), row(-0.5)];
         assert_eq!(motion_coordinate(&rows, &poses), vec![0.3, 0.1, -0.5]);
@@ -312,15 +351,7 @@ mod tests {
             alternatives: 0,
             evaluations: 1,
         };
-        point_to_lab(
-            &mut p,
-            -0.25,
-            0.125,
-            &RowPose {
-                y0: 0.5,
-                gamma: 0.3,
-            },
-        );
+        point_to_lab(&mut p, -0.25, 0.125, &RowPose::new(0.5, 0.3));
         assert_eq!((p.x0, p.x, p.y), (0.125, 0.875, 1.25));
     }
 
@@ -339,13 +370,7 @@ mod tests {
             ),
             "{e}"
         );
-        let bad = [
-            RowPose::TRANSLATE,
-            RowPose {
-                y0: 0.0,
-                gamma: f64::NAN,
-            },
-        ];
+        let bad = [RowPose::TRANSLATE, RowPose::new(0.0, f64::NAN)];
         let e = check_poses(&rows, &bad).unwrap_err();
         assert!(
             matches!(
@@ -362,10 +387,7 @@ mod tests {
 
     #[test]
     fn the_turned_follicle_law_is_zero_on_its_own_rows() {
-        let pose = RowPose {
-            y0: 0.0,
-            gamma: 0.4,
-        };
+        let pose = RowPose::new(0.0, 0.4);
         let (k, ma) = (20.0, 0.3);
         let r = ObservableRow {
             phi0: std::f64::consts::FRAC_PI_2 + 0.4 - ma / k,
@@ -373,5 +395,21 @@ mod tests {
             ..row(0.0)
         };
         assert!(pose.follicle_residual(&r, k).abs() < 1e-15);
+        // a row whose k the path sets: its own k, whatever the whisker's
+        let known = RowPose { k: Some(k), ..pose };
+        assert!(known.follicle_residual(&r, 1e3).abs() < 1e-15);
+        assert_eq!(known.support_or(Support::Rigid), Support::Spring { k });
+        let rigid = RowPose {
+            k: Some(f64::INFINITY),
+            ..pose
+        };
+        assert_eq!(rigid.support_or(Support::Spring { k }), Support::Rigid);
+        assert_eq!(pose.support_or(Support::Rigid), Support::Rigid);
+        assert!(!known.is_translate() && RowPose::TRANSLATE.is_translate());
+        let bad = RowPose {
+            k: Some(-1.0),
+            ..pose
+        };
+        assert!(bad.validate(3).unwrap_err().to_string().contains("k = -1"));
     }
 }

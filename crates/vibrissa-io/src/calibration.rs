@@ -55,6 +55,9 @@ pub struct LogInput {
     pub table: Table,
     /// The x0 column as given.
     pub x0_given: Vec<f64>,
+    /// The pose columns as given (`y0`, `gamma`, `k` of a log of any base motion; none for
+    /// a translate log), copied into `residuals.csv`.
+    pub pose_given: crate::recon_io::PoseColumns,
     /// The known contour: its spec and the parsed, dimensionless profile.
     pub profile: (String, Profile),
 }
@@ -198,6 +201,12 @@ fn culprit(err: ReconError, inputs: &[LogInput]) -> IoError {
                     .join(", ")
             ),
         },
+        // `--fit` asks for a parameter the logs hold as a known column (a path's k)
+        ReconError::CalibrationRequest { reason, .. }
+            if reason == profile_recon::calibrate::K_IS_KNOWN =>
+        {
+            IoError::invalid_argument("--fit", "k", reason)
+        }
         other => IoError::Solver {
             reason: format!("calibration failed: {other}"),
             source: Some(Box::new(other)),

@@ -172,13 +172,16 @@ pub fn rows_of(table: &Table) -> Result<Vec<ObservableRow>, IoError> {
 
 /// The base pose of every row of a log of any motion (spec/model.md, "Base motions"): the
 /// columns `y0` and `gamma` (radians) where present, 0 where absent (a log without them is a
-/// translation's; [`profile_recon::pose`]).
+/// translation's; [`profile_recon::pose`]), and the path's follicle stiffness `k` (model
+/// units, as [`to_model_units`](crate::recon_io::to_model_units) leaves it) where the log has it.
 pub fn poses_of(table: &Table) -> Vec<RowPose> {
     let (y0, gamma) = (table.column("y0"), table.column("gamma"));
+    let k = table.column(crate::observables::K_COLUMN);
     (0..table.rows())
         .map(|i| RowPose {
             y0: y0.map_or(0.0, |c| c[i]),
             gamma: gamma.map_or(0.0, |c| c[i]),
+            k: k.map(|c| c[i]).filter(|v| !v.is_nan()),
         })
         .collect()
 }

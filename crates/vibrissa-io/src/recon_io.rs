@@ -84,8 +84,9 @@ const INPUT_QUANTITIES: [(&str, Quantity); 5] = [
 pub const POSE_QUANTITIES: [(&str, Quantity); 2] =
     [("y0", Quantity::Length), ("gamma", Quantity::Angle)];
 
-/// Converts the columns x0, Ax, Ay, MA, phi0 (and the pose columns y0, gamma where present)
-/// of a log to the model's dimensionless variables:
+/// Converts the columns x0, Ax, Ay, MA, phi0 (and the pose columns y0, gamma where present,
+/// and a path's `k` from the scene's stiffness unit) of a log to the model's dimensionless
+/// variables:
 /// by the units of its sidecar `NAME.units.csv` if there is one, else from the scene's units
 /// (`units`). Returns the x0 column as given, to be copied exactly into the outputs.
 pub fn to_model_units(table: &mut Table, units: &UnitSystem) -> Result<Vec<f64>, IoError> {
@@ -111,6 +112,13 @@ pub fn to_model_units_with(
             if let Some(col) = table.numeric.get_mut(*name) {
                 col.iter_mut().for_each(|v| *v *= f);
             }
+        }
+    }
+    // a path's follicle stiffness, in the scene's stiffness unit as the sweep writes it
+    let fk = crate::observables::stiffness_scale(units);
+    if fk != 1.0 {
+        if let Some(col) = table.numeric.get_mut(crate::observables::K_COLUMN) {
+            col.iter_mut().for_each(|v| *v /= fk);
         }
     }
     Ok(x0)
@@ -205,14 +213,132 @@ pub fn write_reconstruction_csv(
     x0_given: &[f64],
     path: &Path,
 ) -> Result<(), IoError> {
-    let header = reconstruction_header(errors.is_some());
+    write_reconstruction_csv_posed(
+        points,
+        errors,
+        units,
+        x0_given,
+        &PoseColumns::default(),
+        path,
+    )
+}
+
+/// [`write_reconstruction_csv`] with the log's pose columns `pose` ([`PoseColumns`]: `y0`,
+/// `gamma`, `k` of a log of any base motion, issue 38) appended to each row as given, so
+/// that a reader can plot the points against the turn; without them (a translate log) the
+/// file of [`write_reconstruction_csv`] byte for byte.
+pub fn write_reconstruction_csv_posed(
+    points: &[ReconPoint],
+    errors: Option<&[f64]>,
+    units: &UnitSystem,
+    x0_given: &[f64],
+    pose: &PoseColumns,
+    path: &Path,
+) -> Result<(), IoError> {
+    let mut header = reconstruction_header(errors.is_some());
+    let n = header.len();
+    header.extend(pose.names());
     let mut w = CsvWriter::new(&header);
     for (i, p) in points.iter().enumerate() {
         let error = errors.map(|e| e.get(i).copied().unwrap_or(f64::NAN));
-        w.push_row(&recon_cells(p, units, x0_given, error))?;
+        let mut cells = recon_cells(p, units, x0_given, error);
+        cells.extend(pose.cells(p.row));
+        w.push_row(&cells)?;
     }
     w.write(path)?;
-    write_units_of(path, &header, &RECON_QUANTITIES[..header.len()], units)
+    if pose.is_empty() {
+        return write_units_of(path, &header, &RECON_QUANTITIES[..n], units);
+    }
+    let mut u: Vec<&str> = RECON_QUANTITIES[..n]
+        .iter()
+        .map(|q| units.unit(*q))
+        .collect();
+    u.extend(pose.units(units));
+    crate::csvio::write_units_sidecar(&crate::csvio::units_sidecar_path(path), &header, &u)
+}
+
+/// The pose columns of a log of any base motion (issue 38; spec/cli.md `--motion`), as the
+/// log gave them: `y0`, `gamma` (radians) and the path's follicle stiffness `k`, those the
+/// log has, in that order, copied exactly into `reconstruction.csv` and `residuals.csv`
+/// (like `x0`) so that a reader can plot the points against the turn. A log whose every
+/// `y0` and `gamma` is 0 and that has no `k` (the translating sweep's, whose logs carry
+/// `y0 = gamma = 0` columns) has none: its outputs keep the contract's columns.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PoseColumns {
+    columns: Vec<(&'static str, Vec<f64>)>,
+}
+
+impl PoseColumns {
+    /// The pose columns, in the order written.
+    pub const NAMES: [&'static str; 3] = ["y0", "gamma", crate::observables::K_COLUMN];
+
+    /// The pose columns of `table` as given (read them before converting the table to model
+    /// units); none for a translate log (type docs).
+    pub fn of(table: &Table) -> Self {
+        Self::from_columns(
+            Self::NAMES
+                .iter()
+                .filter_map(|&n| table.column(n).map(|c| (n, c.to_vec())))
+                .collect(),
+        )
+    }
+
+    /// From columns given in code (`(name, values)`, names among [`Self::NAMES`], in that
+    /// order), with the rule of [`Self::of`].
+    pub fn from_columns(columns: Vec<(&'static str, Vec<f64>)>) -> Self {
+        let moves = columns
+            .iter()
+            .any(|(n, c)| *n == crate::observables::K_COLUMN || c.iter().any(|v| *v != 0.0));
+        PoseColumns {
+            columns: if moves { columns } else { Vec::new() },
+        }
+    }
+
+    /// Whether there are none (a translate log).
+    pub fn is_empty(&self) -> bool {
+        self.columns.is_empty()
+    }
+
+    /// The names of the columns written.
+    pub fn names(&self) -> impl Iterator<Item = &'static str> + '_ {
+        self.columns.iter().map(|(n, _)| *n)
+    }
+
+    /// The values of row `row` (0-based row of the log), as given (NaN past the end).
+    pub fn values(&self, row: usize) -> impl Iterator<Item = f64> + '_ {
+        self.columns
+            .iter()
+            .map(move |(_, c)| c.get(row).copied().unwrap_or(f64::NAN))
+    }
+
+    /// The cells of row `row` ([`Self::values`]).
+    pub fn cells(&self, row: usize) -> impl Iterator<Item = Cell<'static>> + '_ {
+        self.values(row).map(Cell::Num)
+    }
+
+    /// The columns by name with their values, as given.
+    pub fn columns(&self) -> &[(&'static str, Vec<f64>)] {
+        &self.columns
+    }
+
+    /// The units of the columns in `units` (`y0` a length, `gamma` rad, `k` the scene's
+    /// stiffness unit).
+    pub fn units(&self, units: &UnitSystem) -> Vec<&'static str> {
+        self.columns
+            .iter()
+            .map(|(n, _)| Self::unit_of(n, units))
+            .collect()
+    }
+
+    /// The unit of the pose column `name` in `units` (`y0` a length, `gamma` rad, `k` the
+    /// scene's stiffness unit).
+    pub fn unit_of(name: &str, units: &UnitSystem) -> &'static str {
+        match name {
+            "y0" => units.unit(Quantity::Length),
+            "gamma" => units.unit(Quantity::Angle),
+            _ => crate::observables::stiffness_unit(units),
+        }
+    }
 }
 
 /// Writes the `scene.ron` of a reconstruction folder: the whisker used, the identified (or

@@ -56,6 +56,7 @@ pub fn calibrate<'py>(
         let units = r.units();
         let mut inputs = Vec::with_capacity(raw.len());
         for (i, (mut table, profile)) in raw.into_iter().enumerate() {
+            let pose_given = vibrissa_io::recon_io::PoseColumns::of(&table);
             let x0_given = log_to_model_units(&mut table, &units)?;
             let parsed = profile.parse(&units)?;
             inputs.push(LogInput {
@@ -63,6 +64,7 @@ pub fn calibrate<'py>(
                 path: PathBuf::from(LOG_ORIGIN),
                 table,
                 x0_given,
+                pose_given,
                 profile: (profile.arg().spec, parsed),
             });
         }

@@ -85,7 +85,7 @@ pub fn log_table(py: Python<'_>, log: &Bound<'_, PyDict>) -> PyResult<Table> {
         numeric.insert(name.to_string(), v);
     }
     // the base pose of a log of any motion (issue 38), where the log has it
-    for name in ["y0", "gamma"] {
+    for name in ["y0", "gamma", "k"] {
         let Some(col) = log.get_item(name)? else {
             continue;
         };
@@ -207,6 +207,8 @@ pub fn reconstruct<'py>(
     let truth_spec = ProfileSpec::from_spec(spec, "profile")?;
     let mu = mu_raw(spec)?;
     let mut table = log_table(py, log)?;
+    // the pose columns as given (issue 38), appended to the result's columns
+    let pose = vibrissa_io::recon_io::PoseColumns::of(&table);
     let (rec, units, x0_given, errors, method, obstacle, fric) = compute(py, move || {
         let mu = mu.as_deref().map(MuRequest::parse).transpose()?;
         let opts = ReconOptions::parse(&flags)?;
@@ -307,6 +309,7 @@ pub fn reconstruct<'py>(
     }
     let mut named: Vec<(&str, Vec<f64>)> = names.iter().copied().zip(cols).collect();
     named.push(("ft", ft));
+    named.extend(pose.columns().iter().map(|(n, c)| (*n, c.clone())));
     let out = with_columns(py, named)?;
     out.set_item("phase", phase)?;
     out.set_item("slip", slip)?;

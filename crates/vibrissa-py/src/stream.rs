@@ -128,10 +128,7 @@ impl Streamer {
             ma: MA / u.scale(Quantity::Moment),
             phi0,
         };
-        let pose = RowPose {
-            y0: y0 / u.scale(Quantity::Length),
-            gamma,
-        };
+        let pose = RowPose::new(y0 / u.scale(Quantity::Length), gamma);
         self.rows += 1;
         let this = self.rows - 1;
         let Some(inner) = self.inner.as_mut() else {

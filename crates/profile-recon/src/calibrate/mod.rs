@@ -226,6 +226,11 @@ pub struct CalibLog {
     pub poses: Vec<RowPose>,
 }
 
+/// Why fitting `k` is refused when every row of every log has its own `k` (a path's `k`
+/// column, issue 38: a known column, not a parameter of the whisker;
+/// [`RowPose::support_or`]).
+pub const K_IS_KNOWN: &str = "every row's k is given by its log (a path's k column): k is known, not fitted; leave it out of the parameters";
+
 impl CalibLog {
     /// Whether some row has a pose other than the translating sweep's.
     pub fn is_posed(&self) -> bool {

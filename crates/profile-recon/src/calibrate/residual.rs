@@ -303,8 +303,10 @@ pub(crate) fn row_residuals(
         ma: row.ma / m.lambda,
         phi0: row.phi0,
     };
-    // the follicle law [3.21, 3.22] with m(0) = -MA, turned by gamma
-    let follicle = m.support().residual(pose.unturned(obs.phi0), -obs.ma);
+    // the follicle law [3.21, 3.22] with m(0) = -MA, turned by gamma (a path's row: its own k)
+    let follicle = pose
+        .support_or(m.support())
+        .residual(pose.unturned(obs.phi0), -obs.ma);
     let whisker = Whisker {
         theta: m.theta,
         a: m.a,

@@ -234,6 +234,14 @@ fn check(start: &Whisker, logs: &[CalibLog], settings: &CalibSettings) -> Result
             });
         }
     }
+    // a path that sets k on every row makes it a known column, not a parameter (issue 38)
+    let known_k = |l: &CalibLog| !l.poses.is_empty() && l.poses.iter().all(|p| p.k.is_some());
+    if settings.fit.contains(&CalibParam::K) && logs.iter().all(known_k) {
+        return Err(ReconError::CalibrationRequest {
+            reason: super::K_IS_KNOWN,
+            requested: settings.fit.len(),
+        });
+    }
     for log in logs {
         if log.rows.is_empty() {
             return Err(ReconError::TooFewRows {
@@ -306,6 +314,10 @@ fn start_compliance(logs: &[CalibLog]) -> Option<f64> {
     let (mut num, mut den) = (0.0, 0.0);
     for log in logs {
         for (i, r) in log.rows.iter().enumerate() {
+            // a row whose k the path sets says nothing of the whisker's own (issue 38)
+            if log.poses.get(i).is_some_and(|p| p.k.is_some()) {
+                continue;
+            }
             // the follicle law turned by the row's gamma (issue 38)
             let phi0 = log.poses.get(i).map_or(r.phi0, |p| p.unturned(r.phi0));
             num -= r.ma * (phi0 - FRAC_PI_2);
@@ -381,10 +393,33 @@ pub(crate) fn pre_contact(rows: &[ObservableRow], posed: bool) -> Vec<bool> {
         }
     }
     let mut out = vec![false; rows.len()];
-    if let Some(i) = lone_free_row(rows, &scales, level, posed) {
+    if let Some(i) =
+        unloaded_row(rows, &scales, level).or_else(|| lone_free_row(rows, &scales, level, posed))
+    {
         out[i] = true;
     }
     out
+}
+
+/// A lone row at an end of the log's base positions whose reactions `Ax`, `Ay` and moment
+/// `MA` all vanish (within 1e-9 of each column's scale, else five noise deviations): the
+/// free whisker without flow ([6.1] with `q = 0`: nothing loads it), which a contact row
+/// (force `f > 0`) never is. Without flow the contact branch starts from these zeros
+/// linearly, so [`lone_free_row`]'s kink of the slope is not there to find it, and a kink at
+/// the other end (a contact row before the whisker slips off a disc) was taken for the free
+/// whisker instead (docs/whisking-recon.md, "The no-flow disc scene").
+fn unloaded_row(rows: &[ObservableRow], scales: &NoiseScales, level: f64) -> Option<usize> {
+    let zero = |r: &ObservableRow, rel: f64| {
+        [r.ax, r.ay, r.ma]
+            .iter()
+            .zip(&scales.0)
+            .all(|(v, s)| v.abs() <= rel * s)
+    };
+    let ends = x0_ends(rows);
+    [1e-9, 5.0 * level]
+        .into_iter()
+        .filter(|rel| rel.is_finite())
+        .find_map(|rel| ends.iter().copied().find(|&e| zero(&rows[e], rel)))
 }
 
 /// The rows at the largest and the smallest base position.

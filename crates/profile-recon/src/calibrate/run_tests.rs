@@ -69,3 +69,43 @@ fn the_follicle_law_gives_the_start_compliance() {
     assert_eq!(start_compliance(&[flat(1.6, 0.0)]), None);
     assert_eq!(start_compliance(&[flat(FRAC_PI_2 + 0.1, 1.0)]), Some(0.0));
 }
+
+/// The free whisker without flow is the row of zero reactions and moment at an end of the
+/// motion, even where the contact branch leaves it without a kink of the slope and the
+/// other end has one (docs/whisking-recon.md, "The no-flow disc scene").
+#[test]
+fn an_unloaded_end_row_is_the_free_whisker_without_flow() {
+    // the contact branch linear from zero at the first end, a kink before the last row
+    let mut rows: Vec<ObservableRow> = (0..12)
+        .map(|i| {
+            let t = i as f64;
+            ObservableRow {
+                x0: -0.1 * t,
+                ax: -0.2 * t,
+                ay: 0.01 * t * t,
+                ma: 0.15 * t,
+                phi0: 1.45 + 0.05 * t,
+            }
+        })
+        .collect();
+    let last = rows.last_mut().unwrap();
+    last.ax += 0.8;
+    last.ay += 0.9;
+    for posed in [true, false] {
+        let pre = pre_contact(&rows, posed);
+        assert_eq!(
+            pre.iter().position(|p| *p),
+            Some(0),
+            "posed {posed}: {pre:?}"
+        );
+        assert_eq!(pre.iter().filter(|p| **p).count(), 1);
+    }
+    // a start flow of zero from it
+    let log = CalibLog {
+        rows: rows.clone(),
+        profile: contact_sim::Profile::g2(),
+        flow: KnownFlow::default(),
+        poses: Vec::new(),
+    };
+    assert_eq!(start_flow(&log, &pre_contact(&rows, true)), (0.0, 0.0));
+}

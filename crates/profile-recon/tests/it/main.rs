@@ -11,6 +11,7 @@ mod friction_calib;
 mod friction_recon;
 mod friction_stream;
 mod noise;
+mod path_calib;
 mod roundtrip;
 mod stream;
 mod thesis;

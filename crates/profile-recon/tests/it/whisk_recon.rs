@@ -370,7 +370,7 @@ fn wrec_a_turned_and_lifted_log_gives_the_turned_and_lifted_points() {
                 ..*r
             })
             .collect();
-        let poses = vec![RowPose { y0, gamma: delta }; rows.len()];
+        let poses = vec![RowPose::new(y0, delta); rows.len()];
         let rec = reconstruct_posed(
             &w,
             &turned,

@@ -116,6 +116,7 @@ pub(crate) fn read_log(
     };
     let parsed = prof.parse(&units)?;
     let mut table = read_table(&log_path, &REQUIRED_COLUMNS, 2)?;
+    let pose_given = recon_io::PoseColumns::of(&table);
     let x0_given = recon_io::to_model_units(&mut table, &units)?;
     let rows = rows_of(&table)?;
     for (i, row) in rows.iter().enumerate() {
@@ -133,12 +134,23 @@ pub(crate) fn read_log(
     }
     // a log of any base motion (issue 38): every pose finite, named by line and column
     for (i, pose) in vibrissa_io::recon::poses_of(&table).iter().enumerate() {
-        if let Err(ReconError::NonFinite { column, value, .. }) = pose.validate(i) {
+        let culprit = match pose.validate(i) {
+            Err(ReconError::NonFinite { column, value, .. }) => {
+                Some((column, format!("value `{value}` is not finite")))
+            }
+            Err(ReconError::InvalidParameter {
+                name,
+                value,
+                reason,
+            }) => Some((name, format!("value `{value}`: {reason}"))),
+            _ => None,
+        };
+        if let Some((column, reason)) = culprit {
             return Err(CliError::Io(vibrissa_io::IoError::Csv {
                 path: log_path.clone(),
                 line: table.line_of(i).unwrap_or(1),
                 column: Some(column.to_string()),
-                reason: format!("value `{value}` is not finite"),
+                reason,
             }));
         }
     }
@@ -147,6 +159,7 @@ pub(crate) fn read_log(
         path: log_path,
         table,
         x0_given,
+        pose_given,
         profile: (prof.spec.clone(), parsed),
     })
 }

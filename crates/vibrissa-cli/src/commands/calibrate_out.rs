@@ -16,6 +16,7 @@ use crate::plot::{Chart, FigureStyle, Series, Style};
 use crate::resolve::Resolved;
 use crate::scene_file::{LoadSpec, MethodSpec, SceneFile, Units, WhiskerSpec};
 use crate::units::{Quantity, UnitSystem};
+use vibrissa_io::recon_io::PoseColumns;
 
 /// The file name of the residual table.
 pub const RESIDUALS_CSV: &str = "residuals.csv";
@@ -140,7 +141,14 @@ pub fn write_residuals(
     path: &Path,
 ) -> Result<(), CliError> {
     let l = units.scale(Quantity::Length);
-    let mut w = CsvWriter::new(&RESIDUALS_HEADER);
+    // the pose columns of the logs of any base motion (issue 38), those some log has
+    let pose: Vec<&'static str> = PoseColumns::NAMES
+        .into_iter()
+        .filter(|n| inputs.iter().any(|i| i.pose_given.names().any(|m| m == *n)))
+        .collect();
+    let mut header = RESIDUALS_HEADER.to_vec();
+    header.extend(&pose);
+    let mut w = CsvWriter::new(&header);
     for r in &cal.rows {
         let x0 = inputs[r.log]
             .x0_given
@@ -148,7 +156,7 @@ pub fn write_residuals(
             .copied()
             .unwrap_or(f64::NAN);
         let kind = symbol_label(r.kind);
-        w.push_row(&[
+        let mut cells = vec![
             Cell::Num((r.log + 1) as f64),
             Cell::Num((r.row + 1) as f64),
             Cell::Num(x0),
@@ -159,15 +167,42 @@ pub fn write_residuals(
             Cell::Num(r.distance * l),
             Cell::Num(r.sigma * l),
             Cell::Num(r.chi),
-        ])?;
+        ];
+        cells.extend(
+            pose.iter()
+                .map(|n| Cell::Num(pose_value(&inputs[r.log], n, r.row))),
+        );
+        w.push_row(&cells)?;
     }
     w.write(path)?;
-    Ok(write_units_of(
-        path,
-        &RESIDUALS_HEADER,
-        &RESIDUALS_QUANTITIES,
-        units,
+    if pose.is_empty() {
+        return Ok(write_units_of(
+            path,
+            &RESIDUALS_HEADER,
+            &RESIDUALS_QUANTITIES,
+            units,
+        )?);
+    }
+    let mut u: Vec<&str> = RESIDUALS_QUANTITIES
+        .iter()
+        .map(|q| units.unit(*q))
+        .collect();
+    u.extend(pose.iter().map(|n| PoseColumns::unit_of(n, units)));
+    Ok(vibrissa_io::csvio::write_units_sidecar(
+        &vibrissa_io::csvio::units_sidecar_path(path),
+        &header,
+        &u,
     )?)
+}
+
+/// The pose column `name` of row `row` of a log as given: 0 for a `y0` or `gamma` the log
+/// does not have (the translating sweep's pose), NaN for a `k` it does not set.
+fn pose_value(input: &LogInput, name: &str, row: usize) -> f64 {
+    match input.pose_given.columns().iter().find(|(n, _)| *n == name) {
+        Some((_, c)) => c.get(row).copied().unwrap_or(f64::NAN),
+        None if name == "k" => f64::NAN,
+        None => 0.0,
+    }
 }
 
 /// The figures: per log the known contour with the points reconstructed before (the start

@@ -16,6 +16,7 @@ mod friction_whisk;
 mod hostile;
 mod io;
 mod parsers;
+mod path_calib;
 mod physical;
 mod points_files;
 mod reconstruct;

@@ -407,7 +407,7 @@ pub fn read_path_table(text: &str, path: &Path, units: &UnitSystem) -> Result<Po
                     ));
                 }
             }
-            Some(ks.iter().map(|v| v * f).collect())
+            Some(ks.iter().map(|v| v * f).collect::<Vec<f64>>())
         }
     };
     let poses = (0..xs.len())
@@ -416,7 +416,22 @@ pub fn read_path_table(text: &str, path: &Path, units: &UnitSystem) -> Result<Po
             y0: ys[i] * fy,
             gamma: gs[i] * fg,
         })
-        .collect();
+        .collect::<Vec<Pose>>();
+    // a segment that only tenses the follicle is singular where MA = 0 (contact-sim's
+    // `K_ONLY_SEGMENT`): refused here naming the file's line of its second row
+    if let (Some(ks), Some(name)) = (&k, &kname) {
+        let tensing = (1..poses.len()).find(|&i| poses[i] == poses[i - 1] && ks[i] != ks[i - 1]);
+        if let Some(i) = tensing {
+            return Err(err(
+                table.lines[i],
+                Some(name),
+                format!(
+                    "this row changes only k from the row before, the pose fixed: {}",
+                    contact_sim::motion::K_ONLY_SEGMENT
+                ),
+            ));
+        }
+    }
     Poses::new(poses, k).map_err(|e| err(table.header_line, None, e.to_string()))
 }
 
@@ -577,6 +592,20 @@ mod tests {
         assert!(m.contains("> 0"), "{m}");
         let m = e("x0,y0,gamma_deg\n0,0,0\n");
         assert!(m.contains("at least 2"), "{m}");
+        // a segment that only tenses the follicle (issue 38, item 3): refused naming the
+        // line of its second row and the k column; a moving one with k changing is taken
+        let m = e("x0,y0,gamma_deg,k\n0,0,0,5\n0,0,10,5\n0,0,10,20\n0,0,20,20\n");
+        assert!(
+            m.contains("p.csv:4") && m.contains("only k") && m.contains("MA = 0"),
+            "{m}"
+        );
+        let ok = read_path_table(
+            "x0,y0,gamma_deg,k\n0,0,0,5\n0,0,10,20\n",
+            Path::new("p.csv"),
+            &u,
+        )
+        .unwrap();
+        assert_eq!(ok.k, Some(vec![5.0, 20.0]));
         let m = e("x0_mm,y0,gamma_deg\n0,0,0\n1,1,1\n");
         assert!(m.contains("physical"), "{m}");
         // tabs and semicolons with decimal commas

@@ -154,6 +154,9 @@ class Reconstruction(_Columns):
     _base_names = (
         "x0", "x", "y", "s1", "f", "psi", "phase", "sigma", "residual", "hypotheses", "ft", "slip",
     )
+    #: The pose columns of a log of any base motion (issue 38), copied as given where the
+    #: log had them and moved (a translate log has none): ``y0``, ``gamma`` (rad), ``k``.
+    _pose_names = ("y0", "gamma", "k")
 
     def __init__(self, raw: Dict[str, Any]) -> None:
         cols = dict(raw["columns"])
@@ -161,7 +164,11 @@ class Reconstruction(_Columns):
         cols["slip"] = np.array(raw.get("slip", ["none"] * len(raw["phase"])), dtype=str)
         if "ft" not in cols:
             cols["ft"] = np.full(len(raw["phase"]), np.nan)
-        self._names = self._base_names + (("error",) if "error" in cols else ())
+        self._names = (
+            self._base_names
+            + (("error",) if "error" in cols else ())
+            + tuple(n for n in self._pose_names if n in cols)
+        )
         super().__init__(cols)
         s = raw["summary"]
         self.summary: Dict[str, Any] = s
@@ -261,7 +268,8 @@ class Calibration:
 
 def log_columns(log: Any) -> Dict[str, np.ndarray]:
     """The columns ``x0, Ax, Ay, MA, phi0`` of a Sweep, a DataFrame or a dict of arrays,
-    and the pose columns ``y0, gamma`` where present, as contiguous float64 arrays."""
+    and the pose columns ``y0, gamma`` (and a path's ``k``) where present, as contiguous
+    float64 arrays."""
     from ._errors import InvalidInput
 
     out: Dict[str, np.ndarray] = {}
@@ -284,12 +292,15 @@ def log_columns(log: Any) -> Dict[str, np.ndarray]:
                 f"invalid value `{name}` for `log`: the column must be 1-D, got shape {arr.shape}"
             )
         out[name] = arr
-    # the base pose of a log of any motion (issue 38), where the log has it
-    for name in ("y0", "gamma"):
+    # the base pose of a log of any motion (issue 38), and a path's k, where the log has it
+    for name in ("y0", "gamma", "k"):
         try:
             col = log[name]
         except (KeyError, IndexError, TypeError):
-            continue
+            # a Sweep keeps a path's k as the attribute ``k`` (None without one)
+            col = getattr(log, name, None) if name == "k" else None
+            if not isinstance(col, np.ndarray):
+                continue
         try:
             arr = np.ascontiguousarray(np.asarray(col, dtype=np.float64))
         except (TypeError, ValueError):

@@ -65,6 +65,7 @@ pub fn run(args: &ReconstructArgs, style: FigureStyle) -> Result<(), CliError> {
         .transpose()?;
     let inputs = resolve(args)?;
     let mut table = read_table(&inputs.log_path, &REQUIRED_COLUMNS, 2)?;
+    let pose = recon_io::PoseColumns::of(&table);
     let x0_given = recon_io::to_model_units(&mut table, &inputs.units)?;
     if let Some(mu) = mu {
         return run_frictional(args, &inputs, &table, &x0_given, mu, style);
@@ -87,7 +88,7 @@ pub fn run(args: &ReconstructArgs, style: FigureStyle) -> Result<(), CliError> {
         rec,
         None,
         errors.as_deref(),
-        &x0_given,
+        (&x0_given, &pose),
         style,
     )?;
     if args.json {
@@ -194,16 +195,18 @@ fn resolve(args: &ReconstructArgs) -> Result<Inputs<'_>, CliError> {
 
 /// Write: `reconstruction.csv` (with the column `ft` of a frictional reconstruction, where
 /// `ft` is given), `scene.ron` and the figures into the output folder, all or nothing (the
-/// figures as `style` says); returns the files written.
+/// figures as `style` says); returns the files written. `given`: the log's `x0` and pose
+/// columns as given, copied into the file.
 fn write(
     args: &ReconstructArgs,
     inputs: &Inputs<'_>,
     rec: &Reconstruction,
     ft: Option<&[f64]>,
     errors: Option<&[f64]>,
-    x0_given: &[f64],
+    given: (&[f64], &recon_io::PoseColumns),
     style: FigureStyle,
 ) -> Result<Vec<PathBuf>, CliError> {
+    let (x0_given, pose) = given;
     let units = &inputs.units;
     let out = OutputDir::create(inputs.out_dir)?;
     let csv = out.path_for(RECON_CSV);
@@ -211,7 +214,14 @@ fn write(
         Some(ft) => vibrissa_io::recon_friction::write_reconstruction_csv_ft(
             rec, ft, errors, units, x0_given, &csv,
         )?,
-        None => recon_io::write_reconstruction_csv(&rec.points, errors, units, x0_given, &csv)?,
+        None => recon_io::write_reconstruction_csv_posed(
+            &rec.points,
+            errors,
+            units,
+            x0_given,
+            pose,
+            &csv,
+        )?,
     }
     recon_io::write_recon_scene(
         &inputs.r,
@@ -344,7 +354,8 @@ fn run_frictional(
         rec,
         Some(&ans.ft),
         errors.as_deref(),
-        x0_given,
+        // the frictional reconstruction is not framed by a pose (docs/whisking-recon.md)
+        (x0_given, &recon_io::PoseColumns::default()),
         style,
     )?;
     let friction = rf::FrictionSummary::of(&ans.frictional, table);

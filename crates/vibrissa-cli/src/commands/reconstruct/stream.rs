@@ -95,10 +95,7 @@ pub fn run_stream(args: &ReconstructArgs) -> Result<(), CliError> {
                 pose[k] = v[0] * factor[if k == 0 { 0 } else { 4 }];
             }
         }
-        let pose = RowPose {
-            y0: pose[0],
-            gamma: pose[1],
-        };
+        let pose = RowPose::new(pose[0], pose[1]);
         match &mut stream {
             Stream::Plain(s) => {
                 out.write(&s.push_posed(row, pose).map_err(|e| at_row(&lines, e))?)?;

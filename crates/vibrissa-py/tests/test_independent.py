@@ -110,13 +110,18 @@ def test_subset(binary, tmp_path):
 # Reconstruction misses the battery found (docs/independent-check.md, "reconstruct"): the
 # frictional reconstruction of a noisy log near a phase switch.
 KNOWN_RECON_MISSES = {
-    14: "ge, mu 0.595: a phase-B row at s1 = 0.984 reconstructed as a tip contact under noise "
-        "1e-4; the point is 0.016 off, 59 reported sigmas (the sigma of the chosen phase only)",
-    19: "g1, mu 1.26: a point 5.1 sigmas off under noise 1e-4",
+    19: "g1, mu 1.26 (--mu identify): one of 9 points 5.4 reported sigmas off under noise 1e-4",
+}
+
+# Sweeps the battery found violating the model and not fixed here (docs/independent-check.md)
+KNOWN_SWEEP_VIOLATIONS = {
+    62: "theta 0.063, q 9.5: the rows before contact (the free whisker) break the follicle law "
+        "by 1.7e-8 and the first contact row by 1.6e-9, against the default ~1e-10 "
+        "(--tol sees it: a sweep asking 1e-9 is refused with an estimate of 7.6e-8)",
 }
 
 
-@pytest.mark.xfail(strict=True, reason="known: reconstruct's sigma misses a phase chosen wrongly")
+@pytest.mark.xfail(strict=True, reason="known: a frictional point beyond 3 reported sigmas")
 @pytest.mark.parametrize("seed", sorted(KNOWN_RECON_MISSES))
 def test_known_reconstruction_misses(binary, tmp_path, seed):
     rep = ind.battery(binary, [seed], tmp_path)
@@ -137,4 +142,30 @@ def test_full_battery(binary, tmp_path):
     (out / "report.json").write_text(json.dumps(rep, indent=1, default=str))
     print(_summary(rep))
     assert not rep["crashes"], rep["crashes"][:3]
-    assert not rep["violations"], f"{len(rep['violations'])} violations, see target/independent/report.json"
+    new = [v for v in rep["violations"] if v["seed"] not in KNOWN_SWEEP_VIOLATIONS]
+    assert not new, f"{len(new)} violations, see target/independent/report.json"
+    r = rep["recon"]
+    # 3 sigma: 99.7 % of normal errors; the battery's 997 points allow ~3 misses
+    assert r["within3"] >= 0.99 * r["points"], r["misses"]
+    assert all(m["z"] <= 3.0 for m in r["mu"]), r["mu"]
+
+
+@pytest.mark.xfail(strict=True, reason="known: the free whisker of a slender whisker to ~1e-8 only")
+@pytest.mark.parametrize("seed", sorted(KNOWN_SWEEP_VIOLATIONS))
+def test_known_sweep_violations(binary, tmp_path, seed):
+    rep = ind.battery(binary, [seed], tmp_path, recon=False)
+    assert not rep["violations"], rep["violations"][:2]
+
+
+def test_the_battery_findings_stay_fixed(binary, tmp_path):
+    """Seed 17 (a curled whisker's frictional sweep of g1 that started with its body 9.96e-3
+    inside the contour) is refused as without friction; seed 47 (a rotation on a soft
+    follicle whose rows before contact lay 0.19 inside g2) sweeps with every row checked."""
+    rng = np.random.default_rng([2026, 17])
+    res = ind.check_sweep(binary, ind.random_scene(rng, 17, tmp_path), tmp_path)
+    assert res.status == "refused" and res.code == 3, res.message
+    assert "inside the contour" in res.message
+    rng = np.random.default_rng([2026, 47])
+    res = ind.check_sweep(binary, ind.random_scene(rng, 47, tmp_path), tmp_path)
+    assert res.status == "ok" and len(res.residuals) > 30
+    assert not res.violations, res.violations[:3]

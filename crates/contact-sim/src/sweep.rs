@@ -541,16 +541,22 @@ pub(crate) fn pre_contact_rows(
     let mut points = Vec::with_capacity(settings.pre_contact_rows + settings.points);
     let frame = settings.motion.frame().unwrap_or_default();
     let start = settings.motion.start();
-    let mut guess = phi1;
+    let touch_gamma = frame.pose(first_x0).gamma;
+    let mut guess = phi1 - touch_gamma;
     let mut free = shoot(whisker, &loads, phi1, Sensitivities::None, &integration)?;
-    for k in (1..=settings.pre_contact_rows).rev() {
+    // nearest row first, each continued from the one after it in the motion (from the
+    // first contact's free state): a soft follicle under flow can hold several free
+    // equilibria, and Newton from the touch's angle at the farthest row could land on
+    // another branch, one that passes through the obstacle (the independent checker found
+    // rows 0.19 inside g2 before a rotation's first touch); reversed at the end
+    for k in 1..=settings.pre_contact_rows {
         let c = first_x0 + k as f64 * settings.pre_contact_spacing;
         let pose = frame.pose(c);
         let mut phi1 = phi1;
         if let Frame::Rotate { .. } = frame {
             // the free whisker turned by gamma (rows before the rotation's start dropped)
             if c > start {
-                continue;
+                break;
             }
             let at = (guess + pose.gamma, pose.gamma);
             phi1 = crate::first_contact::free_tip_angle(whisker, flow, at, &integration)?;
@@ -578,6 +584,7 @@ pub(crate) fn pre_contact_rows(
             k: None,
         });
     }
+    points.reverse();
     Ok(points)
 }
 
@@ -704,5 +711,54 @@ mod tests {
             Separation::NotReached { steps: 3 }.to_string(),
             "not reached within 3 steps"
         );
+    }
+
+    /// A straight tapered whisker on a very soft follicle (k 0.346) under a slanted flow,
+    /// whisked against g2 from -18.1 deg: the free whisker has more than one equilibrium.
+    /// The rows before contact were solved from the touch's tip angle with the row's turn
+    /// added twice, on another branch than the first contact row: phi0 jumped by 0.61 rad
+    /// between the last of them and the touch, and they lay up to 0.19 inside g2 (found by
+    /// the independent scipy checker, docs/independent-check.md). Now they continue the
+    /// touch's own free state: phi0 and MA change smoothly into the first contact row.
+    #[test]
+    fn the_rows_before_a_rotations_touch_are_the_touchs_branch() {
+        let whisker = Whisker::new(0.6580015840243402, 0.0, 0.0, 0.34643591083394776);
+        let flow = FluidLoad {
+            q: 1.8112224116927877,
+            alpha: 24.52336367102997f64.to_radians(),
+        };
+        let settings = SweepSettings {
+            points: 32,
+            motion: crate::BaseMotion::Rotate {
+                x0: 0.11764471190460174,
+                y0: -0.2629620620730149,
+                gamma0: (-18.13872639218409f64).to_radians(),
+            },
+            ..SweepSettings::default()
+        };
+        let res = sweep(&whisker, flow, &Profile::g2(), &settings).unwrap();
+        let first = res
+            .points
+            .iter()
+            .position(|p| p.phase != Phase::None)
+            .unwrap();
+        assert_eq!(first, 10);
+        for w in res.points[..=first].windows(2) {
+            let dgamma = w[1].gamma - w[0].gamma;
+            assert!(dgamma > 0.0 && dgamma <= 0.05 + 1e-12, "{dgamma}");
+            // a free whisker turned by dgamma: phi0 and MA move by less than dgamma's order
+            assert!(
+                (w[1].phi0 - w[0].phi0).abs() < 0.1,
+                "{} -> {}",
+                w[0].phi0,
+                w[1].phi0
+            );
+            assert!(
+                (w[1].ma - w[0].ma).abs() < 0.1,
+                "{} -> {}",
+                w[0].ma,
+                w[1].ma
+            );
+        }
     }
 }

@@ -40,17 +40,28 @@ impl Sweeper<'_> {
     pub(super) fn trace(&self, first: Node) -> Result<Trace> {
         let mut nodes = vec![first];
         let mut events = Vec::new();
-        if first.phase == Phase::B && self.check_penetration {
-            // a tangential first touch removes the flow beyond s1 (spec/model.md): the
-            // unloaded segment can bend into the obstacle at once (next to the contact point
-            // or further on); as the frictionless sweep (`continuation::trace`), the sweep
-            // cannot start (the events below only see their conditions change sign)
+        if self.check_penetration {
+            // the first touch must leave the rest of the whisker outside, in either phase
+            // (as the frictionless sweep, `continuation::trace`): a tip touch of a curled
+            // whisker can come with its body already across the contour, and a tangential
+            // first touch removes the flow beyond s1 (spec/model.md), so the unloaded segment
+            // can bend into the obstacle at once; the events below only see their conditions
+            // change sign, never a depth that is there from the start
             let depth = self.depth(&first)?;
-            let near = self.condition(Ev::Touch, &first, &[0.0; 4])?;
+            let near = if first.phase == Phase::B {
+                self.condition(Ev::Touch, &first, &[0.0; 4])?
+            } else {
+                1.0
+            };
             if depth > PENETRATION_MARGIN || near <= 0.0 {
+                let kind = if first.phase == Phase::B {
+                    "tangential (flow on [0, s1] only)"
+                } else {
+                    "tip"
+                };
                 return Err(ContactError::NoContact {
                     reason: format!(
-                        "at the first touch (x0 = {:.6}) the tangential (flow on [0, s1] only) contact state puts another part of the whisker {depth:.3e} inside the contour (curvature margin {near:.3e}); a single-contact sweep cannot start",
+                        "at the first touch (x0 = {:.6}) the {kind} contact state puts another part of the whisker {depth:.3e} inside the contour (curvature margin {near:.3e}); a single-contact sweep cannot start",
                         first.x0
                     ),
                 });
@@ -343,6 +354,45 @@ impl Sweeper<'_> {
             xc: n.geom.x,
             step,
             reason: reason.into(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::{sweep, ContactError, ContactLaw, Profile, SweepSettings};
+    use beam_model::{FluidLoad, Whisker};
+
+    /// A curled whisker (theta 0.478, A 1.926, B 1.241, k 0.392, no flow) first touches g1
+    /// with its tip while its segment near s = 0.93 is already 9.96e-3 inside the contour.
+    /// The frictionless sweep refuses to start there; the frictional one (mu 0.855) logged 25
+    /// rows with that segment inside (found by the independent scipy checker,
+    /// docs/independent-check.md). Both now refuse with the depth.
+    #[test]
+    fn a_tip_touch_with_the_body_inside_is_refused_with_friction_too() {
+        let whisker = Whisker::new(
+            0.4778808036089372,
+            1.9257387174939256,
+            1.2408163600516502,
+            0.392420361915408,
+        );
+        let flow = FluidLoad { q: 0.0, alpha: 0.0 };
+        for mu in [0.0, 0.8550254338813659] {
+            let settings = SweepSettings {
+                points: 24,
+                contact_law: ContactLaw::Coulomb { mu },
+                ..SweepSettings::default()
+            };
+            match sweep(&whisker, flow, &Profile::g1(), &settings) {
+                Err(ContactError::NoContact { reason }) => {
+                    assert!(reason.contains("9.96"), "mu {mu}: {reason}");
+                    assert!(reason.contains("tip contact state"), "mu {mu}: {reason}");
+                }
+                other => panic!(
+                    "mu {mu}: the sweep started: {:?}",
+                    other.map(|r| r.points.len())
+                ),
+            }
         }
     }
 }

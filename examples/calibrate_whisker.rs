@@ -140,6 +140,8 @@ fn run(path: &str) -> Result<(), Box<dyn Error>> {
         CalibParam::B => truth.b,
         CalibParam::K => truth.support.stiffness(),
         CalibParam::Ei => 1.0,
+        // the logs above are frictionless
+        CalibParam::Mu => 0.0,
     };
     let mut worst = (0.0f64, "");
     for e in &cal.parameters {

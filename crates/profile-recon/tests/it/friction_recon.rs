@@ -619,3 +619,70 @@ fn mu_on_a_known_contour() {
     eprintln!("known contour, noise 1e-4: {within} of 10 within 3 stderr");
     assert!(within >= 9);
 }
+
+/// The friction evidence `z` of the default (mu identified) reconstruction of an exact
+/// frictionless sweep.
+fn frictionless_z(w: &Whisker, flow: FluidLoad, profile: &Profile, points: usize) -> Option<f64> {
+    let s = SweepSettings {
+        points,
+        ..SweepSettings::default()
+    };
+    let res = sweep(w, flow, profile, &s).ok()?;
+    let rows = from_sweep(&res);
+    let rec = reconstruct_frictional(
+        w,
+        &rows,
+        KnownFlow::default(),
+        &ReconSettings::default(),
+        None,
+    )
+    .ok()?;
+    let ev = rec.evidence?;
+    if std::env::var("FTAN_DEBUG").is_ok() {
+        for p in &rec.points {
+            eprintln!(
+                "  row {} {:?} {:?} x {:.5} ft {:.3e} sd {:.3e} psi {:.6} sd_psi {:.3e}",
+                p.row, p.phase, p.psi_source, p.x, p.ft, p.sigma_ft, p.psi, p.sigma_psi
+            );
+        }
+    }
+    Some(ev.z())
+}
+
+/// Exact frictionless logs prove no friction (issue 39, docs/friction-recon.md "The traced
+/// tangent's error"): the 16-row circle of the Python tests (z = 942 before), the g1 log of
+/// the CLI's `--tol` test (z = 9 before), and `n` scenes of `battery::sweep_logs`.
+fn frictionless_battery(n: usize) -> Vec<(String, f64)> {
+    use rand::SeedableRng;
+    let mut out = Vec::new();
+    let circle = Profile::parse("circle:0.3,1.2,0.3").unwrap();
+    let w = Whisker::new(0.5, 0.0, 0.0, 20.0);
+    let z = frictionless_z(&w, FluidLoad { q: 0.5, alpha: 0.0 }, &circle, 16);
+    out.push(("py circle 16 rows".to_string(), z.unwrap()));
+    let w = Whisker::new(0.75, 0.0, 0.0, 20.0);
+    let z = frictionless_z(&w, FluidLoad { q: 5.0, alpha: 0.0 }, &Profile::g1(), 60);
+    out.push(("cli g1 60 rows".to_string(), z.unwrap()));
+    for i in 0..n {
+        let mut rng = rand::rngs::StdRng::seed_from_u64(5000 + i as u64);
+        let setup = crate::battery::random_setup(&mut rng, i);
+        let (name, profile) = crate::battery::random_profile(&mut rng, i);
+        if let Some(z) = frictionless_z(&setup.whisker, setup.flow, &profile, 60) {
+            out.push((format!("sweep#{i} {name}"), z));
+        }
+    }
+    for (name, z) in &out {
+        eprintln!("{name}: z {z:.3}");
+    }
+    out
+}
+
+#[test]
+fn exact_frictionless_logs_prove_no_friction() {
+    let n = std::env::var("FTAN_SCENES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(3);
+    let out = frictionless_battery(n);
+    let bad: Vec<_> = out.iter().filter(|(_, z)| *z > 6.0).collect();
+    assert!(bad.is_empty(), "{bad:?}");
+}

@@ -165,7 +165,8 @@ def test_reconstruct_default_identifies_mu_and_warns_as_the_cli(cli, tmp_path):
     for col in ("x", "y", "f", "sigma"):
         assert_same(rec[col][rec.contact], csv[col].to_numpy(), col)
     # the frictionless sweep of the scene: mu near 0, warned about exactly when the CLI warns
-    # (on this 16-row circle the traced tangent gives |ft| ~ 2e-6 beyond its deviation)
+    # (on this 16-row circle the traced tangent's error once gave a false proof, z = 942;
+    # z = 0.73 since the tangent's estimate, docs/friction-recon.md)
     folder0 = tmp_path / "plain"
     cli.run("sweep", *cli_flags(SCENE), "--figures", "none", "--out", str(folder0))
     p0 = cli.run("reconstruct", str(folder0), "--json", "--figures", "none",

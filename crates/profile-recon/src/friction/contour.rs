@@ -6,10 +6,16 @@
 //! the tip; phase B: `r(s1)`). Points that coincide within their error estimates are one
 //! point (the rows of a stuck tip). Through the distinct points, read as a graph `y(x)` (every
 //! profile kind of spec/cli.md is one where the whisker touches it), local least-squares
-//! polynomials of degree `d = 2..=6` on the `d + 3` points nearest in `x` give
-//! `psi = atan(y'(x))` at the row's point; each fit's error estimate is the noise propagated
-//! through it (the points' own error estimates as the deviations of `y`) plus its distance to
-//! the fit one degree higher (truncation); the fit with the smallest estimate is taken.
+//! polynomials of degree `d = 2..=7` on the `d + 3` points nearest in `x` give
+//! `psi = atan(y'(x))` at the row's point; each fit's error estimate `e_d` is the noise
+//! propagated through it (the points' own error estimates as the deviations of `y`) plus its
+//! largest distance to the fits of higher degree beyond their noise (truncation; the highest
+//! fit: its distance to the one below). `psi` is the mean of the fits' angles weighted by
+//! `1 / e_d^2` and its error estimate the same mean of `e_d` plus the fit's distance to `psi`: both move continuously
+//! with the points (taking the fit with the smallest estimate switched degree under changes
+//! of 1e-11, and a coincidental agreement of two neighbouring degrees passed for an
+//! accuracy of 5e-9 where the tangent was off by 2e-6; docs/friction-recon.md, "The traced
+//! tangent's error").
 //!
 //! **Sliding rows.** In the order of the motion ([`motion_order`]: the translating base moves
 //! towards -x, so by falling `x0`), the material point that touches is the tip in phase A and
@@ -147,21 +153,40 @@ pub(crate) fn tangent_at(pts: &[Sample], x: f64) -> Option<(f64, f64)> {
             )
         })
         .collect();
-    let mut best: Option<(f64, f64)> = None;
-    for k in 0..fits.len() {
+    // per fit (module docs): its angle, its weight's estimate (noise plus the distance to the
+    // next degree) and its error estimate (noise plus the largest distance beyond the noise
+    // to the two nearest degrees above, or below where fewer than two are above)
+    let n = fits.len();
+    let mut est: Vec<(f64, f64, f64)> = Vec::with_capacity(n);
+    for k in 0..n {
         let (g, sd) = fits[k];
-        let next = fits
-            .get(k + 1)
-            .or_else(|| k.checked_sub(1).map(|j| &fits[j]));
-        let trunc = next.map_or(f64::INFINITY, |n| (n.0 - g).abs());
-        let est = sd + trunc;
-        let psi = g.atan();
-        let e = est / (1.0 + g * g);
-        if best.is_none_or(|b| e < b.1) {
-            best = Some((psi, e));
-        }
+        let next = (k + 1 < n).then(|| k + 1).or(k.checked_sub(1));
+        let wd = next.map_or(f64::INFINITY, |j| sd + (fits[j].0 - g).abs());
+        let mut near: Vec<usize> = (k + 1..n).take(2).collect();
+        near.extend((0..k).rev().take(2 - near.len()));
+        let trunc = near
+            .iter()
+            .map(|&j| ((fits[j].0 - g).abs() - fits[j].1.max(sd)).max(0.0))
+            .fold(if near.is_empty() { f64::INFINITY } else { 0.0 }, f64::max);
+        let jac = 1.0 + g * g;
+        est.push((g.atan(), (wd / jac).max(1e-15), (sd + trunc) / jac));
     }
-    best.filter(|b| b.0.is_finite())
+    if n == 1 {
+        return Some((est[0].0, est[0].2)).filter(|b| b.0.is_finite());
+    }
+    // weights 1 / e^2: psi and its estimate move continuously with the points (no switch
+    // between degrees); the estimate is the same mean of each fit's error estimate plus its
+    // distance to psi
+    let w: Vec<f64> = est.iter().map(|&(_, e, _)| 1.0 / (e * e)).collect();
+    let sw: f64 = w.iter().sum();
+    let psi = est.iter().zip(&w).map(|(&(p, _, _), w)| w * p).sum::<f64>() / sw;
+    let e = est
+        .iter()
+        .zip(&w)
+        .map(|(&(p, _, r), w)| w * (r + (p - psi).abs()))
+        .sum::<f64>()
+        / sw;
+    Some((psi, e)).filter(|b| b.0.is_finite() && b.1.is_finite())
 }
 
 #[cfg(test)]

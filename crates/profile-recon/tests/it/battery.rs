@@ -27,12 +27,12 @@ use rand::{Rng, SeedableRng};
 
 /// A random whisker and flow.
 #[derive(Clone, Copy, Debug)]
-struct Setup {
-    whisker: Whisker,
-    flow: FluidLoad,
+pub(crate) struct Setup {
+    pub(crate) whisker: Whisker,
+    pub(crate) flow: FluidLoad,
 }
 
-fn random_setup(rng: &mut StdRng, i: usize) -> Setup {
+pub(crate) fn random_setup(rng: &mut StdRng, i: usize) -> Setup {
     // every tenth scene slender (theta = 0.05), else 0.1..1
     let theta = if i % 10 == 7 {
         0.05
@@ -498,7 +498,7 @@ fn forward_logs() {
 // sweep logs
 
 /// A random convex contour of each kind in turn, above the free tip region.
-fn random_profile(rng: &mut StdRng, i: usize) -> (String, Profile) {
+pub(crate) fn random_profile(rng: &mut StdRng, i: usize) -> (String, Profile) {
     let vy = rng.gen_range(0.35..0.75);
     let vx = rng.gen_range(-0.4..0.4);
     match i % 7 {

@@ -444,6 +444,7 @@ fn friction_is_told_from_none() {
     )
     .unwrap();
     let ev = rec.evidence.unwrap();
+    eprintln!("frictionless circle, 24 rows: z {:.3}", ev.z());
     assert!(!ev.proves_friction(), "{ev:?}");
     if let Some(mu) = rec.mu {
         assert!(mu.value.abs() <= 3.0 * mu.stderr + 1e-9, "{mu:?}");
@@ -465,6 +466,7 @@ fn friction_is_told_from_none() {
     };
     let mut rec = reconstruct(&w, &rows, None, &plain).unwrap();
     let ev = widen_frictionless(&mut rec, &fr).expect("evidence");
+    eprintln!("sliding circle (mu 0.4), 24 rows: z {:.3e}", ev.z());
     assert!(ev.z() > 1e3, "{ev:?}");
     for p in &rec.points {
         let t = &truth.points[p.row];
@@ -618,4 +620,131 @@ fn mu_on_a_known_contour() {
     }
     eprintln!("known contour, noise 1e-4: {within} of 10 within 3 stderr");
     assert!(within >= 9);
+}
+
+/// The friction evidence `z` of the default (mu identified) reconstruction of an exact
+/// frictionless sweep, and the largest `|ft| / sigma_ft` over the rows with a contact force
+/// in the truth (f > 1e-12: the release row, f = 0, left out; see the test).
+fn frictionless_z(
+    w: &Whisker,
+    flow: FluidLoad,
+    profile: &Profile,
+    points: usize,
+) -> Option<(f64, f64)> {
+    let s = SweepSettings {
+        points,
+        ..SweepSettings::default()
+    };
+    let res = sweep(w, flow, profile, &s).ok()?;
+    let rows = from_sweep(&res);
+    let rec = reconstruct_frictional(
+        w,
+        &rows,
+        KnownFlow::default(),
+        &ReconSettings::default(),
+        None,
+    )
+    .ok()?;
+    let ev = rec.evidence?;
+    let mut loaded = 0.0f64;
+    for p in &rec.points {
+        let t = &res.points[p.row];
+        if std::env::var("FTAN_DEBUG").is_ok() {
+            eprintln!(
+                "  row {} {:?} {:?} x {:.5} ft {:.3e} sd {:.3e} psi {:.6} sd_psi {:.3e} \
+                 (truth {:?} x {:.5} f {:.3e} psi {:.6})",
+                p.row,
+                p.phase,
+                p.psi_source,
+                p.x,
+                p.ft,
+                p.sigma_ft,
+                p.psi,
+                p.sigma_psi,
+                t.phase,
+                t.xc,
+                t.f,
+                t.psi
+            );
+        }
+        if t.f > 1e-12 && p.ft.is_finite() {
+            loaded = loaded.max(p.ft.abs() / p.sigma_ft.max(f64::MIN_POSITIVE));
+        }
+    }
+    Some((ev.z(), loaded))
+}
+
+/// Exact frictionless logs prove no friction (issue 39; docs/friction-recon.md, "The traced
+/// tangent's error"): the 16-row circle of the Python tests (z = 942 before), the g1 log of
+/// the CLI's `--tol` test, and the first `n` scenes of `battery::sweep_logs`. Returns
+/// `(name, z, largest z over the rows with a contact force)`.
+fn frictionless_battery(n: usize) -> Vec<(String, f64, f64)> {
+    use rand::SeedableRng;
+    let mut out = Vec::new();
+    let circle = Profile::parse("circle:0.3,1.2,0.3").unwrap();
+    let w = Whisker::new(0.5, 0.0, 0.0, 20.0);
+    let (z, l) = frictionless_z(&w, FluidLoad { q: 0.5, alpha: 0.0 }, &circle, 16).unwrap();
+    out.push(("py circle 16 rows".to_string(), z, l));
+    let w = Whisker::new(0.75, 0.0, 0.0, 20.0);
+    let (z, l) = frictionless_z(&w, FluidLoad { q: 5.0, alpha: 0.0 }, &Profile::g1(), 60).unwrap();
+    out.push(("cli g1 60 rows".to_string(), z, l));
+    let only: Option<usize> = std::env::var("FTAN_SCENE")
+        .ok()
+        .and_then(|v| v.parse().ok());
+    for i in 0..n {
+        if only.is_some_and(|o| o != i) {
+            continue;
+        }
+        let mut rng = rand::rngs::StdRng::seed_from_u64(5000 + i as u64);
+        let setup = crate::battery::random_setup(&mut rng, i);
+        let (name, profile) = crate::battery::random_profile(&mut rng, i);
+        if let Some((z, l)) = frictionless_z(&setup.whisker, setup.flow, &profile, 60) {
+            out.push((format!("sweep#{i} {name}"), z, l));
+        }
+    }
+    for (name, z, l) in &out {
+        eprintln!("{name}: z {z:.3} (rows with a force: {l:.3})");
+    }
+    out
+}
+
+/// Every row with a contact force of every exact frictionless log has `|ft|` within 6
+/// deviations, and the two logs of the other suites prove no friction. Known defect, not
+/// the tangent's (docs/friction-recon.md): in two of the 48 battery scenes (#21 g1, #37 ge)
+/// the release row (f = 0 in the truth, phase B) is reconstructed as a tip contact with a
+/// large `ft`, and the log's evidence is that row's.
+#[test]
+fn exact_frictionless_logs_prove_no_friction() {
+    let n = std::env::var("FTAN_SCENES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(48);
+    let out = frictionless_battery(n);
+    assert!(out.len() >= 40, "{} logs", out.len());
+    let bad: Vec<_> = out
+        .iter()
+        .enumerate()
+        .filter(|(k, (_, z, l))| *l > 6.0 || (*k < 2 && *z > 6.0))
+        .collect();
+    assert!(bad.is_empty(), "{bad:?}");
+    // the same 16-row circle sliding at mu = 0.5 still proves friction
+    let w = Whisker::new(0.5, 0.0, 0.0, 20.0);
+    let s = SweepSettings {
+        points: 16,
+        contact_law: ContactLaw::Coulomb { mu: 0.5 },
+        ..SweepSettings::default()
+    };
+    let circle = Profile::parse("circle:0.3,1.2,0.3").unwrap();
+    let res = sweep(&w, FluidLoad { q: 0.5, alpha: 0.0 }, &circle, &s).unwrap();
+    let rec = reconstruct_frictional(
+        &w,
+        &from_sweep(&res),
+        KnownFlow::default(),
+        &ReconSettings::default(),
+        None,
+    )
+    .unwrap();
+    let ev = rec.evidence.unwrap();
+    eprintln!("py circle at mu 0.5: z {:.3e}, mu {:?}", ev.z(), rec.mu);
+    assert!(ev.z() > 1e3, "{ev:?}");
 }

@@ -59,8 +59,12 @@ fn compare(w: &Whisker, truth: &SweepResult, known: KnownFlow, mu: f64) -> (usiz
             assert!(z <= 6.0, "row {}: {p:?} vs {b:?}", p.row);
             assert!(
                 (p.ft - t.ft).abs() <= 6.0 * p.sigma_ft + 1e-9,
-                "row {}",
-                p.row
+                "row {}: live ft {:e} vs the truth's {:e}, sigma_ft {:e} at x {}",
+                p.row,
+                p.ft,
+                t.ft,
+                p.sigma_ft,
+                p.x
             );
         }
     }
@@ -92,10 +96,13 @@ fn compare(w: &Whisker, truth: &SweepResult, known: KnownFlow, mu: f64) -> (usiz
     }
     // an identified flow: the stream's is one free row's (its deviation one row's), the
     // batch's the mean of every pre-contact row, so the shared flow term of the error
-    // estimates differs; a given flow has none
+    // estimates differs; a given flow has none. Within 25 % (was 10 %, docs/friction-recon.md
+    // "The traced tangent's error"): a traced tangent's estimate is its fits' distance to
+    // the fits of other degrees, and the top degrees' fits move by up to two of their own
+    // deviations with the points' weights (row 11: 2.6e-8 in the slope against 1.3e-7)
     let given = known.q.is_some() && known.alpha.is_some();
     assert!(
-        !given || worst_sigma < 0.1,
+        !given || worst_sigma < 0.25,
         "error estimates {worst_sigma:e} apart"
     );
     let (ms, mb) = (end.mu.unwrap(), batch.mu.unwrap());
@@ -116,15 +123,12 @@ fn compare(w: &Whisker, truth: &SweepResult, known: KnownFlow, mu: f64) -> (usiz
     (live.len(), nb, worst_a)
 }
 
-// Ignored on branch fslip (issue 39's cost): the frictional sweep of this scene now runs on
-// the frictionless machinery (contact-sim `friction/slide.rs`); its rows agree with the
-// frictional legs' to 2.8e-11, yet the stream's error estimates, chosen among polynomial
-// degrees of the contour's tangent, flip: the live ft of row 36 misses the truth by 1.6e-8
-// against 6 sigma_ft = 1.5e-8 (was 3.3e-8), and row 11's end-of-stream sigma_ft is 5.0e-10
-// against the batch's 1.6e-10 (asserted within 10 %). A defect of the stream's estimates
-// (docs/friction.md, "Cost"), left to the reconstruction's owner.
+// Was ignored on branch fslip: rows moved by 2.8e-11 (the sweep's faster path) flipped the
+// traced tangent's choice of degree and its error estimate (row 36's live ft missed by
+// 1.6e-8 against 6 sigma_ft = 1.5e-8). The tangent is now a smooth mean over the degrees
+// with an error estimate that two agreeing degrees cannot fool (friction/contour.rs;
+// docs/friction-recon.md, "The traced tangent's error").
 #[test]
-#[ignore = "the stream's error estimates flip with rows moved by 3e-11 (fslip, docs/friction.md)"]
 fn frec_stream_gives_the_batch_frictional_points_row_by_row() {
     // tip contact sliding throughout (phase A): the tangent read from the points so far
     let w = Whisker::new(0.5, 0.0, 0.0, 10.0);

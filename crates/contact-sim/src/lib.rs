@@ -40,6 +40,7 @@ pub mod accuracy;
 mod ahead;
 mod branch;
 pub mod cases;
+pub mod contact_force;
 pub mod contact_law;
 mod continuation;
 pub mod driver;

@@ -22,7 +22,7 @@
 //!
 //! Each segment's trace has the sweep's step budget.
 
-use crate::accuracy::{row_branch, rows_accuracy, rows_within_accuracy, RowIntegration};
+use crate::accuracy::{row_branch, RowIntegration};
 use crate::branch::{Branch, Constraint, Node, Rescue};
 use crate::continuation::{End, Trace};
 use crate::error::{ContactError, Result};
@@ -34,6 +34,7 @@ use crate::sweep::{
     hold_of, separation, trace_seeing_switches, SweepPoint, SweepProgress, SweepResult,
     SweepSettings,
 };
+use crate::sweep::{rows_accuracy, rows_within_accuracy};
 use crate::touch_scan::{scan_touch, with_compliance};
 use beam_model::equations::Sensitivities;
 use beam_model::shot::{shoot, Integration};

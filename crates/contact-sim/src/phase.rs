@@ -11,10 +11,10 @@
 //! flow acts on `[0, s1]` at any angle alpha (spec/model.md). The base position follows as
 //! `x0 = xc - (x(s1) - x(0))`.
 
-use crate::contact_law::Tilt;
-use beam_model::{FluidLoad, LoadKind, Loads, Reactions, TipForce};
+pub use crate::contact_force::contact_loads;
+use crate::contact_force::Tilt;
+use beam_model::{FluidLoad, Loads, Reactions};
 use serde::{Deserialize, Serialize};
-use std::f64::consts::FRAC_PI_2;
 
 /// Contact phase of a sweep row.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -107,7 +107,7 @@ impl ContactState {
     pub fn observables(&self, flow: FluidLoad) -> (f64, f64, f64, f64) {
         if !self.tilt.is_none() {
             let (psi, f, s1) = (self.point.psi, self.f, self.s1);
-            let (ax, ay, ma) = crate::contact_law::frictional_observables(
+            let (ax, ay, ma) = crate::contact_force::frictional_observables(
                 flow,
                 psi,
                 f,
@@ -123,23 +123,11 @@ impl ContactState {
     }
 }
 
-/// Loads of a contact: DP force `f (sin psi, -cos psi)` (`beta = pi/2 - psi`) at `s1` and the
-/// flow `q (cos alpha, -sin alpha)` on `[0, s1]` (spec/model.md, contact).
-pub fn contact_loads(flow: FluidLoad, psi: f64, f: f64, s1: f64) -> Loads {
-    Loads {
-        tip: TipForce {
-            f,
-            beta: FRAC_PI_2 - psi,
-            kind: LoadKind::Dp,
-        },
-        fluid: flow,
-        s1,
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use beam_model::LoadKind;
+    use std::f64::consts::FRAC_PI_2;
 
     /// A contact state's observables are the force balance [6.7-6.9] written out: the base
     /// holds the contact force `f (sin psi, -cos psi)` at `s1` and the flow on `[0, s1]`.

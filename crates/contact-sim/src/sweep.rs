@@ -6,7 +6,7 @@
 //! then contact rows evenly spaced in x0 from the first contact to the separation, plus one
 //! row at each phase switch.
 
-use crate::accuracy::{row_branch, rows_accuracy, rows_within_accuracy, SweepAccuracy};
+use crate::accuracy::{row_branch, row_integration_tol, RowIntegration, Rows, SweepAccuracy};
 use crate::branch::{Branch, Node};
 use crate::contact_law::Tilt;
 use crate::continuation::{trace_tightened, End, StepControl, Trace};
@@ -401,6 +401,73 @@ pub(crate) fn contact_sweep(
         accuracy,
         friction_events: Vec::new(),
     })
+}
+
+/// The contact rows with their estimates at the accuracy asked for, `accuracy` (module
+/// docs): `rows_at` solves them (its branch from [`row_branch`]) at `accuracy`, and once
+/// more at an accuracy [`TIGHTER`] times smaller where a row's estimate exceeds `accuracy`
+/// (or is NaN) and the tighter integration is tighter indeed; returned with the accuracy
+/// they were solved at.
+///
+/// # Errors
+/// `rows_at`'s; [`ContactError::BranchStalled`] (with the step `step`) where a row lies
+/// more than 1e-9 outside its phase: a phase switch between the traced nodes was missed.
+pub(crate) fn rows_within_accuracy(
+    accuracy: Option<f64>,
+    step: f64,
+    mut rows_at: impl FnMut(Option<&RowIntegration>) -> Result<Rows>,
+) -> Result<(Rows, Option<f64>)> {
+    let mut solve = |t: Option<f64>| rows_at(t.map(RowIntegration::new).as_ref());
+    let mut states = solve(accuracy)?;
+    let row_accuracy = accuracy.map(|tol| {
+        let tighter = tol / TIGHTER;
+        let missed = states.iter().any(|s| s.1 > tol || s.1.is_nan());
+        if missed && row_integration_tol(tighter) < row_integration_tol(tol) {
+            tighter
+        } else {
+            tol
+        }
+    });
+    if row_accuracy != accuracy {
+        states = solve(row_accuracy)?;
+    }
+    // never a row outside its phase (a switch missed between the traced nodes)
+    if let Some((s, _)) = states.iter().find(|(s, _)| phase_violation(s) > 1e-9) {
+        return Err(ContactError::BranchStalled {
+            phase: s.phase,
+            x0: s.x0,
+            xc: s.point.xc,
+            step,
+            reason: format!(
+                "a row violates its phase condition by {:.3e}: a phase switch between the traced nodes was missed",
+                phase_violation(s)
+            ),
+        });
+    }
+    Ok((states, row_accuracy))
+}
+
+/// The accuracy report of a sweep whose `points` end in the contact rows `rows` (with their
+/// estimates, solved at `row_accuracy`), where `accuracy` was asked for: the rows before
+/// contact carry the first contact row's estimate (module docs).
+///
+/// # Errors
+/// [`ContactError::AccuracyNotMet`] naming the worst row where an estimate exceeds `accuracy`.
+pub(crate) fn rows_accuracy(
+    points: &[SweepPoint],
+    rows: &[(ContactState, f64)],
+    accuracy: Option<f64>,
+    row_accuracy: Option<f64>,
+) -> Result<Option<SweepAccuracy>> {
+    accuracy
+        .zip(row_accuracy)
+        .map(|(tol, at)| {
+            let first_estimate = rows.first().map_or(f64::NAN, |s| s.1);
+            let mut estimates = vec![first_estimate; points.len() - rows.len()];
+            estimates.extend(rows.iter().map(|s| s.1));
+            check_accuracy(points, estimates, tol, row_integration_tol(at))
+        })
+        .transpose()
 }
 
 /// The branch traced from `start` with the sweep's steps ([`trace_tightened`]), traced again

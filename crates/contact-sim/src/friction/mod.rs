@@ -115,18 +115,6 @@ pub(crate) use settings::FrictionSettings;
 use start::{first_node, sweeper};
 use trace::Sweeper;
 
-/// The trace's integrator tolerance (at most as tight as the sweep's), as the frictionless
-/// trace's (`continuation::TRACE_INTEGRATION_TOL`): the nodes only guide the rows and bracket
-/// the events; every row, the event rows on their events, is solved at the sweep's own.
-const TRACE_INTEGRATION_TOL: f64 = 1e-9;
-
-/// The trace's residual tolerance (at most as tight as the sweep's).
-const TRACE_SOLVE_TOL: f64 = 1e-9;
-
-/// The trace's longest step in `(v, fn/F, ft/F, t)`, `F = max(1, |fn|)` (the frictionless
-/// sweep's default `max_step`; events are located by bisection down to 0.05 first).
-const MAX_STEP: f64 = 0.2;
-
 /// What the frictional sweep returns to [`crate::driver::sweep`].
 pub(crate) struct FrictionalRows {
     /// The contact rows and their estimates (NaN without an accuracy asked for).

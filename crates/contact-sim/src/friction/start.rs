@@ -4,7 +4,6 @@ use super::branch::{dot4, Con, FrictionBranch, Mode, Node};
 use super::contour::arc_length;
 use super::settings::FrictionSettings;
 use super::trace::{Sweeper, Trace};
-use super::{MAX_STEP, TRACE_INTEGRATION_TOL, TRACE_SOLVE_TOL};
 use crate::error::Result;
 use crate::first_contact::{FirstContact, FirstTouch};
 use crate::motion::Frame;
@@ -12,6 +11,18 @@ use crate::phase::Phase;
 use crate::profile::Profile;
 use beam_model::shot::Integration;
 use beam_model::{FluidLoad, Whisker};
+
+/// The trace's integrator tolerance (at most as tight as the sweep's), as the frictionless
+/// trace's (`continuation::TRACE_INTEGRATION_TOL`): the nodes only guide the rows and bracket
+/// the events; every row, the event rows on their events, is solved at the sweep's own.
+pub(super) const TRACE_INTEGRATION_TOL: f64 = 1e-9;
+
+/// The trace's residual tolerance (at most as tight as the sweep's).
+pub(super) const TRACE_SOLVE_TOL: f64 = 1e-9;
+
+/// The trace's longest step in `(v, fn/F, ft/F, t)`, `F = max(1, |fn|)` (the frictionless
+/// sweep's default `max_step`; events are located by bisection down to 0.05 first).
+pub(super) const MAX_STEP: f64 = 0.2;
 
 /// How far in x0 the candidate modes of the first touch are followed to decide between
 /// them ([`Sweeper::first_mode`]).

@@ -141,9 +141,13 @@ def test_reconstruct_mu_gives_the_numbers_of_the_cli(cli, tmp_path, mu):
         # contacts limits it to about 5e-6 here)
         assert abs(rec.mu["value"] - 0.5) < 1e-4 and not rec.mu["given"]
         assert f"mu={rec.mu['value']:.6g}" in repr(rec)
-        # ft against the sweep's own (the tangent traced from the contact points: worst at
-        # the traced contour's end, 9e-4 on this 16-row log)
-        assert np.allclose(rec.ft[m], sw.ft[m], atol=2e-3)
+        # ft against the sweep's own (the tangent traced from the contact points): inside
+        # the traced contour within 2.2e-5 on this 16-row log; at its end (a one-sided
+        # stencil) 2.0e-3 since the tangent is a weighted mean over the degrees (ftan,
+        # docs/friction-recon.md; 9e-4 before, when one chance agreement of two degrees
+        # could also give a false proof of friction)
+        assert np.allclose(rec.ft[m][:-1], sw.ft[m][:-1], rtol=0, atol=1e-4)
+        assert abs(rec.ft[m][-1] - sw.ft[m][-1]) < 3e-3
     else:
         assert rec.mu["given"] and rec.mu["value"] == 0.5
 
